@@ -1,0 +1,46 @@
+// A scene: bodies, constraints, world settings and solver settings. JSON scene files
+// (scene_json.hpp) and the built-in parametric scenes (scenes.hpp) both produce this struct,
+// so the solver never sees where a scene came from.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbps/body.hpp"
+#include "cbps/constraint.hpp"
+
+namespace cbps {
+
+struct World {
+  Vec3 gravity{0.0, -9.81, 0.0};  ///< g, m/s² (y is up)
+  double dt = 1.0 / 240.0;        ///< time step, s
+  double beta = 0.2;              ///< Baumgarte push factor (5.2.3), dimensionless in [0, 1]
+};
+
+struct SolverSettings {
+  std::string method = "pgs";       ///< "pgs", "jacobi" or "direct"
+  int iterations = 100;             ///< max sweeps per step
+  double tolerance = 1e-10;         ///< natural-map residual to stop at, N (0 = run all sweeps)
+  double delta_tolerance = 0.0;     ///< max |Δlambda| to stop at, N (0 = off)
+  double relaxation = 1.0;          ///< omega (Jacobi damping)
+  bool warm_start = true;           ///< start from last step's lambda, matched by row id
+};
+
+struct Scene {
+  std::string name;
+  /// The parameters a built-in scene was made with, as name → value text (for summaries).
+  std::vector<std::pair<std::string, std::string>> parameters;
+  World world;
+  SolverSettings solver;
+  double duration = 10.0;  ///< default simulated time, s
+  std::vector<Body> bodies;
+  std::vector<DistanceConstraint> distances;
+};
+
+/// Rescales a scene's units (paper 9): lengths by L, masses by M, times by T. Positions,
+/// sizes, anchors and lengths ×L; masses ×M; inertia ×M L²; dt and duration ×T; velocities
+/// ×L/T; angular velocities ×1/T; gravity ×L/T²; momenta accordingly. beta is unchanged.
+Scene rescale_units(const Scene& scene, double L, double M, double T);
+
+}  // namespace cbps

@@ -1,0 +1,53 @@
+// The time step (paper 3.2 with 6.2): build rows, assemble A lambda = b, solve, v2, advance.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "cbps/scene.hpp"
+#include "cbps/solver.hpp"
+#include "cbps/system.hpp"
+
+namespace cbps {
+
+struct StepReport {
+  int rows = 0;
+  SolverSummary solver;
+  double max_constraint_error = 0.0;  ///< after the step, m
+  double wall_time_s = 0.0;           ///< of the whole step
+};
+
+class Simulation {
+ public:
+  explicit Simulation(Scene scene);
+
+  /// One step of dt: rows (5.2) → system (6.1, 6.2.9) → lambda (7) → v2 (12.3.1) →
+  /// positions with v2 (3.2) → momenta p = m v2, l = I omega2.
+  /// Throws ComputationError naming the step, body or row when values turn non-finite.
+  StepReport step();
+
+  /// The rows of the current state (5.2), in constraint order.
+  std::vector<Row> build_rows() const;
+  /// The system of the current state, not solved (6.1, 6.2.9).
+  System build_system() const;
+  /// The warm-start guess for a system: last step's lambda by row id, else 0.
+  VecX initial_lambda(const System& sys) const;
+
+  const Scene& scene() const { return scene_; }
+  std::vector<Body>& bodies() { return scene_.bodies; }
+  double time() const { return t_; }
+  long steps_done() const { return steps_; }
+  /// Kinetic plus gravitational potential energy −m g·x of the movable bodies, J.
+  double energy() const;
+  /// max |c| over the distance constraints (5.2.2), m.
+  double max_constraint_error() const;
+
+ private:
+  Scene scene_;
+  double t_ = 0.0;
+  long steps_ = 0;
+  std::unordered_map<std::uint64_t, double> warm_;  ///< row id → last lambda, N
+};
+
+}  // namespace cbps
