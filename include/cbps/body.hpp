@@ -29,10 +29,10 @@ struct Body {
   Mat3 I_body = Mat3::Identity();      ///< body-frame inertia tensor, kg m² (SPD)
   Mat3 I_body_inv = Mat3::Identity();  ///< its inverse, kg⁻¹ m⁻²
 
-  Vec3 x = Vec3::Zero();     ///< centre of mass, m
-  Quat q = Quat::Identity(); ///< orientation, unit quaternion
-  Vec3 p = Vec3::Zero();     ///< linear momentum, N s
-  Vec3 l = Vec3::Zero();     ///< angular momentum, N m s
+  Vec3 x = Vec3::Zero();      ///< centre of mass, m
+  Quat q = Quat::Identity();  ///< orientation, unit quaternion
+  Vec3 p = Vec3::Zero();      ///< linear momentum, N s
+  Vec3 l = Vec3::Zero();      ///< angular momentum, N m s
 
   Vec3 f = Vec3::Zero();    ///< accumulated force this step, N
   Vec3 tau = Vec3::Zero();  ///< accumulated torque this step, N m
@@ -43,7 +43,7 @@ struct Body {
   Mat3 I_world() const;
   /// World inverse inertia I⁻¹ = R I_body⁻¹ Rᵀ (3.1), kg⁻¹ m⁻²; zero for a static body.
   Mat3 Iinv_world() const;
-  Vec3 v() const { return minv() * p; }          ///< v = p / m (3.2), m/s
+  Vec3 v() const { return minv() * p; }            ///< v = p / m (3.2), m/s
   Vec3 omega() const { return Iinv_world() * l; }  ///< omega = I⁻¹ l (3.2), rad/s
   /// Sets the momenta from velocities: p = m v, l = I omega (3.2).
   void set_velocity(const Vec3& v_new, const Vec3& omega_new);

@@ -13,10 +13,10 @@ namespace cbps {
 /// j_c = [j_a, j_b] ∈ R^{1×12} is kept as two 6-blocks over [v; omega] of body a and body b.
 /// A block whose body index is -1 (the world, or a static body) has no columns in J (5.3).
 struct Row {
-  std::string label;     ///< human-readable, e.g. "distance 3 (world-ball3)"
-  std::uint64_t id = 0;  ///< identity across steps, for warm starting lambda (7)
-  int body_a = -1;       ///< body index of the first block, -1 for none
-  int body_b = -1;       ///< body index of the second block, -1 for none
+  std::string label;        ///< human-readable, e.g. "distance 3 (world-ball3)"
+  std::uint64_t id = 0;     ///< identity across steps, for warm starting lambda (7)
+  int body_a = -1;          ///< body index of the first block, -1 for none
+  int body_b = -1;          ///< body index of the second block, -1 for none
   Row6 j_a = Row6::Zero();  ///< [∂ċ/∂v_a, ∂ċ/∂omega_a]: dimensionless | m
   Row6 j_b = Row6::Zero();  ///< [∂ċ/∂v_b, ∂ċ/∂omega_b]: dimensionless | m
   double upsilon = 0.0;     ///< velocity bias (5.1.2), m/s

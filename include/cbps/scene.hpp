@@ -19,12 +19,12 @@ struct World {
 };
 
 struct SolverSettings {
-  std::string method = "pgs";       ///< "pgs", "jacobi" or "direct"
-  int iterations = 100;             ///< max sweeps per step
-  double tolerance = 1e-10;         ///< natural-map residual to stop at, N (0 = run all sweeps)
-  double delta_tolerance = 0.0;     ///< max |Δlambda| to stop at, N (0 = off)
-  double relaxation = 1.0;          ///< omega (Jacobi damping)
-  bool warm_start = true;           ///< start from last step's lambda, matched by row id
+  std::string method = "pgs";    ///< "pgs", "jacobi" or "direct"
+  int iterations = 100;          ///< max sweeps per step
+  double tolerance = 1e-10;      ///< natural-map residual to stop at, N (0 = run all sweeps)
+  double delta_tolerance = 0.0;  ///< max |Δlambda| to stop at, N (0 = off)
+  double relaxation = 1.0;       ///< omega (Jacobi damping)
+  bool warm_start = true;        ///< start from last step's lambda, matched by row id
 };
 
 struct Scene {

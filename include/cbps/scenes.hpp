@@ -34,6 +34,10 @@ const BuiltinScene* find_builtin_scene(const std::string& name);
 /// parameter for an unknown parameter (listing the valid ones) or a value that is not valid.
 Scene make_builtin_scene(const std::string& name, const std::map<std::string, std::string>& values);
 
+/// Parses a finite number such as "0.25", "1e-3" or a fraction "1/240"; false if the text is
+/// not one.
+bool parse_number(const std::string& text, double& value);
+
 /// Complete elliptic integral of the first kind K(k) = ∫₀^{π/2} dθ / sqrt(1 − k² sin²θ), by the
 /// arithmetic-geometric mean: K(k) = π / (2 AGM(1, sqrt(1 − k²))). 0 ≤ k < 1.
 double elliptic_K(double k);

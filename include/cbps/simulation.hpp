@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -34,6 +35,10 @@ class Simulation {
   /// The warm-start guess for a system: last step's lambda by row id, else 0.
   VecX initial_lambda(const System& sys) const;
 
+  /// Called inside every step with the step's system, its lambda and v2 (for cross-checks).
+  using Observer = std::function<void(const System&, const VecX& lambda, const VecX& v2)>;
+  void set_observer(Observer observer) { observer_ = std::move(observer); }
+
   const Scene& scene() const { return scene_; }
   std::vector<Body>& bodies() { return scene_.bodies; }
   double time() const { return t_; }
@@ -48,6 +53,7 @@ class Simulation {
   double t_ = 0.0;
   long steps_ = 0;
   std::unordered_map<std::uint64_t, double> warm_;  ///< row id → last lambda, N
+  Observer observer_;
 };
 
 }  // namespace cbps

@@ -18,11 +18,11 @@ struct SolverOptions {
 enum class Termination { ResidualTolerance, DeltaTolerance, MaxIterations, Direct, NonFinite };
 
 struct SolverSummary {
-  int iterations = 0;       ///< sweeps done (1 for a direct solve)
-  double residual = 0.0;    ///< natural-map residual at the end, N
-  double delta = 0.0;       ///< max |Δlambda| of the last sweep, N
+  int iterations = 0;     ///< sweeps done (1 for a direct solve)
+  double residual = 0.0;  ///< natural-map residual at the end, N
+  double delta = 0.0;     ///< max |Δlambda| of the last sweep, N
   Termination termination = Termination::MaxIterations;
-  std::string message;      ///< one line with the numbers
+  std::string message;  ///< one line with the numbers
   bool ok() const { return termination != Termination::NonFinite; }
 };
 
@@ -31,11 +31,8 @@ double clamp(double x, double lo, double hi);
 
 /// Natural-map residual ‖lambda − clamp(lambda − (A lambda − b), cmin, cmax)‖∞, N.
 /// Zero exactly at a solution of the boxed LCP of 6.2.
-double natural_map_residual(const SpMat& A,
-                            const VecX& b,
-                            const VecX& cmin,
-                            const VecX& cmax,
-                            const VecX& lambda);
+double natural_map_residual(
+    const SpMat& A, const VecX& b, const VecX& cmin, const VecX& cmax, const VecX& lambda);
 
 /// One projected Gauss-Seidel sweep (7.1.1), in place, rows j = 0 … c−1:
 ///   lambda_j ← clamp((b_j − Σ_{i≠j} A_ji lambda_i) / A_jj, cmin_j, cmax_j),

@@ -30,15 +30,15 @@ struct System {
   std::vector<std::string> labels;  ///< one per row
   std::vector<std::uint64_t> ids;   ///< one per row, for warm starting
 
-  SpMat J;         ///< c×6n (6.1)
-  SpMat Minv;      ///< 6n×6n block diagonal (6.1.2)
-  VecX v1;         ///< 6n, velocities at the start of the step (6.1.1)
-  VecX fext;       ///< 6n, external forces and torques (6.1.3)
-  VecX upsilon;    ///< c (6.1.4)
-  VecX cmin;       ///< c
-  VecX cmax;       ///< c
-  SpMat A;         ///< c×c, J Minv Jᵀ (6.2.9)
-  VecX b;          ///< c, upsilon/dt − J (v1/dt + Minv fext) (6.2.9)
+  SpMat J;       ///< c×6n (6.1)
+  SpMat Minv;    ///< 6n×6n block diagonal (6.1.2)
+  VecX v1;       ///< 6n, velocities at the start of the step (6.1.1)
+  VecX fext;     ///< 6n, external forces and torques (6.1.3)
+  VecX upsilon;  ///< c (6.1.4)
+  VecX cmin;     ///< c
+  VecX cmax;     ///< c
+  SpMat A;       ///< c×c, J Minv Jᵀ (6.2.9)
+  VecX b;        ///< c, upsilon/dt − J (v1/dt + Minv fext) (6.2.9)
 
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }

@@ -1,0 +1,174 @@
+#include "common.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "cbps/error.hpp"
+#include "cbps/scene_json.hpp"
+#include "cbps/scenes.hpp"
+#include "cbps/solver.hpp"
+
+namespace fs = std::filesystem;
+
+namespace cbps::cli {
+
+void add_scene_options(CLI::App* cmd, SceneOptions& o) {
+  cmd->add_option("SCENE", o.scene, "built-in scene name (see `cbps scenes`) or JSON scene file")
+      ->required();
+  cmd->add_option("--param", o.params, "NAME=VALUE: a built-in scene's parameter (repeatable)");
+}
+
+void add_step_options(CLI::App* cmd, StepOptions& o) {
+  cmd->add_option("--dt", o.dt, "time step in s (fractions such as 1/240 accepted)");
+  auto* steps =
+      cmd->add_option("--steps", o.steps, "number of steps")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--duration", o.duration, "simulated time in s (instead of --steps)")
+      ->check(CLI::PositiveNumber)
+      ->excludes(steps);
+  cmd->add_option("--solver", o.solver, "pgs | jacobi | direct (default: the scene's, pgs)");
+  cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--tolerance", o.tolerance, "natural-map residual to stop at, N (0: all sweeps)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option(
+         "--push", o.push, "push factor form: original (Baumgarte in the one system, 5.2.3)")
+      ->check(CLI::IsMember({"original"}));
+}
+
+Scene load_scene(const SceneOptions& o) {
+  std::map<std::string, std::string> values;
+  for (const std::string& p : o.params) {
+    const auto eq = p.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      throw InputError("--param '" + p + "': expected NAME=VALUE");
+    }
+    values[p.substr(0, eq)] = p.substr(eq + 1);
+  }
+  if (find_builtin_scene(o.scene) != nullptr) return make_builtin_scene(o.scene, values);
+  std::error_code ec;
+  if (fs::is_regular_file(o.scene, ec)) {
+    if (!values.empty()) {
+      throw InputError("--param: parameters apply to built-in scenes only, not to the file " +
+                       o.scene);
+    }
+    return read_scene_file(o.scene);
+  }
+  return make_builtin_scene(o.scene, values);  // throws, listing the built-in scenes
+}
+
+void apply_step_options(Scene& scene, const StepOptions& o) {
+  if (!o.dt.empty()) {
+    double dt = 0.0;
+    if (!parse_number(o.dt, dt) || !(dt > 0.0)) {
+      throw InputError("--dt '" + o.dt + "': must be a positive finite time in s");
+    }
+    scene.world.dt = dt;
+  }
+  if (o.beta >= 0.0) scene.world.beta = o.beta;
+  if (!o.solver.empty()) {
+    if (!is_solver_name(o.solver)) {
+      throw InputError("--solver '" + o.solver + "': unknown (valid: pgs, jacobi, direct)");
+    }
+    scene.solver.method = o.solver;
+  }
+  if (o.iterations > 0) scene.solver.iterations = o.iterations;
+  if (o.tolerance >= 0.0) scene.solver.tolerance = o.tolerance;
+}
+
+long step_count(const Scene& scene, const StepOptions& o) {
+  if (o.steps >= 0) return o.steps;
+  const double duration = o.duration > 0.0 ? o.duration : scene.duration;
+  return static_cast<long>(std::llround(duration / scene.world.dt));
+}
+
+OutputDir::OutputDir(const std::string& final_path) : final_(final_path) {
+  std::error_code ec;
+  if (fs::exists(final_, ec)) {
+    if (!fs::is_directory(final_, ec)) {
+      throw InputError("--out " + final_ + ": exists and is not a folder");
+    }
+    const bool empty = fs::is_empty(final_, ec);
+    const bool ours = fs::exists(fs::path(final_) / "summary.json", ec) ||
+                      fs::exists(fs::path(final_) / "labels.json", ec);
+    if (!empty && !ours) {
+      throw InputError("--out " + final_ +
+                       ": folder exists and is not a cbps output; refusing to replace it");
+    }
+  }
+  const fs::path parent = fs::absolute(final_).parent_path();
+  fs::create_directories(parent, ec);
+  if (ec) throw InputError("--out " + final_ + ": cannot create " + parent.string());
+  temp_ =
+      (parent / ("." + fs::path(final_).filename().string() + ".tmp-" + std::to_string(::getpid())))
+          .string();
+  fs::remove_all(temp_, ec);
+  if (!fs::create_directory(temp_, ec)) throw InputError("--out " + final_ + ": cannot create");
+}
+
+OutputDir::~OutputDir() {
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove_all(temp_, ec);
+  }
+}
+
+std::string OutputDir::file(const std::string& name) const {
+  return (fs::path(temp_) / name).string();
+}
+
+void OutputDir::commit() {
+  std::error_code ec;
+  fs::remove_all(final_, ec);
+  fs::rename(temp_, final_, ec);
+  if (ec) throw std::runtime_error("--out " + final_ + ": cannot rename: " + ec.message());
+  committed_ = true;
+}
+
+void write_text(const std::string& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  out.flush();
+  if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
+  static const char* const coords[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
+  std::vector<std::string> labels;
+  for (int body : sys.body_of_block) {
+    for (const char* c : coords) {
+      labels.push_back(scene.bodies[static_cast<std::size_t>(body)].name + "." + c);
+    }
+  }
+  return labels;
+}
+
+namespace {
+nlohmann::json number_json(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  return x;
+}
+}  // namespace
+
+nlohmann::json dense_json(const MatX& M) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (Eigen::Index r = 0; r < M.rows(); ++r) {
+    nlohmann::json row = nlohmann::json::array();
+    for (Eigen::Index c = 0; c < M.cols(); ++c) row.push_back(number_json(M(r, c)));
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+nlohmann::json vector_json(const VecX& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (Eigen::Index k = 0; k < v.size(); ++k) a.push_back(number_json(v(k)));
+  return a;
+}
+
+}  // namespace cbps::cli

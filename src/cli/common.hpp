@@ -1,0 +1,80 @@
+// Shared pieces of the command line: scene loading, step options, output folders.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cbps/scene.hpp"
+#include "cbps/system.hpp"
+
+namespace cbps::cli {
+
+/// SCENE and --param NAME=VALUE.
+struct SceneOptions {
+  std::string scene;
+  std::vector<std::string> params;
+};
+
+/// The contract's common options of commands that step a scene; unset values keep the scene's.
+struct StepOptions {
+  std::string dt;
+  long steps = -1;
+  double duration = -1.0;
+  std::string solver;
+  int iterations = -1;
+  double tolerance = -1.0;
+  double beta = -1.0;
+  std::string push = "original";
+};
+
+void add_scene_options(CLI::App* cmd, SceneOptions& o);
+void add_step_options(CLI::App* cmd, StepOptions& o);
+
+/// A built-in scene by name (with its --param values) or a JSON scene file.
+Scene load_scene(const SceneOptions& o);
+/// Applies --dt, --beta, --solver, --iterations, --tolerance to the scene.
+void apply_step_options(Scene& scene, const StepOptions& o);
+/// Number of steps from --steps, else --duration, else the scene's duration.
+long step_count(const Scene& scene, const StepOptions& o);
+
+/// A folder written under a temporary name and renamed to its final name by commit(), so
+/// nothing appears at the final path unless the command succeeds. Without commit() the
+/// temporary folder is removed. An existing final folder is replaced only if it is empty or
+/// holds a previous cbps output (a summary.json or labels.json).
+class OutputDir {
+ public:
+  explicit OutputDir(const std::string& final_path);
+  ~OutputDir();
+  OutputDir(const OutputDir&) = delete;
+  OutputDir& operator=(const OutputDir&) = delete;
+  std::string file(const std::string& name) const;
+  void commit();
+
+ private:
+  std::string final_;
+  std::string temp_;
+  bool committed_ = false;
+};
+
+/// Writes text to a file, throwing on failure.
+void write_text(const std::string& path, const std::string& text);
+
+/// Column labels of J: "<body>.vx" … "<body>.wz" for each movable body (6.1.1).
+std::vector<std::string> column_labels(const Scene& scene, const System& sys);
+
+/// A dense matrix as nested JSON arrays (inf as the strings "inf"/"-inf").
+nlohmann::json dense_json(const MatX& M);
+nlohmann::json vector_json(const VecX& v);
+
+/// Registration of each command: adds the subcommand and sets `run` to its action.
+using Action = std::function<int()>;
+void register_scenes(CLI::App& app, Action& run);
+void register_run(CLI::App& app, Action& run);
+void register_explain(CLI::App& app, Action& run);
+void register_matrices(CLI::App& app, Action& run);
+void register_verify(CLI::App& app, Action& run);
+
+}  // namespace cbps::cli

@@ -1,0 +1,43 @@
+// cbps: the command line (see ../shared/cli-contract.md). Exit codes: 0 success, 1 a failed
+// computation, 2 bad input or usage. Errors go to stderr as "cbps: <what>: <why>".
+#include <iostream>
+
+#include "cbps/error.hpp"
+#include "common.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "cbps: the constraint-based rigid-body solver of Tamis & Maggiore (2015), built from the "
+      "paper's matrices: J, Minv, A = J Minv J^T, b, solved by projected Gauss-Seidel."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "cbps 0.1.0");
+  cbps::cli::Action action;
+  cbps::cli::register_scenes(app, action);
+  cbps::cli::register_run(app, action);
+  cbps::cli::register_explain(app, action);
+  cbps::cli::register_matrices(app, action);
+  cbps::cli::register_verify(app, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::Success& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "cbps: usage: " << e.what() << " (see cbps --help)\n";
+    return 2;
+  }
+  try {
+    return action();
+  } catch (const cbps::InputError& e) {
+    std::cerr << "cbps: " << e.what() << "\n";
+    return 2;
+  } catch (const cbps::ComputationError& e) {
+    std::cerr << "cbps: " << e.what() << "\n";
+    return 1;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "cbps: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "cbps: " << e.what() << "\n";
+    return 1;
+  }
+}

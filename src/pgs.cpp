@@ -1,0 +1,200 @@
+// Projected Gauss-Seidel (paper 7.1.1) and projected Jacobi over the explicit A.
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "cbps/solver.hpp"
+
+namespace cbps {
+
+double clamp(double x, double lo, double hi) { return std::min(std::max(x, lo), hi); }
+
+double natural_map_residual(
+    const SpMat& A, const VecX& b, const VecX& cmin, const VecX& cmax, const VecX& lambda) {
+  if (lambda.size() == 0) return 0.0;
+  const VecX w = A * lambda - b;  // w = A λ − b (6.2)
+  double r = 0.0;
+  for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+    const double projected = clamp(lambda(k) - w(k), cmin(k), cmax(k));
+    const double rk = std::abs(lambda(k) - projected);
+    if (!(rk <= r)) r = rk;  // also propagates NaN
+  }
+  return r;
+}
+
+double pgs_sweep(const SpMat& A,
+                 const VecX& b,
+                 const VecX& cmin,
+                 const VecX& cmax,
+                 VecX& lambda,
+                 double relaxation) {
+  double delta = 0.0;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    // A is symmetric: column j holds A_ij = A_ji.
+    double sum = b(j);  // b_j − Σ_{i≠j} A_ji λ_i
+    double A_jj = 0.0;
+    for (SpMat::InnerIterator it(A, j); it; ++it) {
+      if (it.row() == j) {
+        A_jj = it.value();
+      } else {
+        sum -= it.value() * lambda(it.row());
+      }
+    }
+    if (!(A_jj > 0.0)) continue;  // a row with j_c = 0 acts on nothing: λ_j stays
+    const double target = sum / A_jj;
+    const double unclamped =
+        relaxation == 1.0 ? target : lambda(j) + relaxation * (target - lambda(j));
+    const double next = clamp(unclamped, cmin(j), cmax(j));  // (7.1.1)
+    const double change = std::abs(next - lambda(j));
+    if (!(change <= delta)) delta = change;
+    lambda(j) = next;
+  }
+  return delta;
+}
+
+double jacobi_sweep(const SpMat& A,
+                    const VecX& b,
+                    const VecX& cmin,
+                    const VecX& cmax,
+                    VecX& lambda,
+                    double relaxation,
+                    VecX& scratch) {
+  scratch = lambda;  // the previous sweep's values
+  double delta = 0.0;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    double sum = b(j);
+    double A_jj = 0.0;
+    for (SpMat::InnerIterator it(A, j); it; ++it) {
+      if (it.row() == j) {
+        A_jj = it.value();
+      } else {
+        sum -= it.value() * scratch(it.row());
+      }
+    }
+    if (!(A_jj > 0.0)) continue;
+    const double target = sum / A_jj;
+    const double unclamped =
+        relaxation == 1.0 ? target : scratch(j) + relaxation * (target - scratch(j));
+    lambda(j) = clamp(unclamped, cmin(j), cmax(j));
+    const double change = std::abs(lambda(j) - scratch(j));
+    if (!(change <= delta)) delta = change;
+  }
+  return delta;
+}
+
+namespace {
+
+template <class Sweep>
+SolverSummary iterate(const SpMat& A,
+                      const VecX& b,
+                      const VecX& cmin,
+                      const VecX& cmax,
+                      VecX& lambda,
+                      const SolverOptions& options,
+                      Sweep sweep) {
+  SolverSummary s;
+  if (lambda.size() != A.rows()) lambda = VecX::Zero(A.rows());
+  if (A.rows() == 0) {
+    s.termination = Termination::ResidualTolerance;
+    s.message = "no rows";
+    return s;
+  }
+  s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
+  if (options.residual_tolerance > 0.0 && s.residual <= options.residual_tolerance) {
+    s.termination = Termination::ResidualTolerance;
+  }
+  while (s.termination == Termination::MaxIterations && s.iterations < options.max_iterations) {
+    s.delta = sweep(lambda);
+    ++s.iterations;
+    if (!std::isfinite(s.delta)) {
+      s.termination = Termination::NonFinite;
+      break;
+    }
+    if (options.delta_tolerance > 0.0 && s.delta <= options.delta_tolerance) {
+      s.termination = Termination::DeltaTolerance;
+    }
+    if (options.residual_tolerance > 0.0 || s.iterations == options.max_iterations ||
+        s.termination != Termination::MaxIterations) {
+      s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
+      if (options.residual_tolerance > 0.0 && s.residual <= options.residual_tolerance) {
+        s.termination = Termination::ResidualTolerance;
+      }
+    }
+  }
+  if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
+  std::ostringstream msg;
+  msg << to_string(s.termination) << " after " << s.iterations << " sweeps, residual " << s.residual
+      << " N, last change " << s.delta << " N";
+  s.message = msg.str();
+  return s;
+}
+
+}  // namespace
+
+SolverSummary solve_pgs(const SpMat& A,
+                        const VecX& b,
+                        const VecX& cmin,
+                        const VecX& cmax,
+                        VecX& lambda,
+                        const SolverOptions& options) {
+  return iterate(A, b, cmin, cmax, lambda, options, [&](VecX& l) {
+    return pgs_sweep(A, b, cmin, cmax, l, options.relaxation);
+  });
+}
+
+SolverSummary solve_jacobi(const SpMat& A,
+                           const VecX& b,
+                           const VecX& cmin,
+                           const VecX& cmax,
+                           VecX& lambda,
+                           const SolverOptions& options) {
+  VecX scratch;
+  return iterate(A, b, cmin, cmax, lambda, options, [&](VecX& l) {
+    return jacobi_sweep(A, b, cmin, cmax, l, options.relaxation, scratch);
+  });
+}
+
+bool is_solver_name(const std::string& method) {
+  return method == "pgs" || method == "jacobi" || method == "direct";
+}
+
+SolverSummary solve(const std::string& method,
+                    const SpMat& A,
+                    const VecX& b,
+                    const VecX& cmin,
+                    const VecX& cmax,
+                    VecX& lambda,
+                    const SolverOptions& options) {
+  if (method == "pgs") return solve_pgs(A, b, cmin, cmax, lambda, options);
+  if (method == "jacobi") return solve_jacobi(A, b, cmin, cmax, lambda, options);
+  if (method == "direct") {
+    for (Eigen::Index k = 0; k < cmin.size(); ++k) {
+      if (std::isfinite(cmin(k)) || std::isfinite(cmax(k))) {
+        throw std::invalid_argument(
+            "solver 'direct': bounded rows need the boxed-LCP solver, which is not built yet; "
+            "this solver handles equality systems (all rows unbounded)");
+      }
+    }
+    return solve_cholesky(A, b, lambda);
+  }
+  throw std::invalid_argument("unknown solver '" + method + "' (valid: pgs, jacobi, direct)");
+}
+
+std::string to_string(Termination t) {
+  switch (t) {
+    case Termination::ResidualTolerance:
+      return "residual tolerance reached";
+    case Termination::DeltaTolerance:
+      return "change tolerance reached";
+    case Termination::MaxIterations:
+      return "iteration limit";
+    case Termination::Direct:
+      return "direct solve";
+    case Termination::NonFinite:
+      return "non-finite values";
+  }
+  return "?";
+}
+
+}  // namespace cbps

@@ -1,0 +1,33 @@
+// Unit rescaling of a scene (paper 9, dimensional analysis).
+#include "cbps/scene.hpp"
+
+namespace cbps {
+
+Scene rescale_units(const Scene& scene, double L, double M, double T) {
+  Scene s = scene;
+  s.world.gravity *= L / (T * T);  // m/s²
+  s.world.dt *= T;                 // s
+  s.duration *= T;
+  for (Body& body : s.bodies) {
+    body.shape.radius *= L;
+    body.shape.half_extents *= L;
+    body.x *= L;
+    body.m *= M;
+    body.I_body *= M * L * L;  // kg m²
+    body.I_body_inv /= M * L * L;
+    body.p *= M * L / T;              // N s = kg m/s
+    body.l *= M * L * L / T;          // N m s = kg m²/s
+    body.f *= M * L / (T * T);        // N
+    body.tau *= M * L * L / (T * T);  // N m
+  }
+  for (DistanceConstraint& dc : s.distances) {
+    dc.anchor_a *= L;
+    dc.anchor_b *= L;
+    dc.l *= L;
+  }
+  s.solver.tolerance *= M * L / (T * T);  // residual in N
+  s.solver.delta_tolerance *= M * L / (T * T);
+  return s;
+}
+
+}  // namespace cbps

@@ -1,0 +1,166 @@
+// The list of built-in scenes, their parameter handling, and the exact pendulum period.
+#include <cmath>
+#include <sstream>
+
+#include "cbps/error.hpp"
+#include "scene_parameters.hpp"
+
+namespace cbps {
+
+Scene build_pendulum_wave(const std::map<std::string, std::string>& values);
+Scene build_chain(const std::map<std::string, std::string>& values);
+
+const std::vector<BuiltinScene>& builtin_scenes() {
+  static const std::vector<BuiltinScene> scenes = {
+      {"pendulum-wave",
+       "The paper's Figure 10: n balls on distance constraints to fixed points; ball k makes "
+       "n0+k swings per cycle, so the wave realigns at the end of the cycle",
+       {{"n", "50", "-", "number of balls"},
+        {"n0", "51", "-", "swings of the longest pendulum per cycle"},
+        {"cycle", "60", "s", "time after which all balls are in phase again"},
+        {"theta0_deg", "15", "deg", "release angle from the vertical"},
+        {"attach",
+         "top",
+         "-",
+         "top (the paper: string at the ball's top) | center (exact "
+         "simple pendulum)"},
+        {"radius", "0.02", "m", "ball radius"},
+        {"mass", "0.1", "kg", "ball mass"},
+        {"spacing", "0.05", "m", "distance between neighbouring pivots (along z)"},
+        {"dt", "1/240", "s", "time step"},
+        {"beta", "0.2", "", "Baumgarte push factor (5.2.3)"},
+        {"duration", "cycle", "s", "simulated time (default: one cycle)"}},
+       build_pendulum_wave},
+      {"chain",
+       "n links hanging from a fixed point by distance constraints, released horizontally; "
+       "the last link's mass is mass_ratio times the others",
+       {{"n", "10", "-", "number of links (bodies)"},
+        {"link_length", "0.1", "m", "distance between neighbouring link centres"},
+        {"link_mass", "0.1", "kg", "mass of each link but the last"},
+        {"mass_ratio", "1", "", "last link's mass / link_mass"},
+        {"radius", "0.02", "m", "link (sphere) radius"},
+        {"dt", "1/240", "s", "time step"},
+        {"beta", "0.2", "", "Baumgarte push factor (5.2.3)"},
+        {"duration", "5", "s", "simulated time"}},
+       build_chain},
+  };
+  return scenes;
+}
+
+const BuiltinScene* find_builtin_scene(const std::string& name) {
+  for (const BuiltinScene& s : builtin_scenes()) {
+    if (s.name == name) return &s;
+  }
+  return nullptr;
+}
+
+Scene make_builtin_scene(const std::string& name,
+                         const std::map<std::string, std::string>& values) {
+  const BuiltinScene* s = find_builtin_scene(name);
+  if (s == nullptr) {
+    std::string valid;
+    for (const BuiltinScene& b : builtin_scenes()) valid += (valid.empty() ? "" : ", ") + b.name;
+    throw InputError("scene '" + name +
+                     "': no such built-in scene and no such file (built-in: " + valid + ")");
+  }
+  return s->build(values);
+}
+
+bool parse_number(const std::string& text, double& value) {
+  const auto slash = text.find('/');
+  if (slash != std::string::npos) {
+    double p = 0.0;
+    double q = 0.0;
+    if (!parse_number(text.substr(0, slash), p) || !parse_number(text.substr(slash + 1), q) ||
+        q == 0.0) {
+      return false;
+    }
+    value = p / q;
+    return std::isfinite(value);
+  }
+  std::istringstream in(text);
+  in >> value;
+  return !text.empty() && !in.fail() && in.eof() && std::isfinite(value);
+}
+
+ParameterValues::ParameterValues(const BuiltinScene& scene,
+                                 const std::map<std::string, std::string>& values)
+    : scene_(scene), given_(values) {
+  for (const SceneParameter& p : scene.parameters) values_[p.name] = p.default_value;
+  for (const auto& [name, value] : values) {
+    if (values_.count(name) == 0) {
+      std::string valid;
+      for (const SceneParameter& p : scene.parameters)
+        valid += (valid.empty() ? "" : ", ") + p.name;
+      throw InputError("scene '" + scene.name + "': unknown parameter '" + name +
+                       "' (valid: " + valid + ")");
+    }
+    values_[name] = value;
+  }
+}
+
+void ParameterValues::fail(const std::string& name, const std::string& why) const {
+  throw InputError("scene '" + scene_.name + "': parameter '" + name + "': " + why + " (got '" +
+                   values_.at(name) + "')");
+}
+
+bool ParameterValues::given(const std::string& name) const { return given_.count(name) > 0; }
+
+std::string ParameterValues::text(const std::string& name) const { return values_.at(name); }
+
+double ParameterValues::number(const std::string& name, double lo, double hi) const {
+  double v = 0.0;
+  if (!parse_number(values_.at(name), v)) fail(name, "expected a finite number");
+  if (v < lo || v > hi) {
+    std::ostringstream why;
+    why << "must be in [" << lo << ", " << hi << "]";
+    fail(name, why.str());
+  }
+  return v;
+}
+
+double ParameterValues::positive(const std::string& name) const {
+  const double v = number(name, -kInf, kInf);
+  if (!(v > 0.0)) fail(name, "must be > 0");
+  return v;
+}
+
+long ParameterValues::integer(const std::string& name, long lo, long hi) const {
+  const double v = number(name, static_cast<double>(lo), static_cast<double>(hi));
+  if (v != std::floor(v)) fail(name, "expected an integer");
+  return static_cast<long>(v);
+}
+
+std::string ParameterValues::word(const std::string& name, const std::string& choices) const {
+  const std::string v = values_.at(name);
+  std::istringstream in(choices);
+  std::string choice;
+  while (std::getline(in, choice, '|')) {
+    if (choice == v) return v;
+  }
+  fail(name, "expected one of " + choices);
+}
+
+std::vector<std::pair<std::string, std::string>> ParameterValues::in_force() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const SceneParameter& p : scene_.parameters) out.emplace_back(p.name, values_.at(p.name));
+  return out;
+}
+
+double elliptic_K(double k) {
+  // K(k) = π / (2 AGM(1, k')), k' = sqrt(1 − k²); the AGM converges quadratically.
+  double a = 1.0;
+  double g = std::sqrt((1.0 - k) * (1.0 + k));
+  for (int it = 0; it < 64 && std::abs(a - g) > 1e-16 * a; ++it) {
+    const double a_next = 0.5 * (a + g);
+    g = std::sqrt(a * g);
+    a = a_next;
+  }
+  return kPi / (2.0 * a);
+}
+
+double pendulum_period(double L, double g, double theta0) {
+  return 4.0 * std::sqrt(L / g) * elliptic_K(std::sin(0.5 * theta0));
+}
+
+}  // namespace cbps

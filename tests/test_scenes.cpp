@@ -1,0 +1,92 @@
+// Built-in scenes: the pendulum-wave length rule, the chain, and parameter errors.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "cbps/error.hpp"
+#include "cbps/scenes.hpp"
+#include "cbps/simulation.hpp"
+
+using namespace cbps;
+
+TEST_CASE("elliptic_K by the AGM matches tabulated values", "[scenes]") {
+  CHECK(elliptic_K(0.0) == Approx(kPi / 2).epsilon(1e-15));
+  // K(1/√2) = Γ(1/4)² / (4 √π) = 1.8540746773013719 (Abramowitz & Stegun 17.3).
+  CHECK(elliptic_K(std::sqrt(0.5)) == Approx(1.8540746773013719).epsilon(1e-15));
+  // K(sin 15°): A&S table 17.1, modular angle 15°: 1.5981420021.
+  CHECK(elliptic_K(std::sin(15.0 * kPi / 180)) == Approx(1.5981420021).epsilon(1e-10));
+}
+
+TEST_CASE("pendulum-wave lengths give ball k exactly n0+k swings per cycle (10)", "[scenes]") {
+  const Scene s = make_builtin_scene(
+      "pendulum-wave", {{"n", "5"}, {"n0", "10"}, {"cycle", "30"}, {"attach", "center"}});
+  REQUIRE(s.bodies.size() == 5);
+  REQUIRE(s.distances.size() == 5);
+  const double theta0 = 15.0 * kPi / 180.0;
+  for (int k = 0; k < 5; ++k) {
+    const DistanceConstraint& dc = s.distances[static_cast<std::size_t>(k)];
+    const double T = pendulum_period(dc.l, 9.81, theta0);
+    CHECK(T * (10 + k) == Approx(30.0).epsilon(1e-14));
+    CHECK(dc.a == -1);
+    CHECK(dc.b == k);
+    // Released at theta0 from the vertical below the pivot, at rest, with the string taut.
+    const Vec3 d = s.bodies[static_cast<std::size_t>(k)].x - dc.anchor_a;
+    CHECK(std::atan2(d.x(), -d.y()) == Approx(theta0).epsilon(1e-14));
+    CHECK(distance_violation(dc, s.bodies) == Approx(0.0).margin(1e-15));
+  }
+}
+
+TEST_CASE("pendulum-wave attach=top ties the string to the ball's top point", "[scenes]") {
+  const Scene s = make_builtin_scene("pendulum-wave", {{"n", "3"}, {"radius", "0.03"}});
+  for (std::size_t k = 0; k < 3; ++k) {
+    const DistanceConstraint& dc = s.distances[k];
+    const Body& ball = s.bodies[k];
+    const Vec3 top = ball.world_point(dc.anchor_b);
+    // The top point lies on the line from the pivot to the centre, radius short of the centre.
+    CHECK((top - dc.anchor_a).norm() == Approx(dc.l).epsilon(1e-14));
+    CHECK((ball.x - dc.anchor_a).norm() == Approx(dc.l + 0.03).epsilon(1e-14));
+  }
+  CHECK(s.duration == 60.0);
+}
+
+TEST_CASE("chain: n links, heavy last link, released horizontally", "[scenes]") {
+  const Scene s =
+      make_builtin_scene("chain", {{"n", "4"}, {"mass_ratio", "100"}, {"link_mass", "0.2"}});
+  REQUIRE(s.bodies.size() == 4);
+  CHECK(s.bodies[3].m == Approx(20.0));
+  CHECK(s.bodies[0].m == Approx(0.2));
+  for (const Body& b : s.bodies) CHECK(b.x.y() == 0.0);
+  for (const DistanceConstraint& dc : s.distances) {
+    CHECK(distance_violation(dc, s.bodies) == Approx(0.0).margin(1e-15));
+  }
+  CHECK(s.distances[0].a == -1);
+}
+
+TEST_CASE("unknown scenes, unknown parameters and bad values are input errors", "[scenes]") {
+  CHECK_THROWS_WITH(make_builtin_scene("pendulum-wav", {}), Catch::Contains("pendulum-wave"));
+  CHECK_THROWS_WITH(make_builtin_scene("chain", {{"links", "3"}}),
+                    Catch::Contains("unknown parameter 'links'") && Catch::Contains("valid: n"));
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"n", "0"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"n", "2.5"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"link_mass", "-1"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"dt", "0"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"dt", "nan"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"dt", "inf"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("chain", {{"dt", "1/0"}}), InputError);
+  CHECK_THROWS_WITH(make_builtin_scene("pendulum-wave", {{"attach", "side"}}),
+                    Catch::Contains("top|center"));
+  double dt = 0.0;
+  CHECK(parse_number("1/240", dt));
+  CHECK(dt == 1.0 / 240.0);
+}
+
+TEST_CASE("a simple pendulum keeps its length and energy over one period (5.2, 3.2)",
+          "[scenes][simulation]") {
+  Simulation sim(make_builtin_scene("pendulum-wave", {{"n", "1"}, {"attach", "center"}}));
+  const double e0 = sim.energy();
+  const long steps = std::lround(sim.scene().duration / 51.0 / sim.scene().world.dt);
+  double worst = 0.0;
+  for (long s = 0; s < steps; ++s) worst = std::max(worst, sim.step().max_constraint_error);
+  INFO("max |c| " << worst << " m, energy " << e0 << " -> " << sim.energy() << " J");
+  CHECK(worst < 1e-4);
+  CHECK(std::abs(sim.energy() - e0) < 0.02 * std::abs(e0));
+}
