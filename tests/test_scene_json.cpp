@@ -1,0 +1,352 @@
+// JSON scene files (docs/scene-format.md): exact round trips, defaults, and errors that name the
+// file and the JSON path of the bad value.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cbps/constraint.hpp"
+#include "cbps/error.hpp"
+#include "cbps/scene_json.hpp"
+#include "cbps/scenes.hpp"
+
+using namespace cbps;
+
+namespace {
+
+/// A scene with every kind of thing the format holds: a sphere and a box with velocities, an
+/// inertia override, a static body, and constraints to the world, between bodies, and to the
+/// static body. Nothing in it is a round number, so the writer must keep every bit.
+Scene mixed_scene() {
+  Scene scene;
+  scene.name = "mixed";
+  scene.parameters = {{"n", "3"}, {"alpha", "0.1"}};  // not in alphabetical order
+  scene.duration = 2.5;
+  scene.world.gravity = Vec3(0.1, -9.80665, 1.0 / 3.0);
+  scene.world.dt = 1.0 / 300.0;
+  scene.world.beta = 0.15;
+  scene.solver.method = "jacobi";
+  scene.solver.iterations = 37;
+  scene.solver.tolerance = 1e-9;
+  scene.solver.delta_tolerance = 1e-12;
+  scene.solver.relaxation = 0.7;
+  scene.solver.warm_start = false;
+
+  Body ball;
+  ball.name = "ball";
+  ball.shape.kind = Shape::Kind::Sphere;
+  ball.shape.radius = 0.02;
+  set_mass(ball, 0.1);
+  ball.x = Vec3(0.3, -0.2, 0.1);
+  ball.q = axis_angle_quaternion(Vec3(0.3, 0.1, -0.2));
+  ball.set_velocity(Vec3(1.0 / 3.0, 0.7, -0.1), Vec3(0.2, 1.0 / 7.0, 3.0));
+
+  Body box;
+  box.name = "box";
+  box.shape.kind = Shape::Kind::Box;
+  box.shape.half_extents = Vec3(0.1, 0.2, 0.3);
+  set_mass(box, 2.5);
+  box.I_body << 0.11, 0.01, -0.002,  //
+      0.01, 0.09, 0.003,             //
+      -0.002, 0.003, 0.05;
+  box.I_body_inv = box.I_body.inverse();
+  box.x = Vec3(0.1, -0.6, 0.0);
+  box.q = axis_angle_quaternion(Vec3(-1.1, 0.4, 2.0));
+  box.set_velocity(Vec3(0.0, -0.25, 0.125), Vec3(0.0, 0.0, 0.0));
+
+  Body floor;
+  floor.name = "floor";
+  floor.is_static = true;
+  floor.shape.kind = Shape::Kind::Box;
+  floor.shape.half_extents = Vec3(5.0, 0.1, 5.0);
+  floor.x = Vec3(0.0, -1.0, 0.0);
+
+  scene.bodies = {ball, box, floor};
+  scene.distances = {
+      {"hang", -1, 0, Vec3(0.0, 1.0, 0.0), Vec3(0.0, 0.02, 0.0), 1.2},
+      {"link", 0, 1, Vec3(0.0, -0.02, 0.0), Vec3(0.1, 0.2, 0.3), 0.4},
+      {"tie", 1, 2, Vec3(-0.1, -0.2, 0.0), Vec3(0.0, 0.1, 0.0), 1.0 / 3.0},
+  };
+  return scene;
+}
+
+/// Every field, compared for exact equality.
+void check_same(const Scene& got, const Scene& want) {
+  CHECK(got.name == want.name);
+  CHECK(got.parameters == want.parameters);
+  CHECK(got.duration == want.duration);
+  CHECK(got.world.gravity == want.world.gravity);
+  CHECK(got.world.dt == want.world.dt);
+  CHECK(got.world.beta == want.world.beta);
+  CHECK(got.solver.method == want.solver.method);
+  CHECK(got.solver.iterations == want.solver.iterations);
+  CHECK(got.solver.tolerance == want.solver.tolerance);
+  CHECK(got.solver.delta_tolerance == want.solver.delta_tolerance);
+  CHECK(got.solver.relaxation == want.solver.relaxation);
+  CHECK(got.solver.warm_start == want.solver.warm_start);
+  REQUIRE(got.bodies.size() == want.bodies.size());
+  for (std::size_t i = 0; i < want.bodies.size(); ++i) {
+    const Body& g = got.bodies[i];
+    const Body& w = want.bodies[i];
+    INFO("body " << i << " (" << w.name << ")");
+    CHECK(g.name == w.name);
+    CHECK(g.shape.kind == w.shape.kind);
+    if (w.shape.kind == Shape::Kind::Sphere)
+      CHECK(g.shape.radius == w.shape.radius);
+    else
+      CHECK(g.shape.half_extents == w.shape.half_extents);
+    CHECK(g.is_static == w.is_static);
+    CHECK(g.m == w.m);
+    CHECK(g.I_body == w.I_body);
+    CHECK(g.I_body_inv == w.I_body_inv);
+    CHECK(g.x == w.x);
+    CHECK(g.q.coeffs() == w.q.coeffs());
+    CHECK(g.p == w.p);
+    CHECK(g.l == w.l);
+  }
+  REQUIRE(got.distances.size() == want.distances.size());
+  for (std::size_t k = 0; k < want.distances.size(); ++k) {
+    const DistanceConstraint& g = got.distances[k];
+    const DistanceConstraint& w = want.distances[k];
+    INFO("constraint " << k << " (" << w.name << ")");
+    CHECK(g.name == w.name);
+    CHECK(g.a == w.a);
+    CHECK(g.b == w.b);
+    CHECK(g.anchor_a == w.anchor_a);
+    CHECK(g.anchor_b == w.anchor_b);
+    CHECK(g.l == w.l);
+  }
+}
+
+/// A scene with one body given by its JSON fields (inside the braces).
+std::string one_body(const std::string& fields) {
+  return R"({"bodies": [{"shape": {"type": "sphere", "radius": 0.1})" +
+         (fields.empty() ? "" : ", " + fields) + "}]}";
+}
+
+/// Two bodies "a" (movable, at x = 1) and "s" (static), and the given constraints.
+std::string two_bodies(const std::string& constraints) {
+  return R"({"bodies": [
+    {"name": "a", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1, "position": [1, 0, 0]},
+    {"name": "s", "shape": {"type": "sphere", "radius": 0.1}, "static": true}],
+   "constraints": [)" +
+         constraints + "]}";
+}
+
+}  // namespace
+
+TEST_CASE("scene_to_json then parse_scene gives back every field bit for bit", "[scene_json]") {
+  const Scene scene = mixed_scene();
+  const std::string text = scene_to_json(scene);
+  INFO(text);
+  const Scene back = parse_scene(text, "written.json");
+  check_same(back, scene);
+  // Written again, the text is the same: writing is a function of the scene alone.
+  CHECK(scene_to_json(back) == text);
+}
+
+TEST_CASE("every built-in scene, written as JSON, reads back bit for bit", "[scene_json]") {
+  for (const BuiltinScene& builtin : builtin_scenes()) {
+    INFO("built-in scene " << builtin.name);
+    const Scene scene = make_builtin_scene(builtin.name, {});
+    check_same(parse_scene(scene_to_json(scene), builtin.name + ".json"), scene);
+  }
+}
+
+TEST_CASE("example scenes in scenes/ parse and round-trip", "[scene_json]") {
+  const Scene chain = read_scene_file(CBPS_SOURCE_DIR "/scenes/two-link-chain.json");
+  CHECK(chain.name == "two-link-chain");
+  CHECK(chain.world.dt == 1.0 / 240.0);
+  REQUIRE(chain.bodies.size() == 2);
+  REQUIRE(chain.distances.size() == 2);
+  CHECK(chain.distances[0].a == -1);
+  CHECK(chain.distances[1].b == 1);
+  for (const DistanceConstraint& dc : chain.distances)
+    CHECK(std::abs(distance_violation(dc, chain.bodies)) < 1e-15);  // starts on the links
+  check_same(parse_scene(scene_to_json(chain), "chain"), chain);
+
+  const Scene box = read_scene_file(CBPS_SOURCE_DIR "/scenes/spinning-box.json");
+  CHECK(box.name == "spinning-box");
+  CHECK(box.world.gravity.isZero(0.0));
+  REQUIRE(box.bodies.size() == 1);
+  CHECK(box.bodies[0].m == Approx(500.0 * 0.6 * 0.4 * 0.2).epsilon(1e-14));
+  CHECK((box.bodies[0].omega() - Vec3(0.01, 5.0, 0.01)).norm() < 1e-14);
+  CHECK(box.distances.empty());
+  check_same(parse_scene(scene_to_json(box), "box"), box);
+}
+
+TEST_CASE("a missing length defaults to the current distance between the anchors", "[scene_json]") {
+  // Body "a" at (1, 0, 0) turned 90° about z: its body-frame anchor (0.5, 0, 0) sits at
+  // (1, 0.5, 0) in the world; the world anchor is (0, 0, 2). Distance sqrt(1 + 0.25 + 4).
+  const Scene scene = parse_scene(R"({"bodies": [
+      {"name": "a", "shape": {"type": "sphere", "radius": 0.1}, "mass": 1,
+       "position": [1, 0, 0], "orientation": [0.7071067811865476, 0, 0, 0.7071067811865476]}],
+     "constraints": [{"a": "world", "b": "a", "anchor_a": [0, 0, 2], "anchor_b": [0.5, 0, 0]}]})",
+                                  "scene.json");
+  REQUIRE(scene.distances.size() == 1);
+  CHECK(scene.distances[0].l == Approx(std::sqrt(5.25)).epsilon(1e-14));
+  CHECK(scene.distances[0].name == "distance0");
+  CHECK(std::abs(distance_violation(scene.distances[0], scene.bodies)) < 1e-15);
+}
+
+TEST_CASE("density gives mass = density × volume, and the solid's inertia", "[scene_json]") {
+  const Scene scene =
+      parse_scene(R"({"bodies": [{"shape": {"type": "box", "half_extents": [0.1, 0.2, 0.05]},
+                                  "density": 7800}]})",
+                  "scene.json");
+  const Body& body = scene.bodies.at(0);
+  CHECK(body.m == 7800.0 * body.shape.volume());
+  CHECK(body.I_body == body.shape.inertia(body.m));
+  CHECK(body.name == "body0");
+  CHECK(scene.name == "scene");
+}
+
+TEST_CASE("velocities become momenta p = m v, l = I omega (3.2)", "[scene_json]") {
+  const Scene scene =
+      parse_scene(one_body(R"("mass": 2, "inertia": [1, 2, 3], "orientation": [0, 1, 0, 0],
+                  "velocity": [1, 2, 3], "angular_velocity": [0.5, -1, 2])"),
+                  "scene.json");
+  const Body& body = scene.bodies.at(0);
+  CHECK(body.p == 2.0 * Vec3(1, 2, 3));
+  CHECK(body.I_body == Vec3(1, 2, 3).asDiagonal().toDenseMatrix());
+  CHECK((body.omega() - Vec3(0.5, -1, 2)).norm() < 1e-15);
+  CHECK((body.l - body.I_world() * Vec3(0.5, -1, 2)).norm() < 1e-15);
+}
+
+TEST_CASE("a static body needs no mass and may be a constraint end", "[scene_json]") {
+  const Scene scene = parse_scene(two_bodies(R"({"a": "s", "b": 0, "length": 0.5})"), "s.json");
+  CHECK(scene.bodies[1].is_static);
+  CHECK(scene.bodies[1].m == 1.0);
+  CHECK(scene.distances[0].a == 1);
+  CHECK(scene.distances[0].b == 0);
+  CHECK(scene.distances[0].l == 0.5);
+}
+
+TEST_CASE("dt may be a fraction p/q", "[scene_json]") {
+  const Scene scene = parse_scene(R"({"world": {"dt": "1/240"}, "bodies": []})", "scene.json");
+  CHECK(scene.world.dt == 1.0 / 240.0);
+}
+
+TEST_CASE("a scene file's name defaults to its file stem; a missing file is an InputError",
+          "[scene_json]") {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "cbps-test-unnamed-scene.json";
+  {
+    std::ofstream out(path);
+    out << R"({"bodies": []})";
+  }
+  CHECK(read_scene_file(path.string()).name == "cbps-test-unnamed-scene");
+  std::filesystem::remove(path);
+  const std::string missing = "/nonexistent/dir/scene.json";
+  REQUIRE_THROWS_AS(read_scene_file(missing), InputError);
+  REQUIRE_THROWS_WITH(read_scene_file(missing), "/nonexistent/dir/scene.json: cannot open");
+}
+
+TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[scene_json]") {
+  struct BadInput {
+    std::string text;
+    std::string message;  // expected part of what()
+  };
+  const auto bad = GENERATE(values<BadInput>({
+      // Numbers out of range, wrong types, non-finite values.
+      {one_body(R"("mass": -1)"), "scene.json: /bodies/0/mass: must be > 0 (got -1)"},
+      {one_body(R"("mass": "heavy")"),
+       "scene.json: /bodies/0/mass: expected a number (got string)"},
+      {one_body(R"("mass": 1, "position": [0, 1e999, 0])"),
+       "scene.json: /bodies/0/position/1: not a finite number"},
+      {one_body(R"("mass": 1, "position": [0, 1])"),
+       "scene.json: /bodies/0/position: expected an array of 3 numbers (got array of 2)"},
+      {R"({"duration": -1, "bodies": []})", "scene.json: /duration: must be > 0 (got -1)"},
+      {R"({"world": {"dt": 0}, "bodies": []})", "scene.json: /world/dt: must be > 0 (got 0)"},
+      {R"({"world": {"dt": "1/0"}, "bodies": []})",
+       R"(scene.json: /world/dt: expected a number or a fraction such as "1/240" (got "1/0"))"},
+      {R"({"world": {"gravity": [0, -1e400, 0]}, "bodies": []})",
+       "scene.json: /world/gravity/1: not a finite number"},
+      {R"({"world": {"beta": 1.5}, "bodies": []})",
+       "scene.json: /world/beta: must be in [0, 1] (got 1.5)"},
+      {R"({"solver": {"method": "cg"}, "bodies": []})",
+       R"(scene.json: /solver/method: unknown method "cg" (valid: pgs, jacobi, direct))"},
+      {R"({"solver": {"iterations": 0}, "bodies": []})",
+       "scene.json: /solver/iterations: must be >= 1 (got 0)"},
+      {R"({"solver": {"iterations": 2.5}, "bodies": []})",
+       "scene.json: /solver/iterations: expected an integer (got 2.5)"},
+      {R"({"solver": {"tolerance": -1}, "bodies": []})",
+       "scene.json: /solver/tolerance: must be >= 0 (got -1)"},
+      {R"({"solver": {"relaxation": 2}, "bodies": []})",
+       "scene.json: /solver/relaxation: must be in (0, 2) (got 2)"},
+      {R"({"solver": {"warm_start": "yes"}, "bodies": []})",
+       "scene.json: /solver/warm_start: expected true or false (got string)"},
+      {R"({"parameters": {"n": 3}, "bodies": []})",
+       "scene.json: /parameters/n: expected a string (got number)"},
+      // Structure: unknown, duplicate and missing keys.
+      {one_body(R"("masss": 1)"), "scene.json: /bodies/0/masss: unknown key (valid: name, shape,"},
+      {R"({"gravity": [0, 0, 0], "bodies": []})", "scene.json: /gravity: unknown key"},
+      {R"({"a/b": 1, "bodies": []})", "scene.json: /a~1b: unknown key"},
+      {one_body(R"("mass": 1, "mass": 2)"), "scene.json: /bodies/0/mass: duplicate key"},
+      {R"([1, 2])", "scene.json: /: expected an object (got array)"},
+      {R"({"bodies": {}})", "scene.json: /bodies: expected an array (got object)"},
+      {R"({})", "scene.json: /bodies: missing (required)"},
+      {R"({"bodies": [{"mass": 1}]})", "scene.json: /bodies/0/shape: missing (required)"},
+      // Shapes, masses, inertia, orientation.
+      {R"({"bodies": [{"shape": {"type": "cylinder"}, "mass": 1}]})",
+       R"(scene.json: /bodies/0/shape/type: unknown shape type "cylinder" (valid: sphere, box))"},
+      {R"({"bodies": [{"shape": {"type": "sphere", "radius": 0}, "mass": 1}]})",
+       "scene.json: /bodies/0/shape/radius: must be > 0 (got 0)"},
+      {R"({"bodies": [{"shape": {"type": "box", "half_extents": [1, 0, 1]}, "mass": 1}]})",
+       "scene.json: /bodies/0/shape/half_extents/1: must be > 0 (got 0)"},
+      {R"({"bodies": [{"shape": {"type": "sphere", "radius": 1, "half_extents": [1, 1, 1]},
+                       "mass": 1}]})",
+       "scene.json: /bodies/0/shape/half_extents: unknown key (valid: type, radius)"},
+      {one_body(""), "scene.json: /bodies/0: a movable body needs \"mass\""},
+      {one_body(R"("mass": 1, "density": 1000)"),
+       R"(scene.json: /bodies/0: give "mass" or "density", not both)"},
+      {R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 1},
+                      {"shape": {"type": "sphere", "radius": 1}, "mass": 1,
+                       "inertia": [[1, 2, 0], [2, 1, 0], [0, 0, 1]]}]})",
+       "scene.json: /bodies/1/inertia: not positive definite"},
+      {one_body(R"("mass": 1, "inertia": [1, -2, 1])"),
+       "scene.json: /bodies/0/inertia: not positive definite"},
+      {one_body(R"("mass": 1, "inertia": [[1, 0.5, 0], [0, 1, 0], [0, 0, 1]])"),
+       "scene.json: /bodies/0/inertia: not symmetric"},
+      {one_body(R"("mass": 1, "inertia": [1, 2])"),
+       "scene.json: /bodies/0/inertia: expected [Ixx, Iyy, Izz] or a 3x3 array"},
+      {one_body(R"("mass": 1, "orientation": [2, 0, 0, 0])"),
+       "scene.json: /bodies/0/orientation: must be a unit quaternion"},
+      {one_body(R"("mass": 1, "velocity": [1, 0, 0], "momentum": [1, 0, 0])"),
+       R"(scene.json: /bodies/0: give "velocity" or "momentum", not both)"},
+      {one_body(R"("static": true, "velocity": [1, 0, 0])"),
+       "scene.json: /bodies/0/velocity: must be zero for a static body"},
+      {one_body(R"("name": "world", "mass": 1)"),
+       R"(scene.json: /bodies/0/name: "world" is reserved)"},
+      {R"({"bodies": [{"name": "b", "shape": {"type": "sphere", "radius": 1}, "mass": 1},
+                      {"name": "b", "shape": {"type": "sphere", "radius": 1}, "mass": 1}]})",
+       R"(scene.json: /bodies/1/name: duplicate body name "b" (also /bodies/0))"},
+      // Constraints.
+      {two_bodies(R"({"a": "world", "b": "a", "length": 0})"),
+       "scene.json: /constraints/0/length: must be > 0 (got 0)"},
+      {two_bodies(R"({"type": "spring", "a": "world", "b": "a"})"),
+       R"(scene.json: /constraints/0/type: unknown constraint type "spring" (valid: distance))"},
+      {two_bodies(R"({"a": "world", "b": "world"})"),
+       "scene.json: /constraints/0: both ends are fixed"},
+      {two_bodies(R"({"a": "world", "b": "s"})"),
+       "scene.json: /constraints/0: both ends are fixed"},
+      {two_bodies(R"({"a": "a", "b": 0})"),
+       "scene.json: /constraints/0: both ends are on the same"},
+      {two_bodies(R"({"a": "ghost", "b": "a"})"),
+       R"(scene.json: /constraints/0/a: no body named "ghost")"},
+      {two_bodies(R"({"a": "world", "b": 5})"),
+       "scene.json: /constraints/0/b: body index out of range (got 5)"},
+      {two_bodies(R"({"a": "world", "b": true})"),
+       "scene.json: /constraints/0/b: expected a body name, a body index or \"world\""},
+      {two_bodies(R"({"a": "world"})"), "scene.json: /constraints/0/b: missing (required)"},
+      {two_bodies(R"({"a": "world", "b": "a", "anchor_a": [1, 0, 0]})"),
+       "scene.json: /constraints/0: the anchor points coincide"},
+      // Malformed JSON: the position comes from the parser's byte offset.
+      {"{\n  \"name\": \"x\",\n  \"bodies\": [],\n  \"a\":}\n", "scene.json: line 4, column 7: "},
+  }));
+  CAPTURE(bad.text);
+  REQUIRE_THROWS_AS(parse_scene(bad.text, "scene.json"), InputError);
+  REQUIRE_THROWS_WITH(parse_scene(bad.text, "scene.json"), Catch::Contains(bad.message));
+}
