@@ -23,6 +23,34 @@ double natural_map_residual(
   return r;
 }
 
+namespace {
+
+/// Row j of 7.1.1 before clamping: (b_j − Σ_{i≠j} A_ji x_i) / A_jj, with x the values the
+/// sweep reads (the current lambda for Gauss-Seidel, the previous sweep's for Jacobi).
+/// Returns false for a row with A_jj = 0 (j_c = 0 acts on nothing; its lambda stays).
+bool row_target(const SpMat& A, const VecX& b, const VecX& x, Eigen::Index j, double& target) {
+  // A is symmetric: column j holds A_ij = A_ji.
+  double sum = b(j);
+  double A_jj = 0.0;
+  for (SpMat::InnerIterator it(A, j); it; ++it) {
+    if (it.row() == j) {
+      A_jj = it.value();
+    } else {
+      sum -= it.value() * x(it.row());
+    }
+  }
+  if (!(A_jj > 0.0)) return false;
+  target = sum / A_jj;
+  return true;
+}
+
+/// lambda_old + omega (target − lambda_old), exactly the target when omega = 1 (7.1.1).
+double relax(double old, double target, double relaxation) {
+  return relaxation == 1.0 ? target : old + relaxation * (target - old);
+}
+
+}  // namespace
+
 double pgs_sweep(const SpMat& A,
                  const VecX& b,
                  const VecX& cmin,
@@ -30,24 +58,12 @@ double pgs_sweep(const SpMat& A,
                  VecX& lambda,
                  double relaxation) {
   double delta = 0.0;
+  double target = 0.0;
   for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
-    // A is symmetric: column j holds A_ij = A_ji.
-    double sum = b(j);  // b_j − Σ_{i≠j} A_ji λ_i
-    double A_jj = 0.0;
-    for (SpMat::InnerIterator it(A, j); it; ++it) {
-      if (it.row() == j) {
-        A_jj = it.value();
-      } else {
-        sum -= it.value() * lambda(it.row());
-      }
-    }
-    if (!(A_jj > 0.0)) continue;  // a row with j_c = 0 acts on nothing: λ_j stays
-    const double target = sum / A_jj;
-    const double unclamped =
-        relaxation == 1.0 ? target : lambda(j) + relaxation * (target - lambda(j));
-    const double next = clamp(unclamped, cmin(j), cmax(j));  // (7.1.1)
+    if (!row_target(A, b, lambda, j, target)) continue;
+    const double next = clamp(relax(lambda(j), target, relaxation), cmin(j), cmax(j));  // (7.1.1)
     const double change = std::abs(next - lambda(j));
-    if (!(change <= delta)) delta = change;
+    if (!(change <= delta)) delta = change;  // also propagates NaN
     lambda(j) = next;
   }
   return delta;
@@ -62,21 +78,10 @@ double jacobi_sweep(const SpMat& A,
                     VecX& scratch) {
   scratch = lambda;  // the previous sweep's values
   double delta = 0.0;
+  double target = 0.0;
   for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
-    double sum = b(j);
-    double A_jj = 0.0;
-    for (SpMat::InnerIterator it(A, j); it; ++it) {
-      if (it.row() == j) {
-        A_jj = it.value();
-      } else {
-        sum -= it.value() * scratch(it.row());
-      }
-    }
-    if (!(A_jj > 0.0)) continue;
-    const double target = sum / A_jj;
-    const double unclamped =
-        relaxation == 1.0 ? target : scratch(j) + relaxation * (target - scratch(j));
-    lambda(j) = clamp(unclamped, cmin(j), cmax(j));
+    if (!row_target(A, b, scratch, j, target)) continue;
+    lambda(j) = clamp(relax(scratch(j), target, relaxation), cmin(j), cmax(j));
     const double change = std::abs(lambda(j) - scratch(j));
     if (!(change <= delta)) delta = change;
   }

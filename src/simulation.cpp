@@ -35,6 +35,15 @@ VecX Simulation::initial_lambda(const System& sys) const {
   return lambda;
 }
 
+SolverSummary Simulation::solve_system(const System& sys, VecX& lambda) const {
+  SolverOptions options;
+  options.max_iterations = scene_.solver.iterations;
+  options.residual_tolerance = scene_.solver.tolerance;
+  options.delta_tolerance = scene_.solver.delta_tolerance;
+  options.relaxation = scene_.solver.relaxation;
+  return solve(scene_.solver.method, sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+}
+
 namespace {
 
 /// Names the first non-finite entry of v2 by step and body, or of lambda by row.
@@ -75,12 +84,7 @@ StepReport Simulation::step() {
 
   // 2. λ by the chosen solver (7), from last step's λ (warm start).
   VecX lambda = initial_lambda(sys);
-  SolverOptions options;
-  options.max_iterations = scene_.solver.iterations;
-  options.residual_tolerance = scene_.solver.tolerance;
-  options.delta_tolerance = scene_.solver.delta_tolerance;
-  options.relaxation = scene_.solver.relaxation;
-  report.solver = solve(scene_.solver.method, sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+  report.solver = solve_system(sys, lambda);
 
   // 3. New velocities v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1).
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, dt);

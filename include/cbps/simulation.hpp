@@ -34,6 +34,8 @@ class Simulation {
   System build_system() const;
   /// The warm-start guess for a system: last step's lambda by row id, else 0.
   VecX initial_lambda(const System& sys) const;
+  /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda.
+  SolverSummary solve_system(const System& sys, VecX& lambda) const;
 
   /// Called inside every step with the step's system, its lambda and v2 (for cross-checks).
   using Observer = std::function<void(const System&, const VecX& lambda, const VecX& v2)>;

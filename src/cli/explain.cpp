@@ -60,12 +60,7 @@ int explain_command(const ExplainOptions& o) {
 
   System sys = sim.build_system();
   VecX lambda = sim.initial_lambda(sys);
-  SolverOptions options;
-  options.max_iterations = scene.solver.iterations;
-  options.residual_tolerance = scene.solver.tolerance;
-  options.relaxation = scene.solver.relaxation;
-  const SolverSummary summary =
-      solve(scene.solver.method, sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+  const SolverSummary summary = sim.solve_system(sys, lambda);
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, sys.dt);
   const std::vector<std::string> cols = column_labels(scene, sys);
   const std::vector<std::string>& rows = sys.labels;
