@@ -11,18 +11,28 @@ namespace cbps {
 
 Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {}
 
+void Simulation::build_rows(std::vector<Row>& rows) const {
+  rows.resize(scene_.distances.size());
+  for (std::size_t k = 0; k < scene_.distances.size(); ++k) {
+    rows[k] =
+        distance_row(scene_.distances[k], scene_.bodies, scene_.world.beta, scene_.world.dt, k);
+  }
+}
+
 std::vector<Row> Simulation::build_rows() const {
   std::vector<Row> rows;
-  rows.reserve(scene_.distances.size());
-  for (std::size_t k = 0; k < scene_.distances.size(); ++k) {
-    rows.push_back(
-        distance_row(scene_.distances[k], scene_.bodies, scene_.world.beta, scene_.world.dt, k));
-  }
+  build_rows(rows);
   return rows;
 }
 
 System Simulation::build_system() const {
   return assemble_system(scene_.bodies, build_rows(), scene_.world.gravity, scene_.world.dt);
+}
+
+const System& Simulation::assemble() {
+  build_rows(rows_);
+  assemble_system(scene_.bodies, rows_, scene_.world.gravity, scene_.world.dt, sys_);
+  return sys_;
 }
 
 VecX Simulation::initial_lambda(const System& sys) const {
@@ -79,7 +89,7 @@ StepReport Simulation::step() {
   StepReport report;
 
   // 1. Constraint rows of the current state (5.2) and the system A λ = b (6.1, 6.2.9).
-  const System sys = build_system();
+  const System& sys = assemble();
   report.rows = sys.rows();
 
   // 2. λ by the chosen solver (7), from last step's λ (warm start).

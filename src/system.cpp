@@ -13,43 +13,97 @@ void map_bodies(const std::vector<Body>& bodies, System& sys) {
   }
 }
 
-SpMat assemble_J(const std::vector<Row>& rows, const std::vector<int>& block_of_body, int blocks) {
-  std::vector<Triplet> t;
-  t.reserve(rows.size() * 12);
-  auto put = [&](int k, int body, const Row6& j) {
-    if (body < 0) return;
-    const int col = 6 * block_of_body[static_cast<std::size_t>(body)];
-    for (int c = 0; c < 6; ++c) {
-      if (j(c) != 0.0) t.emplace_back(k, col + c, j(c));
-    }
-  };
-  for (std::size_t k = 0; k < rows.size(); ++k) {
-    put(static_cast<int>(k), rows[k].body_a, rows[k].j_a);
-    put(static_cast<int>(k), rows[k].body_b, rows[k].j_b);
-  }
-  SpMat J(static_cast<Eigen::Index>(rows.size()), 6 * blocks);
-  J.setFromTriplets(t.begin(), t.end());
+SpMatRow assemble_J(const std::vector<Row>& rows,
+                    const std::vector<int>& block_of_body,
+                    int blocks) {
+  SpMatRow J;
+  assemble_J(rows, block_of_body, blocks, J);
   return J;
 }
 
+void assemble_J(const std::vector<Row>& rows,
+                const std::vector<int>& block_of_body,
+                int blocks,
+                SpMatRow& J) {
+  // Row k's entries: the nonzeros of j_a in body a's 6 columns and of j_b in body b's, in
+  // increasing column order. Two passes over the rows: count, then fill the compressed arrays.
+  auto count = [](int body, const Row6& j) {
+    return body < 0 ? 0 : int((j.array() != 0.0).count());
+  };
+  J.resize(static_cast<Eigen::Index>(rows.size()), 6 * blocks);
+  Eigen::Index nnz = 0;
+  for (const Row& row : rows) nnz += count(row.body_a, row.j_a) + count(row.body_b, row.j_b);
+  J.resizeNonZeros(nnz);
+  int* outer = J.outerIndexPtr();
+  int* inner = J.innerIndexPtr();
+  double* value = J.valuePtr();
+  int e = 0;
+  auto put = [&](int body, const Row6& j) {
+    if (body < 0) return;
+    const int col = 6 * block_of_body[static_cast<std::size_t>(body)];
+    for (int c = 0; c < 6; ++c) {
+      if (j(c) == 0.0) continue;
+      inner[e] = col + c;
+      value[e] = j(c);
+      ++e;
+    }
+  };
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Row& row = rows[k];
+    outer[k] = e;
+    const bool a_first =
+        row.body_b < 0 ||
+        (row.body_a >= 0 && block_of_body[static_cast<std::size_t>(row.body_a)] <
+                                block_of_body[static_cast<std::size_t>(row.body_b)]);
+    put(a_first ? row.body_a : row.body_b, a_first ? row.j_a : row.j_b);
+    put(a_first ? row.body_b : row.body_a, a_first ? row.j_b : row.j_a);
+  }
+  outer[rows.size()] = e;
+}
+
 SpMat assemble_Minv(const std::vector<Body>& bodies, const std::vector<int>& body_of_block) {
-  std::vector<Triplet> t;
-  t.reserve(body_of_block.size() * 12);
+  SpMat Minv;
+  assemble_Minv(bodies, body_of_block, Minv);
+  return Minv;
+}
+
+void assemble_Minv(const std::vector<Body>& bodies,
+                   const std::vector<int>& body_of_block,
+                   SpMat& Minv) {
+  // Column by column: three columns holding m⁻¹, three holding a column of I⁻¹ each.
+  const auto n6 = static_cast<Eigen::Index>(6 * body_of_block.size());
+  std::vector<Mat3> Iinv(body_of_block.size());
+  Eigen::Index nnz = 0;
+  for (std::size_t blk = 0; blk < body_of_block.size(); ++blk) {
+    Iinv[blk] = bodies[static_cast<std::size_t>(body_of_block[blk])].Iinv_world();
+    nnz += 3 + (Iinv[blk].array() != 0.0).count();
+  }
+  Minv.resize(n6, n6);
+  Minv.resizeNonZeros(nnz);
+  int* outer = Minv.outerIndexPtr();
+  int* inner = Minv.innerIndexPtr();
+  double* value = Minv.valuePtr();
+  int e = 0;
   for (std::size_t blk = 0; blk < body_of_block.size(); ++blk) {
     const Body& body = bodies[static_cast<std::size_t>(body_of_block[blk])];
     const int o = 6 * static_cast<int>(blk);
-    for (int c = 0; c < 3; ++c) t.emplace_back(o + c, o + c, body.minv());  // m⁻¹ E₃
-    const Mat3 Iinv = body.Iinv_world();                                    // I⁻¹
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) {
-        if (Iinv(r, c) != 0.0) t.emplace_back(o + 3 + r, o + 3 + c, Iinv(r, c));
+    for (int c = 0; c < 3; ++c) {  // m⁻¹ E₃
+      outer[o + c] = e;
+      inner[e] = o + c;
+      value[e] = body.minv();
+      ++e;
+    }
+    for (int c = 0; c < 3; ++c) {  // I⁻¹
+      outer[o + 3 + c] = e;
+      for (int r = 0; r < 3; ++r) {
+        if (Iinv[blk](r, c) == 0.0) continue;
+        inner[e] = o + 3 + r;
+        value[e] = Iinv[blk](r, c);
+        ++e;
       }
     }
   }
-  const auto n6 = static_cast<Eigen::Index>(6 * body_of_block.size());
-  SpMat Minv(n6, n6);
-  Minv.setFromTriplets(t.begin(), t.end());
-  return Minv;
+  outer[n6] = e;
 }
 
 VecX stack_velocities(const std::vector<Body>& bodies, const std::vector<int>& body_of_block) {
@@ -74,14 +128,13 @@ VecX stack_forces(const std::vector<Body>& bodies,
   return f;
 }
 
-SpMat compute_A(const SpMat& J, const SpMat& Minv) {
-  const SpMat Jt = J.transpose();
-  SpMat A = J * (Minv * Jt);  // A = J M⁻¹ Jᵀ (6.2.9)
-  return A;
+SpMat compute_A(const SpMatRow& J, const SpMat& Minv) {
+  const SpMat MinvJt = Minv * J.transpose();
+  return J * MinvJt;  // A = J M⁻¹ Jᵀ (6.2.9)
 }
 
 VecX compute_b(const VecX& upsilon,
-               const SpMat& J,
+               const SpMatRow& J,
                const VecX& v1,
                const SpMat& Minv,
                const VecX& fext,
@@ -92,7 +145,7 @@ VecX compute_b(const VecX& upsilon,
 
 VecX compute_v2(const VecX& v1,
                 const SpMat& Minv,
-                const SpMat& J,
+                const SpMatRow& J,
                 const VecX& lambda,
                 const VecX& fext,
                 double dt) {
@@ -105,29 +158,37 @@ System assemble_system(const std::vector<Body>& bodies,
                        const Vec3& gravity,
                        double dt) {
   System sys;
+  assemble_system(bodies, rows, gravity, dt, sys);
+  return sys;
+}
+
+void assemble_system(const std::vector<Body>& bodies,
+                     const std::vector<Row>& rows,
+                     const Vec3& gravity,
+                     double dt,
+                     System& sys) {
   sys.dt = dt;
   map_bodies(bodies, sys);
   const auto c = static_cast<Eigen::Index>(rows.size());
-  sys.labels.reserve(rows.size());
-  sys.ids.reserve(rows.size());
+  sys.labels.resize(rows.size());
+  sys.ids.resize(rows.size());
   sys.upsilon.resize(c);
   sys.cmin.resize(c);
   sys.cmax.resize(c);
   for (Eigen::Index k = 0; k < c; ++k) {
     const Row& row = rows[static_cast<std::size_t>(k)];
-    sys.labels.push_back(row.label);
-    sys.ids.push_back(row.id);
+    sys.labels[static_cast<std::size_t>(k)] = row.label;
+    sys.ids[static_cast<std::size_t>(k)] = row.id;
     sys.upsilon(k) = row.upsilon;
     sys.cmin(k) = row.cmin;
     sys.cmax(k) = row.cmax;
   }
-  sys.J = assemble_J(rows, sys.block_of_body, sys.blocks());
-  sys.Minv = assemble_Minv(bodies, sys.body_of_block);
+  assemble_J(rows, sys.block_of_body, sys.blocks(), sys.J);
+  assemble_Minv(bodies, sys.body_of_block, sys.Minv);
   sys.v1 = stack_velocities(bodies, sys.body_of_block);
   sys.fext = stack_forces(bodies, sys.body_of_block, gravity);
   sys.A = compute_A(sys.J, sys.Minv);
   sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, dt);
-  return sys;
 }
 
 }  // namespace cbps

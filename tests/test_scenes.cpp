@@ -1,4 +1,5 @@
 // Built-in scenes: the pendulum-wave length rule, the chain, and parameter errors.
+#include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -35,15 +36,37 @@ TEST_CASE("pendulum-wave lengths give ball k exactly n0+k swings per cycle (10)"
   }
 }
 
-TEST_CASE("pendulum-wave attach=top ties the string to the ball's top point", "[scenes]") {
+TEST_CASE("pendulum-wave attach=top: the string's slow mode has the designed period (10)",
+          "[scenes]") {
+  const double r = 0.03;
+  const double m = 0.1;
+  const double g = 9.81;
   const Scene s = make_builtin_scene("pendulum-wave", {{"n", "3"}, {"radius", "0.03"}});
+  const double K = elliptic_K(std::sin(15.0 * kPi / 360.0));
   for (std::size_t k = 0; k < 3; ++k) {
     const DistanceConstraint& dc = s.distances[k];
     const Body& ball = s.bodies[k];
-    const Vec3 top = ball.world_point(dc.anchor_b);
-    // The top point lies on the line from the pivot to the centre, radius short of the centre.
-    CHECK((top - dc.anchor_a).norm() == Approx(dc.l).epsilon(1e-14));
-    CHECK((ball.x - dc.anchor_a).norm() == Approx(dc.l + 0.03).epsilon(1e-14));
+    // The string is taut and ends at the ball's top point.
+    CHECK(distance_violation(dc, s.bodies) == Approx(0.0).margin(1e-15));
+    CHECK((ball.world_point(dc.anchor_b) - ball.x).norm() == Approx(r).epsilon(1e-14));
+    // Independent check: the generalized eigenproblem K u = ω² M u of the linearised string +
+    // ball (angles φ, ψ; I = 2/5 m r²), solved numerically; its slow mode must have
+    // ω² = g / L_k, L_k = g (T_k / 4K)², T_k = cycle / (n0 + k).
+    const double l = dc.l;
+    Eigen::Matrix2d M;
+    M << m * l * l, m * l * r, m * l * r, m * r * r + 0.4 * m * r * r;
+    Eigen::Matrix2d Kmat;
+    Kmat << m * g * l, 0.0, 0.0, m * g * r;
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> eig(Kmat, M);
+    const double T_k = 60.0 / (51.0 + static_cast<double>(k));
+    const double L_k = g * std::pow(T_k / (4.0 * K), 2);
+    CHECK(eig.eigenvalues()(0) == Approx(g / L_k).epsilon(1e-12));
+    // Released in the slow mode's shape: ψ0/φ0 equals the eigenvector's ratio.
+    const Vec3 string_dir = ball.world_point(dc.anchor_b) - dc.anchor_a;
+    const double phi0 = std::atan2(string_dir.x(), -string_dir.y());
+    const double psi0 = Eigen::AngleAxisd(ball.q).angle();
+    const Eigen::Vector2d u = eig.eigenvectors().col(0);
+    CHECK(psi0 / phi0 == Approx(u(1) / u(0)).epsilon(1e-12));
   }
   CHECK(s.duration == 60.0);
 }

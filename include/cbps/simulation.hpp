@@ -28,10 +28,14 @@ class Simulation {
   /// Throws ComputationError naming the step, body or row when values turn non-finite.
   StepReport step();
 
-  /// The rows of the current state (5.2), in constraint order.
+  /// The rows of the current state (5.2), in constraint order, into `rows` (storage reused).
+  void build_rows(std::vector<Row>& rows) const;
   std::vector<Row> build_rows() const;
-  /// The system of the current state, not solved (6.1, 6.2.9).
+  /// The system of the current state, not solved (6.1, 6.2.9), as a new System.
   System build_system() const;
+  /// The same, assembled into the simulation's own System, whose storage is reused from step
+  /// to step; step() calls this. The reference stays valid until the next assemble() or step().
+  const System& assemble();
   /// The warm-start guess for a system: last step's lambda by row id, else 0.
   VecX initial_lambda(const System& sys) const;
   /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda.
@@ -56,6 +60,8 @@ class Simulation {
   long steps_ = 0;
   std::unordered_map<std::uint64_t, double> warm_;  ///< row id → last lambda, N
   Observer observer_;
+  std::vector<Row> rows_;  ///< this step's rows, kept for their storage
+  System sys_;             ///< this step's system, kept for its storage
 };
 
 }  // namespace cbps

@@ -30,7 +30,7 @@ struct System {
   std::vector<std::string> labels;  ///< one per row
   std::vector<std::uint64_t> ids;   ///< one per row, for warm starting
 
-  SpMat J;       ///< c×6n (6.1)
+  SpMatRow J;    ///< c×6n (6.1), row-major: row k is j_c of row k
   SpMat Minv;    ///< 6n×6n block diagonal (6.1.2)
   VecX v1;       ///< 6n, velocities at the start of the step (6.1.1)
   VecX fext;     ///< 6n, external forces and torques (6.1.3)
@@ -47,10 +47,21 @@ struct System {
 /// Column blocks for the movable bodies only: static bodies get none (5.3).
 void map_bodies(const std::vector<Body>& bodies, System& sys);
 
-/// J (6.1): row k holds the two 6-blocks of row k's j_c in the columns of its bodies.
-SpMat assemble_J(const std::vector<Row>& rows, const std::vector<int>& block_of_body, int blocks);
+/// J (6.1): row k holds the two 6-blocks of row k's j_c in the columns of its bodies (nonzero
+/// entries only). Fills J in place, reusing its storage.
+void assemble_J(const std::vector<Row>& rows,
+                const std::vector<int>& block_of_body,
+                int blocks,
+                SpMatRow& J);
+SpMatRow assemble_J(const std::vector<Row>& rows,
+                    const std::vector<int>& block_of_body,
+                    int blocks);
 
-/// Minv = blockdiag(m_i⁻¹ E₃, I_i⁻¹) (6.1.2), movable bodies only.
+/// Minv = blockdiag(m_i⁻¹ E₃, I_i⁻¹) (6.1.2), movable bodies only (nonzero entries only).
+/// Fills Minv in place, reusing its storage.
+void assemble_Minv(const std::vector<Body>& bodies,
+                   const std::vector<int>& body_of_block,
+                   SpMat& Minv);
 SpMat assemble_Minv(const std::vector<Body>& bodies, const std::vector<int>& body_of_block);
 
 /// v = [v_i; omega_i] stacked over movable bodies (6.1.1).
@@ -62,11 +73,11 @@ VecX stack_forces(const std::vector<Body>& bodies,
                   const Vec3& gravity);
 
 /// A = J Minv Jᵀ (6.2.9): c×c, symmetric positive semidefinite.
-SpMat compute_A(const SpMat& J, const SpMat& Minv);
+SpMat compute_A(const SpMatRow& J, const SpMat& Minv);
 
 /// b = upsilon/dt − J (v1/dt + Minv fext) (6.2.9).
 VecX compute_b(const VecX& upsilon,
-               const SpMat& J,
+               const SpMatRow& J,
                const VecX& v1,
                const SpMat& Minv,
                const VecX& fext,
@@ -75,12 +86,19 @@ VecX compute_b(const VecX& upsilon,
 /// v2 = v1 + dt Minv (Jᵀ lambda + fext) (12.3.1).
 VecX compute_v2(const VecX& v1,
                 const SpMat& Minv,
-                const SpMat& J,
+                const SpMatRow& J,
                 const VecX& lambda,
                 const VecX& fext,
                 double dt);
 
-/// Builds the whole system of one step from the bodies and the rows (6.1, 6.2).
+/// Builds the whole system of one step from the bodies and the rows (6.1, 6.2), into `sys`,
+/// reusing the storage it already has (a simulation keeps one System across steps, so large
+/// scenes do not fetch fresh memory from the kernel every step).
+void assemble_system(const std::vector<Body>& bodies,
+                     const std::vector<Row>& rows,
+                     const Vec3& gravity,
+                     double dt,
+                     System& sys);
 System assemble_system(const std::vector<Body>& bodies,
                        const std::vector<Row>& rows,
                        const Vec3& gravity,

@@ -17,6 +17,8 @@ using MatX = Eigen::MatrixXd;
 using Row6 = Eigen::Matrix<double, 1, 6>;
 /// Sparse matrices (J, Minv, A) are column-major; A is symmetric, so its column k is its row k.
 using SpMat = Eigen::SparseMatrix<double>;
+/// J is row-major: its row k is constraint k's j_c (6.1), so it is filled row by row.
+using SpMatRow = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 using Triplet = Eigen::Triplet<double>;
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();

@@ -28,7 +28,7 @@ int matrices_command(const MatricesOptions& o) {
   const SolverSummary direct =
       solve("direct", sys.A, sys.b, sys.cmin, sys.cmax, lambda, SolverOptions{});
 
-  write_matrix_market(dir.file("J.mtx"), sys.J, "J: c x 6n constraint Jacobian (6.1)");
+  write_matrix_market(dir.file("J.mtx"), SpMat(sys.J), "J: c x 6n constraint Jacobian (6.1)");
   write_matrix_market(dir.file("Minv.mtx"), sys.Minv, "Minv: 6n x 6n inverse mass (6.1.2)");
   write_matrix_market(dir.file("A.mtx"), sys.A, "A = J Minv J^T, c x c, 1/kg (6.2.9)");
   write_matrix_market(dir.file("b.mtx"), sys.b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)");

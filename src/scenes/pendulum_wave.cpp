@@ -6,9 +6,15 @@
 // period T = 4 sqrt(L/g) K(sin(θ0/2)):   L_k = g (T_k / (4 K(sin(θ0/2))))².
 // attach=center: a distance constraint from the pivot to the ball's centre, a simple pendulum
 //   whose exact period is T_k.
-// attach=top (the paper's picture): the constraint ends at the ball's top point, rest length
-//   L_k − radius; the ball can turn about that point, so this is a double pendulum whose
-//   period differs slightly from T_k.
+// attach=top (the paper's picture): the constraint ends at the ball's top point. The ball can
+//   turn about that point, so string + ball are a double pendulum (string angle φ, ball angle
+//   ψ, string length l, radius r, I = 2/5 m r²). Linearised, with M = m [l², l r; l r, 7/5 r²]
+//   and K = m g [l, 0; 0, r], its frequencies solve  2/5 l r ω⁴ − g (l + 7/5 r) ω² + g² = 0.
+//   Asking the slow mode for ω² = g/L_k (L_k from the rule above) gives
+//     l = L_k (L_k − 7/5 r) / (L_k − 2/5 r),   with mode shape ψ/φ = L_k / (L_k − 2/5 r);
+//   the ball is released in that shape (string at θ0, ball at θ0 L_k/(L_k − 2/5 r)), so the fast
+//   mode is not excited and the wave realigns as the paper's does. The amplitude correction K is
+//   the simple pendulum's, an approximation for the double pendulum (validation/README.md).
 #include <cmath>
 
 #include "cbps/error.hpp"
@@ -38,19 +44,27 @@ Scene build_pendulum_wave(const std::map<std::string, std::string>& values) {
   for (long k = 0; k < n; ++k) {
     const double T_k = cycle / static_cast<double>(n0 + k);  // s
     const double L_k = g * std::pow(T_k / (4.0 * K), 2);     // pivot to centre, m
-    if (top && !(L_k > radius)) {
+    // String length and release angles: l = L_k, ψ0 = φ0 = θ0 for attach=center; the slow
+    // mode of the double pendulum for attach=top (see above).
+    const double l = top ? L_k * (L_k - 1.4 * radius) / (L_k - 0.4 * radius) : L_k;
+    const double phi0 = theta0;
+    const double psi0 = top ? theta0 * L_k / (L_k - 0.4 * radius) : theta0;
+    if (!(l > 0.0)) {
       throw InputError("scene 'pendulum-wave': ball " + std::to_string(k) +
-                       " would need a string shorter than its radius; lower n0 or radius");
+                       " is too large for its period (string length " + std::to_string(l) +
+                       " m); lower n0 or radius");
     }
     const Vec3 pivot(0.0, 0.0, static_cast<double>(k) * spacing);
+    const Vec3 string_end = pivot + l * Vec3(std::sin(phi0), -std::cos(phi0), 0.0);
 
     Body ball;
     ball.name = "ball" + std::to_string(k);
     ball.shape.kind = Shape::Kind::Sphere;
     ball.shape.radius = radius;
     set_mass(ball, mass);
-    ball.x = pivot + L_k * Vec3(std::sin(theta0), -std::cos(theta0), 0.0);
-    ball.q = Quat(Eigen::AngleAxisd(theta0, Vec3::UnitZ()));  // its top faces the pivot
+    ball.q = Quat(Eigen::AngleAxisd(psi0, Vec3::UnitZ()));  // body +y (its top) turned by ψ0
+    ball.x =
+        top ? Vec3(string_end + radius * Vec3(std::sin(psi0), -std::cos(psi0), 0.0)) : string_end;
 
     DistanceConstraint string;
     string.name = "string" + std::to_string(k);
@@ -58,7 +72,7 @@ Scene build_pendulum_wave(const std::map<std::string, std::string>& values) {
     string.anchor_a = pivot;
     string.b = static_cast<int>(k);
     string.anchor_b = top ? Vec3(0.0, radius, 0.0) : Vec3::Zero();
-    string.l = top ? L_k - radius : L_k;
+    string.l = l;
 
     scene.bodies.push_back(ball);
     scene.distances.push_back(string);
