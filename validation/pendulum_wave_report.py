@@ -60,9 +60,9 @@ def design_length(T, g, theta0):
     return g * (T / (4.0 * elliptic_K(math.sin(0.5 * theta0)))) ** 2
 
 
-def double_pendulum_period(L, radius, g, theta0):
-    """Slow-mode period of a massless rope of length l = L − r ending on the top of a solid ball
-    (radius r, centre at L, moment of inertia I = (2/5) m r² about its centre), s.
+def double_pendulum_period(l, radius, g, theta0):
+    """Slow-mode period of a massless rope of length l ending on the top of a solid ball
+    (radius r, moment of inertia I = (2/5) m r² about its centre), s.
 
     Angles φ (rope) and ψ (rope end to centre); linearised T = ½ m (l φ' + r ψ')² + ½ I ψ'²,
     V = ½ m g (l φ² + r ψ²). With ρ² = I/m, det(K − ω² M) = 0 reads
@@ -72,7 +72,7 @@ def double_pendulum_period(L, radius, g, theta0):
     pendulum is applied to it: an estimate, not an exact period (the double pendulum is not
     isochronous in the same way, and the release excites the fast mode a little too).
     """
-    l, r = L - radius, radius
+    r = radius
     rho2 = 0.4 * r * r
     s = r * r + rho2 + l * r
     omega2 = 2.0 * g * r / (s + math.sqrt(s * s - 4.0 * l * rho2 * r))
@@ -153,7 +153,7 @@ def load_trajectory(path, n):
     if header != HEADER:
         raise InputError(f"{path}: line 1: expected the header {HEADER!r}, got {header[:80]!r}")
     try:
-        data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=(0, 1, 2, 3, 4), ndmin=2)
+        data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=range(9), ndmin=2)
     except ValueError as e:
         raise InputError(f"{path}: malformed ({e})") from None
     if data.shape[0] == 0 or data.shape[0] % n != 0:
@@ -163,13 +163,13 @@ def load_trajectory(path, n):
         row = int(np.flatnonzero(~np.all(np.isfinite(data), axis=1))[0]) + 2
         raise InputError(f"{path}: line {row}: a value is not finite")
     m = data.shape[0] // n
-    data = data.reshape(m, n, 5)
+    data = data.reshape(m, n, 9)
     if not np.array_equal(data[:, :, 1], np.broadcast_to(np.arange(n), (m, n))):
         raise InputError(f"{path}: rows must list bodies 0..{n - 1} in order at every time")
     t = data[:, 0, 0]
     if not np.all(data[:, :, 0] == t[:, None]) or (m > 1 and not np.all(np.diff(t) > 0)):
         raise InputError(f"{path}: times must be shared by the bodies of a sample and increase")
-    return t, data[:, :, 2], data[:, :, 3], data[:, :, 4]
+    return t, data[:, :, 2], data[:, :, 3], data[:, :, 4], data[0, :, 5:9]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -243,7 +243,15 @@ def maximum_near(t, x, t_target, half_window, up, period):
     return best, method
 
 
-def measure(s, t, x, y, z):
+def string_length(centre, q, pivot, r):
+    """Distance from the pivot to the ball's top point, the body point (0, r, 0) turned by the
+    unit quaternion q = (w, x, y, z): R(q) (0, 1, 0) = (2(xy − wz), 1 − 2(x² + z²), 2(yz + wx))."""
+    w, qx, qy, qz = q
+    up = np.array([2 * (qx * qy - w * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz + w * qx)])
+    return float(np.linalg.norm(centre + r * up - pivot))
+
+
+def measure(s, t, x, y, z, q0):
     """Per ball: length, design and measured periods, phase error at t = cycle."""
     n, cycle, theta0, g = s["n"], s["cycle"], s["theta0"], s["g"]
     reached = t[-1] >= cycle - 1e-9 * cycle
@@ -259,7 +267,9 @@ def measure(s, t, x, y, z):
                 "crossings": len(up), "rel": (T_meas - T_design) / T_design,
                 "phase_deg": math.nan, "phase_method": None}
         if s["attach"] == "top":
-            ball["T_double"] = double_pendulum_period(L, s["radius"], g, theta0)
+            centre = np.array([x[0, k], y[0, k], z[0, k]])
+            ball["l"] = string_length(centre, q0[k], pivot, s["radius"])
+            ball["T_double"] = double_pendulum_period(ball["l"], s["radius"], g, theta0)
         if reached:
             t_k, ball["phase_method"] = maximum_near(t, x[:, k], cycle, 0.5 * T_design, up,
                                                      T_meas)
@@ -361,18 +371,17 @@ def write_report(outdir, summary, s, balls, reached, snapshot_times, t):
         slow_first = (first["T_double"] - first["T_design"]) / first["T_design"]
         slow_last = (last["T_double"] - last["T_design"]) / last["T_design"]
         L.append("**attach=top (as in the paper's picture):** the string ends at the top of the "
-                 "ball, so each pendulum is a massless rope of length L_k − r holding a rigid "
-                 "ball that can turn about its top point: a double pendulum, not the simple "
-                 "pendulum the lengths were designed for. Its slow mode is slower than T_k: the "
-                 "linearised double pendulum (rope angle φ, ball angle ψ, I = 2/5 m r²) gives "
-                 "ω² = 2 g r / (s + sqrt(s² − 4 l ρ² r)), s = r² + ρ² + l r, l = L − r, "
-                 "ρ² = 2/5 r², times the amplitude factor 2K/π; this estimate is the column "
-                 f"T_double. It predicts periods longer than the design by {slow_first:.2e} "
-                 f"(ball 0) to {slow_last:.2e} (ball {last['k']}); after the n0 + k swings of "
-                 f"one cycle this amounts to {360 * s['n0'] * slow_first:.1f}° (ball 0) to "
-                 f"{360 * (s['n0'] + last['k']) * slow_last:.1f}° (ball {last['k']}) of phase. "
-                 "Run with `--param attach=center` for the exact simple pendulum that "
-                 "realigns.\n")
+                 "ball, so each pendulum is a massless rope of length l holding a rigid ball "
+                 "that can turn about its top point: a double pendulum. The scene chooses l so "
+                 "that the slow mode has the design period and releases the ball in that mode's "
+                 "shape (src/scenes/pendulum_wave.cpp). Checked here independently: l is "
+                 "measured from the first sample of the trajectory (pivot to the ball's top "
+                 "point), and the linearised double pendulum (rope angle φ, ball angle ψ, "
+                 "I = 2/5 m r²) gives the slow mode ω² = 2 g r / (s + sqrt(s² − 4 l ρ² r)), "
+                 "s = r² + ρ² + l r, ρ² = 2/5 r², times the simple pendulum's amplitude factor "
+                 "2K/π (an estimate for the double pendulum); this is the column T_double. It "
+                 f"differs from the design by {slow_first:+.2e} (ball 0) to {slow_last:+.2e} "
+                 f"(ball {last['k']}).\n")
     else:
         L.append("**attach=center:** the string ends at the ball's centre, so each ball is an "
                  "exact simple pendulum with period T_k; the differences below are the "
@@ -451,8 +460,8 @@ def main():
         if not os.path.isdir(outdir):
             raise InputError(f"{outdir}: no such directory")
         summary, s = load_summary(os.path.join(outdir, "summary.json"))
-        t, x, y, z = load_trajectory(os.path.join(outdir, "trajectory.csv"), s["n"])
-        balls, reached = measure(s, t, x, y, z)
+        t, x, y, z, q0 = load_trajectory(os.path.join(outdir, "trajectory.csv"), s["n"])
+        balls, reached = measure(s, t, x, y, z, q0)
         snapshots = draw_figure(outdir, s, t, x, z)
         max_rel, max_phase = write_report(outdir, summary, s, balls, reached, snapshots, t)
     except InputError as e:
@@ -465,8 +474,9 @@ def main():
     print(f"  max |T measured − T_k| / T_k = {max_rel:.3e}")
     if s["attach"] == "top":
         worst = max(balls, key=lambda b: abs(b["T_double"] - b["T_design"]))
-        print(f"  (attach=top is a double pendulum: estimated slow-mode period up to "
-              f"{(worst['T_double'] - worst['T_design']) / worst['T_design']:+.2e} off T_k)")
+        print(f"  (attach=top is a double pendulum: the slow mode of the measured string lengths "
+              f"is within {abs(worst['T_double'] - worst['T_design']) / worst['T_design']:.1e} "
+              f"of T_k)")
     if reached:
         print(f"  max |phase error| at t = cycle = {max_phase:.3f} deg")
     else:
