@@ -9,6 +9,15 @@ int main(int argc, char** argv) {
   CLI::App app{
       "cbps: the constraint-based rigid-body solver of Tamis & Maggiore (2015), built from the "
       "paper's matrices: J, Minv, A = J Minv J^T, b, solved by projected Gauss-Seidel."};
+  app.footer(
+      "\nExamples:\n"
+      "  cbps scenes\n"
+      "  cbps run pendulum-wave --out out/wave\n"
+      "  cbps run chain --param n=100 --param mass_ratio=100 --check\n"
+      "  cbps explain chain --param n=2\n"
+      "  cbps matrices chain --step 10 --out out/m\n"
+      "  cbps verify\n"
+      "Exit codes: 0 success, 1 failed computation, 2 bad input or usage.");
   app.require_subcommand(1);
   app.set_version_flag("--version", "cbps 0.1.0");
   cbps::cli::Action action;

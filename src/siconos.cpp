@@ -1,0 +1,170 @@
+// Siconos .dat reader: a tokeniser that remembers each token's line, then the fields in order.
+#include "cbps/siconos.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "cbps/error.hpp"
+
+namespace cbps {
+
+namespace {
+
+struct Token {
+  std::string text;
+  int line = 0;
+};
+
+/// Reads the fields of one file in order; every error names the file and the line.
+class TokenReader {
+ public:
+  explicit TokenReader(const std::string& path) : path_(path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": line 0: cannot open the file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    split(text.str());
+  }
+
+  [[noreturn]] void fail(int line, const std::string& why) const {
+    throw InputError(path_ + ": line " + std::to_string(line) + ": " + why);
+  }
+
+  /// The next token, or a failure naming `what` at the end of the file.
+  const Token& next(const std::string& what) {
+    if (pos_ >= tokens_.size()) fail(last_line_, "end of file where " + what + " was expected");
+    return tokens_[pos_++];
+  }
+
+  /// The line of the token read last.
+  int line() const { return pos_ == 0 ? 1 : tokens_[pos_ - 1].line; }
+
+  /// A whole token as an integer.
+  long next_integer(const std::string& what) {
+    const Token& t = next(what);
+    errno = 0;
+    char* end = nullptr;
+    const long value = std::strtol(t.text.c_str(), &end, 10);
+    if (end == t.text.c_str() || *end != '\0' || errno == ERANGE)
+      fail(t.line, "expected an integer " + what + ", found '" + t.text + "'");
+    return value;
+  }
+
+  /// A whole token as a finite double; describe() names it (called only on failure).
+  template <class Describe>
+  double next_number(const Describe& describe) {
+    if (pos_ >= tokens_.size()) next(describe());
+    const Token& t = tokens_[pos_++];
+    double value = 0;
+    if (!parse_number(t.text, value))
+      fail(t.line, "expected a number " + describe() + ", found '" + t.text + "'");
+    if (!std::isfinite(value)) fail(t.line, describe() + " is not finite ('" + t.text + "')");
+    return value;
+  }
+
+  /// The free text after the data must not start with a number (see siconos.hpp).
+  void expect_end_of_data(const std::string& after) const {
+    if (pos_ >= tokens_.size()) return;
+    const Token& t = tokens_[pos_];
+    double value = 0;
+    if (parse_number(t.text, value))
+      fail(t.line,
+           "a number ('" + t.text + "') after " + after + ": wrong n or wrong problem type");
+  }
+
+ private:
+  static bool parse_number(const std::string& text, double& value) {
+    char* end = nullptr;
+    value = std::strtod(text.c_str(), &end);
+    return end != text.c_str() && *end == '\0';
+  }
+
+  void split(const std::string& text) {
+    int line = 1;
+    std::string current;
+    for (char c : text) {
+      const bool space = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
+      if (space) {
+        if (!current.empty()) tokens_.push_back({current, line});
+        current.clear();
+        if (c == '\n') ++line;
+      } else {
+        current.push_back(c);
+      }
+    }
+    if (!current.empty()) tokens_.push_back({current, line});
+    last_line_ = tokens_.empty() ? 1 : tokens_.back().line;
+  }
+
+  std::string path_;
+  std::vector<Token> tokens_;
+  std::size_t pos_ = 0;
+  int last_line_ = 1;
+};
+
+/// n numbers into v, named e.g. "q[3]".
+void read_vector(TokenReader& reader, const std::string& name, VecX& v) {
+  for (Eigen::Index k = 0; k < v.size(); ++k)
+    v(k) = reader.next_number([&] { return name + "[" + std::to_string(k) + "]"; });
+}
+
+}  // namespace
+
+StoredLcp read_siconos(const std::string& path, bool relay) {
+  TokenReader reader(path);
+
+  // Header: n, storage type, rows cols, rows cols.
+  const long n = reader.next_integer("n (size of the problem)");
+  if (n <= 0 || n > kMaxSiconosSize)
+    reader.fail(reader.line(),
+                "n = " + std::to_string(n) + " is outside 1 … " + std::to_string(kMaxSiconosSize));
+  const long storage = reader.next_integer("storage type");
+  if (storage == 1)
+    reader.fail(reader.line(), "storage type 1 (sparse-block) is not read; only 0 (dense)");
+  if (storage != 0) reader.fail(reader.line(), "unknown storage type " + std::to_string(storage));
+  for (const char* what :
+       {"rows of M", "columns of M", "rows of M (again)", "columns of M (again)"}) {
+    const long size = reader.next_integer(what);
+    if (size != n)
+      reader.fail(
+          reader.line(),
+          std::string(what) + " = " + std::to_string(size) + ", not n = " + std::to_string(n));
+  }
+
+  StoredLcp p;
+  p.source = path;
+  p.boxed = relay;
+  p.M.resize(n, n);
+  // Column-major, as Siconos reads it (see siconos.hpp): the k-th number is M(k mod n, k / n).
+  for (Eigen::Index j = 0; j < n; ++j)
+    for (Eigen::Index i = 0; i < n; ++i)
+      p.M(i, j) = reader.next_number(
+          [&] { return "M(" + std::to_string(i) + ", " + std::to_string(j) + ")"; });
+  p.q.resize(n);
+  read_vector(reader, "q", p.q);
+  if (relay) {
+    p.lb.resize(n);
+    p.ub.resize(n);
+    read_vector(reader, "lb", p.lb);
+    read_vector(reader, "ub", p.ub);
+    for (Eigen::Index k = 0; k < n; ++k)
+      if (p.lb(k) > p.ub(k))
+        reader.fail(reader.line(), "lb[" + std::to_string(k) + "] > ub[" + std::to_string(k) + "]");
+  } else {
+    p.lb = VecX::Zero(n);
+    p.ub = VecX::Constant(n, kInf);
+  }
+  reader.expect_end_of_data(relay ? "ub" : "q");
+  return p;
+}
+
+bool siconos_is_relay(const std::string& path) {
+  return std::filesystem::path(path).parent_path().filename() == "relay";
+}
+
+}  // namespace cbps
