@@ -38,6 +38,29 @@ Scene small_chain(int n) {
   return make_builtin_scene("chain", {{"n", std::to_string(n)}, {"mass_ratio", "10"}});
 }
 
+/// The same chain of turned boxes joined off their centres, so that every entry of each j_c
+/// block (linear and angular) and of each I⁻¹ block is nonzero.
+Scene box_chain(int n) {
+  Scene scene = small_chain(n);
+  for (Body& body : scene.bodies) {
+    body.q = Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+    body.shape.kind = Shape::Kind::Box;
+    body.shape.half_extents = Vec3(0.05, 0.02, 0.01);
+    set_mass(body, body.m);
+  }
+  for (DistanceConstraint& dc : scene.distances) dc.anchor_b = Vec3(0.01, 0.02, 0.0);
+  return scene;
+}
+
+/// n samples of the standard normal distribution, fixed seed.
+VecX random_vector(Eigen::Index n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01;
+  VecX x(n);
+  for (Eigen::Index k = 0; k < n; ++k) x(k) = n01(rng);
+  return x;
+}
+
 }  // namespace
 
 Check check_distance_jacobian() {
@@ -71,12 +94,8 @@ Check check_distance_jacobian() {
 
 Check check_transpose_sum() {
   Check c{"12.2.2", "J^T lambda = sum_i J_i^T lambda_i (row by row)", 0.0, 1e-14};
-  Simulation sim(small_chain(6));
-  const System sys = sim.build_system();
-  std::mt19937 rng(3);
-  std::normal_distribution<double> n01;
-  VecX lambda(sys.rows());
-  for (Eigen::Index k = 0; k < lambda.size(); ++k) lambda(k) = n01(rng);
+  const System sys = Simulation(box_chain(6)).build_system();
+  const VecX lambda = random_vector(sys.rows(), 3);
   const VecX product = sys.J.transpose() * lambda;
   VecX sum = VecX::Zero(sys.J.cols());
   const MatX J = sys.J;
@@ -87,14 +106,9 @@ Check check_transpose_sum() {
 
 Check check_power_identity() {
   Check c{"12.2", "(J^T lambda) . v = lambda . (J v)", 0.0, 1e-13};
-  Simulation sim(small_chain(8));
-  const System sys = sim.build_system();
-  std::mt19937 rng(5);
-  std::normal_distribution<double> n01;
-  VecX lambda(sys.rows());
-  VecX v(sys.J.cols());
-  for (Eigen::Index k = 0; k < lambda.size(); ++k) lambda(k) = n01(rng);
-  for (Eigen::Index k = 0; k < v.size(); ++k) v(k) = n01(rng);
+  const System sys = Simulation(box_chain(8)).build_system();
+  const VecX lambda = random_vector(sys.rows(), 5);
+  const VecX v = random_vector(sys.J.cols(), 6);
   const double lhs = (sys.J.transpose() * lambda).dot(v);
   const double rhs = lambda.dot(sys.J * v);
   c.error = relative(std::abs(lhs - rhs), std::abs(lhs));
@@ -150,16 +164,7 @@ Check check_A_symmetric() {
           "A = J Minv J^T is symmetric: max |A - A^T| / max |A| (round-off)",
           0.0,
           4 * std::numeric_limits<double>::epsilon()};
-  Scene scene = small_chain(12);
-  for (Body& body : scene.bodies) {
-    body.q = Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
-    body.shape.kind = Shape::Kind::Box;
-    body.shape.half_extents = Vec3(0.05, 0.02, 0.01);
-    set_mass(body, body.m);
-  }
-  for (DistanceConstraint& dc : scene.distances) dc.anchor_b = Vec3(0.01, 0.02, 0.0);
-  Simulation sim(scene);
-  const MatX A = sim.build_system().A;
+  const MatX A = Simulation(box_chain(12)).build_system().A;
   c.error = relative((A - A.transpose()).lpNorm<Eigen::Infinity>(), A.lpNorm<Eigen::Infinity>());
   return c;
 }
@@ -169,7 +174,7 @@ Check check_A_semidefinite() {
           "A is positive semidefinite (a row given twice makes it singular): -min eig / max eig",
           0.0,
           1e-14};
-  Scene scene = small_chain(8);
+  Scene scene = box_chain(8);
   scene.distances.push_back(scene.distances[3]);  // the same row twice
   Simulation sim(scene);
   const MatX A = sim.build_system().A;
