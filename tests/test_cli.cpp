@@ -56,7 +56,7 @@ void write_file(const fs::path& p, const std::string& text) { std::ofstream(p) <
 
 TEST_CASE("cbps --help and every command's --help exit 0", "[cli]") {
   CHECK(cbps("--help").code == 0);
-  for (const char* c : {"scenes", "run", "explain", "matrices", "verify"}) {
+  for (const char* c : {"scenes", "run", "explain", "matrices", "verify", "lcp"}) {
     CAPTURE(c);
     const Result r = cbps(std::string(c) + " --help");
     CHECK(r.code == 0);

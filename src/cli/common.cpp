@@ -95,7 +95,8 @@ OutputDir::OutputDir(const std::string& final_path) : final_(final_path) {
     }
     const bool empty = fs::is_empty(final_, ec);
     const bool ours = fs::exists(fs::path(final_) / "summary.json", ec) ||
-                      fs::exists(fs::path(final_) / "labels.json", ec);
+                      fs::exists(fs::path(final_) / "labels.json", ec) ||
+                      fs::exists(fs::path(final_) / "result.json", ec);
     if (!empty && !ours) {
       throw InputError("--out " + final_ +
                        ": folder exists and is not a cbps output; refusing to replace it");

@@ -43,7 +43,7 @@ long step_count(const Scene& scene, const StepOptions& o);
 /// A folder written under a temporary name and renamed to its final name by commit(), so
 /// nothing appears at the final path unless the command succeeds. Without commit() the
 /// temporary folder is removed. An existing final folder is replaced only if it is empty or
-/// holds a previous cbps output (a summary.json or labels.json).
+/// holds a previous cbps output (a summary.json, labels.json or result.json).
 class OutputDir {
  public:
   explicit OutputDir(const std::string& final_path);
@@ -75,6 +75,7 @@ void register_scenes(CLI::App& app, Action& run);
 void register_run(CLI::App& app, Action& run);
 void register_explain(CLI::App& app, Action& run);
 void register_matrices(CLI::App& app, Action& run);
+void register_lcp(CLI::App& app, Action& run);
 void register_verify(CLI::App& app, Action& run);
 
 }  // namespace cbps::cli

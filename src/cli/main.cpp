@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       "  cbps run chain --param n=100 --param mass_ratio=100 --check\n"
       "  cbps explain chain --param n=2\n"
       "  cbps matrices chain --step 10 --out out/m\n"
+      "  cbps lcp out/m --solver pgs\n"
       "  cbps verify\n"
       "Exit codes: 0 success, 1 failed computation, 2 bad input or usage.");
   app.require_subcommand(1);
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   cbps::cli::register_run(app, action);
   cbps::cli::register_explain(app, action);
   cbps::cli::register_matrices(app, action);
+  cbps::cli::register_lcp(app, action);
   cbps::cli::register_verify(app, action);
   try {
     app.parse(argc, argv);

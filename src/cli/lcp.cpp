@@ -1,0 +1,261 @@
+// cbps lcp PROBLEM [--solver NAME] [--json] [--out DIR]: solves a stored boxed LCP, either a
+// folder written by `cbps matrices` (A, b, cmin, cmax) or a Siconos .dat file (LCP or relay).
+//
+// Both are held in the paper's convention (6.2): w = A lambda − b, cmin ≤ lambda ≤ cmax, which
+// is Siconos' w = M z + q, lb ≤ z ≤ ub with M = A, q = −b, lb = cmin, ub = cmax. The command
+// measures the natural-map residual of the returned lambda itself, and prints "solved" only if
+// it is ≤ kLcpSolvedTolerance · max(1, ‖q‖∞, max |M_ij|), whatever the solver claims.
+#include "cbps/lcp.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "cbps/error.hpp"
+#include "cbps/matrix_market.hpp"
+#include "cbps/siconos.hpp"
+#include "cbps/solver.hpp"
+#include "common.hpp"
+
+namespace cbps::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The largest problem handed to the dense Lemke solver (its tableau is n × 2n).
+constexpr long kMaxLemkeRows = 3000;
+
+struct LcpOptions {
+  std::string problem;
+  std::string solver;
+  int iterations = 10000;
+  double tolerance = 1e-10;
+  bool json = false;
+  std::string out;
+};
+
+/// A stored problem in the paper's convention: w = A lambda − b, cmin ≤ lambda ≤ cmax.
+struct Problem {
+  SpMat A;    ///< c×c
+  VecX b;     ///< c
+  VecX cmin;  ///< c, −∞ allowed
+  VecX cmax;  ///< c, +∞ allowed
+  bool folder = false;
+  long rows() const { return static_cast<long>(b.size()); }
+};
+
+Problem read_folder(const std::string& dir) {
+  const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
+  Problem p;
+  p.folder = true;
+  p.A = read_matrix_market_sparse(file("A.mtx"));
+  p.b = read_matrix_market_vector(file("b.mtx"));
+  p.cmin = read_matrix_market_vector(file("cmin.mtx"));
+  p.cmax = read_matrix_market_vector(file("cmax.mtx"));
+  const long c = p.A.rows();
+  if (p.A.cols() != c)
+    throw InputError(file("A.mtx") + ": A is " + std::to_string(c) + " x " +
+                     std::to_string(p.A.cols()) + ", not square");
+  for (const auto& [name, v] : {std::pair<const char*, const VecX*>{"b.mtx", &p.b},
+                                {"cmin.mtx", &p.cmin},
+                                {"cmax.mtx", &p.cmax}}) {
+    if (v->size() != c)
+      throw InputError(file(name) + ": has " + std::to_string(v->size()) + " rows, A has " +
+                       std::to_string(c));
+  }
+  for (long k = 0; k < c; ++k) {
+    if (p.cmin(k) > p.cmax(k))
+      throw InputError(file("cmin.mtx") + ": line " + std::to_string(k + 3) + ": cmin[" +
+                       std::to_string(k) + "] > cmax[" + std::to_string(k) + "]");
+    if (!std::isfinite(p.b(k)))
+      throw InputError(file("b.mtx") + ": b[" + std::to_string(k) + "] is not finite");
+  }
+  return p;
+}
+
+Problem read_dat(const std::string& path) {
+  const StoredLcp s = read_siconos(path, siconos_is_relay(path));
+  Problem p;
+  p.A = s.M.sparseView(0.0, 0.0);
+  p.b = -s.q;
+  p.cmin = s.lb;
+  p.cmax = s.ub;
+  return p;
+}
+
+bool is_standard_lcp(const Problem& p) {
+  return (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
+}
+
+bool all_unbounded(const Problem& p) {
+  return (p.cmin.array() == -kInf).all() && (p.cmax.array() == kInf).all();
+}
+
+/// max(1, ‖q‖∞, max |M_ij|) with q = −b, M = A.
+double scale_of(const Problem& p) {
+  double s = 1.0;
+  if (p.b.size() > 0) s = std::max(s, p.b.lpNorm<Eigen::Infinity>());
+  for (Eigen::Index j = 0; j < p.A.outerSize(); ++j)
+    for (SpMat::InnerIterator it(p.A, j); it; ++it) s = std::max(s, std::abs(it.value()));
+  return s;
+}
+
+/// What the solver returned, before the command's own check.
+struct Outcome {
+  VecX lambda;
+  int iterations = 0;
+  bool no_solution = false;  ///< Lemke's ray termination
+  std::string message;
+};
+
+Outcome run_lemke(const Problem& p) {
+  if (p.rows() > kMaxLemkeRows)
+    throw InputError("--solver lemke: the problem has " + std::to_string(p.rows()) +
+                     " rows; the dense Lemke solver takes at most " +
+                     std::to_string(kMaxLemkeRows) + " (use --solver pgs)");
+  const MatX M = MatX(p.A);
+  const VecX q = -p.b;
+  const LcpResult r =
+      is_standard_lcp(p) ? solve_lemke(M, q) : solve_boxed_lemke(M, q, p.cmin, p.cmax);
+  return {r.z, r.pivots, r.status == LcpResult::Status::NoSolution, r.message};
+}
+
+Outcome run_iterative(const Problem& p, const LcpOptions& o) {
+  for (long k = 0; k < p.rows(); ++k) {
+    const double a_kk = p.A.coeff(k, k);
+    if (!(a_kk > 0.0)) {
+      return {VecX::Zero(p.rows()),
+              0,
+              false,
+              o.solver + ": not run, it needs a positive diagonal; A[" + std::to_string(k) + "," +
+                  std::to_string(k) + "] = " + std::to_string(a_kk)};
+    }
+  }
+  SolverOptions options;
+  options.max_iterations = o.iterations;
+  options.residual_tolerance = o.tolerance;
+  VecX lambda = VecX::Zero(p.rows());
+  const SolverSummary s = solve(o.solver, p.A, p.b, p.cmin, p.cmax, lambda, options);
+  return {lambda, s.iterations, false, s.message};
+}
+
+Outcome run_direct(const Problem& p) {
+  if (!all_unbounded(p))
+    throw InputError(
+        "--solver direct: needs every row unbounded (cmin = -inf, cmax = inf); "
+        "this problem has bounds, use --solver lemke (or pgs)");
+  VecX lambda = VecX::Zero(p.rows());
+  try {
+    const SolverSummary s = solve("direct", p.A, p.b, p.cmin, p.cmax, lambda, SolverOptions{});
+    return {lambda, s.iterations, false, s.message};
+  } catch (const std::runtime_error& e) {  // A not positive definite
+    return {VecX::Constant(p.rows(), std::nan("")), 1, false, std::string("direct: ") + e.what()};
+  }
+}
+
+std::string format_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
+
+int lcp_command(const LcpOptions& o) {
+  std::error_code ec;
+  const bool folder = fs::is_directory(o.problem, ec);
+  if (!o.out.empty() && fs::exists(o.out, ec) && fs::equivalent(o.out, o.problem, ec))
+    throw InputError("--out " + o.out + ": is the problem itself; choose another folder");
+  const Problem p = folder ? read_folder(o.problem) : read_dat(o.problem);
+
+  std::string solver = o.solver;
+  if (solver.empty()) solver = (!folder || p.rows() <= kMaxLemkeRows) ? "lemke" : "pgs";
+  if (solver != "lemke" && solver != "pgs" && solver != "jacobi" && solver != "direct")
+    throw InputError("--solver " + solver + ": unknown; use lemke, pgs, jacobi or direct");
+  std::unique_ptr<OutputDir> dir;
+  if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
+
+  LcpOptions run = o;
+  run.solver = solver;
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome r = solver == "lemke"    ? run_lemke(p)
+                    : solver == "direct" ? run_direct(p)
+                                         : run_iterative(p, run);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // The command's own check of the returned lambda (6.2), independent of the solver's claim.
+  const bool sized = r.lambda.size() == p.rows();
+  const double residual = sized ? natural_map_residual(p.A, p.b, p.cmin, p.cmax, r.lambda) : kInf;
+  const double scale = scale_of(p);
+  const bool solved = sized && r.lambda.allFinite() && std::isfinite(residual) &&
+                      residual <= kLcpSolvedTolerance * scale;
+  const std::string status = solved ? "solved" : r.no_solution ? "no_solution" : "failed";
+
+  nlohmann::json j;
+  j["problem"] = o.problem;
+  j["rows"] = p.rows();
+  j["solver"] = solver;
+  j["status"] = status;
+  j["iterations"] = r.iterations;
+  j["wall_time_s"] = wall;
+  j["residual"] = std::isfinite(residual) ? nlohmann::json(residual) : nlohmann::json(nullptr);
+  j["scale"] = scale;
+  j["message"] = r.message;
+  j["lambda"] = sized ? vector_json(r.lambda) : nlohmann::json::array();
+
+  if (solved && dir) {
+    write_text(dir->file("result.json"), j.dump(2) + "\n");
+    write_matrix_market(dir->file("lambda.mtx"),
+                        r.lambda,
+                        "lambda: solution of " + o.problem + " by " + solver + ", N");
+    dir->commit();
+  }
+  if (o.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("%s: %ld rows (%s)\n",
+                o.problem.c_str(),
+                p.rows(),
+                folder ? "cbps matrices folder" : "Siconos file");
+    std::printf("%s: %s, %d %s, %s s\n",
+                solver.c_str(),
+                status.c_str(),
+                r.iterations,
+                solver == "lemke" ? "pivots" : "iterations",
+                format_number(wall).c_str());
+    std::printf("residual %s (natural map, infinity norm; scale %s)\n",
+                format_number(residual).c_str(),
+                format_number(scale).c_str());
+    std::printf("%s\n", r.message.c_str());
+    if (solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
+  }
+  if (!solved && !o.out.empty())
+    std::fprintf(
+        stderr, "cbps: --out %s: not written, the problem was not solved\n", o.out.c_str());
+  return solved ? 0 : 1;
+}
+
+}  // namespace
+
+void register_lcp(CLI::App& app, Action& run) {
+  auto* cmd = app.add_subcommand(
+      "lcp", "solve a stored problem: a `cbps matrices` folder or a Siconos .dat file");
+  auto o = std::make_shared<LcpOptions>();
+  cmd->add_option("PROBLEM", o->problem, "folder from `cbps matrices`, or a Siconos .dat file")
+      ->required();
+  cmd->add_option("--solver",
+                  o->solver,
+                  "lemke (default for .dat and up to 3000 rows), pgs, jacobi, or direct "
+                  "(unbounded rows only)");
+  cmd->add_option("--iterations", o->iterations, "pgs/jacobi: sweeps (default 10000)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--tolerance", o->tolerance, "pgs/jacobi: stop at this residual (default 1e-10)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--json", o->json, "print the result as JSON");
+  cmd->add_option("--out", o->out, "write result.json and lambda.mtx here (only if solved)");
+  cmd->callback([&run, o] { run = [o] { return lcp_command(*o); }; });
+}
+
+}  // namespace cbps::cli

@@ -1,0 +1,150 @@
+// The Matrix Market reader against the writer (bit-exact round trips, ±inf), symmetric
+// expansion, and every malformed input named by file and line.
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cbps/error.hpp"
+#include "cbps/matrix_market.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path mm_scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("cbps_test_mm_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+fs::path mm_file(const std::string& name, const std::string& text) {
+  const fs::path p = mm_scratch(name);
+  std::ofstream(p) << text;
+  return p;
+}
+
+/// The InputError message of reading `text` as a sparse matrix (or vector), "" if none.
+std::string mm_error(const std::string& text, bool vector) {
+  const fs::path p = mm_file("bad.mtx", text);
+  try {
+    if (vector)
+      cbps::read_matrix_market_vector(p.string());
+    else
+      cbps::read_matrix_market_sparse(p.string());
+  } catch (const cbps::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("Matrix Market: a sparse matrix reads back bit for bit", "[matrix_market]") {
+  cbps::SpMat M(4, 3);
+  M.insert(0, 0) = 1.0 / 3.0;
+  M.insert(3, 1) = -2.5e-300;
+  M.insert(1, 2) = 6.02214076e23;
+  M.insert(2, 0) = -0.1;
+  M.makeCompressed();
+  const fs::path p = mm_scratch("M.mtx");
+  cbps::write_matrix_market(p.string(), M, "a comment");
+  const cbps::SpMat R = cbps::read_matrix_market_sparse(p.string());
+  REQUIRE(R.rows() == 4);
+  REQUIRE(R.cols() == 3);
+  CHECK(R.nonZeros() == 4);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 3; ++j) CHECK(R.coeff(i, j) == M.coeff(i, j));
+}
+
+TEST_CASE("Matrix Market: a vector with ±inf reads back bit for bit", "[matrix_market]") {
+  cbps::VecX v(5);
+  v << 0.1, -cbps::kInf, cbps::kInf, -1.0 / 7.0, 0.0;
+  const fs::path p = mm_scratch("v.mtx");
+  cbps::write_matrix_market(p.string(), v, "");
+  const cbps::VecX r = cbps::read_matrix_market_vector(p.string());
+  REQUIRE(r.size() == 5);
+  for (int k = 0; k < 5; ++k) CHECK(r(k) == v(k));
+}
+
+TEST_CASE("Matrix Market: Inf, Infinity and integer fields as scipy writes them",
+          "[matrix_market]") {
+  const fs::path p = mm_file("scipy.mtx",
+                             "%%MatrixMarket matrix array real general\n%\n4 1\nInf\n-Infinity\n"
+                             "1e-3\n\n-inf\n");
+  const cbps::VecX r = cbps::read_matrix_market_vector(p.string());
+  REQUIRE(r.size() == 4);
+  CHECK(r(0) == cbps::kInf);
+  CHECK(r(1) == -cbps::kInf);
+  CHECK(r(2) == 1e-3);
+  CHECK(r(3) == -cbps::kInf);
+  const fs::path q =
+      mm_file("int.mtx", "%%MatrixMarket matrix coordinate integer general\n2 2 1\n2 1 7\n");
+  CHECK(cbps::read_matrix_market_sparse(q.string()).coeff(1, 0) == 7.0);
+}
+
+TEST_CASE("Matrix Market: a symmetric file is expanded to both triangles", "[matrix_market]") {
+  const fs::path p = mm_file("sym.mtx",
+                             "%%MatrixMarket matrix coordinate real symmetric\n"
+                             "% lower triangle only\n3 3 4\n1 1 2\n2 1 -1\n3 2 -1\n3 3 2\n");
+  const cbps::SpMat A = cbps::read_matrix_market_sparse(p.string());
+  REQUIRE(A.rows() == 3);
+  CHECK(A.nonZeros() == 6);
+  CHECK(A.coeff(0, 1) == -1.0);
+  CHECK(A.coeff(1, 0) == -1.0);
+  CHECK(A.coeff(1, 2) == -1.0);
+  CHECK(A.coeff(2, 1) == -1.0);
+  CHECK(A.coeff(0, 0) == 2.0);
+  CHECK(A.coeff(1, 1) == 0.0);
+}
+
+TEST_CASE("Matrix Market: malformed files are InputErrors naming the file and line",
+          "[matrix_market]") {
+  struct Case {
+    const char* why;
+    bool vector;
+    std::string text;
+    std::string expected;  // a piece of the message
+  };
+  const std::string sp = "%%MatrixMarket matrix coordinate real general\n";
+  const std::string ar = "%%MatrixMarket matrix array real general\n";
+  const Case cases[] = {
+      {"bad header", false, "%%MatrixMarket tensor coordinate real general\n1 1 0\n", "line 1:"},
+      {"no header", true, "3 1\n1\n2\n3\n", "line 1:"},
+      {"complex field", false, "%%MatrixMarket matrix coordinate complex general\n", "line 1:"},
+      {"array as sparse", false, ar + "1 1\n1\n", "line 1:"},
+      {"coordinate as vector", true, sp + "1 1 0\n", "line 1:"},
+      {"empty file", true, "", "line 0:"},
+      {"short size line", false, sp + "2 2\n", "line 2:"},
+      {"too few entries", false, sp + "2 2 2\n1 1 1\n", "line 3:"},
+      {"too many entries", false, sp + "2 2 1\n1 1 1\n2 2 1\n", "line 4:"},
+      {"row out of range", false, sp + "2 2 1\n3 1 1\n", "line 3: row index 3 is out of range"},
+      {"column zero", false, sp + "2 2 1\n1 0 1\n", "line 3: column index 0 is out of range"},
+      {"not a number", false, sp + "2 2 1\n1 1 x1\n", "line 3: expected a number"},
+      {"NaN", true, ar + "2 1\n1\nnan\n", "line 4: NaN"},
+      {"trailing text", true, ar + "1 1\n1.5abc\n", "line 3: expected a number"},
+      {"two columns", true, ar + "2 2\n1\n2\n3\n4\n", "line 2:"},
+      {"too few values", true, ar + "3 1\n1\n2\n", "line 4:"},
+      {"upper triangle in symmetric",
+       false,
+       "%%MatrixMarket matrix coordinate real symmetric\n2 2 1\n1 2 1\n",
+       "line 3:"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.why);
+    const std::string message = mm_error(c.text, c.vector);
+    INFO(message);
+    CHECK(message.find("bad.mtx: ") != std::string::npos);
+    CHECK(message.find(c.expected) != std::string::npos);
+  }
+  SECTION("a missing file") {
+    try {
+      cbps::read_matrix_market_vector("/nonexistent/b.mtx");
+      FAIL("no InputError");
+    } catch (const cbps::InputError& e) {
+      CHECK(std::string(e.what()).find("/nonexistent/b.mtx: line 0:") != std::string::npos);
+    }
+  }
+}
