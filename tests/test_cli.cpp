@@ -1,7 +1,5 @@
 // The command line against its contract (../shared/cli-contract.md): exit codes, error
 // messages naming what was wrong, nothing written on failure, the files of `run` and `matrices`.
-#include <sys/wait.h>
-
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstdlib>
@@ -10,62 +8,24 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.hpp"
+
 namespace fs = std::filesystem;
 
-namespace {
-
-struct Result {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-fs::path scratch_dir(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() / ("cbps_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Runs `cbps ARGS` with stdout and stderr captured to files.
-Result cbps(const std::string& args) {
-  static const fs::path dir = scratch_dir("io");
-  const fs::path out = dir / "stdout";
-  const fs::path err = dir / "stderr";
-  const std::string cmd =
-      std::string(CBPS_EXECUTABLE) + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(cmd.c_str());
-  Result r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(out);
-  r.err = slurp(err);
-  return r;
-}
-
-void write_file(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
-
-}  // namespace
+using namespace cbps::test;
 
 TEST_CASE("cbps --help and every command's --help exit 0", "[cli]") {
-  CHECK(cbps("--help").code == 0);
+  CHECK(run_cli("--help").code == 0);
   for (const char* c : {"scenes", "run", "explain", "matrices", "verify", "lcp"}) {
     CAPTURE(c);
-    const Result r = cbps(std::string(c) + " --help");
+    const CliResult r = run_cli(std::string(c) + " --help");
     CHECK(r.code == 0);
     CHECK(r.out.find("Usage") != std::string::npos);
   }
 }
 
 TEST_CASE("cbps scenes lists the built-in scenes with parameters and units", "[cli]") {
-  const Result r = cbps("scenes --json");
+  const CliResult r = run_cli("scenes --json");
   REQUIRE(r.code == 0);
   CHECK(r.out.find("\"pendulum-wave\"") != std::string::npos);
   CHECK(r.out.find("\"chain\"") != std::string::npos);
@@ -75,8 +35,8 @@ TEST_CASE("cbps scenes lists the built-in scenes with parameters and units", "[c
 TEST_CASE("cbps run --out writes summary.json, trajectory.csv and steps.csv", "[cli]") {
   const fs::path dir = scratch_dir("run");
   const fs::path out = dir / "wave";
-  const Result r =
-      cbps("run pendulum-wave --param n=3 --steps 24 --check --quiet --out " + out.string());
+  const CliResult r =
+      run_cli("run pendulum-wave --param n=3 --steps 24 --check --quiet --out " + out.string());
   INFO(r.err);
   REQUIRE(r.code == 0);
   const std::string summary = slurp(out / "summary.json");
@@ -135,7 +95,7 @@ TEST_CASE("bad input exits 2 with a message naming what was wrong, and writes no
   };
   for (const Case& c : cases) {
     CAPTURE(c.args);
-    const Result r = cbps(c.args + " --out " + out.string());
+    const CliResult r = run_cli(c.args + " --out " + out.string());
     INFO(r.err);
     CHECK(r.code == 2);
     CHECK(r.err.rfind("cbps: ", 0) == 0);
@@ -148,7 +108,7 @@ TEST_CASE("bad input exits 2 with a message naming what was wrong, and writes no
 TEST_CASE("cbps matrices writes the system as Matrix Market files", "[cli]") {
   const fs::path dir = scratch_dir("mtx");
   const fs::path out = dir / "m";
-  const Result r = cbps("matrices chain --param n=4 --step 2 --out " + out.string());
+  const CliResult r = run_cli("matrices chain --param n=4 --step 2 --out " + out.string());
   INFO(r.err);
   REQUIRE(r.code == 0);
   for (const char* f : {"J.mtx",
@@ -173,7 +133,7 @@ TEST_CASE("cbps matrices writes the system as Matrix Market files", "[cli]") {
 }
 
 TEST_CASE("cbps verify passes every derivation check and exits 0", "[cli]") {
-  const Result r = cbps("verify");
+  const CliResult r = run_cli("verify");
   INFO(r.out);
   CHECK(r.code == 0);
   CHECK(r.out.find("5.2.1") != std::string::npos);
@@ -181,7 +141,7 @@ TEST_CASE("cbps verify passes every derivation check and exits 0", "[cli]") {
 }
 
 TEST_CASE("cbps explain labels rows by constraint and columns by body and coordinate", "[cli]") {
-  const Result r = cbps("explain chain --param n=2 --json");
+  const CliResult r = run_cli("explain chain --param n=2 --json");
   REQUIRE(r.code == 0);
   CHECK(r.out.find("\"joint1\"") != std::string::npos);
   CHECK(r.out.find("\"link1.wz\"") != std::string::npos);

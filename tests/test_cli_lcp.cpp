@@ -1,9 +1,6 @@
 // `cbps lcp` against its contract (../shared/cli-contract.md): a `cbps matrices` folder solved
 // by every solver to the same lambda, Siconos LCP and relay files, exit codes 0/1/2, errors
 // naming the file, and --out written only when solved.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -14,45 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "cli_fixture.hpp"
+
 namespace fs = std::filesystem;
 
+using namespace cbps::test;
+
 namespace {
-
-struct LcpRun {
-  int code = -1;
-  std::string out;
-  std::string err;
-};
-
-fs::path lcp_scratch(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() / ("cbps_test_lcp_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
-
-std::string lcp_slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-/// Runs `cbps ARGS` with stdout and stderr captured to files.
-LcpRun run_cbps(const std::string& args) {
-  static const fs::path dir = lcp_scratch("io");
-  const fs::path out = dir / "stdout";
-  const fs::path err = dir / "stderr";
-  const std::string cmd =
-      std::string(CBPS_EXECUTABLE) + " " + args + " >" + out.string() + " 2>" + err.string();
-  const int status = std::system(cmd.c_str());
-  LcpRun r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = lcp_slurp(out);
-  r.err = lcp_slurp(err);
-  return r;
-}
 
 std::string siconos(const std::string& relative) {
   return std::string(CBPS_SHARED_DIR) + "/data/siconos/" + relative;
@@ -68,15 +33,15 @@ std::vector<double> lambda_of(const nlohmann::json& j) {
 
 TEST_CASE("cbps lcp: lemke, pgs and direct agree on a chain's system (A positive definite)",
           "[cli][lcp]") {
-  const fs::path dir = lcp_scratch("chain");
+  const fs::path dir = scratch_dir("lcp_chain");
   const fs::path m = dir / "m";
-  const LcpRun made = run_cbps("matrices chain --param n=5 --step 3 --out " + m.string());
+  const CliResult made = run_cli("matrices chain --param n=5 --step 3 --out " + m.string());
   INFO(made.err);
   REQUIRE(made.code == 0);
   std::vector<std::vector<double>> lambdas;
   for (const char* solver : {"lemke", "pgs", "direct"}) {
     CAPTURE(solver);
-    const LcpRun r = run_cbps("lcp " + m.string() + " --json --solver " + solver);
+    const CliResult r = run_cli("lcp " + m.string() + " --json --solver " + solver);
     INFO(r.out << r.err);
     REQUIRE(r.code == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -88,7 +53,7 @@ TEST_CASE("cbps lcp: lemke, pgs and direct agree on a chain's system (A positive
     CHECK(lambdas.back().size() == j.at("rows").get<std::size_t>());
   }
   // The default for a small folder is lemke.
-  const LcpRun d = run_cbps("lcp " + m.string() + " --json");
+  const CliResult d = run_cli("lcp " + m.string() + " --json");
   REQUIRE(d.code == 0);
   CHECK(nlohmann::json::parse(d.out).at("solver") == "lemke");
   double largest = 0.0;
@@ -104,7 +69,7 @@ TEST_CASE("cbps lcp: lemke, pgs and direct agree on a chain's system (A positive
 
 TEST_CASE("cbps lcp: Siconos files, solved, no solution, relay", "[cli][lcp]") {
   SECTION("lcp_CPS_1 is solved") {
-    const LcpRun r = run_cbps("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --json");
+    const CliResult r = run_cli("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --json");
     INFO(r.out << r.err);
     CHECK(r.code == 0);
     const nlohmann::json j = nlohmann::json::parse(r.out);
@@ -113,36 +78,36 @@ TEST_CASE("cbps lcp: Siconos files, solved, no solution, relay", "[cli][lcp]") {
     CHECK(j.at("rows") == 2);
   }
   SECTION("the perturbed Pang problem has no solution: exit 1") {
-    const LcpRun r =
-        run_cbps("lcp " + siconos("lcp/lcp_Pang_isolated_sol_perturbed.dat") + " --json");
+    const CliResult r =
+        run_cli("lcp " + siconos("lcp/lcp_Pang_isolated_sol_perturbed.dat") + " --json");
     INFO(r.out << r.err);
     CHECK(r.code == 1);
     CHECK(nlohmann::json::parse(r.out).at("status") == "no_solution");
   }
   SECTION("a relay file is solved by the boxed Lemke method") {
-    const LcpRun r = run_cbps("lcp " + siconos("relay/relay_2x2.dat") + " --json");
+    const CliResult r = run_cli("lcp " + siconos("relay/relay_2x2.dat") + " --json");
     INFO(r.out << r.err);
     CHECK(r.code == 0);
     CHECK(nlohmann::json::parse(r.out).at("status") == "solved");
   }
   SECTION("text output names the status and residual") {
-    const LcpRun r = run_cbps("lcp " + siconos("lcp/lcp_CPS_1.dat"));
+    const CliResult r = run_cli("lcp " + siconos("lcp/lcp_CPS_1.dat"));
     CHECK(r.code == 0);
     CHECK(r.out.find("solved") != std::string::npos);
     CHECK(r.out.find("residual") != std::string::npos);
   }
   SECTION("direct refuses a bounded problem with exit 2 and suggests lemke") {
-    const LcpRun r = run_cbps("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --solver direct");
+    const CliResult r = run_cli("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --solver direct");
     CHECK(r.code == 2);
     CHECK(r.err.find("lemke") != std::string::npos);
   }
 }
 
 TEST_CASE("cbps lcp: bad input exits 2 naming the file", "[cli][lcp]") {
-  const fs::path dir = lcp_scratch("bad");
+  const fs::path dir = scratch_dir("lcp_bad");
   SECTION("a missing file") {
     const std::string path = (dir / "missing.dat").string();
-    const LcpRun r = run_cbps("lcp " + path);
+    const CliResult r = run_cli("lcp " + path);
     CHECK(r.code == 2);
     CHECK(r.err.rfind("cbps: ", 0) == 0);
     CHECK(r.err.find(path) != std::string::npos);
@@ -150,35 +115,35 @@ TEST_CASE("cbps lcp: bad input exits 2 naming the file", "[cli][lcp]") {
   SECTION("a malformed .dat file") {
     const fs::path path = dir / "bad.dat";
     std::ofstream(path) << "2\n0\n2 2\n2 2\n1 0\n0 oops\n-1 -1\n";
-    const LcpRun r = run_cbps("lcp " + path.string());
+    const CliResult r = run_cli("lcp " + path.string());
     CHECK(r.code == 2);
     CHECK(r.err.rfind("cbps: ", 0) == 0);
     CHECK(r.err.find(path.string() + ": line 6") != std::string::npos);
   }
   SECTION("a matrices folder with a malformed b.mtx") {
     const fs::path m = dir / "m";
-    REQUIRE(run_cbps("matrices chain --param n=2 --out " + m.string()).code == 0);
+    REQUIRE(run_cli("matrices chain --param n=2 --out " + m.string()).code == 0);
     std::ofstream(m / "b.mtx") << "%%MatrixMarket matrix array real general\n1 1\nnan\n";
-    const LcpRun r = run_cbps("lcp " + m.string());
+    const CliResult r = run_cli("lcp " + m.string());
     CHECK(r.code == 2);
     CHECK(r.err.find((m / "b.mtx").string() + ": line 3") != std::string::npos);
   }
 }
 
 TEST_CASE("cbps lcp --out writes result.json and lambda.mtx only when solved", "[cli][lcp]") {
-  const fs::path dir = lcp_scratch("out");
+  const fs::path dir = scratch_dir("lcp_out");
   const fs::path good = dir / "good";
-  const LcpRun r = run_cbps("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --out " + good.string());
+  const CliResult r = run_cli("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --out " + good.string());
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(fs::exists(good / "result.json"));
   CHECK(fs::exists(good / "lambda.mtx"));
-  const nlohmann::json j = nlohmann::json::parse(lcp_slurp(good / "result.json"));
+  const nlohmann::json j = nlohmann::json::parse(slurp(good / "result.json"));
   CHECK(j.at("status") == "solved");
 
   const fs::path bad = dir / "bad";
-  const LcpRun n = run_cbps("lcp " + siconos("lcp/lcp_Pang_isolated_sol_perturbed.dat") +
-                            " --out " + bad.string());
+  const CliResult n = run_cli("lcp " + siconos("lcp/lcp_Pang_isolated_sol_perturbed.dat") +
+                              " --out " + bad.string());
   CHECK(n.code == 1);
   CHECK_FALSE(fs::exists(bad));
   for (const auto& e : fs::directory_iterator(dir)) {
