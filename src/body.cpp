@@ -7,11 +7,13 @@ namespace cbps {
 
 double Shape::volume() const {
   if (kind == Kind::Sphere) return 4.0 / 3.0 * kPi * radius * radius * radius;
+  if (kind == Kind::Plane) return kInf;
   return 8.0 * half_extents.x() * half_extents.y() * half_extents.z();
 }
 
 Mat3 Shape::inertia(double m) const {
   if (kind == Kind::Sphere) return Mat3::Identity() * (0.4 * m * radius * radius);
+  if (kind == Kind::Plane) return Mat3::Constant(kInf);  // a half-space is only ever static
   // Solid box with edges 2h: I_xx = m (h_y² + h_z²) / 3, and cyclically.
   const Vec3 h2 = half_extents.cwiseProduct(half_extents);
   return Vec3(h2.y() + h2.z(), h2.x() + h2.z(), h2.x() + h2.y()).asDiagonal() * (m / 3.0);

@@ -1,5 +1,6 @@
 // Projected Gauss-Seidel (paper 7.1.1) and projected Jacobi over the explicit A.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -98,6 +99,7 @@ SolverSummary iterate(const SpMat& A,
                       VecX& lambda,
                       const SolverOptions& options,
                       Sweep sweep) {
+  const auto start = std::chrono::steady_clock::now();
   SolverSummary s;
   if (lambda.size() != A.rows()) lambda = VecX::Zero(A.rows());
   if (A.rows() == 0) {
@@ -128,6 +130,7 @@ SolverSummary iterate(const SpMat& A,
     }
   }
   if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::ostringstream msg;
   msg << to_string(s.termination) << " after " << s.iterations << " sweeps, residual " << s.residual
       << " N, last change " << s.delta << " N";
@@ -173,16 +176,7 @@ SolverSummary solve(const std::string& method,
                     const SolverOptions& options) {
   if (method == "pgs") return solve_pgs(A, b, cmin, cmax, lambda, options);
   if (method == "jacobi") return solve_jacobi(A, b, cmin, cmax, lambda, options);
-  if (method == "direct") {
-    for (Eigen::Index k = 0; k < cmin.size(); ++k) {
-      if (std::isfinite(cmin(k)) || std::isfinite(cmax(k))) {
-        throw std::invalid_argument(
-            "solver 'direct': bounded rows need the boxed-LCP solver, which is not built yet; "
-            "this solver handles equality systems (all rows unbounded)");
-      }
-    }
-    return solve_cholesky(A, b, lambda);
-  }
+  if (method == "direct") return solve_direct(A, b, cmin, cmax, lambda);
   throw std::invalid_argument("unknown solver '" + method + "' (valid: pgs, jacobi, direct)");
 }
 
@@ -196,6 +190,8 @@ std::string to_string(Termination t) {
       return "iteration limit";
     case Termination::Direct:
       return "direct solve";
+    case Termination::NotConverged:
+      return "direct solve stopped short of its tolerance";
     case Termination::NonFinite:
       return "non-finite values";
   }

@@ -96,9 +96,17 @@ TEST_CASE("cbps lcp: Siconos files, solved, no solution, relay", "[cli][lcp]") {
     CHECK(r.out.find("solved") != std::string::npos);
     CHECK(r.out.find("residual") != std::string::npos);
   }
-  SECTION("direct refuses a bounded problem with exit 2 and suggests lemke") {
-    const CliResult r = run_cli("lcp " + siconos("lcp/lcp_CPS_1.dat") + " --solver direct");
+  SECTION("direct solves a symmetric bounded (relay) problem") {
+    const CliResult r =
+        run_cli("lcp " + siconos("relay/relay_4x4.dat") + " --solver direct --json");
+    INFO(r.err);
+    CHECK(r.code == 0);
+    CHECK(nlohmann::json::parse(r.out).at("status") == "solved");
+  }
+  SECTION("direct refuses a non-symmetric matrix with exit 2 and suggests lemke") {
+    const CliResult r = run_cli("lcp " + siconos("lcp/lcp_CPS_2.dat") + " --solver direct");
     CHECK(r.code == 2);
+    CHECK(r.err.find("symmetric") != std::string::npos);
     CHECK(r.err.find("lemke") != std::string::npos);
   }
 }

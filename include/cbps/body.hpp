@@ -7,9 +7,12 @@
 
 namespace cbps {
 
-/// The shape a body is drawn and (later) collided with. Sizes in m.
+/// The shape a body is drawn and collided with (4). Sizes in m.
+/// A Plane is the half-space below a static body's plane: its outward normal is the body's
+/// local +y axis, R (0, 1, 0), and its surface passes through the body's x. Only static bodies
+/// may be planes (a half-space has no finite mass).
 struct Shape {
-  enum class Kind { Sphere, Box };
+  enum class Kind { Sphere, Box, Plane };
   Kind kind = Kind::Sphere;
   double radius = 0.5;               ///< sphere radius, m
   Vec3 half_extents{0.5, 0.5, 0.5};  ///< box half extents, m

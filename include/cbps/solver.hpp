@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "cbps/types.hpp"
 
@@ -15,12 +16,27 @@ struct SolverOptions {
   double relaxation = 1.0;        ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
 };
 
-enum class Termination { ResidualTolerance, DeltaTolerance, MaxIterations, Direct, NonFinite };
+/// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
+/// inconsistent or infeasible system, or stagnation); its best lambda is returned, with the
+/// residual that proves how far it is from a solution.
+enum class Termination {
+  ResidualTolerance,
+  DeltaTolerance,
+  MaxIterations,
+  Direct,
+  NotConverged,
+  NonFinite
+};
 
 struct SolverSummary {
-  int iterations = 0;     ///< sweeps done (1 for a direct solve)
-  double residual = 0.0;  ///< natural-map residual at the end, N
-  double delta = 0.0;     ///< max |Δlambda| of the last sweep, N
+  int iterations = 0;      ///< sweeps done; for the direct path its outer (proximal) iterations
+  double residual = 0.0;   ///< natural-map residual at the end, N
+  double delta = 0.0;      ///< max |Δlambda| of the last sweep, N
+  int factorizations = 0;  ///< sparse Cholesky factorizations (direct path)
+  int pivots = 0;          ///< active-set exchanges (direct path)
+  int islands = 0;         ///< independent blocks of A solved apart (direct path)
+  bool singular = false;   ///< the direct path found a singular block and regularised it
+  double wall_time_s = 0.0;
   Termination termination = Termination::MaxIterations;
   std::string message;  ///< one line with the numbers
   bool ok() const { return termination != Termination::NonFinite; }
@@ -72,10 +88,50 @@ SolverSummary solve_jacobi(const SpMat& A,
 
 /// Direct solve of A lambda = b with all rows unbounded, by CHOLMOD's sparse Cholesky
 /// (supernodal or simplicial, with the fill-reducing ordering CHOLMOD chooses).
-/// Throws std::runtime_error if A is not positive definite or a row is bounded.
+/// Throws ComputationError if A is not (numerically) positive definite; solve_direct handles
+/// that case.
 SolverSummary solve_cholesky(const SpMat& A, const VecX& b, VecX& lambda);
 
-/// By name: "pgs", "jacobi", "direct".
+/// The independent blocks ("islands") of a symmetric A: connected components of its graph
+/// (rows i, j joined when A_ij ≠ 0), each a sorted list of rows, in order of their first row.
+std::vector<std::vector<int>> find_islands(const SpMat& A);
+
+struct DirectOptions {
+  /// Stop when the natural-map residual ≤ this (N); 0 = machine precision, i.e.
+  /// 8 u (max_i Σ_j |A_ij| ‖lambda‖∞ + ‖b‖∞), the rounding floor of w = A lambda − b.
+  double tolerance = 0.0;
+  int max_outer_iterations = 500;  ///< proximal-point steps per island
+  double epsilon = 1e-4;           ///< proximal ε as a fraction of the island's max A_jj
+  double epsilon_floor = 1e-10;    ///< smallest ε (same units) once the active set settles
+  int start_sweeps = 5;            ///< PGS sweeps (7.1.1) that choose the first active set
+  bool split_islands = true;       ///< solve independent blocks of A apart
+};
+
+/// The exact path for the boxed problem of 6.2 (cmin ≤ lambda ≤ cmax, w = A lambda − b,
+/// complementarity), A symmetric positive semidefinite, sparse. Per island:
+///   1. a few PGS sweeps choose the first active set (rows at cmin or cmax);
+///   2. block principal pivoting (Júdice & Pires) finds the active set of
+///        min ½ λᵀ (A + εI) λ − (b + ε lambda_k)ᵀ λ  over the box,
+///      solving each free block with CHOLMOD's sparse Cholesky, in correction form
+///      (iterative refinement), with Murty's single-pivot rule when the number of infeasible
+///      rows stops falling (no cycling);
+///   3. the proximal-point outer loop lambda_{k+1} = that minimiser converges to a solution of
+///      the original problem for any PSD A with a solution. ε = 0 (plain pivoting, exact in
+///      finitely many steps) whenever the free block is numerically positive definite
+///      (CHOLMOD's reciprocal condition estimate above 1e-12); otherwise ε starts at
+///      options.epsilon · max A_jj and falls by 100× whenever the active set has settled and
+///      the residual falls slower than 10× per step, down to options.epsilon_floor · max A_jj.
+/// All-unbounded islands skip steps 1-2: one factorization and refinement. Returns
+/// Termination::Direct when the residual reaches the tolerance, NotConverged otherwise (e.g.
+/// inconsistent equality rows, an infeasible box), with the best lambda found.
+SolverSummary solve_direct(const SpMat& A,
+                           const VecX& b,
+                           const VecX& cmin,
+                           const VecX& cmax,
+                           VecX& lambda,
+                           const DirectOptions& options = {});
+
+/// By name: "pgs", "jacobi", "direct" (solve_direct).
 SolverSummary solve(const std::string& method,
                     const SpMat& A,
                     const VecX& b,

@@ -1,0 +1,371 @@
+// The exact path for the boxed problem of 6.2: proximal-point outer loop, block principal
+// pivoting on the free rows, CHOLMOD's sparse Cholesky for each free block, islands apart.
+// The method and its parameters are described at solve_direct() in solver.hpp.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "cbps/solver.hpp"
+#include "cholmod_factor.hpp"
+
+namespace cbps {
+
+std::vector<std::vector<int>> find_islands(const SpMat& A) {
+  const auto n = static_cast<int>(A.rows());
+  std::vector<int> parent(static_cast<std::size_t>(n));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int i) {
+    while (parent[static_cast<std::size_t>(i)] != i) {
+      auto& p = parent[static_cast<std::size_t>(i)];
+      p = parent[static_cast<std::size_t>(p)];  // path halving
+      i = p;
+    }
+    return i;
+  };
+  for (int j = 0; j < n; ++j) {
+    for (SpMat::InnerIterator it(A, j); it; ++it) {
+      if (it.value() == 0.0) continue;
+      const int ri = root(static_cast<int>(it.row()));
+      const int rj = root(j);
+      if (ri != rj) parent[static_cast<std::size_t>(std::max(ri, rj))] = std::min(ri, rj);
+    }
+  }
+  // Roots are the smallest row of their island, so islands come out in order of first row.
+  std::vector<int> island_of_root(static_cast<std::size_t>(n), -1);
+  std::vector<std::vector<int>> islands;
+  for (int i = 0; i < n; ++i) {
+    auto& slot = island_of_root[static_cast<std::size_t>(root(i))];
+    if (slot < 0) {
+      slot = static_cast<int>(islands.size());
+      islands.emplace_back();
+    }
+    islands[static_cast<std::size_t>(slot)].push_back(i);
+  }
+  return islands;
+}
+
+namespace {
+
+constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2.0;
+/// A free block whose reciprocal condition estimate is below this is treated as singular.
+constexpr double kSingularRcond = 1e-12;
+/// Outer iterations without a new best residual before the direct path gives up.
+constexpr int kStallLimit = 10;
+/// Full exchanges allowed without fewer infeasible rows before Murty's single pivots.
+constexpr int kBackupExchanges = 3;
+
+/// The principal submatrix A(idx, idx) of a symmetric column-major A, idx sorted.
+/// `local` is scratch of size A.rows() holding −1 everywhere on entry and exit.
+SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local) {
+  for (std::size_t k = 0; k < idx.size(); ++k) local[static_cast<std::size_t>(idx[k])] = int(k);
+  const auto m = static_cast<Eigen::Index>(idx.size());
+  SpMat S(m, m);
+  Eigen::Index nnz = 0;
+  for (const int j : idx) {
+    for (SpMat::InnerIterator it(A, j); it; ++it) nnz += local[std::size_t(it.row())] >= 0;
+  }
+  S.resizeNonZeros(nnz);
+  auto* outer = S.outerIndexPtr();
+  auto* inner = S.innerIndexPtr();
+  auto* value = S.valuePtr();
+  Eigen::Index pos = 0;
+  for (Eigen::Index k = 0; k < m; ++k) {
+    outer[k] = static_cast<int>(pos);
+    for (SpMat::InnerIterator it(A, idx[static_cast<std::size_t>(k)]); it; ++it) {
+      const int r = local[static_cast<std::size_t>(it.row())];
+      if (r < 0) continue;  // rows ascend in A, and idx is sorted, so r ascends too
+      inner[pos] = r;
+      value[pos] = it.value();
+      ++pos;
+    }
+  }
+  outer[m] = static_cast<int>(pos);
+  for (const int i : idx) local[static_cast<std::size_t>(i)] = -1;
+  return S;
+}
+
+/// Where a row sits in the active-set partition.
+enum class Place : unsigned char {
+  Free,   ///< cmin < lambda < cmax, w = 0 (solved for)
+  Lower,  ///< lambda = cmin, w ≥ 0
+  Upper,  ///< lambda = cmax, w ≤ 0
+  Fixed   ///< cmin = cmax: lambda is that value, w free; never exchanged
+};
+
+/// One island's boxed problem and the state of its solve.
+class IslandSolver {
+ public:
+  IslandSolver(const SpMat& A,
+               const VecX& b,
+               const VecX& lo,
+               const VecX& hi,
+               const DirectOptions& options,
+               SolverSummary& stats)
+      : A_(A), b_(b), lo_(lo), hi_(hi), options_(options), stats_(stats) {
+    const Eigen::Index m = A.rows();
+    for (Eigen::Index j = 0; j < m; ++j) {
+      double row_sum = 0.0;
+      for (SpMat::InnerIterator it(A, j); it; ++it) {
+        row_sum += std::abs(it.value());
+        if (it.row() == j) max_diagonal_ = std::max(max_diagonal_, it.value());
+      }
+      max_row_sum_ = std::max(max_row_sum_, row_sum);
+      bounded_ = bounded_ || std::isfinite(lo(j)) || std::isfinite(hi(j));
+    }
+    local_.assign(static_cast<std::size_t>(m), -1);
+  }
+
+  /// Solves from the guess in lambda; true when the residual reached the tolerance.
+  bool solve(VecX& lambda) {
+    const Eigen::Index m = A_.rows();
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (!std::isfinite(lambda(i))) lambda(i) = 0.0;
+      lambda(i) = clamp(lambda(i), lo_(i), hi_(i));
+    }
+    if (bounded_) {
+      for (int s = 0; s < options_.start_sweeps; ++s) pgs_sweep(A_, b_, lo_, hi_, lambda);
+    }
+    place_.assign(static_cast<std::size_t>(m), Place::Free);
+    for (Eigen::Index i = 0; i < m; ++i) place_[std::size_t(i)] = initial_place(i, lambda(i));
+
+    double r = natural_map_residual(A_, b_, lo_, hi_, lambda);
+    if (r <= tolerance(lambda)) return true;
+    double best_r = r;
+    VecX best = lambda;
+    double eps = 0.0;  // plain pivoting first: exact when the free blocks are definite
+    int stall = 0;
+    std::vector<Place> previous = place_;
+    for (int k = 0; k < options_.max_outer_iterations; ++k) {
+      ++stats_.iterations;
+      VecX x = lambda;
+      const Pivoting result = pivot(eps, lambda, x);
+      if (result == Pivoting::Singular) {
+        if (eps > 0.0) break;  // A + εI not definite: A is not positive semidefinite
+        eps = options_.epsilon * max_diagonal_;
+        stats_.singular = true;
+        continue;
+      }
+      if (result == Pivoting::Failed) break;
+      const bool settled = place_ == previous;
+      previous = place_;
+      lambda = x;
+      const double r_new = natural_map_residual(A_, b_, lo_, hi_, lambda);
+      if (!std::isfinite(r_new)) break;
+      if (r_new < best_r) {
+        best_r = r_new;
+        best = lambda;
+        stall = 0;
+      } else {
+        ++stall;
+      }
+      if (r_new <= tolerance(lambda)) return true;
+      // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
+      // block: once the active set holds, a smaller ε converges faster.
+      const double eps_floor = options_.epsilon_floor * max_diagonal_;
+      if (eps > eps_floor && settled && r_new > 0.1 * r) eps = std::max(eps / 100.0, eps_floor);
+      if (stall >= kStallLimit) break;
+      r = r_new;
+    }
+    lambda = best;
+    return false;
+  }
+
+ private:
+  enum class Pivoting { Solved, Singular, Failed };
+
+  Place initial_place(Eigen::Index i, double value) const {
+    if (lo_(i) == hi_(i)) return Place::Fixed;
+    if (value <= lo_(i)) return Place::Lower;
+    if (value >= hi_(i)) return Place::Upper;
+    return Place::Free;
+  }
+
+  /// The rounding floor of the natural-map residual at lambda, or the user's tolerance.
+  double tolerance(const VecX& lambda) const {
+    if (options_.tolerance > 0.0) return options_.tolerance;
+    const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
+    const double bn = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
+    return 8.0 * kUnitRoundoff * (max_row_sum_ * l + bn);
+  }
+
+  /// Factor of (A + εI)(F, F) for the free rows F, reused while F and ε stay.
+  bool factor_free_block(const std::vector<int>& F, double eps) {
+    if (factor_.valid() && F == factor_rows_ && eps == factor_eps_) return true;
+    const bool whole = static_cast<Eigen::Index>(F.size()) == A_.rows();
+    bool ok = false;
+    if (F == factor_rows_ && factor_eps_ >= 0.0) {
+      ok = factor_.refactor(whole ? A_ : block_, eps);
+    } else {
+      if (!whole) block_ = principal_submatrix(A_, F, local_);
+      ok = factor_.factor(whole ? A_ : block_, eps);
+      factor_rows_ = F;
+    }
+    factor_eps_ = eps;
+    ++stats_.factorizations;
+    if (!ok) {
+      factor_rows_.clear();
+      factor_eps_ = -1.0;
+    }
+    return ok && (eps > 0.0 || factor_.rcond() >= kSingularRcond);
+  }
+
+  /// Block principal pivoting (Júdice & Pires) for min ½ xᵀ(A + εI)x − gᵀx over the box,
+  /// g = b + ε center, starting from the partition place_ and the guess x. Each round solves
+  /// the free rows with the bound rows at their bounds, in correction form:
+  ///   x_F ← x_F + (A + εI)_FF⁻¹ (g − (A + εI) x)_F,
+  /// then exchanges every infeasible row (a free row outside its box, a bound row whose
+  /// gradient y = (A + εI)x − g has the wrong sign); when the count of infeasible rows stops
+  /// falling for kBackupExchanges rounds, only the last infeasible row (Murty's rule).
+  Pivoting pivot(double eps, const VecX& center, VecX& x) {
+    const Eigen::Index m = A_.rows();
+    const double tol = tolerance(center);
+    const auto g = [&](Eigen::Index i) { return b_(i) + eps * center(i); };
+    std::vector<int> F;
+    VecX rhs, dx;
+    std::size_t best_count = std::numeric_limits<std::size_t>::max();
+    int backups = kBackupExchanges;
+    const long limit = 100 + 10 * static_cast<long>(m);
+    for (long round = 0; round < limit; ++round) {
+      F.clear();
+      for (Eigen::Index i = 0; i < m; ++i) {
+        const Place p = place_[std::size_t(i)];
+        if (p == Place::Free) F.push_back(static_cast<int>(i));
+        if (p == Place::Lower || p == Place::Fixed) x(i) = lo_(i);
+        if (p == Place::Upper) x(i) = hi_(i);
+      }
+      if (!F.empty()) {
+        if (!factor_free_block(F, eps)) return Pivoting::Singular;
+        const VecX Hx = A_ * x + eps * x;
+        rhs.resize(static_cast<Eigen::Index>(F.size()));
+        for (std::size_t k = 0; k < F.size(); ++k) rhs(Eigen::Index(k)) = g(F[k]) - Hx(F[k]);
+        factor_.solve(rhs, dx);
+        for (std::size_t k = 0; k < F.size(); ++k) x(F[k]) += dx(Eigen::Index(k));
+      }
+      const VecX y = A_ * x + eps * x;
+      std::vector<Eigen::Index> infeasible;
+      for (Eigen::Index i = 0; i < m; ++i) {
+        const double yi = y(i) - g(i);
+        const Place p = place_[std::size_t(i)];
+        const bool bad = (p == Place::Free && (x(i) < lo_(i) - tol || x(i) > hi_(i) + tol)) ||
+                         (p == Place::Lower && yi < -tol) || (p == Place::Upper && yi > tol);
+        if (bad) infeasible.push_back(i);
+        if (!std::isfinite(x(i))) return Pivoting::Failed;
+      }
+      if (infeasible.empty()) {
+        for (const int i : F) x(i) = clamp(x(i), lo_(i), hi_(i));
+        return Pivoting::Solved;
+      }
+      if (infeasible.size() < best_count) {
+        best_count = infeasible.size();
+        backups = kBackupExchanges;
+      } else if (backups > 0) {
+        --backups;
+      } else {
+        infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last one
+      }
+      for (const Eigen::Index i : infeasible) {
+        Place& p = place_[std::size_t(i)];
+        if (p == Place::Free) {
+          p = x(i) < lo_(i) ? Place::Lower : Place::Upper;
+        } else {
+          p = Place::Free;  // x(i) stays at its bound as the guess
+        }
+        ++stats_.pivots;
+      }
+    }
+    return Pivoting::Failed;
+  }
+
+  const SpMat& A_;
+  const VecX& b_;
+  const VecX& lo_;
+  const VecX& hi_;
+  const DirectOptions& options_;
+  SolverSummary& stats_;
+  double max_diagonal_ = 0.0;
+  double max_row_sum_ = 0.0;
+  bool bounded_ = false;
+  std::vector<Place> place_;
+  std::vector<int> local_;
+  CholmodFactor factor_;
+  std::vector<int> factor_rows_;  ///< the free rows factor_ was made for
+  double factor_eps_ = -1.0;      ///< and its ε (−1: none)
+  SpMat block_;                   ///< A(F, F) of factor_rows_, kept for refactor()
+};
+
+VecX gather(const VecX& v, const std::vector<int>& idx) {
+  VecX out(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) out(Eigen::Index(k)) = v(idx[k]);
+  return out;
+}
+
+}  // namespace
+
+SolverSummary solve_direct(const SpMat& A,
+                           const VecX& b,
+                           const VecX& cmin,
+                           const VecX& cmax,
+                           VecX& lambda,
+                           const DirectOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const Eigen::Index n = A.rows();
+  if (A.cols() != n || b.size() != n || cmin.size() != n || cmax.size() != n) {
+    throw std::invalid_argument("solve_direct: A, b, cmin and cmax sizes differ");
+  }
+  if (lambda.size() != n) lambda = VecX::Zero(n);
+  SolverSummary s;
+  s.termination = Termination::Direct;
+  const bool finite =
+      b.allFinite() && Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).allFinite();
+  if (!finite) {
+    s.termination = Termination::NonFinite;
+    s.residual = std::numeric_limits<double>::quiet_NaN();
+    s.message = "direct: A or b has non-finite entries";
+    return s;
+  }
+  std::vector<std::vector<int>> islands;
+  if (options.split_islands) {
+    islands = find_islands(A);
+  } else if (n > 0) {
+    islands.emplace_back(static_cast<std::size_t>(n));
+    std::iota(islands.back().begin(), islands.back().end(), 0);
+  }
+  s.islands = static_cast<int>(islands.size());
+  int unsolved = 0;
+  std::vector<int> local(static_cast<std::size_t>(n), -1);
+  for (const auto& rows : islands) {
+    if (static_cast<Eigen::Index>(rows.size()) == n) {  // one island: no copies
+      IslandSolver island(A, b, cmin, cmax, options, s);
+      unsolved += island.solve(lambda) ? 0 : 1;
+      continue;
+    }
+    const SpMat A_I = principal_submatrix(A, rows, local);
+    const VecX b_I = gather(b, rows), lo_I = gather(cmin, rows), hi_I = gather(cmax, rows);
+    VecX lambda_I = gather(lambda, rows);
+    IslandSolver island(A_I, b_I, lo_I, hi_I, options, s);
+    unsolved += island.solve(lambda_I) ? 0 : 1;
+    for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));
+  }
+  s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
+  if (!std::isfinite(s.residual)) {
+    s.termination = Termination::NonFinite;
+  } else if (unsolved > 0) {
+    s.termination = Termination::NotConverged;
+  }
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream msg;
+  msg << "direct (active set on CHOLMOD, proximal where singular): " << s.islands << " island"
+      << (s.islands == 1 ? "" : "s") << ", " << s.iterations << " outer iterations, "
+      << s.factorizations << " factorizations, " << s.pivots << " pivots, residual " << s.residual
+      << " N";
+  if (s.singular) msg << "; singular blocks regularised";
+  if (unsolved > 0) msg << "; " << unsolved << " island(s) stopped short of the tolerance";
+  s.message = msg.str();
+  return s;
+}
+
+}  // namespace cbps
