@@ -1,4 +1,4 @@
-// The distance constraint (paper 5.2).
+// The row form of 5.2.1 / 5.3 / 5.4 and the distance constraint (paper 5.2).
 #include "cbps/constraint.hpp"
 
 namespace cbps {
@@ -9,6 +9,26 @@ bool has_block(const std::vector<Body>& bodies, int index) {
   return index >= 0 && !bodies[static_cast<std::size_t>(index)].is_static;
 }
 }  // namespace
+
+Row direction_row(const std::vector<Body>& bodies,
+                  int a,
+                  const Vec3& p_a,
+                  int b,
+                  const Vec3& p_b,
+                  const Vec3& n) {
+  Row row;
+  if (has_block(bodies, a)) {
+    const Vec3 r_a = p_a - bodies[static_cast<std::size_t>(a)].x;
+    row.body_a = a;
+    row.j_a << -n.transpose(), -r_a.cross(n).transpose();
+  }
+  if (has_block(bodies, b)) {
+    const Vec3 r_b = p_b - bodies[static_cast<std::size_t>(b)].x;
+    row.body_b = b;
+    row.j_b << n.transpose(), r_b.cross(n).transpose();
+  }
+  return row;
+}
 
 Vec3 anchor_point(const std::vector<Body>& bodies, int index, const Vec3& anchor) {
   if (index < 0) return anchor;
@@ -39,20 +59,11 @@ Row distance_row(const DistanceConstraint& dc,
   // Coincident ends have no direction; any unit n gives a valid row (it pushes them apart).
   const Vec3 n = dist > 0.0 ? Vec3(p_ab / dist) : Vec3::UnitX();
 
-  Row row;
+  Row row = direction_row(bodies, dc.a, p_a, dc.b, p_b, n);
   row.label = dc.name;
   row.id = id;
-  if (has_block(bodies, dc.a)) {
-    const Vec3 r_a = p_a - bodies[static_cast<std::size_t>(dc.a)].x;
-    row.body_a = dc.a;
-    row.j_a << -n.transpose(), -r_a.cross(n).transpose();
-  }
-  if (has_block(bodies, dc.b)) {
-    const Vec3 r_b = p_b - bodies[static_cast<std::size_t>(dc.b)].x;
-    row.body_b = dc.b;
-    row.j_b << n.transpose(), r_b.cross(n).transpose();
-  }
   row.upsilon = -beta * (dist - dc.l) / dt;  // (5.2.3)
+  row.upsilon_position = row.upsilon;
   row.cmin = -kInf;
   row.cmax = kInf;
   return row;

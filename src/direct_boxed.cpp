@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -13,6 +15,40 @@
 #include "cholmod_factor.hpp"
 
 namespace cbps {
+
+SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local) {
+  for (std::size_t k = 0; k < idx.size(); ++k) local[static_cast<std::size_t>(idx[k])] = int(k);
+  const auto m = static_cast<Eigen::Index>(idx.size());
+  SpMat S(m, m);
+  Eigen::Index nnz = 0;
+  for (const int j : idx) {
+    for (SpMat::InnerIterator it(A, j); it; ++it) nnz += local[std::size_t(it.row())] >= 0;
+  }
+  S.resizeNonZeros(nnz);
+  auto* outer = S.outerIndexPtr();
+  auto* inner = S.innerIndexPtr();
+  auto* value = S.valuePtr();
+  Eigen::Index pos = 0;
+  for (Eigen::Index k = 0; k < m; ++k) {
+    outer[k] = static_cast<int>(pos);
+    for (SpMat::InnerIterator it(A, idx[static_cast<std::size_t>(k)]); it; ++it) {
+      const int r = local[static_cast<std::size_t>(it.row())];
+      if (r < 0) continue;  // rows ascend in A, and idx is sorted, so r ascends too
+      inner[pos] = r;
+      value[pos] = it.value();
+      ++pos;
+    }
+  }
+  outer[m] = static_cast<int>(pos);
+  for (const int i : idx) local[static_cast<std::size_t>(i)] = -1;
+  return S;
+}
+
+VecX gather_rows(const VecX& v, const std::vector<int>& idx) {
+  VecX out(static_cast<Eigen::Index>(idx.size()));
+  for (std::size_t k = 0; k < idx.size(); ++k) out(Eigen::Index(k)) = v(idx[k]);
+  return out;
+}
 
 std::vector<std::vector<int>> find_islands(const SpMat& A) {
   const auto n = static_cast<int>(A.rows());
@@ -55,38 +91,8 @@ constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2.0;
 constexpr double kSingularRcond = 1e-12;
 /// Outer iterations without a new best residual before the direct path gives up.
 constexpr int kStallLimit = 10;
-/// Full exchanges allowed without fewer infeasible rows before Murty's single pivots.
-constexpr int kBackupExchanges = 3;
-
-/// The principal submatrix A(idx, idx) of a symmetric column-major A, idx sorted.
-/// `local` is scratch of size A.rows() holding −1 everywhere on entry and exit.
-SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local) {
-  for (std::size_t k = 0; k < idx.size(); ++k) local[static_cast<std::size_t>(idx[k])] = int(k);
-  const auto m = static_cast<Eigen::Index>(idx.size());
-  SpMat S(m, m);
-  Eigen::Index nnz = 0;
-  for (const int j : idx) {
-    for (SpMat::InnerIterator it(A, j); it; ++it) nnz += local[std::size_t(it.row())] >= 0;
-  }
-  S.resizeNonZeros(nnz);
-  auto* outer = S.outerIndexPtr();
-  auto* inner = S.innerIndexPtr();
-  auto* value = S.valuePtr();
-  Eigen::Index pos = 0;
-  for (Eigen::Index k = 0; k < m; ++k) {
-    outer[k] = static_cast<int>(pos);
-    for (SpMat::InnerIterator it(A, idx[static_cast<std::size_t>(k)]); it; ++it) {
-      const int r = local[static_cast<std::size_t>(it.row())];
-      if (r < 0) continue;  // rows ascend in A, and idx is sorted, so r ascends too
-      inner[pos] = r;
-      value[pos] = it.value();
-      ++pos;
-    }
-  }
-  outer[m] = static_cast<int>(pos);
-  for (const int i : idx) local[static_cast<std::size_t>(i)] = -1;
-  return S;
-}
+/// The factor by which ε falls when the proximal steps converge slowly (and rises back).
+constexpr double kEpsilonStep = 10.0;
 
 /// Where a row sits in the active-set partition.
 enum class Place : unsigned char {
@@ -138,6 +144,7 @@ class IslandSolver {
     VecX best = lambda;
     double eps = 0.0;  // plain pivoting first: exact when the free blocks are definite
     int stall = 0;
+    bool may_reduce = true;  // until an ε once made the pivoting fail
     std::vector<Place> previous = place_;
     for (int k = 0; k < options_.max_outer_iterations; ++k) {
       ++stats_.iterations;
@@ -149,7 +156,15 @@ class IslandSolver {
         stats_.singular = true;
         continue;
       }
-      if (result == Pivoting::Failed) break;
+      if (result == Pivoting::Failed) {
+        // Too many pivots: a larger ε makes the subproblem better conditioned and the
+        // pivoting shorter; ε then stays.
+        if (eps == 0.0 || eps >= max_diagonal_) break;
+        eps *= kEpsilonStep;
+        may_reduce = false;
+        place_ = previous;
+        continue;
+      }
       const bool settled = place_ == previous;
       previous = place_;
       lambda = x;
@@ -166,7 +181,9 @@ class IslandSolver {
       // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
       // block: once the active set holds, a smaller ε converges faster.
       const double eps_floor = options_.epsilon_floor * max_diagonal_;
-      if (eps > eps_floor && settled && r_new > 0.1 * r) eps = std::max(eps / 100.0, eps_floor);
+      if (may_reduce && eps > eps_floor && settled && r_new > 0.5 * r) {
+        eps = std::max(eps / kEpsilonStep, eps_floor);
+      }
       if (stall >= kStallLimit) break;
       r = r_new;
     }
@@ -213,69 +230,98 @@ class IslandSolver {
     return ok && (eps > 0.0 || factor_.rcond() >= kSingularRcond);
   }
 
-  /// Block principal pivoting (Júdice & Pires) for min ½ xᵀ(A + εI)x − gᵀx over the box,
-  /// g = b + ε center, starting from the partition place_ and the guess x. Each round solves
-  /// the free rows with the bound rows at their bounds, in correction form:
-  ///   x_F ← x_F + (A + εI)_FF⁻¹ (g − (A + εI) x)_F,
-  /// then exchanges every infeasible row (a free row outside its box, a bound row whose
-  /// gradient y = (A + εI)x − g has the wrong sign); when the count of infeasible rows stops
-  /// falling for kBackupExchanges rounds, only the last infeasible row (Murty's rule).
+  /// The subproblem min ½ xᵀ(A + εI)x − gᵀx over the box, g = b + ε center, by a primal
+  /// active-set method from the partition place_ and the guess x (clamped into the box):
+  ///   1. with the bound rows at their bounds, the Newton step of the free rows F,
+  ///        p_F = (A + εI)_FF⁻¹ (g − (A + εI) x)_F   (the minimiser on that face, in correction
+  ///      form: iterative refinement as a side effect);
+  ///   2. the longest step α ≤ 1 along p that stays in the box; rows that block are fixed at
+  ///      the bound they reach;
+  ///   3. after a full step, the bound rows whose gradient y = (A + εI)x − g has the wrong sign
+  ///      (y < 0 at cmin, y > 0 at cmax) are freed: all of them, or after a step that made no
+  ///      progress only the worst one.
+  /// The objective falls at every step (the step is a descent direction and α ≤ 1 does not
+  /// overshoot the minimiser on the face), so the method cannot cycle.
   Pivoting pivot(double eps, const VecX& center, VecX& x) {
     const Eigen::Index m = A_.rows();
     const double tol = tolerance(center);
-    const auto g = [&](Eigen::Index i) { return b_(i) + eps * center(i); };
+    VecX g = b_ + eps * center;
     std::vector<int> F;
-    VecX rhs, dx;
-    std::size_t best_count = std::numeric_limits<std::size_t>::max();
-    int backups = kBackupExchanges;
-    const long limit = 100 + 10 * static_cast<long>(m);
+    VecX rhs, p;
+    bool release_one = false;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Place place = place_[std::size_t(i)];
+      if (place == Place::Lower || place == Place::Fixed) x(i) = lo_(i);
+      if (place == Place::Upper) x(i) = hi_(i);
+      if (place == Place::Free) x(i) = clamp(x(i), lo_(i), hi_(i));
+    }
+    const long limit = 100 + 5 * static_cast<long>(m);
     for (long round = 0; round < limit; ++round) {
       F.clear();
       for (Eigen::Index i = 0; i < m; ++i) {
-        const Place p = place_[std::size_t(i)];
-        if (p == Place::Free) F.push_back(static_cast<int>(i));
-        if (p == Place::Lower || p == Place::Fixed) x(i) = lo_(i);
-        if (p == Place::Upper) x(i) = hi_(i);
+        if (place_[std::size_t(i)] == Place::Free) F.push_back(static_cast<int>(i));
       }
+      double alpha = 1.0;
       if (!F.empty()) {
         if (!factor_free_block(F, eps)) return Pivoting::Singular;
         const VecX Hx = A_ * x + eps * x;
         rhs.resize(static_cast<Eigen::Index>(F.size()));
         for (std::size_t k = 0; k < F.size(); ++k) rhs(Eigen::Index(k)) = g(F[k]) - Hx(F[k]);
-        factor_.solve(rhs, dx);
-        for (std::size_t k = 0; k < F.size(); ++k) x(F[k]) += dx(Eigen::Index(k));
-      }
-      const VecX y = A_ * x + eps * x;
-      std::vector<Eigen::Index> infeasible;
-      for (Eigen::Index i = 0; i < m; ++i) {
-        const double yi = y(i) - g(i);
-        const Place p = place_[std::size_t(i)];
-        const bool bad = (p == Place::Free && (x(i) < lo_(i) - tol || x(i) > hi_(i) + tol)) ||
-                         (p == Place::Lower && yi < -tol) || (p == Place::Upper && yi > tol);
-        if (bad) infeasible.push_back(i);
-        if (!std::isfinite(x(i))) return Pivoting::Failed;
-      }
-      if (infeasible.empty()) {
-        for (const int i : F) x(i) = clamp(x(i), lo_(i), hi_(i));
-        return Pivoting::Solved;
-      }
-      if (infeasible.size() < best_count) {
-        best_count = infeasible.size();
-        backups = kBackupExchanges;
-      } else if (backups > 0) {
-        --backups;
-      } else {
-        infeasible.erase(infeasible.begin(), infeasible.end() - 1);  // Murty: the last one
-      }
-      for (const Eigen::Index i : infeasible) {
-        Place& p = place_[std::size_t(i)];
-        if (p == Place::Free) {
-          p = x(i) < lo_(i) ? Place::Lower : Place::Upper;
-        } else {
-          p = Place::Free;  // x(i) stays at its bound as the guess
+        factor_.solve(rhs, p);
+        if (!p.allFinite()) return Pivoting::Failed;
+        for (std::size_t k = 0; k < F.size(); ++k) {  // the ratio test
+          const int i = F[k];
+          const double pi = p(Eigen::Index(k));
+          if (x(i) + pi < lo_(i)) alpha = std::min(alpha, (lo_(i) - x(i)) / pi);
+          if (x(i) + pi > hi_(i)) alpha = std::min(alpha, (hi_(i) - x(i)) / pi);
         }
+        alpha = std::max(alpha, 0.0);
+        for (std::size_t k = 0; k < F.size(); ++k) {
+          const int i = F[k];
+          const double xi = x(i) + alpha * p(Eigen::Index(k));
+          if (alpha < 1.0 && xi <= lo_(i)) {
+            place_[std::size_t(i)] = Place::Lower;  // blocked: fixed at the bound it reached
+            x(i) = lo_(i);
+            ++stats_.pivots;
+          } else if (alpha < 1.0 && xi >= hi_(i)) {
+            place_[std::size_t(i)] = Place::Upper;
+            x(i) = hi_(i);
+            ++stats_.pivots;
+          } else {
+            x(i) = clamp(xi, lo_(i), hi_(i));
+          }
+        }
+      }
+      if (alpha < 1.0) {
+        release_one = release_one || alpha == 0.0;
+        continue;
+      }
+      // A full step: x minimises the objective on this face. Free the wrong-signed bound rows.
+      const VecX y = A_ * x + eps * x - g;
+      Eigen::Index worst = -1;
+      double worst_violation = tol;
+      int released = 0;
+      for (Eigen::Index i = 0; i < m; ++i) {
+        Place& place = place_[std::size_t(i)];
+        const double violation = place == Place::Lower ? -y(i) : place == Place::Upper ? y(i) : 0.0;
+        if (!(violation > tol)) continue;
+        if (violation > worst_violation) {
+          worst_violation = violation;
+          worst = i;
+        }
+        if (!release_one) {
+          place = Place::Free;
+          ++released;
+          ++stats_.pivots;
+        }
+      }
+      if (release_one && worst >= 0) {
+        place_[std::size_t(worst)] = Place::Free;
+        ++released;
         ++stats_.pivots;
       }
+      if (released == 0) return Pivoting::Solved;
+      release_one = false;
     }
     return Pivoting::Failed;
   }
@@ -296,12 +342,6 @@ class IslandSolver {
   double factor_eps_ = -1.0;      ///< and its ε (−1: none)
   SpMat block_;                   ///< A(F, F) of factor_rows_, kept for refactor()
 };
-
-VecX gather(const VecX& v, const std::vector<int>& idx) {
-  VecX out(static_cast<Eigen::Index>(idx.size()));
-  for (std::size_t k = 0; k < idx.size(); ++k) out(Eigen::Index(k)) = v(idx[k]);
-  return out;
-}
 
 }  // namespace
 
@@ -338,14 +378,21 @@ SolverSummary solve_direct(const SpMat& A,
   int unsolved = 0;
   std::vector<int> local(static_cast<std::size_t>(n), -1);
   for (const auto& rows : islands) {
+    const int r = rows.front();
+    const double A_rr = A.coeff(r, r);
+    if (rows.size() == 1 && A_rr > 0.0) {  // one row: lambda = clamp(b / A_rr), exactly
+      lambda(r) = clamp(b(r) / A_rr, cmin(r), cmax(r));
+      continue;
+    }
     if (static_cast<Eigen::Index>(rows.size()) == n) {  // one island: no copies
       IslandSolver island(A, b, cmin, cmax, options, s);
       unsolved += island.solve(lambda) ? 0 : 1;
       continue;
     }
     const SpMat A_I = principal_submatrix(A, rows, local);
-    const VecX b_I = gather(b, rows), lo_I = gather(cmin, rows), hi_I = gather(cmax, rows);
-    VecX lambda_I = gather(lambda, rows);
+    const VecX b_I = gather_rows(b, rows), lo_I = gather_rows(cmin, rows),
+               hi_I = gather_rows(cmax, rows);
+    VecX lambda_I = gather_rows(lambda, rows);
     IslandSolver island(A_I, b_I, lo_I, hi_I, options, s);
     unsolved += island.solve(lambda_I) ? 0 : 1;
     for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));

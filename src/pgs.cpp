@@ -167,6 +167,23 @@ bool is_solver_name(const std::string& method) {
   return method == "pgs" || method == "jacobi" || method == "direct";
 }
 
+namespace {
+
+SolverSummary solve_whole(const std::string& method,
+                          const SpMat& A,
+                          const VecX& b,
+                          const VecX& cmin,
+                          const VecX& cmax,
+                          VecX& lambda,
+                          const SolverOptions& options) {
+  if (method == "pgs") return solve_pgs(A, b, cmin, cmax, lambda, options);
+  if (method == "jacobi") return solve_jacobi(A, b, cmin, cmax, lambda, options);
+  if (method == "direct") return solve_direct(A, b, cmin, cmax, lambda);
+  throw std::invalid_argument("unknown solver '" + method + "' (valid: pgs, jacobi, direct)");
+}
+
+}  // namespace
+
 SolverSummary solve(const std::string& method,
                     const SpMat& A,
                     const VecX& b,
@@ -174,10 +191,48 @@ SolverSummary solve(const std::string& method,
                     const VecX& cmax,
                     VecX& lambda,
                     const SolverOptions& options) {
-  if (method == "pgs") return solve_pgs(A, b, cmin, cmax, lambda, options);
-  if (method == "jacobi") return solve_jacobi(A, b, cmin, cmax, lambda, options);
-  if (method == "direct") return solve_direct(A, b, cmin, cmax, lambda);
-  throw std::invalid_argument("unknown solver '" + method + "' (valid: pgs, jacobi, direct)");
+  if (!options.split_islands || method == "direct") {  // direct splits by itself
+    return solve_whole(method, A, b, cmin, cmax, lambda, options);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto islands = find_islands(A);
+  if (islands.size() <= 1) return solve_whole(method, A, b, cmin, cmax, lambda, options);
+  if (lambda.size() != A.rows()) lambda = VecX::Zero(A.rows());
+  SolverSummary total;
+  total.termination = Termination::ResidualTolerance;
+  total.islands = static_cast<int>(islands.size());
+  std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
+  for (const auto& rows : islands) {
+    const SpMat A_I = principal_submatrix(A, rows, local);
+    VecX lambda_I = gather_rows(lambda, rows);
+    const SolverSummary s = solve_whole(method,
+                                        A_I,
+                                        gather_rows(b, rows),
+                                        gather_rows(cmin, rows),
+                                        gather_rows(cmax, rows),
+                                        lambda_I,
+                                        options);
+    for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));
+    total.iterations = std::max(total.iterations, s.iterations);
+    total.delta = std::max(total.delta, s.delta);
+    if (!(s.residual <= total.residual)) total.residual = s.residual;  // NaN propagates
+    // The worst termination: NonFinite > MaxIterations > DeltaTolerance > ResidualTolerance.
+    if (s.termination == Termination::NonFinite ||
+        (total.termination != Termination::NonFinite &&
+         s.termination == Termination::MaxIterations) ||
+        (total.termination == Termination::ResidualTolerance &&
+         s.termination == Termination::DeltaTolerance)) {
+      total.termination = s.termination;
+    }
+  }
+  total.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream msg;
+  msg << to_string(total.termination) << " (worst of " << total.islands
+      << " islands solved apart), at most " << total.iterations << " sweeps, residual "
+      << total.residual << " N";
+  total.message = msg.str();
+  return total;
 }
 
 std::string to_string(Termination t) {

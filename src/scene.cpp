@@ -8,6 +8,8 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   s.world.gravity *= L / (T * T);  // m/s²
   s.world.dt *= T;                 // s
   s.duration *= T;
+  s.world.restitution_threshold *= L / T;  // m/s
+  s.world.contact_margin *= L;             // m
   for (Body& body : s.bodies) {
     body.shape.radius *= L;
     body.shape.half_extents *= L;
@@ -28,6 +30,16 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   s.solver.tolerance *= M * L / (T * T);  // residual in N
   s.solver.delta_tolerance *= M * L / (T * T);
   return s;
+}
+
+bool Scene::has_contact_pairs() const {
+  int colliding = 0, movable = 0;
+  for (const Body& body : bodies) {
+    if (!body.collides) continue;
+    ++colliding;
+    if (!body.is_static) ++movable;
+  }
+  return movable >= 1 && colliding >= 2;
 }
 
 }  // namespace cbps

@@ -35,7 +35,9 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // allowed | |q| − 1 | in a
 constexpr double kUnitRounding = 4.0 * std::numeric_limits<double>::epsilon();
 constexpr double kSymmetryTolerance = 1e-12;  // allowed |I_ij − I_ji| / max |I_kl|
 const std::vector<std::string> kSolverMethods{"pgs", "jacobi", "direct"};
-const std::vector<std::string> kShapeTypes{"sphere", "box"};
+const std::vector<std::string> kShapeTypes{"sphere", "box", "plane"};
+const std::vector<std::string> kPushModes{"original", "improved"};   // PushMode order
+const std::vector<std::string> kFrictionModels{"paper", "coulomb"};  // FrictionModel order
 const std::vector<std::string> kConstraintTypes{"distance"};
 
 std::string join(const std::vector<std::string>& words) {
@@ -193,22 +195,60 @@ double time_step(const Node& node) {
   return value;
 }
 
+/// A number in [0, 1].
+double unit_interval(const Node& node) {
+  const double value = number(node);
+  if (value < 0.0 || value > 1.0) fail(node, "must be in [0, 1]" + got(node));
+  return value;
+}
+
+/// One of the names in `names` (`what` says what they name); returns its index.
+std::size_t choice(const Node& node, const std::vector<std::string>& names, const char* what) {
+  const std::string name = text(node);
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return k;
+  fail(node,
+       std::string("unknown ") + what + " " + in_quotes(name) + " (valid: " + join(names) + ")");
+}
+
 World read_world(const Node& node) {
-  check_object(node, {"gravity", "dt", "beta"});
+  check_object(node,
+               {"gravity",
+                "dt",
+                "beta",
+                "push",
+                "mu",
+                "friction",
+                "restitution",
+                "restitution_threshold",
+                "contact_margin"});
   World world;
   if (has(node, "gravity")) world.gravity = vec3(child(node, "gravity"));
   if (has(node, "dt")) world.dt = time_step(child(node, "dt"));
-  if (has(node, "beta")) {
-    const Node beta = child(node, "beta");
-    world.beta = number(beta);
-    if (world.beta < 0.0 || world.beta > 1.0) fail(beta, "must be in [0, 1]" + got(beta));
-  }
+  if (has(node, "beta")) world.beta = unit_interval(child(node, "beta"));
+  if (has(node, "push"))
+    world.push = static_cast<PushMode>(choice(child(node, "push"), kPushModes, "push mode"));
+  if (has(node, "mu")) world.mu = nonnegative(child(node, "mu"));
+  if (has(node, "friction"))
+    world.friction = static_cast<FrictionModel>(
+        choice(child(node, "friction"), kFrictionModels, "friction model"));
+  if (has(node, "restitution")) world.restitution = unit_interval(child(node, "restitution"));
+  if (has(node, "restitution_threshold"))
+    world.restitution_threshold = nonnegative(child(node, "restitution_threshold"));
+  if (has(node, "contact_margin"))
+    world.contact_margin = nonnegative(child(node, "contact_margin"));
   return world;
 }
 
 SolverSettings read_solver(const Node& node) {
-  check_object(
-      node, {"method", "iterations", "tolerance", "delta_tolerance", "relaxation", "warm_start"});
+  check_object(node,
+               {"method",
+                "iterations",
+                "tolerance",
+                "delta_tolerance",
+                "relaxation",
+                "warm_start",
+                "split_islands"});
   SolverSettings solver;
   if (has(node, "method")) {
     const Node method = child(node, "method");
@@ -228,6 +268,7 @@ SolverSettings read_solver(const Node& node) {
       fail(omega, "must be in (0, 2)" + got(omega));
   }
   if (has(node, "warm_start")) solver.warm_start = boolean(child(node, "warm_start"));
+  if (has(node, "split_islands")) solver.split_islands = boolean(child(node, "split_islands"));
   return solver;
 }
 
@@ -245,6 +286,9 @@ Shape read_shape(const Node& node) {
     check_object(node, {"type", "half_extents"});
     shape.kind = Shape::Kind::Box;
     shape.half_extents = positive_vec3(required(node, "half_extents"));
+  } else if (kind == "plane") {  // a half-space: no size (body.hpp)
+    check_object(node, {"type"});
+    shape.kind = Shape::Kind::Plane;
   } else {
     fail(type, "unknown shape type " + in_quotes(kind) + " (valid: " + join(kShapeTypes) + ")");
   }
@@ -318,6 +362,7 @@ Body read_body(const Node& node, std::size_t i) {
                {"name",
                 "shape",
                 "static",
+                "collides",
                 "mass",
                 "density",
                 "inertia",
@@ -337,6 +382,14 @@ Body read_body(const Node& node, std::size_t i) {
   }
   body.shape = read_shape(required(node, "shape"));
   if (has(node, "static")) body.is_static = boolean(child(node, "static"));
+  if (has(node, "collides")) body.collides = boolean(child(node, "collides"));
+  if (body.shape.kind == Shape::Kind::Plane) {
+    // A half-space has no finite mass or inertia (body.hpp): it is static and keeps the
+    // default m = 1, I = 1, which nothing uses.
+    if (!body.is_static) fail(node.source, node.path + "/static", "a plane must be static");
+    for (const char* key : {"mass", "density", "inertia"})
+      if (has(node, key)) fail(child(node, key), "a plane has no mass or inertia");
+  }
 
   // Mass, then inertia: set_mass gives the solid's inertia, which "inertia" overrides.
   if (has(node, "mass") && has(node, "density"))
@@ -641,23 +694,28 @@ Json body_json(const Body& body) {
   if (body.shape.kind == Shape::Kind::Sphere) {
     shape["type"] = "sphere";
     shape["radius"] = body.shape.radius;
-  } else {
+  } else if (body.shape.kind == Shape::Kind::Box) {
     shape["type"] = "box";
     shape["half_extents"] = vec_json(body.shape.half_extents);
+  } else {
+    shape["type"] = "plane";
   }
   out["shape"] = shape;
   if (body.is_static) out["static"] = true;
+  if (!body.collides) out["collides"] = false;
 
-  // Write mass and inertia only where the reader would not rebuild them as they are.
+  // Write mass and inertia only where the reader would not rebuild them as they are. A plane
+  // takes neither: the reader gives it the defaults m = 1, I = 1.
+  const bool plane = body.shape.kind == Shape::Kind::Plane;
   Body rebuilt;
   rebuilt.shape = body.shape;
   rebuilt.is_static = body.is_static;
-  const bool write_mass = !body.is_static || body.m != 1.0;
+  const bool write_mass = !plane && (!body.is_static || body.m != 1.0);
   if (write_mass) {
     out["mass"] = body.m;
     set_mass(rebuilt, body.m);
   }
-  if (rebuilt.I_body != body.I_body || rebuilt.I_body_inv != body.I_body_inv) {
+  if (!plane && (rebuilt.I_body != body.I_body || rebuilt.I_body_inv != body.I_body_inv)) {
     const Mat3& I = body.I_body;
     if (I(0, 1) == 0.0 && I(0, 2) == 0.0 && I(1, 2) == 0.0 && I(1, 0) == 0.0 && I(2, 0) == 0.0 &&
         I(2, 1) == 0.0) {
@@ -722,6 +780,12 @@ std::string scene_to_json(const Scene& scene) {
   world["gravity"] = vec_json(scene.world.gravity);
   world["dt"] = scene.world.dt;
   world["beta"] = scene.world.beta;
+  world["push"] = kPushModes.at(static_cast<std::size_t>(scene.world.push));
+  world["mu"] = scene.world.mu;
+  world["friction"] = kFrictionModels.at(static_cast<std::size_t>(scene.world.friction));
+  world["restitution"] = scene.world.restitution;
+  world["restitution_threshold"] = scene.world.restitution_threshold;
+  world["contact_margin"] = scene.world.contact_margin;
   root["world"] = world;
 
   Json solver = Json::object();
@@ -731,6 +795,7 @@ std::string scene_to_json(const Scene& scene) {
   solver["delta_tolerance"] = scene.solver.delta_tolerance;
   solver["relaxation"] = scene.solver.relaxation;
   solver["warm_start"] = scene.solver.warm_start;
+  solver["split_islands"] = scene.solver.split_islands;
   root["solver"] = solver;
 
   Json bodies = Json::array();

@@ -1,27 +1,66 @@
-// The time step (paper 3.2 with 6.2).
+// The time step (paper 3.2 with 4, 5, 6.2 and 8).
 #include "cbps/simulation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
+#include "cbps/contact.hpp"
 #include "cbps/error.hpp"
 
 namespace cbps {
 
-Simulation::Simulation(Scene scene) : scene_(std::move(scene)) {}
+Simulation::Simulation(Scene scene)
+    : scene_(std::move(scene)), collision_stage_(scene_.has_contact_pairs()) {}
 
-void Simulation::build_rows(std::vector<Row>& rows) const {
+void Simulation::build_rows(std::vector<Row>& rows, std::vector<Manifold>& manifolds) const {
+  const World& w = scene_.world;
+  const bool improved = w.push == PushMode::Improved;
   rows.resize(scene_.distances.size());
   for (std::size_t k = 0; k < scene_.distances.size(); ++k) {
-    rows[k] =
-        distance_row(scene_.distances[k], scene_.bodies, scene_.world.beta, scene_.world.dt, k);
+    Row& row = rows[k];
+    row = distance_row(scene_.distances[k], scene_.bodies, w.beta, w.dt, k);
+    if (improved) row.upsilon = 0.0;  // 8.1: the push term only in the position system
+  }
+  manifolds.clear();
+  if (!collision_stage_) return;
+  manifolds = detect_contacts(scene_.bodies, w.contact_margin);  // (4)
+  for (const Manifold& m : manifolds) {
+    Vec3 t1, t2;
+    tangent_basis(m.n, t1, t2);
+    const double bound = paper_friction_bound(m, scene_.bodies, w.mu, w.gravity);
+    for (const ContactPoint& point : m.points) {
+      Row contact = contact_row(m, point, scene_.bodies);  // (5.3)
+      const double approach = row_velocity(contact, scene_.bodies);
+      const auto bias = [&](bool push) {
+        return contact_bias(
+            point.depth, approach, w.beta, w.dt, w.restitution, w.restitution_threshold, push);
+      };
+      contact.upsilon = bias(!improved);
+      contact.upsilon_position = bias(true);  // restitution in both systems (8.2)
+      const int normal = static_cast<int>(rows.size());
+      rows.push_back(std::move(contact));
+      if (w.mu <= 0.0) continue;  // no friction rows at mu = 0
+      int k = 1;
+      for (const Vec3& t : {t1, t2}) {
+        Row friction = friction_row(m, point, k++, t, bound, scene_.bodies);  // (5.4)
+        if (w.friction == FrictionModel::Coulomb) {
+          friction.normal_row = normal;
+          friction.mu = w.mu;
+          friction.cmin = 0.0;  // the bounds ±mu lambda_normal are set by the solve
+          friction.cmax = 0.0;
+        }
+        rows.push_back(std::move(friction));
+      }
+    }
   }
 }
 
 std::vector<Row> Simulation::build_rows() const {
   std::vector<Row> rows;
-  build_rows(rows);
+  std::vector<Manifold> manifolds;
+  build_rows(rows, manifolds);
   return rows;
 }
 
@@ -30,7 +69,7 @@ System Simulation::build_system() const {
 }
 
 const System& Simulation::assemble() {
-  build_rows(rows_);
+  build_rows(rows_, manifolds_);
   assemble_system(scene_.bodies, rows_, scene_.world.gravity, scene_.world.dt, sys_);
   return sys_;
 }
@@ -45,13 +84,103 @@ VecX Simulation::initial_lambda(const System& sys) const {
   return lambda;
 }
 
-SolverSummary Simulation::solve_system(const System& sys, VecX& lambda) const {
+namespace {
+
+/// Coulomb bounds (5.4) from lambda: cmin = −mu lambda_n, cmax = mu lambda_n for each friction
+/// row with a normal row. Returns the largest change of a bound, N.
+double update_coulomb_bounds(const System& sys, const VecX& lambda, VecX& lo, VecX& hi) {
+  double change = 0.0;
+  for (int k = 0; k < sys.rows(); ++k) {
+    const int n = sys.normal_row[static_cast<std::size_t>(k)];
+    if (n < 0) continue;
+    const double bound = sys.mu(k) * std::max(0.0, lambda(n));
+    change = std::max(change, std::abs(bound - hi(k)));
+    lo(k) = -bound;
+    hi(k) = bound;
+  }
+  return change;
+}
+
+}  // namespace
+
+void bounds_at(const System& sys, const VecX& lambda, VecX& lo, VecX& hi) {
+  lo = sys.cmin;
+  hi = sys.cmax;
+  update_coulomb_bounds(sys, lambda, lo, hi);
+}
+
+double system_residual(const System& sys, const VecX& b, const VecX& lambda) {
+  VecX lo, hi;
+  bounds_at(sys, lambda, lo, hi);
+  return natural_map_residual(sys.A, b, lo, hi, lambda);
+}
+
+SolverSummary Simulation::solve_system(const System& sys,
+                                       const VecX& b,
+                                       VecX& lambda,
+                                       const SolverSettings& settings) const {
   SolverOptions options;
-  options.max_iterations = scene_.solver.iterations;
-  options.residual_tolerance = scene_.solver.tolerance;
-  options.delta_tolerance = scene_.solver.delta_tolerance;
-  options.relaxation = scene_.solver.relaxation;
-  return solve(scene_.solver.method, sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+  options.max_iterations = settings.iterations;
+  options.residual_tolerance = settings.tolerance;
+  options.delta_tolerance = settings.delta_tolerance;
+  options.relaxation = settings.relaxation;
+  options.split_islands = settings.split_islands;
+  const bool coulomb =
+      std::any_of(sys.normal_row.begin(), sys.normal_row.end(), [](int n) { return n >= 0; });
+  if (!coulomb) return solve(settings.method, sys.A, b, sys.cmin, sys.cmax, lambda, options);
+
+  VecX lo = sys.cmin, hi = sys.cmax;
+  if (lambda.size() != sys.rows()) lambda = VecX::Zero(sys.rows());
+  SolverSummary total;
+  if (settings.method == "direct") {
+    // A fixed point of the bounds: solve the boxed LCP, move the bounds to ±mu lambda_n, again.
+    const double scale = std::max(1.0, b.size() > 0 ? b.lpNorm<Eigen::Infinity>() : 0.0);
+    int rounds = 0;
+    double change = kInf;
+    while (rounds < 100) {
+      change = update_coulomb_bounds(sys, lambda, lo, hi);
+      if (rounds > 0 && change <= 1e-12 * scale) break;
+      const SolverSummary s = solve_direct(sys.A, b, lo, hi, lambda);
+      ++rounds;
+      total.iterations += s.iterations;
+      total.factorizations += s.factorizations;
+      total.pivots += s.pivots;
+      total.islands = s.islands;
+      total.singular = total.singular || s.singular;
+      total.termination = s.termination;
+      if (!s.ok()) break;
+    }
+    if (change > 1e-12 * scale && total.termination == Termination::Direct)
+      total.termination = Termination::NotConverged;
+    total.residual = natural_map_residual(sys.A, b, lo, hi, lambda);
+    std::ostringstream msg;
+    msg << "direct with Coulomb bounds: fixed point in " << rounds << " rounds (last bound change "
+        << change << " N), " << total.factorizations << " factorizations, residual "
+        << total.residual << " N";
+    total.message = msg.str();
+    return total;
+  }
+  // PGS and Jacobi: the bounds follow lambda before every sweep.
+  SolverOptions one = options;
+  one.max_iterations = 1;
+  one.split_islands = false;
+  total.termination = Termination::MaxIterations;
+  while (total.iterations < settings.iterations) {
+    update_coulomb_bounds(sys, lambda, lo, hi);
+    const SolverSummary s = solve(settings.method, sys.A, b, lo, hi, lambda, one);
+    total.iterations += s.iterations;
+    total.residual = s.residual;
+    total.delta = s.delta;
+    if (s.termination != Termination::MaxIterations) {
+      total.termination = s.termination;
+      break;
+    }
+  }
+  std::ostringstream msg;
+  msg << to_string(total.termination) << " after " << total.iterations
+      << " sweeps with Coulomb bounds, residual " << total.residual << " N";
+  total.message = msg.str();
+  return total;
 }
 
 namespace {
@@ -86,13 +215,28 @@ void check_finite(const System& sys,
 StepReport Simulation::step() {
   const auto start = std::chrono::steady_clock::now();
   const double dt = scene_.world.dt;
+  const bool improved = scene_.world.push == PushMode::Improved;
   StepReport report;
+  stages_.clear();
 
-  // 1. Constraint rows of the current state (5.2) and the system A λ = b (6.1, 6.2.9).
+  // 1. Collision detection (4), constraint rows (5.2–5.4), the system A λ = b (6.1, 6.2.9).
+  if (collision_stage_) stages_.emplace_back("collision (4)");
+  if (!scene_.distances.empty()) stages_.emplace_back("distance_rows (5.2)");
+  if (collision_stage_) stages_.emplace_back("contact_rows (5.3)");
+  if (collision_stage_ && scene_.world.mu > 0.0) stages_.emplace_back("friction_rows (5.4)");
+  stages_.emplace_back("assembly (6.1, 6.2.9)");
   const System& sys = assemble();
   report.rows = sys.rows();
+  for (const Manifold& m : manifolds_) {
+    report.contacts += static_cast<int>(m.points.size());
+    for (const ContactPoint& point : m.points)
+      report.max_penetration = std::max(report.max_penetration, point.depth);
+  }
 
   // 2. λ by the chosen solver (7), from last step's λ (warm start).
+  const std::string& method = scene_.solver.method;
+  stages_.push_back(improved ? "velocity_system_" + method + " (8.1)"
+                             : "solve_" + method + (method == "direct" ? " (6.2)" : " (7.1.1)"));
   VecX lambda = initial_lambda(sys);
   report.solver = solve_system(sys, lambda);
 
@@ -101,13 +245,26 @@ StepReport Simulation::step() {
   check_finite(sys, scene_.bodies, lambda, v2, steps_);
   if (observer_) observer_(sys, lambda, v2);
 
-  // 4. Momenta from v2 with this step's inertia, then positions advance with v2 (3.2).
+  // 3b. The improved push factor (8.1): the position system, the same A with the push terms
+  // in b, gives the velocities that move the bodies this step only.
+  VecX v_position;
+  if (improved) {
+    stages_.push_back("position_system_" + method + " (8.1)");
+    const VecX b_position =
+        compute_b(sys.upsilon_position, sys.J, sys.v1, sys.Minv, sys.fext, dt);  // (6.2.9)
+    VecX lambda_position = lambda;
+    report.position_solver = solve_system(sys, b_position, lambda_position);
+    v_position = compute_v2(sys.v1, sys.Minv, sys.J, lambda_position, sys.fext, dt);
+    check_finite(sys, scene_.bodies, lambda_position, v_position, steps_);
+  }
+
+  // 4. Momenta from v2 with this step's inertia, then positions advance (3.2).
+  stages_.emplace_back("integrate (12.3.1, 3.2)");
+  const VecX& v_move = improved ? v_position : v2;
   for (int blk = 0; blk < sys.blocks(); ++blk) {
     Body& body = scene_.bodies[static_cast<std::size_t>(sys.body_of_block[blk])];
-    const Vec3 v = v2.segment<3>(6 * blk);
-    const Vec3 omega = v2.segment<3>(6 * blk + 3);
-    body.set_velocity(v, omega);  // p = m v2, l = I omega2
-    advance_position(body, v, omega, dt);
+    body.set_velocity(v2.segment<3>(6 * blk), v2.segment<3>(6 * blk + 3));  // p = m v2, l = I ω2
+    advance_position(body, v_move.segment<3>(6 * blk), v_move.segment<3>(6 * blk + 3), dt);
     body.f.setZero();
     body.tau.setZero();
   }

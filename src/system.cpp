@@ -173,6 +173,9 @@ void assemble_system(const std::vector<Body>& bodies,
   sys.labels.resize(rows.size());
   sys.ids.resize(rows.size());
   sys.upsilon.resize(c);
+  sys.upsilon_position.resize(c);
+  sys.normal_row.resize(rows.size());
+  sys.mu.resize(c);
   sys.cmin.resize(c);
   sys.cmax.resize(c);
   for (Eigen::Index k = 0; k < c; ++k) {
@@ -180,6 +183,9 @@ void assemble_system(const std::vector<Body>& bodies,
     sys.labels[static_cast<std::size_t>(k)] = row.label;
     sys.ids[static_cast<std::size_t>(k)] = row.id;
     sys.upsilon(k) = row.upsilon;
+    sys.upsilon_position(k) = row.upsilon_position;
+    sys.normal_row[static_cast<std::size_t>(k)] = row.normal_row;
+    sys.mu(k) = row.mu;
     sys.cmin(k) = row.cmin;
     sys.cmax(k) = row.cmax;
   }

@@ -80,12 +80,19 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.gravity == want.world.gravity);
   CHECK(got.world.dt == want.world.dt);
   CHECK(got.world.beta == want.world.beta);
+  CHECK(got.world.push == want.world.push);
+  CHECK(got.world.mu == want.world.mu);
+  CHECK(got.world.friction == want.world.friction);
+  CHECK(got.world.restitution == want.world.restitution);
+  CHECK(got.world.restitution_threshold == want.world.restitution_threshold);
+  CHECK(got.world.contact_margin == want.world.contact_margin);
   CHECK(got.solver.method == want.solver.method);
   CHECK(got.solver.iterations == want.solver.iterations);
   CHECK(got.solver.tolerance == want.solver.tolerance);
   CHECK(got.solver.delta_tolerance == want.solver.delta_tolerance);
   CHECK(got.solver.relaxation == want.solver.relaxation);
   CHECK(got.solver.warm_start == want.solver.warm_start);
+  CHECK(got.solver.split_islands == want.solver.split_islands);
   REQUIRE(got.bodies.size() == want.bodies.size());
   for (std::size_t i = 0; i < want.bodies.size(); ++i) {
     const Body& g = got.bodies[i];
@@ -98,6 +105,7 @@ void check_same(const Scene& got, const Scene& want) {
     else
       CHECK(g.shape.half_extents == w.shape.half_extents);
     CHECK(g.is_static == w.is_static);
+    CHECK(g.collides == w.collides);
     CHECK(g.m == w.m);
     CHECK(g.I_body == w.I_body);
     CHECK(g.I_body_inv == w.I_body_inv);
@@ -118,6 +126,52 @@ void check_same(const Scene& got, const Scene& want) {
     CHECK(g.anchor_b == w.anchor_b);
     CHECK(g.l == w.l);
   }
+}
+
+/// A scene with contacts: every contact setting away from its default, a tilted ground plane, a
+/// box that collides and a sphere that does not. Nothing in it is a round number.
+Scene contact_scene() {
+  Scene scene;
+  scene.name = "contacts";
+  scene.world.push = PushMode::Improved;
+  scene.world.mu = 0.35;
+  scene.world.friction = FrictionModel::Coulomb;
+  scene.world.restitution = 0.45;
+  scene.world.restitution_threshold = 1.0 / 30.0;
+  scene.world.contact_margin = 0.004;
+  scene.solver.split_islands = false;
+
+  Body ground;
+  ground.name = "ground";
+  ground.shape.kind = Shape::Kind::Plane;
+  ground.is_static = true;
+  ground.x = Vec3(0.0, -0.05, 0.0);
+  ground.q = axis_angle_quaternion(Vec3(0.0, 0.0, 0.1));
+
+  Body box;
+  box.name = "box";
+  box.shape.kind = Shape::Kind::Box;
+  box.shape.half_extents = Vec3(0.1, 0.1, 0.1);
+  set_mass(box, 1.3);
+  box.x = Vec3(0.2, 0.07, 0.0);
+  box.set_velocity(Vec3(0.0, -1.0 / 3.0, 0.0), Vec3(0.0, 0.0, 0.0));
+
+  Body ghost;
+  ghost.name = "ghost";
+  ghost.collides = false;
+  ghost.shape.radius = 0.07;
+  set_mass(ghost, 0.3);
+  ghost.x = Vec3(0.2, 0.1, 0.0);
+
+  scene.bodies = {ground, box, ghost};
+  return scene;
+}
+
+/// How many times `word` occurs in `text`.
+std::size_t count(const std::string& text, const std::string& word) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++n;
+  return n;
 }
 
 /// A scene with one body given by its JSON fields (inside the braces).
@@ -145,6 +199,72 @@ TEST_CASE("scene_to_json then parse_scene gives back every field bit for bit", "
   check_same(back, scene);
   // Written again, the text is the same: writing is a function of the scene alone.
   CHECK(scene_to_json(back) == text);
+}
+
+TEST_CASE("planes, collides and the contact settings (4, 5.4, 8.1, 8.2) round-trip bit for bit",
+          "[scene_json]") {
+  const Scene scene = contact_scene();
+  const std::string text = scene_to_json(scene);
+  INFO(text);
+  const Scene back = parse_scene(text, "written.json");
+  check_same(back, scene);
+  CHECK(scene_to_json(back) == text);
+  // "collides" is written only for the one body that does not collide; a plane has no mass.
+  CHECK(count(text, "\"collides\"") == 1);
+  CHECK(count(text, "\"collides\": false") == 1);
+  CHECK(count(text, "\"mass\"") == 2);
+}
+
+TEST_CASE("a plane, a box, contact settings and collides = false read to the values written",
+          "[scene_json]") {
+  // The plane is turned 90° about x: its outward normal R (0, 1, 0) is then +z.
+  const Scene scene = parse_scene(R"({
+      "world": {"push": "improved", "mu": 0.5, "friction": "coulomb", "restitution": 0.25,
+                "restitution_threshold": 0.2, "contact_margin": 0.01},
+      "solver": {"split_islands": false},
+      "bodies": [
+        {"name": "wall", "shape": {"type": "plane"}, "static": true, "position": [0, 0, -1],
+         "orientation": [0.7071067811865476, 0.7071067811865476, 0, 0]},
+        {"name": "box", "shape": {"type": "box", "half_extents": [0.1, 0.2, 0.3]}, "mass": 2,
+         "collides": false}]})",
+                                  "scene.json");
+  CHECK(scene.world.push == PushMode::Improved);
+  CHECK(scene.world.mu == 0.5);
+  CHECK(scene.world.friction == FrictionModel::Coulomb);
+  CHECK(scene.world.restitution == 0.25);
+  CHECK(scene.world.restitution_threshold == 0.2);
+  CHECK(scene.world.contact_margin == 0.01);
+  CHECK_FALSE(scene.solver.split_islands);
+  CHECK(scene.world.beta == 0.2);  // untouched settings keep their defaults
+  REQUIRE(scene.bodies.size() == 2);
+  const Body& wall = scene.bodies[0];
+  CHECK(wall.shape.kind == Shape::Kind::Plane);
+  CHECK(wall.is_static);
+  CHECK(wall.collides);
+  CHECK(wall.m == 1.0);  // the unused default of a static body
+  CHECK(wall.x == Vec3(0.0, 0.0, -1.0));
+  const Vec3 n = wall.R() * Vec3::UnitY();
+  CHECK((n - Vec3(0.0, 0.0, 1.0)).norm() < 1e-15);
+  const Body& box = scene.bodies[1];
+  CHECK(box.shape.kind == Shape::Kind::Box);
+  CHECK(box.shape.half_extents == Vec3(0.1, 0.2, 0.3));
+  CHECK(box.m == 2.0);
+  CHECK_FALSE(box.is_static);
+  CHECK_FALSE(box.collides);
+  CHECK_FALSE(scene.has_contact_pairs());  // the only movable body does not collide
+}
+
+TEST_CASE("contact settings default to push original, mu 0, paper friction, no bounce",
+          "[scene_json]") {
+  const Scene scene = parse_scene(one_body(R"("mass": 1)"), "scene.json");
+  CHECK(scene.world.push == PushMode::Original);
+  CHECK(scene.world.mu == 0.0);
+  CHECK(scene.world.friction == FrictionModel::Paper);
+  CHECK(scene.world.restitution == 0.0);
+  CHECK(scene.world.restitution_threshold == 0.1);
+  CHECK(scene.world.contact_margin == 0.0);
+  CHECK(scene.solver.split_islands);
+  CHECK(scene.bodies.at(0).collides);
 }
 
 TEST_CASE("every built-in scene, written as JSON, reads back bit for bit", "[scene_json]") {
@@ -175,6 +295,22 @@ TEST_CASE("example scenes in scenes/ parse and round-trip", "[scene_json]") {
   CHECK((box.bodies[0].omega() - Vec3(0.01, 5.0, 0.01)).norm() < 1e-14);
   CHECK(box.distances.empty());
   check_same(parse_scene(scene_to_json(box), "box"), box);
+
+  const Scene resting = read_scene_file(CBPS_SOURCE_DIR "/scenes/box-on-plane.json");
+  CHECK(resting.name == "box-on-plane");
+  CHECK(resting.world.mu == 0.5);
+  CHECK(resting.world.push == PushMode::Improved);
+  REQUIRE(resting.bodies.size() == 2);
+  const Body& ground = resting.bodies[0];
+  CHECK(ground.shape.kind == Shape::Kind::Plane);
+  CHECK(ground.is_static);
+  CHECK(ground.x.isZero(0.0));
+  const Body& cube = resting.bodies[1];
+  CHECK(cube.shape.half_extents == Vec3(0.1, 0.1, 0.1));
+  CHECK(cube.m == 1.0);
+  CHECK(cube.x == Vec3(0.0, 0.1, 0.0));  // its bottom face on the plane y = 0
+  CHECK(resting.has_contact_pairs());
+  check_same(parse_scene(scene_to_json(resting), "resting"), resting);
 }
 
 TEST_CASE("a missing length defaults to the current distance between the anchors", "[scene_json]") {
@@ -278,6 +414,25 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
        "scene.json: /solver/relaxation: must be in (0, 2) (got 2)"},
       {R"({"solver": {"warm_start": "yes"}, "bodies": []})",
        "scene.json: /solver/warm_start: expected true or false (got string)"},
+      {R"({"solver": {"split_islands": 1}, "bodies": []})",
+       "scene.json: /solver/split_islands: expected true or false (got number)"},
+      // Contact settings.
+      {R"({"world": {"mu": -0.1}, "bodies": []})",
+       "scene.json: /world/mu: must be >= 0 (got -0.1)"},
+      {R"({"world": {"restitution": 1.5}, "bodies": []})",
+       "scene.json: /world/restitution: must be in [0, 1] (got 1.5)"},
+      {R"({"world": {"restitution_threshold": -1}, "bodies": []})",
+       "scene.json: /world/restitution_threshold: must be >= 0 (got -1)"},
+      {R"({"world": {"contact_margin": -0.001}, "bodies": []})",
+       "scene.json: /world/contact_margin: must be >= 0 (got -0.001)"},
+      {R"({"world": {"push": "sometimes"}, "bodies": []})",
+       R"(scene.json: /world/push: unknown push mode "sometimes" (valid: original, improved))"},
+      {R"({"world": {"friction": "viscous"}, "bodies": []})",
+       R"(scene.json: /world/friction: unknown friction model "viscous" (valid: paper, coulomb))"},
+      {R"({"world": {"mu": "high"}, "bodies": []})",
+       "scene.json: /world/mu: expected a number (got string)"},
+      {R"({"world": {"margin": 0}, "bodies": []})",
+       "scene.json: /world/margin: unknown key (valid: gravity, dt, beta, push, mu,"},
       {R"({"parameters": {"n": 3}, "bodies": []})",
        "scene.json: /parameters/n: expected a string (got number)"},
       // Structure: unknown, duplicate and missing keys.
@@ -291,7 +446,19 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
       {R"({"bodies": [{"mass": 1}]})", "scene.json: /bodies/0/shape: missing (required)"},
       // Shapes, masses, inertia, orientation.
       {R"({"bodies": [{"shape": {"type": "cylinder"}, "mass": 1}]})",
-       R"(scene.json: /bodies/0/shape/type: unknown shape type "cylinder" (valid: sphere, box))"},
+       R"(scene.json: /bodies/0/shape/type: unknown shape type "cylinder" (valid: sphere, box, plane))"},
+      {R"({"bodies": [{"shape": {"type": "sphere", "radius": 1}, "mass": 1},
+                      {"shape": {"type": "box", "half_extents": [1, 1, 1]}, "mass": 1},
+                      {"shape": {"type": "plane"}}]})",
+       "scene.json: /bodies/2/static: a plane must be static"},
+      {R"({"bodies": [{"shape": {"type": "plane"}, "static": false, "mass": 1}]})",
+       "scene.json: /bodies/0/static: a plane must be static"},
+      {R"({"bodies": [{"shape": {"type": "plane"}, "static": true, "mass": 1}]})",
+       "scene.json: /bodies/0/mass: a plane has no mass or inertia"},
+      {R"({"bodies": [{"shape": {"type": "plane", "radius": 1}, "static": true}]})",
+       "scene.json: /bodies/0/shape/radius: unknown key (valid: type)"},
+      {one_body(R"("mass": 1, "collides": "no")"),
+       "scene.json: /bodies/0/collides: expected true or false (got string)"},
       {R"({"bodies": [{"shape": {"type": "sphere", "radius": 0}, "mass": 1}]})",
        "scene.json: /bodies/0/shape/radius: must be > 0 (got 0)"},
       {R"({"bodies": [{"shape": {"type": "box", "half_extents": [1, 0, 1]}, "mass": 1}]})",

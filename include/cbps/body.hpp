@@ -28,6 +28,7 @@ struct Body {
   std::string name;
   Shape shape;
   bool is_static = false;
+  bool collides = true;                ///< takes part in collision detection (4)
   double m = 1.0;                      ///< mass, kg (ignored when static)
   Mat3 I_body = Mat3::Identity();      ///< body-frame inertia tensor, kg m² (SPD)
   Mat3 I_body_inv = Mat3::Identity();  ///< its inverse, kg⁻¹ m⁻²

@@ -22,6 +22,11 @@ struct Row {
   double upsilon = 0.0;     ///< velocity bias (5.1.2), m/s
   double cmin = -kInf;      ///< lower bound on lambda (5.1), N
   double cmax = kInf;       ///< upper bound on lambda (5.1), N
+  /// The bias of the position system of the improved push factor (8.1), m/s; equals upsilon
+  /// when the push is in the one system.
+  double upsilon_position = 0.0;
+  int normal_row = -1;  ///< Coulomb friction (5.4): index of the contact row bounding it
+  double mu = 0.0;  ///< and its coefficient: cmin = −mu lambda_normal, cmax = mu lambda_normal
 };
 
 /// A distance constraint (5.2): |p_b − p_a| = l with p = x + r, r = R anchor.
@@ -34,6 +39,13 @@ struct DistanceConstraint {
   Vec3 anchor_b = Vec3::Zero();  ///< body-frame point on b (m), or world point if b = -1
   double l = 1.0;                ///< rest length, m (> 0)
 };
+
+/// The row form shared by distance (5.2.1), contact (5.3) and friction (5.4) rows: the rate of
+/// separation along the unit direction n of point p_a on body a and point p_b on body b,
+///   j_c = [ −nᵀ, −(r_a × n)ᵀ, nᵀ, (r_b × n)ᵀ ],   r_a = p_a − x_a, r_b = p_b − x_b,
+/// with no block for an index of −1 (the world) or a static body. upsilon 0, bounds ±∞.
+Row direction_row(
+    const std::vector<Body>& bodies, int a, const Vec3& p_a, int b, const Vec3& p_b, const Vec3& n);
 
 /// World position of one end of a distance constraint, m.
 Vec3 anchor_point(const std::vector<Body>& bodies, int index, const Vec3& anchor);

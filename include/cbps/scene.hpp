@@ -12,10 +12,26 @@
 
 namespace cbps {
 
+/// The push factor's form (8): Baumgarte in the one system, or the improved technique of 8.1
+/// (a velocity system whose v2 is kept and a position system that only moves the bodies).
+enum class PushMode { Original, Improved };
+
+/// How friction rows are bounded (5.4).
+enum class FrictionModel {
+  Paper,   ///< ±mu m |g·n|, m the pair's movable mass divided over its contact points (5.4)
+  Coulomb  ///< ±mu lambda_normal of the same point (ODE, Bullet, Box2D): bounds follow lambda
+};
+
 struct World {
   Vec3 gravity{0.0, -9.81, 0.0};  ///< g, m/s² (y is up)
   double dt = 1.0 / 240.0;        ///< time step, s
-  double beta = 0.2;              ///< Baumgarte push factor (5.2.3), dimensionless in [0, 1]
+  double beta = 0.2;              ///< Baumgarte push factor (5.2.3, 5.3), dimensionless in [0, 1]
+  PushMode push = PushMode::Original;
+  double mu = 0.0;  ///< friction coefficient (5.4); 0: no friction rows
+  FrictionModel friction = FrictionModel::Paper;
+  double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
+  double restitution_threshold = 0.1;  ///< approach speed below which no bounce (8.2), m/s
+  double contact_margin = 0.0;         ///< contacts kept up to this separation (4), m
 };
 
 struct SolverSettings {
@@ -25,6 +41,7 @@ struct SolverSettings {
   double delta_tolerance = 0.0;  ///< max |Δlambda| to stop at, N (0 = off)
   double relaxation = 1.0;       ///< omega (Jacobi damping)
   bool warm_start = true;        ///< start from last step's lambda, matched by row id
+  bool split_islands = true;     ///< solve independent islands of A apart (PGS, Jacobi)
 };
 
 struct Scene {
@@ -36,6 +53,10 @@ struct Scene {
   double duration = 10.0;  ///< default simulated time, s
   std::vector<Body> bodies;
   std::vector<DistanceConstraint> distances;
+
+  /// True when some pair of bodies may collide: both collide, not both static (4). A scene
+  /// without such a pair runs no collision stage.
+  bool has_contact_pairs() const;
 };
 
 /// Rescales a scene's units (paper 9): lengths by L, masses by M, times by T. Positions,

@@ -3,19 +3,32 @@
 
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "cbps/collision.hpp"
 #include "cbps/scene.hpp"
 #include "cbps/solver.hpp"
 #include "cbps/system.hpp"
 
 namespace cbps {
 
+/// The bounds of the system at lambda: cmin, cmax, with each Coulomb friction row's set to
+/// ∓mu max(0, lambda_normal) (5.4).
+void bounds_at(const System& sys, const VecX& lambda, VecX& lo, VecX& hi);
+
+/// The natural-map residual of the system with right-hand side b at lambda, Coulomb bounds
+/// taken at lambda (bounds_at), N.
+double system_residual(const System& sys, const VecX& b, const VecX& lambda);
+
 struct StepReport {
   int rows = 0;
+  int contacts = 0;  ///< contact points found this step (4)
   SolverSummary solver;
+  SolverSummary position_solver;      ///< the position system of 8.1 (improved push only)
   double max_constraint_error = 0.0;  ///< after the step, m
+  double max_penetration = 0.0;       ///< deepest contact found at the start of the step, m
   double wall_time_s = 0.0;           ///< of the whole step
 };
 
@@ -28,8 +41,10 @@ class Simulation {
   /// Throws ComputationError naming the step, body or row when values turn non-finite.
   StepReport step();
 
-  /// The rows of the current state (5.2), in constraint order, into `rows` (storage reused).
-  void build_rows(std::vector<Row>& rows) const;
+  /// The rows of the current state, into `rows` (storage reused): distance rows (5.2) in
+  /// constraint order, then for each contact manifold (4) and point its contact row (5.3) and,
+  /// when mu > 0, its two friction rows (5.4). The manifolds found go to `manifolds`.
+  void build_rows(std::vector<Row>& rows, std::vector<Manifold>& manifolds) const;
   std::vector<Row> build_rows() const;
   /// The system of the current state, not solved (6.1, 6.2.9), as a new System.
   System build_system() const;
@@ -38,8 +53,25 @@ class Simulation {
   const System& assemble();
   /// The warm-start guess for a system: last step's lambda by row id, else 0.
   VecX initial_lambda(const System& sys) const;
-  /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda.
-  SolverSummary solve_system(const System& sys, VecX& lambda) const;
+  /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda;
+  /// `b` is sys.b, or the position system's right-hand side (8.1). Coulomb friction rows
+  /// (5.4) get their bounds ±mu lambda_normal from lambda: PGS and Jacobi update them before
+  /// every sweep, the direct path iterates them to a fixed point.
+  SolverSummary solve_system(const System& sys, const VecX& b, VecX& lambda) const {
+    return solve_system(sys, b, lambda, scene_.solver);
+  }
+  SolverSummary solve_system(const System& sys, VecX& lambda) const {
+    return solve_system(sys, sys.b, lambda, scene_.solver);
+  }
+  /// The same with other solver settings (e.g. the direct path for a cross-check).
+  SolverSummary solve_system(const System& sys,
+                             const VecX& b,
+                             VecX& lambda,
+                             const SolverSettings& settings) const;
+  /// The pipeline stages the last step ran, in order (collision, rows, assembly, solve, …).
+  const std::vector<std::string>& stages() const { return stages_; }
+  /// The contact manifolds of the last step (4).
+  const std::vector<Manifold>& manifolds() const { return manifolds_; }
 
   /// Called inside every step with the step's system, its lambda and v2 (for cross-checks).
   using Observer = std::function<void(const System&, const VecX& lambda, const VecX& v2)>;
@@ -60,6 +92,9 @@ class Simulation {
   long steps_ = 0;
   std::unordered_map<std::uint64_t, double> warm_;  ///< row id → last lambda, N
   Observer observer_;
+  bool collision_stage_ = false;  ///< the scene has a pair that may collide
+  std::vector<std::string> stages_;
+  std::vector<Manifold> manifolds_;
   std::vector<Row> rows_;  ///< this step's rows, kept for their storage
   System sys_;             ///< this step's system, kept for its storage
 };

@@ -14,6 +14,7 @@ struct SolverOptions {
   double residual_tolerance = 0;  ///< stop when natural_map_residual ≤ this (N); 0 = never
   double delta_tolerance = 0;     ///< stop when max |Δlambda| in a sweep ≤ this (N); 0 = never
   double relaxation = 1.0;        ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
+  bool split_islands = false;     ///< solve independent blocks of A apart (each to tolerance)
 };
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
@@ -92,6 +93,13 @@ SolverSummary solve_jacobi(const SpMat& A,
 /// that case.
 SolverSummary solve_cholesky(const SpMat& A, const VecX& b, VecX& lambda);
 
+/// The principal submatrix A(idx, idx) of a symmetric A, idx sorted ascending. `local` is
+/// scratch of size A.rows() that holds −1 everywhere on entry and on exit.
+SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local);
+
+/// The entries v(idx), in the order of idx.
+VecX gather_rows(const VecX& v, const std::vector<int>& idx);
+
 /// The independent blocks ("islands") of a symmetric A: connected components of its graph
 /// (rows i, j joined when A_ij ≠ 0), each a sorted list of rows, in order of their first row.
 std::vector<std::vector<int>> find_islands(const SpMat& A);
@@ -119,8 +127,9 @@ struct DirectOptions {
 ///      the original problem for any PSD A with a solution. ε = 0 (plain pivoting, exact in
 ///      finitely many steps) whenever the free block is numerically positive definite
 ///      (CHOLMOD's reciprocal condition estimate above 1e-12); otherwise ε starts at
-///      options.epsilon · max A_jj and falls by 100× whenever the active set has settled and
-///      the residual falls slower than 10× per step, down to options.epsilon_floor · max A_jj.
+///      options.epsilon · max A_jj and falls by 10× whenever the active set has settled and
+///      the residual falls slower than 2× per step, down to options.epsilon_floor · max A_jj;
+///      if the pivoting needs too many rounds (100 + 5 rows), ε rises 10× and stays.
 /// All-unbounded islands skip steps 1-2: one factorization and refinement. Returns
 /// Termination::Direct when the residual reaches the tolerance, NotConverged otherwise (e.g.
 /// inconsistent equality rows, an infeasible box), with the best lambda found.
@@ -131,7 +140,9 @@ SolverSummary solve_direct(const SpMat& A,
                            VecX& lambda,
                            const DirectOptions& options = {});
 
-/// By name: "pgs", "jacobi", "direct" (solve_direct).
+/// By name: "pgs", "jacobi", "direct" (solve_direct). With options.split_islands the iterative
+/// solvers run on each island of A apart, each until its own tolerance; the summary then has
+/// the largest sweep count and residual of any island.
 SolverSummary solve(const std::string& method,
                     const SpMat& A,
                     const VecX& b,

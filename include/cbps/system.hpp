@@ -30,15 +30,18 @@ struct System {
   std::vector<std::string> labels;  ///< one per row
   std::vector<std::uint64_t> ids;   ///< one per row, for warm starting
 
-  SpMatRow J;    ///< c×6n (6.1), row-major: row k is j_c of row k
-  SpMat Minv;    ///< 6n×6n block diagonal (6.1.2)
-  VecX v1;       ///< 6n, velocities at the start of the step (6.1.1)
-  VecX fext;     ///< 6n, external forces and torques (6.1.3)
-  VecX upsilon;  ///< c (6.1.4)
-  VecX cmin;     ///< c
-  VecX cmax;     ///< c
-  SpMat A;       ///< c×c, J Minv Jᵀ (6.2.9)
-  VecX b;        ///< c, upsilon/dt − J (v1/dt + Minv fext) (6.2.9)
+  SpMatRow J;                   ///< c×6n (6.1), row-major: row k is j_c of row k
+  SpMat Minv;                   ///< 6n×6n block diagonal (6.1.2)
+  VecX v1;                      ///< 6n, velocities at the start of the step (6.1.1)
+  VecX fext;                    ///< 6n, external forces and torques (6.1.3)
+  VecX upsilon;                 ///< c (6.1.4)
+  VecX cmin;                    ///< c
+  VecX cmax;                    ///< c
+  SpMat A;                      ///< c×c, J Minv Jᵀ (6.2.9)
+  VecX b;                       ///< c, upsilon/dt − J (v1/dt + Minv fext) (6.2.9)
+  VecX upsilon_position;        ///< c, the position system's bias (8.1), m/s
+  std::vector<int> normal_row;  ///< c, Coulomb friction: the contact row bounding it, else −1
+  VecX mu;                      ///< c, Coulomb friction coefficient of the row, else 0
 
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }

@@ -36,9 +36,11 @@ void add_step_options(CLI::App* cmd, StepOptions& o) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
       ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option(
-         "--push", o.push, "push factor form: original (Baumgarte in the one system, 5.2.3)")
-      ->check(CLI::IsMember({"original"}));
+  cmd->add_option("--push",
+                  o.push,
+                  "push factor form: original (Baumgarte in the one system, 5.2.3, 5.3) | "
+                  "improved (velocity and position systems, 8.1); default: the scene's")
+      ->check(CLI::IsMember({"original", "improved"}));
 }
 
 Scene load_scene(const SceneOptions& o) {
@@ -71,6 +73,8 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
     scene.world.dt = dt;
   }
   if (o.beta >= 0.0) scene.world.beta = o.beta;
+  if (o.push == "original") scene.world.push = PushMode::Original;
+  if (o.push == "improved") scene.world.push = PushMode::Improved;
   if (!o.solver.empty()) {
     if (!is_solver_name(o.solver)) {
       throw InputError("--solver '" + o.solver + "': unknown (valid: pgs, jacobi, direct)");

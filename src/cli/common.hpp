@@ -27,7 +27,7 @@ struct StepOptions {
   int iterations = -1;
   double tolerance = -1.0;
   double beta = -1.0;
-  std::string push = "original";
+  std::string push;  ///< "original" | "improved"; empty keeps the scene's
 };
 
 void add_scene_options(CLI::App* cmd, SceneOptions& o);

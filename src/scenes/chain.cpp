@@ -26,6 +26,7 @@ Scene build_chain(const std::map<std::string, std::string>& values) {
     link.name = "link" + std::to_string(k);
     link.shape.kind = Shape::Kind::Sphere;
     link.shape.radius = radius;
+    link.collides = false;  // a distance-only scene: no collision stage
     set_mass(link, k == n - 1 ? mass_ratio * link_mass : link_mass);
     link.x = Vec3(static_cast<double>(k + 1) * link_length, 0.0, 0.0);
     scene.bodies.push_back(link);

@@ -61,6 +61,7 @@ Scene build_pendulum_wave(const std::map<std::string, std::string>& values) {
     ball.name = "ball" + std::to_string(k);
     ball.shape.kind = Shape::Kind::Sphere;
     ball.shape.radius = radius;
+    ball.collides = false;  // the paper's Figure 10 has no collisions
     set_mass(ball, mass);
     ball.q = Quat(Eigen::AngleAxisd(psi0, Vec3::UnitZ()));  // body +y (its top) turned by ψ0
     ball.x =

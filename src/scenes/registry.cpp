@@ -9,6 +9,35 @@ namespace cbps {
 
 Scene build_pendulum_wave(const std::map<std::string, std::string>& values);
 Scene build_chain(const std::map<std::string, std::string>& values);
+Scene build_v_corner(const std::map<std::string, std::string>& values);
+Scene build_stack(const std::map<std::string, std::string>& values);
+Scene build_pyramid(const std::map<std::string, std::string>& values);
+Scene build_newtons_cradle(const std::map<std::string, std::string>& values);
+Scene build_slide(const std::map<std::string, std::string>& values);
+Scene build_bounce(const std::map<std::string, std::string>& values);
+Scene build_overlap(const std::map<std::string, std::string>& values);
+
+namespace {
+
+/// A contact scene's own parameters followed by the world settings every contact scene has
+/// (read by read_contact_world in contact_scenes.cpp), with this scene's defaults.
+std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
+                                               const std::string& dt,
+                                               const std::string& mu,
+                                               const std::string& restitution,
+                                               const std::string& push,
+                                               const std::string& duration) {
+  own.push_back({"dt", dt, "s", "time step"});
+  own.push_back({"beta", "0.2", "", "push factor (5.3)"});
+  own.push_back({"mu", mu, "", "friction coefficient (5.4); 0: no friction rows"});
+  own.push_back({"friction", "paper", "-", "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n)"});
+  own.push_back({"restitution", restitution, "", "coefficient of restitution epsilon (8.2.1)"});
+  own.push_back({"push", push, "-", "original (Baumgarte, 5.3) | improved (two systems, 8.1)"});
+  own.push_back({"duration", duration, "s", "simulated time"});
+  return own;
+}
+
+}  // namespace
 
 const std::vector<BuiltinScene>& builtin_scenes() {
   static const std::vector<BuiltinScene> scenes = {
@@ -43,6 +72,93 @@ const std::vector<BuiltinScene>& builtin_scenes() {
         {"beta", "0.2", "", "Baumgarte push factor (5.2.3)"},
         {"duration", "5", "s", "simulated time"}},
        build_chain},
+      {"v-corner",
+       "The appendix's Figure 11 (12.2): a sphere resting in a static V of two planes, two "
+       "contacts; at rest lambda_1 = m g sin(phi_r)/sin(phi_l + phi_r), lambda_2 likewise",
+       with_contact_world({{"angle_left_deg", "45", "deg", "left plane's tilt from horizontal"},
+                           {"angle_right_deg", "30", "deg", "right plane's tilt"},
+                           {"radius", "0.1", "m", "sphere radius"},
+                           {"mass", "1", "kg", "sphere mass"}},
+                          "1/60",
+                          "0",
+                          "0",
+                          "original",
+                          "2"),
+       build_v_corner},
+      {"stack",
+       "n boxes stacked on a ground plane, in one or more columns on a square grid",
+       with_contact_world({{"n", "10", "-", "boxes per column"},
+                           {"columns", "1", "-", "number of columns"},
+                           {"size", "1", "m", "box edge"},
+                           {"mass", "1", "kg", "box mass"},
+                           {"gap", "0.5", "m", "gap between columns"}},
+                          "1/60",
+                          "0.5",
+                          "0",
+                          "improved",
+                          "10"),
+       build_stack},
+      {"pyramid",
+       "A 2-D pyramid of boxes on a ground plane; base b gives b(b+1)/2 boxes",
+       with_contact_world({{"base", "10", "-", "boxes in the bottom row"},
+                           {"size", "1", "m", "box edge"},
+                           {"mass", "1", "kg", "box mass"},
+                           {"gap", "0.1", "m", "gap between neighbours in a row"}},
+                          "1/60",
+                          "0.5",
+                          "0",
+                          "improved",
+                          "5"),
+       build_pyramid},
+      {"newtons-cradle",
+       "n touching balls on strings; the first is pulled back and released; restitution 1",
+       with_contact_world({{"n", "5", "-", "number of balls"},
+                           {"radius", "0.05", "m", "ball radius"},
+                           {"length", "0.5", "m", "string length (pivot to centre)"},
+                           {"theta0_deg", "30", "deg", "release angle of the first ball"},
+                           {"mass", "0.2", "kg", "ball mass"},
+                           {"gap", "0", "m", "gap between neighbouring balls at rest"}},
+                          "1/240",
+                          "0",
+                          "1",
+                          "improved",
+                          "3"),
+       build_newtons_cradle},
+      {"slide",
+       "A box sliding on a plane with speed v0; it stops after v0^2/(2 mu g)",
+       with_contact_world({{"v0", "2", "m/s", "initial speed along x"},
+                           {"size", "0.2", "m", "box edge"},
+                           {"mass", "1", "kg", "box mass"}},
+                          "1/240",
+                          "0.3",
+                          "0",
+                          "improved",
+                          "1.5"),
+       build_slide},
+      {"bounce",
+       "A ball dropped on a plane with restitution epsilon: each rebound height is epsilon^2 "
+       "times the one before",
+       with_contact_world({{"height", "1", "m", "drop height of the ball's lowest point"},
+                           {"radius", "0.1", "m", "ball radius"},
+                           {"mass", "1", "kg", "ball mass"}},
+                          "1/240",
+                          "0",
+                          "0.8",
+                          "improved",
+                          "3"),
+       build_bounce},
+      {"overlap",
+       "The push-factor figure (8.1): boxes stacked with each sunk into the one below",
+       with_contact_world({{"n", "3", "-", "number of boxes"},
+                           {"size", "1", "m", "box edge"},
+                           {"mass", "1", "kg", "box mass"},
+                           {"overlap", "0.25", "", "overlap as a fraction of the edge"}},
+                          "1/60",
+                          "0.5",
+                          "0",
+                          "original",
+                          "2"),
+       build_overlap},
   };
   return scenes;
 }

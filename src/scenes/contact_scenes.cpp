@@ -1,0 +1,226 @@
+// Built-in contact scenes (paper 4, 5.3, 5.4, 8, 12.2): v-corner, stack, pyramid,
+// newtons-cradle, slide, bounce, overlap. Each has an analytic expectation stated where it is
+// built; validation/ and tests/ compare against it.
+#include <cmath>
+
+#include "scene_parameters.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// The world settings every contact scene reads: dt, beta, mu, friction, restitution, push,
+/// duration.
+void read_contact_world(const ParameterValues& p, Scene& scene) {
+  scene.world.dt = p.positive("dt");
+  scene.world.beta = p.number("beta", 0.0, 1.0);
+  scene.world.mu = p.number("mu", 0.0, kInf);
+  scene.world.friction = p.word("friction", "paper|coulomb") == "coulomb" ? FrictionModel::Coulomb
+                                                                          : FrictionModel::Paper;
+  scene.world.restitution = p.number("restitution", 0.0, 1.0);
+  scene.world.push =
+      p.word("push", "original|improved") == "improved" ? PushMode::Improved : PushMode::Original;
+  scene.duration = p.positive("duration");
+}
+
+/// A static ground plane through `point` with outward normal `normal` (unit).
+Body ground(const std::string& name, const Vec3& point, const Vec3& normal) {
+  Body plane;
+  plane.name = name;
+  plane.shape.kind = Shape::Kind::Plane;
+  plane.is_static = true;
+  plane.x = point;
+  plane.q = Quat::FromTwoVectors(Vec3::UnitY(), normal);  // local +y is the outward normal
+  return plane;
+}
+
+Body box(const std::string& name, const Vec3& half_extents, double mass, const Vec3& x) {
+  Body b;
+  b.name = name;
+  b.shape.kind = Shape::Kind::Box;
+  b.shape.half_extents = half_extents;
+  set_mass(b, mass);
+  b.x = x;
+  return b;
+}
+
+Body sphere(const std::string& name, double radius, double mass, const Vec3& x) {
+  Body b;
+  b.name = name;
+  b.shape.kind = Shape::Kind::Sphere;
+  b.shape.radius = radius;
+  set_mass(b, mass);
+  b.x = x;
+  return b;
+}
+
+}  // namespace
+
+// The appendix's Figure 11 (12.2): a sphere of mass m resting in a static V of two planes
+// tilted by angle_left and angle_right from the horizontal. Normals a = (sin φ_l, cos φ_l, 0),
+// b = (−sin φ_r, cos φ_r, 0); at rest a λ₁ + b λ₂ = m g ŷ, so
+//   λ₁ = m g sin φ_r / sin(φ_l + φ_r),   λ₂ = m g sin φ_l / sin(φ_l + φ_r)   (N).
+Scene build_v_corner(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("v-corner"), values);
+  Scene scene;
+  scene.name = "v-corner";
+  read_contact_world(p, scene);
+  const double phi_l = p.number("angle_left_deg", 1.0, 89.0) * kPi / 180.0;
+  const double phi_r = p.number("angle_right_deg", 1.0, 89.0) * kPi / 180.0;
+  const double r = p.positive("radius");
+  const Vec3 a(std::sin(phi_l), std::cos(phi_l), 0.0);
+  const Vec3 b(-std::sin(phi_r), std::cos(phi_r), 0.0);
+  scene.bodies.push_back(ground("left", Vec3::Zero(), a));
+  scene.bodies.push_back(ground("right", Vec3::Zero(), b));
+  // The centre c touching both planes: a·c = r and b·c = r (z = 0).
+  Eigen::Matrix2d N;
+  N << a.x(), a.y(), b.x(), b.y();
+  const Eigen::Vector2d c = N.inverse() * Eigen::Vector2d(r, r);
+  scene.bodies.push_back(sphere("ball", r, p.positive("mass"), Vec3(c.x(), c.y(), 0.0)));
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// n boxes of edge `size` stacked on a ground plane, in `columns` columns on a square grid
+// `gap` apart; each box starts exactly touching the one below (depth 0).
+Scene build_stack(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("stack"), values);
+  Scene scene;
+  scene.name = "stack";
+  read_contact_world(p, scene);
+  const long n = p.integer("n", 1, 100000);
+  const long columns = p.integer("columns", 1, 100000);
+  const double h = 0.5 * p.positive("size");
+  const double gap = p.number("gap", 0.0, kInf);
+  const double mass = p.positive("mass");
+  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  const auto side = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(columns))));
+  for (long c = 0; c < columns; ++c) {
+    const double x = static_cast<double>(c % side) * (2 * h + gap);
+    const double z = static_cast<double>(c / side) * (2 * h + gap);
+    for (long k = 0; k < n; ++k) {
+      const double y = h + 2 * h * static_cast<double>(k);
+      scene.bodies.push_back(box("box" + std::to_string(c) + "_" + std::to_string(k),
+                                 Vec3::Constant(h),
+                                 mass,
+                                 Vec3(x, y, z)));
+    }
+  }
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// A 2-D pyramid of boxes on a ground plane: row k (from the bottom) has base − k boxes, each
+// resting on two below; neighbours in a row are `gap` apart so only the rows touch.
+Scene build_pyramid(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("pyramid"), values);
+  Scene scene;
+  scene.name = "pyramid";
+  read_contact_world(p, scene);
+  const long base = p.integer("base", 1, 10000);
+  const double h = 0.5 * p.positive("size");
+  const double gap = p.number("gap", 0.0, kInf);
+  const double mass = p.positive("mass");
+  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  const double pitch = 2 * h + gap;
+  for (long row = 0; row < base; ++row) {
+    for (long i = 0; i < base - row; ++i) {
+      const double x = (static_cast<double>(i) + 0.5 * static_cast<double>(row)) * pitch;
+      const double y = h + 2 * h * static_cast<double>(row);
+      scene.bodies.push_back(box("box" + std::to_string(row) + "_" + std::to_string(i),
+                                 Vec3::Constant(h),
+                                 mass,
+                                 Vec3(x, y, 0.0)));
+    }
+  }
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// Newton's cradle: n balls of radius r hanging from pivots 2r apart by distance constraints of
+// length L (5.2), touching in a row; the first is pulled back to theta0 and released. With
+// restitution 1 the momentum passes along the row; the last ball rises to about the first's
+// release height.
+Scene build_newtons_cradle(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("newtons-cradle"), values);
+  Scene scene;
+  scene.name = "newtons-cradle";
+  read_contact_world(p, scene);
+  const long n = p.integer("n", 2, 1000);
+  const double r = p.positive("radius");
+  const double L = p.positive("length");
+  const double theta0 = p.number("theta0_deg", -89.0, 89.0) * kPi / 180.0;
+  const double mass = p.positive("mass");
+  const double gap = p.number("gap", 0.0, kInf);
+  for (long k = 0; k < n; ++k) {
+    const Vec3 pivot(static_cast<double>(k) * (2 * r + gap), L, 0.0);
+    const double angle = k == 0 ? theta0 : 0.0;  // pulled back along −x
+    const Vec3 x = pivot + L * Vec3(-std::sin(angle), -std::cos(angle), 0.0);
+    scene.bodies.push_back(sphere("ball" + std::to_string(k), r, mass, x));
+    DistanceConstraint string;
+    string.name = "string" + std::to_string(k);
+    string.a = -1;
+    string.anchor_a = pivot;
+    string.b = static_cast<int>(k);
+    string.l = L;
+    scene.distances.push_back(string);
+  }
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// A box sliding on a plane with initial speed v0 along x: with friction mu (the paper's bound
+// mu m |g·n| spread over its four contacts) it stops after v0² / (2 mu g), at t = v0 / (mu g).
+Scene build_slide(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("slide"), values);
+  Scene scene;
+  scene.name = "slide";
+  read_contact_world(p, scene);
+  const double h = 0.5 * p.positive("size");
+  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  Body b = box("box", Vec3::Constant(h), p.positive("mass"), Vec3(0.0, h, 0.0));
+  b.set_velocity(Vec3(p.positive("v0"), 0.0, 0.0), Vec3::Zero());
+  scene.bodies.push_back(b);
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// A ball dropped from `height` (lowest point above the plane) with restitution epsilon
+// (8.2.1): it comes back at epsilon times its impact speed, so each rebound height is epsilon²
+// times the previous one.
+Scene build_bounce(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("bounce"), values);
+  Scene scene;
+  scene.name = "bounce";
+  read_contact_world(p, scene);
+  const double r = p.positive("radius");
+  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  scene.bodies.push_back(
+      sphere("ball", r, p.positive("mass"), Vec3(0.0, r + p.positive("height"), 0.0)));
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// The push-factor figure (8.1): n boxes stacked on a ground plane, each sunk `overlap` (a
+// fraction of the edge) into the one below, the lowest into the ground. Original Baumgarte
+// leaves the separating velocity in the bodies (they fly apart, kinetic energy appears);
+// the improved technique separates them with the position system only.
+Scene build_overlap(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("overlap"), values);
+  Scene scene;
+  scene.name = "overlap";
+  read_contact_world(p, scene);
+  const long n = p.integer("n", 1, 1000);
+  const double h = 0.5 * p.positive("size");
+  const double depth = p.number("overlap", 0.0, 0.9) * 2 * h;
+  const double mass = p.positive("mass");
+  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  for (long k = 0; k < n; ++k) {
+    const double y = h - depth + static_cast<double>(k) * (2 * h - depth);
+    scene.bodies.push_back(box("box" + std::to_string(k), Vec3::Constant(h), mass, Vec3(0, y, 0)));
+  }
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+}  // namespace cbps
