@@ -85,7 +85,11 @@ double contact_bias(double depth,
                     double threshold,
                     bool with_push) {
   double upsilon = 0.0;
-  if (with_push) upsilon += depth >= 0.0 ? beta * depth / dt : depth / dt;      // (5.3)
+  if (depth < 0.0) {
+    upsilon += depth / dt;  // a gap (margin point): it may close in this step, no more
+  } else if (with_push) {
+    upsilon += beta * depth / dt;  // (5.3)
+  }
   if (approach_velocity < -threshold) upsilon += -epsilon * approach_velocity;  // (8.2.1)
   return upsilon;
 }

@@ -74,12 +74,15 @@ const System& Simulation::assemble() {
   return sys_;
 }
 
-VecX Simulation::initial_lambda(const System& sys) const {
+VecX Simulation::initial_lambda(const System& sys) const { return warm_lambda(sys, warm_); }
+
+VecX Simulation::warm_lambda(const System& sys,
+                             const std::unordered_map<std::uint64_t, double>& warm) const {
   VecX lambda = VecX::Zero(sys.rows());
   if (!scene_.solver.warm_start) return lambda;
   for (int k = 0; k < sys.rows(); ++k) {
-    const auto it = warm_.find(sys.ids[static_cast<std::size_t>(k)]);
-    if (it != warm_.end()) lambda(k) = it->second;
+    const auto it = warm.find(sys.ids[static_cast<std::size_t>(k)]);
+    if (it != warm.end()) lambda(k) = it->second;
   }
   return lambda;
 }
@@ -252,10 +255,13 @@ StepReport Simulation::step() {
     stages_.push_back("position_system_" + method + " (8.1)");
     const VecX b_position =
         compute_b(sys.upsilon_position, sys.J, sys.v1, sys.Minv, sys.fext, dt);  // (6.2.9)
-    VecX lambda_position = lambda;
+    VecX lambda_position = warm_lambda(sys, warm_position_);
     report.position_solver = solve_system(sys, b_position, lambda_position);
     v_position = compute_v2(sys.v1, sys.Minv, sys.J, lambda_position, sys.fext, dt);
     check_finite(sys, scene_.bodies, lambda_position, v_position, steps_);
+    warm_position_.clear();
+    for (int k = 0; k < sys.rows(); ++k)
+      warm_position_[sys.ids[static_cast<std::size_t>(k)]] = lambda_position(k);
   }
 
   // 4. Momenta from v2 with this step's inertia, then positions advance (3.2).

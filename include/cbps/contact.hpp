@@ -39,10 +39,11 @@ double paper_friction_bound(const Manifold& m,
 
 /// The bias of a contact row (5.3, 8.2.1), m/s:
 ///   push        beta d / dt for d ≥ 0 (separate the bodies by beta of the depth in one step);
-///               d / dt for a margin point with d < 0 (the gap may close in this step, no more);
+///   gap         d / dt for a margin point with d < 0: the gap may close in this step, no more
+///               (not a push: it is there with or without with_push);
 ///   restitution −epsilon j_c v1 when the bodies approach faster than threshold (j_c v1 <
 ///               −threshold), else 0, so resting contacts do not bounce.
-/// with_push = false gives restitution alone (the velocity system of 8.1).
+/// with_push = false leaves the push out (the velocity system of 8.1).
 double contact_bias(double depth,
                     double approach_velocity,
                     double beta,

@@ -90,7 +90,9 @@ class Simulation {
   Scene scene_;
   double t_ = 0.0;
   long steps_ = 0;
-  std::unordered_map<std::uint64_t, double> warm_;  ///< row id → last lambda, N
+  VecX warm_lambda(const System& sys, const std::unordered_map<std::uint64_t, double>& warm) const;
+  std::unordered_map<std::uint64_t, double> warm_;           ///< row id → last lambda, N
+  std::unordered_map<std::uint64_t, double> warm_position_;  ///< the same, position system (8.1)
   Observer observer_;
   bool collision_stage_ = false;  ///< the scene has a pair that may collide
   std::vector<std::string> stages_;

@@ -20,6 +20,7 @@ void read_contact_world(const ParameterValues& p, Scene& scene) {
   scene.world.restitution = p.number("restitution", 0.0, 1.0);
   scene.world.push =
       p.word("push", "original|improved") == "improved" ? PushMode::Improved : PushMode::Original;
+  scene.world.contact_margin = p.number("margin", 0.0, kInf);
   scene.duration = p.positive("duration");
 }
 
