@@ -108,8 +108,14 @@ std::vector<std::pair<int, int>> broad_phase(const std::vector<Body>& bodies, do
 }
 
 std::vector<Manifold> detect_contacts(const std::vector<Body>& bodies, double margin) {
+  return narrow_phase(bodies, broad_phase(bodies, margin), margin);
+}
+
+std::vector<Manifold> narrow_phase(const std::vector<Body>& bodies,
+                                   const std::vector<std::pair<int, int>>& pairs,
+                                   double margin) {
   std::vector<Manifold> manifolds;
-  for (const auto& [a, b] : broad_phase(bodies, margin)) {
+  for (const auto& [a, b] : pairs) {
     Manifold manifold;
     const Body& body_a = bodies[static_cast<std::size_t>(a)];
     const Body& body_b = bodies[static_cast<std::size_t>(b)];

@@ -14,7 +14,24 @@ namespace cbps {
 Simulation::Simulation(Scene scene)
     : scene_(std::move(scene)), collision_stage_(scene_.has_contact_pairs()) {}
 
-void Simulation::build_rows(std::vector<Row>& rows, std::vector<Manifold>& manifolds) const {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Seconds since `start`, and `start` moved to now.
+double lap(Clock::time_point& start) {
+  const auto now = Clock::now();
+  const double s = std::chrono::duration<double>(now - start).count();
+  start = now;
+  return s;
+}
+
+}  // namespace
+
+void Simulation::build_rows(std::vector<Row>& rows,
+                            std::vector<Manifold>& manifolds,
+                            StageTimes* times) const {
+  auto clock = Clock::now();
   const World& w = scene_.world;
   const bool improved = w.push == PushMode::Improved;
   rows.resize(scene_.distances.size());
@@ -24,8 +41,18 @@ void Simulation::build_rows(std::vector<Row>& rows, std::vector<Manifold>& manif
     if (improved) row.upsilon = 0.0;  // 8.1: the push term only in the position system
   }
   manifolds.clear();
-  if (!collision_stage_) return;
-  manifolds = detect_contacts(scene_.bodies, w.contact_margin);  // (4)
+  if (!collision_stage_) {
+    if (times != nullptr) times->rows = lap(clock);
+    return;
+  }
+  const double distance_rows = lap(clock);
+  const auto pairs = broad_phase(scene_.bodies, w.contact_margin);  // (4, step 1)
+  const double broad = lap(clock);
+  manifolds = narrow_phase(scene_.bodies, pairs, w.contact_margin);  // (4, step 2)
+  if (times != nullptr) {
+    times->broad_phase = broad;
+    times->narrow_phase = lap(clock);
+  }
   for (const Manifold& m : manifolds) {
     Vec3 t1, t2;
     tangent_basis(m.n, t1, t2);
@@ -55,6 +82,7 @@ void Simulation::build_rows(std::vector<Row>& rows, std::vector<Manifold>& manif
       }
     }
   }
+  if (times != nullptr) times->rows = distance_rows + lap(clock);
 }
 
 std::vector<Row> Simulation::build_rows() const {
@@ -68,9 +96,11 @@ System Simulation::build_system() const {
   return assemble_system(scene_.bodies, build_rows(), scene_.world.gravity, scene_.world.dt);
 }
 
-const System& Simulation::assemble() {
-  build_rows(rows_, manifolds_);
+const System& Simulation::assemble(StageTimes* times) {
+  build_rows(rows_, manifolds_, times);
+  auto clock = Clock::now();
   assemble_system(scene_.bodies, rows_, scene_.world.gravity, scene_.world.dt, sys_);
+  if (times != nullptr) times->assembly = lap(clock);
   return sys_;
 }
 
@@ -228,7 +258,7 @@ StepReport Simulation::step() {
   if (collision_stage_) stages_.emplace_back("contact_rows (5.3)");
   if (collision_stage_ && scene_.world.mu > 0.0) stages_.emplace_back("friction_rows (5.4)");
   stages_.emplace_back("assembly (6.1, 6.2.9)");
-  const System& sys = assemble();
+  const System& sys = assemble(&report.times);
   report.rows = sys.rows();
   for (const Manifold& m : manifolds_) {
     report.contacts += static_cast<int>(m.points.size());
@@ -240,23 +270,28 @@ StepReport Simulation::step() {
   const std::string& method = scene_.solver.method;
   stages_.push_back(improved ? "velocity_system_" + method + " (8.1)"
                              : "solve_" + method + (method == "direct" ? " (6.2)" : " (7.1.1)"));
+  auto clock = Clock::now();
   VecX lambda = initial_lambda(sys);
   report.solver = solve_system(sys, lambda);
+  report.times.solve = lap(clock);
 
   // 3. New velocities v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1).
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, dt);
+  report.times.integrate = lap(clock);
   check_finite(sys, scene_.bodies, lambda, v2, steps_);
-  if (observer_) observer_(sys, lambda, v2);
+  if (observer_) observer_(sys, lambda, v2);  // not timed: a cross-check is not the step
 
   // 3b. The improved push factor (8.1): the position system, the same A with the push terms
   // in b, gives the velocities that move the bodies this step only.
   VecX v_position;
   if (improved) {
     stages_.push_back("position_system_" + method + " (8.1)");
+    clock = Clock::now();
     const VecX b_position =
         compute_b(sys.upsilon_position, sys.J, sys.v1, sys.Minv, sys.fext, dt);  // (6.2.9)
     VecX lambda_position = warm_lambda(sys, warm_position_);
     report.position_solver = solve_system(sys, b_position, lambda_position);
+    report.times.solve += lap(clock);
     v_position = compute_v2(sys.v1, sys.Minv, sys.J, lambda_position, sys.fext, dt);
     check_finite(sys, scene_.bodies, lambda_position, v_position, steps_);
     warm_position_.clear();
@@ -265,6 +300,7 @@ StepReport Simulation::step() {
   }
 
   // 4. Momenta from v2 with this step's inertia, then positions advance (3.2).
+  clock = Clock::now();
   stages_.emplace_back("integrate (12.3.1, 3.2)");
   const VecX& v_move = improved ? v_position : v2;
   for (int blk = 0; blk < sys.blocks(); ++blk) {
@@ -278,6 +314,7 @@ StepReport Simulation::step() {
   // 5. Keep λ for the next step's warm start, by row identity.
   warm_.clear();
   for (int k = 0; k < sys.rows(); ++k) warm_[sys.ids[static_cast<std::size_t>(k)]] = lambda(k);
+  report.times.integrate += lap(clock);
 
   ++steps_;
   t_ = static_cast<double>(steps_) * dt;  // not a running sum: no drift over long runs

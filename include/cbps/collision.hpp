@@ -127,7 +127,13 @@ bool aabbs_overlap(const Aabb& a, const Aabb& b, double margin = 0.0);
 /// O(bodies × planes). Pairs of two static bodies, or of two planes, are never returned.
 std::vector<std::pair<int, int>> broad_phase(const std::vector<Body>& bodies, double margin = 0.0);
 
-/// Collision detection (4): broad_phase, then collide() on each pair; the manifolds of the pairs in
+/// Narrow phase (4, step 2): collide() on each candidate pair in its order; the manifolds of the
+/// pairs in contact.
+std::vector<Manifold> narrow_phase(const std::vector<Body>& bodies,
+                                   const std::vector<std::pair<int, int>>& pairs,
+                                   double margin = 0.0);
+
+/// Collision detection (4): broad_phase, then narrow_phase; the manifolds of the pairs in
 /// contact, in ascending (a, b) order.
 std::vector<Manifold> detect_contacts(const std::vector<Body>& bodies, double margin = 0.0);
 

@@ -22,6 +22,16 @@ void bounds_at(const System& sys, const VecX& lambda, VecX& lo, VecX& hi);
 /// taken at lambda (bounds_at), N.
 double system_residual(const System& sys, const VecX& b, const VecX& lambda);
 
+/// Wall time of each stage of one step, s.
+struct StageTimes {
+  double broad_phase = 0.0;   ///< 4, step 1
+  double narrow_phase = 0.0;  ///< 4, step 2
+  double rows = 0.0;          ///< 5.2–5.4
+  double assembly = 0.0;      ///< 6.1, 6.2.9
+  double solve = 0.0;         ///< 7 / 6.2 (both systems with the improved push, 8.1)
+  double integrate = 0.0;     ///< 12.3.1, 3.2
+};
+
 struct StepReport {
   int rows = 0;
   int contacts = 0;  ///< contact points found this step (4)
@@ -30,6 +40,7 @@ struct StepReport {
   double max_constraint_error = 0.0;  ///< after the step, m
   double max_penetration = 0.0;       ///< deepest contact found at the start of the step, m
   double wall_time_s = 0.0;           ///< of the whole step
+  StageTimes times;
 };
 
 class Simulation {
@@ -44,13 +55,15 @@ class Simulation {
   /// The rows of the current state, into `rows` (storage reused): distance rows (5.2) in
   /// constraint order, then for each contact manifold (4) and point its contact row (5.3) and,
   /// when mu > 0, its two friction rows (5.4). The manifolds found go to `manifolds`.
-  void build_rows(std::vector<Row>& rows, std::vector<Manifold>& manifolds) const;
+  void build_rows(std::vector<Row>& rows,
+                  std::vector<Manifold>& manifolds,
+                  StageTimes* times = nullptr) const;
   std::vector<Row> build_rows() const;
   /// The system of the current state, not solved (6.1, 6.2.9), as a new System.
   System build_system() const;
   /// The same, assembled into the simulation's own System, whose storage is reused from step
   /// to step; step() calls this. The reference stays valid until the next assemble() or step().
-  const System& assemble();
+  const System& assemble(StageTimes* times = nullptr);
   /// The warm-start guess for a system: last step's lambda by row id, else 0.
   VecX initial_lambda(const System& sys) const;
   /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda;

@@ -140,6 +140,7 @@ int run_command(const RunOptions& o) {
   long iterations_total = 0;
   int max_rows = 0;
   int max_contacts = 0;
+  StageTimes stage_s;  // summed over the steps
   double max_penetration = 0.0;
   std::vector<std::string> stages;  // every stage that ran, in order of first appearance
   if (trajectory) record_bodies(*trajectory, 0.0, sim.scene().bodies);
@@ -153,6 +154,12 @@ int run_command(const RunOptions& o) {
     max_constraint_error = std::max(max_constraint_error, r.max_constraint_error);
     max_rows = std::max(max_rows, r.rows);
     max_contacts = std::max(max_contacts, r.contacts);
+    stage_s.broad_phase += r.times.broad_phase;
+    stage_s.narrow_phase += r.times.narrow_phase;
+    stage_s.rows += r.times.rows;
+    stage_s.assembly += r.times.assembly;
+    stage_s.solve += r.times.solve;
+    stage_s.integrate += r.times.integrate;
     max_penetration = std::max(max_penetration, r.max_penetration);
     for (const std::string& stage : sim.stages()) {
       if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
@@ -214,6 +221,12 @@ int run_command(const RunOptions& o) {
   summary["energy_initial"] = energy_initial;
   summary["energy_final"] = sim.energy();
   summary["stages"] = stages;
+  summary["stage_times_s"] = {{"broad_phase", stage_s.broad_phase},
+                              {"narrow_phase", stage_s.narrow_phase},
+                              {"rows", stage_s.rows},
+                              {"assembly", stage_s.assembly},
+                              {"solve", stage_s.solve},
+                              {"integrate", stage_s.integrate}};
   if (o.check) {
     summary["cross_check"] = {{"max_velocity_difference", max_velocity_difference},
                               {"max_pgs_residual", max_pgs_residual},
