@@ -204,7 +204,7 @@ class IslandSolver {
     if (options_.tolerance > 0.0) return options_.tolerance;
     const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
     const double bn = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
-    return 8.0 * kUnitRoundoff * (max_row_sum_ * l + bn);
+    return 64.0 * kUnitRoundoff * (max_row_sum_ * l + bn);
   }
 
   /// Factor of (A + εI)(F, F) for the free rows F, reused while F and ε stay.

@@ -106,7 +106,8 @@ std::vector<std::vector<int>> find_islands(const SpMat& A);
 
 struct DirectOptions {
   /// Stop when the natural-map residual ≤ this (N); 0 = machine precision, i.e.
-  /// 8 u (max_i Σ_j |A_ij| ‖lambda‖∞ + ‖b‖∞), the rounding floor of w = A lambda − b.
+  /// 64 u (max_i Σ_j |A_ij| ‖lambda‖∞ + ‖b‖∞), u the unit roundoff: the rounding of
+  /// w = A lambda − b, with room for the regularised solves' own rounding.
   double tolerance = 0.0;
   int max_outer_iterations = 500;  ///< proximal-point steps per island
   double epsilon = 1e-4;           ///< proximal ε as a fraction of the island's max A_jj

@@ -33,7 +33,7 @@ std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
   own.push_back({"friction", "paper", "-", "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n)"});
   own.push_back({"restitution", restitution, "", "coefficient of restitution epsilon (8.2.1)"});
   own.push_back({"push", push, "-", "original (Baumgarte, 5.3) | improved (two systems, 8.1)"});
-  own.push_back({"margin", "0", "m", "contacts kept up to this separation (4)"});
+  own.push_back({"margin", "0.001", "m", "contacts kept up to this separation (4)"});
   own.push_back({"duration", duration, "s", "simulated time"});
   return own;
 }
