@@ -104,8 +104,9 @@ class Simulation {
   double t_ = 0.0;
   long steps_ = 0;
   VecX warm_lambda(const System& sys, const std::unordered_map<std::uint64_t, double>& warm) const;
-  std::unordered_map<std::uint64_t, double> warm_;           ///< row id → last lambda, N
-  std::unordered_map<std::uint64_t, double> warm_position_;  ///< the same, position system (8.1)
+  std::unordered_map<std::uint64_t, double> warm_;  ///< row id → last lambda, N
+  /// row id → last λ_position − λ, N: the position system's push increment (8.1)
+  std::unordered_map<std::uint64_t, double> warm_position_;
   Observer observer_;
   bool collision_stage_ = false;  ///< the scene has a pair that may collide
   std::vector<std::string> stages_;
