@@ -131,6 +131,7 @@ SolverSummary iterate(const SpMat& A,
   }
   if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
   s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!options.describe) return s;
   std::ostringstream msg;
   msg << to_string(s.termination) << " after " << s.iterations << " sweeps, residual " << s.residual
       << " N, last change " << s.delta << " N";
@@ -202,6 +203,8 @@ SolverSummary solve(const std::string& method,
   total.termination = Termination::ResidualTolerance;
   total.islands = static_cast<int>(islands.size());
   std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
+  SolverOptions each = options;
+  each.describe = false;  // one message for all islands, below
   for (const auto& rows : islands) {
     const SpMat A_I = principal_submatrix(A, rows, local);
     VecX lambda_I = gather_rows(lambda, rows);
@@ -211,7 +214,7 @@ SolverSummary solve(const std::string& method,
                                         gather_rows(cmin, rows),
                                         gather_rows(cmax, rows),
                                         lambda_I,
-                                        options);
+                                        each);
     for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));
     total.iterations = std::max(total.iterations, s.iterations);
     total.delta = std::max(total.delta, s.delta);

@@ -15,6 +15,7 @@ struct SolverOptions {
   double delta_tolerance = 0;     ///< stop when max |Δlambda| in a sweep ≤ this (N); 0 = never
   double relaxation = 1.0;        ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
   bool split_islands = false;     ///< solve independent blocks of A apart (each to tolerance)
+  bool describe = true;           ///< write SolverSummary::message (off for each island)
 };
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
