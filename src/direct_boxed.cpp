@@ -1,5 +1,5 @@
-// The exact path for the boxed problem of 6.2: proximal-point outer loop, block principal
-// pivoting on the free rows, CHOLMOD's sparse Cholesky for each free block, islands apart.
+// The exact path for the boxed problem of 6.2: proximal-point outer loop, a primal active-set
+// method on the free rows, CHOLMOD's sparse Cholesky for each free block, islands apart.
 // The method and its parameters are described at solve_direct() in solver.hpp.
 #include <algorithm>
 #include <chrono>
@@ -140,9 +140,9 @@ class IslandSolver {
     if (r <= tolerance(lambda)) return true;
     double best_r = r;
     VecX best = lambda;
-    double eps = 0.0;  // plain pivoting first: exact when the free blocks are definite
+    double eps = 0.0;  // plain active set first: exact when the free blocks are definite
     int stall = 0;
-    bool may_reduce = true;  // until an ε once made the pivoting fail
+    bool may_reduce = true;  // until an ε once made the active-set search fail
     std::vector<Place> previous = place_;
     for (int k = 0; k < options_.max_outer_iterations; ++k) {
       ++stats_.iterations;

@@ -120,19 +120,21 @@ struct DirectOptions {
 /// The exact path for the boxed problem of 6.2 (cmin ≤ lambda ≤ cmax, w = A lambda − b,
 /// complementarity), A symmetric positive semidefinite, sparse. Per island:
 ///   1. a few PGS sweeps choose the first active set (rows at cmin or cmax);
-///   2. block principal pivoting (Júdice & Pires) finds the active set of
-///        min ½ λᵀ (A + εI) λ − (b + ε lambda_k)ᵀ λ  over the box,
-///      solving each free block with CHOLMOD's sparse Cholesky, in correction form
-///      (iterative refinement), with Murty's single-pivot rule when the number of infeasible
-///      rows stops falling (no cycling);
+///   2. a primal active-set method finds the minimiser of
+///        min ½ λᵀ (A + εI) λ − (b + ε lambda_k)ᵀ λ  over the box:
+///      the Newton step of the free rows (CHOLMOD's sparse Cholesky of the free block, in
+///      correction form, i.e. with iterative refinement), the longest step that stays in the
+///      box (blocking rows join their bound), then the release of bound rows whose gradient
+///      has the wrong sign; the objective falls at every step, so it cannot cycle;
 ///   3. the proximal-point outer loop lambda_{k+1} = that minimiser converges to a solution of
-///      the original problem for any PSD A with a solution. ε = 0 (plain pivoting, exact in
+///      the original problem for any PSD A with a solution. ε = 0 (plain active set, exact in
 ///      finitely many steps) whenever the free block is numerically positive definite
 ///      (CHOLMOD's reciprocal condition estimate above 1e-12); otherwise ε starts at
 ///      options.epsilon · max A_jj and falls by 10× whenever the active set has settled and
 ///      the residual falls slower than 2× per step, down to options.epsilon_floor · max A_jj;
-///      if the pivoting needs too many rounds (100 + 5 rows), ε rises 10× and stays.
-/// All-unbounded islands skip steps 1-2: one factorization and refinement. Returns
+///      if the active-set search needs too many rounds (100 + 5 rows), ε rises 10× and stays.
+/// All-unbounded islands skip step 1 and have nothing to release in step 2: one factorization
+/// and refinement; one-row islands are solved in closed form, clamp(b / A_jj). Returns
 /// Termination::Direct when the residual reaches the tolerance, NotConverged otherwise (e.g.
 /// inconsistent equality rows, an infeasible box), with the best lambda found.
 SolverSummary solve_direct(const SpMat& A,
