@@ -47,12 +47,7 @@ int main(int argc, char** argv) {
     long rows = 0, contacts = 0;
     for (long s = 0; s < steps; ++s) {
       const cbps::StepReport r = sim.step();
-      sum.broad_phase += r.times.broad_phase;
-      sum.narrow_phase += r.times.narrow_phase;
-      sum.rows += r.times.rows;
-      sum.assembly += r.times.assembly;
-      sum.solve += r.times.solve;
-      sum.integrate += r.times.integrate;
+      sum += r.times;
       total += r.wall_time_s;
       rows += r.rows;
       contacts += r.contacts;

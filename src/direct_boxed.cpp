@@ -48,6 +48,29 @@ VecX gather_rows(const VecX& v, const std::vector<int>& idx) {
   return out;
 }
 
+void for_each_island(const std::vector<std::vector<int>>& islands,
+                     const SpMat& A,
+                     const VecX& b,
+                     const VecX& cmin,
+                     const VecX& cmax,
+                     VecX& lambda,
+                     const IslandSolve& solve_island) {
+  std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
+  for (const auto& rows : islands) {
+    if (static_cast<Eigen::Index>(rows.size()) == A.rows()) {
+      solve_island(A, b, cmin, cmax, lambda);
+      continue;
+    }
+    VecX lambda_I = gather_rows(lambda, rows);
+    solve_island(principal_submatrix(A, rows, local),
+                 gather_rows(b, rows),
+                 gather_rows(cmin, rows),
+                 gather_rows(cmax, rows),
+                 lambda_I);
+    for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));
+  }
+}
+
 std::vector<std::vector<int>> find_islands(const SpMat& A) {
   const auto n = static_cast<int>(A.rows());
   std::vector<int> parent(static_cast<std::size_t>(n));
@@ -374,27 +397,22 @@ SolverSummary solve_direct(const SpMat& A,
   }
   s.islands = static_cast<int>(islands.size());
   int unsolved = 0;
-  std::vector<int> local(static_cast<std::size_t>(n), -1);
-  for (const auto& rows : islands) {
-    const int r = rows.front();
-    const double A_rr = A.coeff(r, r);
-    if (rows.size() == 1 && A_rr > 0.0) {  // one row: lambda = clamp(b / A_rr), exactly
-      lambda(r) = clamp(b(r) / A_rr, cmin(r), cmax(r));
-      continue;
-    }
-    if (static_cast<Eigen::Index>(rows.size()) == n) {  // one island: no copies
-      IslandSolver island(A, b, cmin, cmax, options, s);
-      unsolved += island.solve(lambda) ? 0 : 1;
-      continue;
-    }
-    const SpMat A_I = principal_submatrix(A, rows, local);
-    const VecX b_I = gather_rows(b, rows), lo_I = gather_rows(cmin, rows),
-               hi_I = gather_rows(cmax, rows);
-    VecX lambda_I = gather_rows(lambda, rows);
-    IslandSolver island(A_I, b_I, lo_I, hi_I, options, s);
-    unsolved += island.solve(lambda_I) ? 0 : 1;
-    for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));
-  }
+  for_each_island(
+      islands,
+      A,
+      b,
+      cmin,
+      cmax,
+      lambda,
+      [&](const SpMat& A_I, const VecX& b_I, const VecX& lo, const VecX& hi, VecX& lambda_I) {
+        const double A_11 = A_I.rows() == 1 ? A_I.coeff(0, 0) : 0.0;
+        if (A_11 > 0.0) {  // one row: lambda = clamp(b / A_11), exactly
+          lambda_I(0) = clamp(b_I(0) / A_11, lo(0), hi(0));
+          return;
+        }
+        IslandSolver island(A_I, b_I, lo, hi, options, s);
+        unsolved += island.solve(lambda_I) ? 0 : 1;
+      });
   s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
   if (!std::isfinite(s.residual)) {
     s.termination = Termination::NonFinite;

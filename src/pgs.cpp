@@ -202,32 +202,29 @@ SolverSummary solve(const std::string& method,
   SolverSummary total;
   total.termination = Termination::ResidualTolerance;
   total.islands = static_cast<int>(islands.size());
-  std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
   SolverOptions each = options;
   each.describe = false;  // one message for all islands, below
-  for (const auto& rows : islands) {
-    const SpMat A_I = principal_submatrix(A, rows, local);
-    VecX lambda_I = gather_rows(lambda, rows);
-    const SolverSummary s = solve_whole(method,
-                                        A_I,
-                                        gather_rows(b, rows),
-                                        gather_rows(cmin, rows),
-                                        gather_rows(cmax, rows),
-                                        lambda_I,
-                                        each);
-    for (std::size_t k = 0; k < rows.size(); ++k) lambda(rows[k]) = lambda_I(Eigen::Index(k));
-    total.iterations = std::max(total.iterations, s.iterations);
-    total.delta = std::max(total.delta, s.delta);
-    if (!(s.residual <= total.residual)) total.residual = s.residual;  // NaN propagates
-    // The worst termination: NonFinite > MaxIterations > DeltaTolerance > ResidualTolerance.
-    if (s.termination == Termination::NonFinite ||
-        (total.termination != Termination::NonFinite &&
-         s.termination == Termination::MaxIterations) ||
-        (total.termination == Termination::ResidualTolerance &&
-         s.termination == Termination::DeltaTolerance)) {
-      total.termination = s.termination;
-    }
-  }
+  for_each_island(
+      islands,
+      A,
+      b,
+      cmin,
+      cmax,
+      lambda,
+      [&](const SpMat& A_I, const VecX& b_I, const VecX& lo, const VecX& hi, VecX& lambda_I) {
+        const SolverSummary s = solve_whole(method, A_I, b_I, lo, hi, lambda_I, each);
+        total.iterations = std::max(total.iterations, s.iterations);
+        total.delta = std::max(total.delta, s.delta);
+        if (!(s.residual <= total.residual)) total.residual = s.residual;  // NaN propagates
+        // The worst termination: NonFinite > MaxIterations > DeltaTolerance > ResidualTolerance.
+        if (s.termination == Termination::NonFinite ||
+            (total.termination != Termination::NonFinite &&
+             s.termination == Termination::MaxIterations) ||
+            (total.termination == Termination::ResidualTolerance &&
+             s.termination == Termination::DeltaTolerance)) {
+          total.termination = s.termination;
+        }
+      });
   total.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::ostringstream msg;

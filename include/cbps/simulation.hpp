@@ -30,6 +30,16 @@ struct StageTimes {
   double assembly = 0.0;      ///< 6.1, 6.2.9
   double solve = 0.0;         ///< 7 / 6.2 (both systems with the improved push, 8.1)
   double integrate = 0.0;     ///< 12.3.1, 3.2
+
+  StageTimes& operator+=(const StageTimes& o) {
+    broad_phase += o.broad_phase;
+    narrow_phase += o.narrow_phase;
+    rows += o.rows;
+    assembly += o.assembly;
+    solve += o.solve;
+    integrate += o.integrate;
+    return *this;
+  }
 };
 
 struct StepReport {

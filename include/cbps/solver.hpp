@@ -2,6 +2,7 @@
 // They see only (A, b, cmin, cmax), never bodies, so stored problems feed them as well.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -104,6 +105,19 @@ VecX gather_rows(const VecX& v, const std::vector<int>& idx);
 /// The independent blocks ("islands") of a symmetric A: connected components of its graph
 /// (rows i, j joined when A_ij ≠ 0), each a sorted list of rows, in order of their first row.
 std::vector<std::vector<int>> find_islands(const SpMat& A);
+
+/// A solver for one island's sub-problem (A_I, b_I, cmin_I, cmax_I), lambda_I in and out.
+using IslandSolve = std::function<void(const SpMat&, const VecX&, const VecX&, const VecX&, VecX&)>;
+
+/// Calls solve_island on each island in turn with its sub-problem (the whole problem as it is
+/// when one island covers every row, so nothing is copied) and writes lambda_I back.
+void for_each_island(const std::vector<std::vector<int>>& islands,
+                     const SpMat& A,
+                     const VecX& b,
+                     const VecX& cmin,
+                     const VecX& cmax,
+                     VecX& lambda,
+                     const IslandSolve& solve_island);
 
 struct DirectOptions {
   /// Stop when the natural-map residual ≤ this (N); 0 = machine precision, i.e.

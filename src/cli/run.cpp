@@ -154,12 +154,7 @@ int run_command(const RunOptions& o) {
     max_constraint_error = std::max(max_constraint_error, r.max_constraint_error);
     max_rows = std::max(max_rows, r.rows);
     max_contacts = std::max(max_contacts, r.contacts);
-    stage_s.broad_phase += r.times.broad_phase;
-    stage_s.narrow_phase += r.times.narrow_phase;
-    stage_s.rows += r.times.rows;
-    stage_s.assembly += r.times.assembly;
-    stage_s.solve += r.times.solve;
-    stage_s.integrate += r.times.integrate;
+    stage_s += r.times;
     max_penetration = std::max(max_penetration, r.max_penetration);
     for (const std::string& stage : sim.stages()) {
       if (std::find(stages.begin(), stages.end(), stage) == stages.end()) stages.push_back(stage);
