@@ -6,8 +6,9 @@
 namespace cbps {
 
 void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
+  // The components of a unit n cannot all reach 0.6 in magnitude (3 · 0.36 > 1).
   Eigen::Index axis = 0;
-  n.cwiseAbs().minCoeff(&axis);  // the world axis least aligned with n
+  while (axis < 2 && std::abs(n(axis)) >= 0.6) ++axis;
   t1 = n.cross(Vec3::Unit(axis)).normalized();
   t2 = n.cross(t1);
 }

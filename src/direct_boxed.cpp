@@ -410,8 +410,24 @@ SolverSummary solve_direct(const SpMat& A,
           lambda_I(0) = clamp(b_I(0) / A_11, lo(0), hi(0));
           return;
         }
+        const bool warm = !lambda_I.isZero(0.0);
         IslandSolver island(A_I, b_I, lo, hi, options, s);
-        unsolved += island.solve(lambda_I) ? 0 : 1;
+        if (island.solve(lambda_I)) return;
+        if (warm) {
+          // Stopped short from the caller's guess: once more from lambda = 0 (the 5 PGS sweeps
+          // of step 1 pick the first active set); keep whichever residual is smaller.
+          VecX cold = VecX::Zero(lambda_I.size());
+          ++s.restarts;
+          if (island.solve(cold)) {
+            lambda_I = cold;
+            return;
+          }
+          if (natural_map_residual(A_I, b_I, lo, hi, cold) <
+              natural_map_residual(A_I, b_I, lo, hi, lambda_I)) {
+            lambda_I = cold;
+          }
+        }
+        ++unsolved;
       });
   s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
   if (!std::isfinite(s.residual)) {
@@ -426,6 +442,7 @@ SolverSummary solve_direct(const SpMat& A,
       << s.factorizations << " factorizations, " << s.pivots << " pivots, residual " << s.residual
       << " N";
   if (s.singular) msg << "; singular blocks regularised";
+  if (s.restarts > 0) msg << "; " << s.restarts << " island(s) restarted from lambda = 0";
   if (unsolved > 0) msg << "; " << unsolved << " island(s) stopped short of the tolerance";
   s.message = msg.str();
   return s;

@@ -53,7 +53,8 @@ void Simulation::build_rows(std::vector<Row>& rows,
     times->broad_phase = broad;
     times->narrow_phase = lap(clock);
   }
-  for (const Manifold& m : manifolds) {
+  for (std::size_t index = 0; index < manifolds.size(); ++index) {
+    const Manifold& m = manifolds[index];
     Vec3 t1, t2;
     tangent_basis(m.n, t1, t2);
     const double bound = paper_friction_bound(m, scene_.bodies, w.mu, w.gravity);
@@ -66,12 +67,14 @@ void Simulation::build_rows(std::vector<Row>& rows,
       };
       contact.upsilon = bias(!improved);
       contact.upsilon_position = bias(true);  // restitution in both systems (8.2)
+      contact.manifold = static_cast<int>(index);
       const int normal = static_cast<int>(rows.size());
       rows.push_back(std::move(contact));
       if (w.mu <= 0.0) continue;  // no friction rows at mu = 0
       int k = 1;
       for (const Vec3& t : {t1, t2}) {
         Row friction = friction_row(m, point, k++, t, bound, scene_.bodies);  // (5.4)
+        friction.manifold = static_cast<int>(index);
         if (w.friction == FrictionModel::Coulomb) {
           friction.normal_row = normal;
           friction.mu = w.mu;
@@ -158,6 +161,7 @@ SolverSummary Simulation::solve_system(const System& sys,
   options.delta_tolerance = settings.delta_tolerance;
   options.relaxation = settings.relaxation;
   options.split_islands = settings.split_islands;
+  options.row_blocks = &sys.manifold;  // block PGS: one block per contact manifold
   const bool coulomb =
       std::any_of(sys.normal_row.begin(), sys.normal_row.end(), [](int n) { return n >= 0; });
   if (!coulomb) return solve(settings.method, sys.A, b, sys.cmin, sys.cmax, lambda, options);

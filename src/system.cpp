@@ -175,6 +175,7 @@ void assemble_system(const std::vector<Body>& bodies,
   sys.upsilon.resize(c);
   sys.upsilon_position.resize(c);
   sys.normal_row.resize(rows.size());
+  sys.manifold.resize(rows.size());
   sys.mu.resize(c);
   sys.cmin.resize(c);
   sys.cmax.resize(c);
@@ -185,6 +186,7 @@ void assemble_system(const std::vector<Body>& bodies,
     sys.upsilon(k) = row.upsilon;
     sys.upsilon_position(k) = row.upsilon_position;
     sys.normal_row[static_cast<std::size_t>(k)] = row.normal_row;
+    sys.manifold[static_cast<std::size_t>(k)] = row.manifold;
     sys.mu(k) = row.mu;
     sys.cmin(k) = row.cmin;
     sys.cmax(k) = row.cmax;

@@ -427,19 +427,26 @@ TEST_CASE("separate columns of boxes are separate islands of A (6.2.9)", "[conta
 }
 
 // ---------------------------------------------------------------------------------------------
-// 8.1 and 6.2 together: a tall stack with the direct path.
+// 8.1 and 6.2 together: a tall stack, the issue's test.
 
 TEST_CASE(
-    "a 10-box stack stands for 10 s with the direct path, improved push, 1 mm margin (8.1, "
-    "6.2)",
-    "[contact][eq8.1][eq6.2]") {
-  Simulation sim(contact_scene("stack", {{"margin", "0.001"}}, "direct"));
+    "a 10-box stack at dt 1/60 with the improved push stands for 10 s: block PGS with 20 "
+    "sweeps, and the direct path (8.1, 7.1.1, 6.2)",
+    "[contact][eq8.1][eq7.1.1][eq6.2]") {
+  // Row-by-row PGS with 20 sweeps does not hold this stack (the top box walks 4–15 cm in 10 s,
+  // README "Stacks"); block PGS, each manifold's 12 rows solved together, does.
+  const std::string method = GENERATE(as<std::string>{}, "block-pgs", "direct");
+  CAPTURE(method);
+  Scene scene = contact_scene("stack", {{"n", "10"}, {"dt", "1/60"}, {"push", "improved"}}, method);
+  scene.solver.iterations = 20;
+  Simulation sim(scene);
   REQUIRE(sim.bodies().size() == 11);
-  REQUIRE(sim.scene().world.push == PushMode::Improved);
   const Vec3 top0 = sim.bodies().back().x;
   double max_penetration = 0.0;
   for (int s = 0; s < 600; ++s) {  // 10 s at 1/60 s
-    max_penetration = std::max(max_penetration, sim.step().max_penetration);
+    const StepReport r = sim.step();
+    max_penetration = std::max(max_penetration, r.max_penetration);
+    if (method == "block-pgs") REQUIRE(r.solver.iterations <= 20);
   }
   const Vec3 drift = sim.bodies().back().x - top0;
   INFO("max penetration " << max_penetration << " m, top drift " << drift.transpose() << " m");
@@ -496,9 +503,11 @@ void check_cross_check(const CheckedRun& c, long steps) {
   INFO(r.err);
   REQUIRE(r.code == 0);
   CHECK(json_number(r.out, "steps_checked") == double(steps));
-  CHECK(json_number(r.out, "direct_stopped_short") == 0.0);
-  // The direct path stops at its rounding floor, 64 u ≈ 1e-14 of the force scale; 1e-9 is
-  // generous.
+  // Every step's direct answer verified as `cbps lcp` verifies a solution: natural-map residual
+  // ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|). (Its own stopping rule, 64 u of the force scale, about
+  // 1e-11 N here, is stricter than the proximal steps reach on some singular systems with
+  // friction: `direct_stopped_short` counts those steps and is reported, not asserted.)
+  CHECK(json_number(r.out, "direct_unverified") == 0.0);
   const double residual = json_number(r.out, "max_direct_residual");
   CAPTURE(residual);
   CHECK(residual <= 1e-9 * c.weight);
@@ -509,40 +518,51 @@ void check_cross_check(const CheckedRun& c, long steps) {
 
 TEST_CASE("contact scenes pass the --check cross-check against the direct path (6.2, 4)",
           "[contact][cli][eq6.2][eq4]") {
-  // Every contact scene, run by the direct path itself (so each step's check starts from the
-  // direct path's own lambda), and the scenes whose PGS run the direct path checks cleanly.
+  // Every contact scene, run by PGS, block PGS or the direct path itself, each step solved
+  // again by the direct path started from the run's lambda (from lambda = 0 if that stalls).
   const CheckedRun run = GENERATE(values<CheckedRun>({
       {"v-corner", 1.0 * kG},
+      {"v-corner --param mu=0.5", 1.0 * kG},
+      {"v-corner --param mu=0.5 --param friction=coulomb", 1.0 * kG},
       {"v-corner --param mu=0.5 --param friction=coulomb --solver direct", 1.0 * kG},
       {"newtons-cradle", 5 * 0.2 * kG},
+      {"slide", 1.0 * kG},
+      {"slide --param friction=coulomb", 1.0 * kG},
       {"slide --solver direct", 1.0 * kG},
       {"slide --param friction=coulomb --solver direct", 1.0 * kG},
       {"bounce", 1.0 * kG},  // 240 steps (1 s): the ball lands at about 0.45 s
+      {"overlap --push original", 3.0 * kG},
       {"overlap --push improved", 3.0 * kG},
       {"overlap --push improved --solver direct", 3.0 * kG},
       {"overlap --push original --solver direct", 3.0 * kG},
+      {"stack", 10.0 * kG},
+      {"stack --solver block-pgs", 10.0 * kG},
       {"stack --solver direct", 10.0 * kG},
+      {"pyramid --param base=4", 10.0 * kG},
+      {"pyramid --param base=4 --solver block-pgs", 10.0 * kG},
       {"pyramid --param base=4 --solver direct", 10.0 * kG},
   }));
   check_cross_check(run, run.args == "bounce" ? 240 : 60);
 }
 
-// Found while writing this file: checking a PGS run, the direct path (started from PGS's
-// lambda) stops short of its own tolerance, 64 u (max row sum of |A| ‖lambda‖ + ‖b‖), on every
-// scene with friction or a singular A: mostly 3–10× above it (1e-11 N), but on `stack` at step
-// 19 at 2.25e-4 N after 288 outer iterations, where the same system from lambda = 0 reaches
-// 5.6e-11 N; with Coulomb bounds the fixed point of the bounds stops at its 100-round cap.
-// See the report.
-TEST_CASE("the --check cross-check of PGS runs reaches the direct path's tolerance (6.2, 5.4)",
-          "[contact][cli][eq6.2][eq5.4][!mayfail]") {
-  const CheckedRun run = GENERATE(values<CheckedRun>({
-      {"stack", 10.0 * kG},
-      {"pyramid --param base=4", 10.0 * kG},
-      {"overlap --push original", 3.0 * kG},
-      {"slide", 1.0 * kG},
-      {"slide --param friction=coulomb", 1.0 * kG},
-      {"v-corner --param mu=0.5", 1.0 * kG},
-      {"v-corner --param mu=0.5 --param friction=coulomb", 1.0 * kG},
-  }));
-  check_cross_check(run, 60);
+TEST_CASE("the friction tangents turn continuously with the normal (5.4)", "[contact][eq5.4]") {
+  // Two normals a milliradian apart near +y, on either side of |n_x| = |n_z|: the least aligned
+  // world axis switches between them (x, then z); the tangents must not turn by 90°, or last
+  // step's friction lambda (warm start, 7) would push across the motion.
+  Vec3 t1a, t2a, t1b, t2b;
+  tangent_basis(Vec3(1e-3, 1.0, 2e-3).normalized(), t1a, t2a);
+  tangent_basis(Vec3(2e-3, 1.0, 1e-3).normalized(), t1b, t2b);
+  CHECK((t1a - t1b).norm() < 1e-2);
+  CHECK((t2a - t2b).norm() < 1e-2);
+  for (const Vec3& n : std::vector<Vec3>{Vec3::UnitX(),
+                                         Vec3::UnitY(),
+                                         Vec3::UnitZ(),
+                                         Vec3(1, 1, 1).normalized(),
+                                         Vec3(-0.3, 0.2, -0.9).normalized()}) {
+    Vec3 t1, t2;
+    tangent_basis(n, t1, t2);
+    CHECK(std::abs(t1.norm() - 1.0) < 1e-15);
+    CHECK(std::abs(t1.dot(n)) < 1e-15);
+    CHECK((n.cross(t1) - t2).norm() < 1e-15);  // right-handed (n, t1, t2)
+  }
 }

@@ -27,6 +27,9 @@ struct Row {
   double upsilon_position = 0.0;
   int normal_row = -1;  ///< Coulomb friction (5.4): index of the contact row bounding it
   double mu = 0.0;  ///< and its coefficient: cmin = −mu lambda_normal, cmax = mu lambda_normal
+  /// The contact manifold (4) whose contact or friction row this is, −1 for other rows. Block
+  /// PGS solves the rows of one manifold together.
+  int manifold = -1;
 };
 
 /// A distance constraint (5.2): |p_b − p_a| = l with p = x + r, r = R anchor.

@@ -42,6 +42,7 @@ struct System {
   VecX upsilon_position;        ///< c, the position system's bias (8.1), m/s
   std::vector<int> normal_row;  ///< c, Coulomb friction: the contact row bounding it, else −1
   VecX mu;                      ///< c, Coulomb friction coefficient of the row, else 0
+  std::vector<int> manifold;    ///< c, the row's contact manifold (4), else −1 (block PGS)
 
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }

@@ -29,7 +29,8 @@ void add_step_options(CLI::App* cmd, StepOptions& o) {
   cmd->add_option("--duration", o.duration, "simulated time in s (instead of --steps)")
       ->check(CLI::PositiveNumber)
       ->excludes(steps);
-  cmd->add_option("--solver", o.solver, "pgs | jacobi | direct (default: the scene's, pgs)");
+  cmd->add_option(
+      "--solver", o.solver, "pgs | block-pgs | jacobi | direct (default: the scene's, pgs)");
   cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", o.tolerance, "natural-map residual to stop at, N (0: all sweeps)")
@@ -77,7 +78,8 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.push == "improved") scene.world.push = PushMode::Improved;
   if (!o.solver.empty()) {
     if (!is_solver_name(o.solver)) {
-      throw InputError("--solver '" + o.solver + "': unknown (valid: pgs, jacobi, direct)");
+      throw InputError("--solver '" + o.solver +
+                       "': unknown (valid: pgs, block-pgs, jacobi, direct)");
     }
     scene.solver.method = o.solver;
   }
