@@ -85,13 +85,16 @@ double contact_bias(double depth,
                     double epsilon,
                     double threshold,
                     bool with_push) {
-  double upsilon = 0.0;
+  const bool impact = approach_velocity < -threshold;
   if (depth < 0.0) {
-    upsilon += depth / dt;  // a gap (margin point): it may close in this step, no more
-  } else if (with_push) {
-    upsilon += beta * depth / dt;  // (5.3)
+    // A gap (margin point): it may close in this step, no more (d / dt < 0). If the approach
+    // would close it within the step, the impact happens now: the restitution target alone
+    // (adding d / dt to it would take |d| / dt off the rebound speed).
+    if (impact && approach_velocity < depth / dt) return -epsilon * approach_velocity;  // (8.2.1)
+    return depth / dt;
   }
-  if (approach_velocity < -threshold) upsilon += -epsilon * approach_velocity;  // (8.2.1)
+  double upsilon = with_push ? beta * depth / dt : 0.0;  // (5.3)
+  if (impact) upsilon += -epsilon * approach_velocity;   // (8.2.1)
   return upsilon;
 }
 

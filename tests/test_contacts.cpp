@@ -308,6 +308,16 @@ TEST_CASE("restitution: upsilon = -eps j_c v1 above the threshold, none below (8
   CHECK(contact_bias(0.0, -0.05, beta, dt, eps, threshold, false) == 0.0);
   CHECK(contact_bias(0.0, 2.0, beta, dt, eps, threshold, false) == 0.0);
   CHECK(contact_bias(0.01, -0.05, beta, dt, eps, threshold, true) == Approx(0.12).epsilon(1e-14));
+  // A gap of 1 mm (a margin point, d = −0.001): closing at 2 m/s covers 3.3 cm in the step, so
+  // the impact is now and the target is the rebound alone, ε · 2 = 1 m/s (adding d / dt =
+  // −0.06 m/s would take 6 % off it). At 0.05 m/s the gap stays open: d / dt, a bound on the
+  // approach, and no rebound.
+  CHECK(contact_bias(-0.001, -2.0, beta, dt, eps, threshold, true) == 1.0);
+  CHECK(contact_bias(-0.001, -2.0, beta, dt, eps, threshold, false) == 1.0);
+  CHECK(contact_bias(-0.001, -0.05, beta, dt, eps, threshold, true) ==
+        Approx(-0.06).epsilon(1e-14));
+  // Fast (0.5 m/s, above the threshold) but not fast enough to close 1 cm in 1/60 s (0.6 m/s).
+  CHECK(contact_bias(-0.01, -0.5, beta, dt, eps, threshold, true) == Approx(-0.6).epsilon(1e-14));
 }
 
 TEST_CASE("bounce: each rebound apex is eps^2 times the one before (8.2.1, 8.1)",
