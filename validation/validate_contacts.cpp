@@ -24,6 +24,7 @@
 // Output: a Markdown table per case on stdout, all numbers and the figure's box states as JSON
 // (--out, default validation/results/contacts.json). Exit status: 0 all checks pass, 1 a check
 // failed, 2 bad usage.
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -517,6 +518,39 @@ Stack run_stack(const std::string& method, const std::string& push) {
   return r;
 }
 
+/// Why row-by-row PGS struggles there: the spectrum of the stack's A at rest (dense, 120 rows)
+/// and the spectral radius of the Gauss-Seidel iteration matrix G = −(D + L)⁻¹ U on its range.
+struct StackSpectrum {
+  double mu = 0.0;
+  int rows = 0;
+  double eig_min = 0.0;  ///< smallest eigenvalue above 1e-9 of the largest, 1/kg
+  double eig_max = 0.0;
+  double rho = 0.0;  ///< largest |eigenvalue| of G below 1 − 1e-9 (1 is A's null space)
+  double sweeps_per_decade = 0.0;  ///< ln 0.1 / ln rho
+};
+
+StackSpectrum stack_spectrum(double mu) {
+  StackSpectrum r;
+  r.mu = mu;
+  const cbps::Simulation sim(builtin("stack", {{"n", "10"}, {"mu", text(mu)}}, "pgs"));
+  const cbps::System sys = sim.build_system();
+  const cbps::MatX A(sys.A);
+  r.rows = static_cast<int>(A.rows());
+  const Eigen::SelfAdjointEigenSolver<cbps::MatX> spectrum(A);
+  r.eig_max = spectrum.eigenvalues().maxCoeff();
+  r.eig_min = r.eig_max;
+  for (const double e : spectrum.eigenvalues())
+    if (e > 1e-9 * r.eig_max) r.eig_min = std::min(r.eig_min, e);
+  const cbps::MatX lower = A.triangularView<Eigen::Lower>();
+  const cbps::MatX upper = A.triangularView<Eigen::StrictlyUpper>();
+  const cbps::MatX G = -lower.triangularView<Eigen::Lower>().solve(upper);
+  const Eigen::EigenSolver<cbps::MatX> gs(G, false);
+  for (const auto& e : gs.eigenvalues())
+    if (std::abs(e) < 1.0 - 1e-9) r.rho = std::max(r.rho, std::abs(e));
+  r.sweeps_per_decade = std::log(0.1) / std::log(r.rho);
+  return r;
+}
+
 // ---- output -------------------------------------------------------------------------------
 
 void write_file(const fs::path& path, const std::string& contents) {
@@ -560,6 +594,7 @@ struct Results {
   long figure_step = 0;
   std::vector<Column> column;
   std::vector<Stack> stack;
+  std::vector<StackSpectrum> stack_spectrum;
   std::vector<std::string> failures;
   double wall_time_s = 0.0;
 };
@@ -679,6 +714,16 @@ std::string results_json(const Results& res) {
       << ", \"residual_last\": " << json_number(r.residual_last)
       << ", \"wall_time_s\": " << json_number(r.wall_time_s) << "}"
       << (i + 1 < res.stack.size() ? ",\n" : "\n");
+  }
+  j << "  ],\n  \"stack_spectrum\": [\n";
+  for (std::size_t i = 0; i < res.stack_spectrum.size(); ++i) {
+    const StackSpectrum& r = res.stack_spectrum[i];
+    j << "    {\"mu\": " << json_number(r.mu) << ", \"rows\": " << r.rows
+      << ", \"eigenvalue_min_nonzero\": " << json_number(r.eig_min)
+      << ", \"eigenvalue_max\": " << json_number(r.eig_max)
+      << ", \"gauss_seidel_rho\": " << json_number(r.rho)
+      << ", \"sweeps_per_decade\": " << json_number(r.sweeps_per_decade) << "}"
+      << (i + 1 < res.stack_spectrum.size() ? ",\n" : "\n");
   }
   j << "  ],\n  \"wall_time_s\": " << json_number(res.wall_time_s)
     << ",\n  \"passed\": " << (res.failures.empty() ? "true" : "false") << ",\n  \"failures\": [";
@@ -853,6 +898,20 @@ void print_stack_table(const Results& res) {
                 r.residual_last,
                 r.wall_time_s);
   }
+  std::printf(
+      "\nThe stack's A at rest and Gauss-Seidel on it (7.1.1), on A's range:\n\n"
+      "| mu | rows | smallest nonzero eigenvalue | largest | condition | GS spectral radius | "
+      "sweeps per decade |\n|---:|---:|---:|---:|---:|---:|---:|\n");
+  for (const StackSpectrum& r : res.stack_spectrum) {
+    std::printf("| %g | %d | %.3g | %.3g | %.3g | %.6f | %.0f |\n",
+                r.mu,
+                r.rows,
+                r.eig_min,
+                r.eig_max,
+                r.eig_max / r.eig_min,
+                r.rho,
+                r.sweeps_per_decade);
+  }
 }
 
 // ---- checks -------------------------------------------------------------------------------
@@ -956,6 +1015,7 @@ int run_validation(const Options& o) {
   std::fprintf(stderr, "validate_contacts: column done\n");
   for (const char* method : {"pgs", "block-pgs", "direct"})
     for (const char* push : {"original", "improved"}) res.stack.push_back(run_stack(method, push));
+  for (double mu : {0.5, 0.0}) res.stack_spectrum.push_back(stack_spectrum(mu));
   std::fprintf(stderr, "validate_contacts: stack done\n");
   res.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
