@@ -2,6 +2,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 
@@ -53,15 +55,22 @@ double relax(double old, double target, double relaxation) {
 
 }  // namespace
 
-double pgs_sweep(const SpMat& A,
-                 const VecX& b,
-                 const VecX& cmin,
-                 const VecX& cmax,
-                 VecX& lambda,
-                 double relaxation) {
+namespace {
+
+/// 7.1.1 over the rows row_at(0), row_at(1), …, row_at(count − 1).
+template <class RowAt>
+double sweep_rows(const SpMat& A,
+                  const VecX& b,
+                  const VecX& cmin,
+                  const VecX& cmax,
+                  VecX& lambda,
+                  double relaxation,
+                  Eigen::Index count,
+                  RowAt row_at) {
   double delta = 0.0;
   double target = 0.0;
-  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+  for (Eigen::Index k = 0; k < count; ++k) {
+    const Eigen::Index j = row_at(k);
     if (!row_target(A, b, lambda, j, target)) continue;
     const double next = clamp(relax(lambda(j), target, relaxation), cmin(j), cmax(j));  // (7.1.1)
     const double change = std::abs(next - lambda(j));
@@ -69,6 +78,42 @@ double pgs_sweep(const SpMat& A,
     lambda(j) = next;
   }
   return delta;
+}
+
+}  // namespace
+
+double pgs_sweep(const SpMat& A,
+                 const VecX& b,
+                 const VecX& cmin,
+                 const VecX& cmax,
+                 VecX& lambda,
+                 double relaxation) {
+  return sweep_rows(
+      A, b, cmin, cmax, lambda, relaxation, A.outerSize(), [](Eigen::Index k) { return k; });
+}
+
+double pgs_sweep(const SpMat& A,
+                 const VecX& b,
+                 const VecX& cmin,
+                 const VecX& cmax,
+                 VecX& lambda,
+                 double relaxation,
+                 const std::vector<int>& rows) {
+  return sweep_rows(A,
+                    b,
+                    cmin,
+                    cmax,
+                    lambda,
+                    relaxation,
+                    static_cast<Eigen::Index>(rows.size()),
+                    [&](Eigen::Index k) { return Eigen::Index(rows[std::size_t(k)]); });
+}
+
+void sweep_order(RowOrder order, int rows, std::mt19937_64& rng, std::vector<int>& out) {
+  out.resize(static_cast<std::size_t>(rows));
+  std::iota(out.begin(), out.end(), 0);
+  if (order == RowOrder::Reverse) std::reverse(out.begin(), out.end());
+  if (order == RowOrder::Random) std::shuffle(out.begin(), out.end(), rng);
 }
 
 double block_pgs_sweep(const SpMat& A,
@@ -155,23 +200,20 @@ double jacobi_sweep(const SpMat& A,
 
 namespace {
 
-template <class Sweep>
-SolverSummary iterate(const SpMat& A,
-                      const VecX& b,
-                      const VecX& cmin,
-                      const VecX& cmax,
-                      VecX& lambda,
-                      const SolverOptions& options,
-                      Sweep sweep) {
+/// Sweeps until a tolerance or the iteration limit; residual(lambda) is the natural-map
+/// residual (computed only when a tolerance or the last sweep needs it).
+template <class Sweep, class Residual>
+SolverSummary iterate_rows(
+    Eigen::Index rows, VecX& lambda, const SolverOptions& options, Sweep sweep, Residual residual) {
   const auto start = std::chrono::steady_clock::now();
   SolverSummary s;
-  if (lambda.size() != A.rows()) lambda = VecX::Zero(A.rows());
-  if (A.rows() == 0) {
+  if (lambda.size() != rows) lambda = VecX::Zero(rows);
+  if (rows == 0) {
     s.termination = Termination::ResidualTolerance;
     s.message = "no rows";
     return s;
   }
-  s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
+  s.residual = residual(lambda);
   if (options.residual_tolerance > 0.0 && s.residual <= options.residual_tolerance) {
     s.termination = Termination::ResidualTolerance;
   }
@@ -187,7 +229,7 @@ SolverSummary iterate(const SpMat& A,
     }
     if (options.residual_tolerance > 0.0 || s.iterations == options.max_iterations ||
         s.termination != Termination::MaxIterations) {
-      s.residual = natural_map_residual(A, b, cmin, cmax, lambda);
+      s.residual = residual(lambda);
       if (options.residual_tolerance > 0.0 && s.residual <= options.residual_tolerance) {
         s.termination = Termination::ResidualTolerance;
       }
@@ -203,6 +245,19 @@ SolverSummary iterate(const SpMat& A,
   return s;
 }
 
+template <class Sweep>
+SolverSummary iterate(const SpMat& A,
+                      const VecX& b,
+                      const VecX& cmin,
+                      const VecX& cmax,
+                      VecX& lambda,
+                      const SolverOptions& options,
+                      Sweep sweep) {
+  return iterate_rows(A.rows(), lambda, options, sweep, [&](const VecX& l) {
+    return natural_map_residual(A, b, cmin, cmax, l);
+  });
+}
+
 }  // namespace
 
 SolverSummary solve_pgs(const SpMat& A,
@@ -211,8 +266,58 @@ SolverSummary solve_pgs(const SpMat& A,
                         const VecX& cmax,
                         VecX& lambda,
                         const SolverOptions& options) {
+  if (options.order == RowOrder::Natural) {
+    return iterate(A, b, cmin, cmax, lambda, options, [&](VecX& l) {
+      return pgs_sweep(A, b, cmin, cmax, l, options.relaxation);
+    });
+  }
+  std::mt19937_64 rng(options.seed);
+  std::vector<int> rows;
+  if (options.order == RowOrder::Reverse) sweep_order(options.order, int(A.rows()), rng, rows);
   return iterate(A, b, cmin, cmax, lambda, options, [&](VecX& l) {
-    return pgs_sweep(A, b, cmin, cmax, l, options.relaxation);
+    if (options.order == RowOrder::Random) sweep_order(options.order, int(A.rows()), rng, rows);
+    return pgs_sweep(A, b, cmin, cmax, l, options.relaxation, rows);
+  });
+}
+
+SolverSummary solve_matrix_free(const SpMatRow& J,
+                                const SpMat& Minv,
+                                const VecX& b,
+                                const VecX& cmin,
+                                const VecX& cmax,
+                                VecX& lambda,
+                                const SolverOptions& options) {
+  const MatrixFreePgs pgs(J, Minv);
+  if (lambda.size() != J.rows()) lambda = VecX::Zero(J.rows());
+  VecX u = pgs.impulse(lambda);  // kept equal to W lambda by every sweep
+  std::mt19937_64 rng(options.seed);
+  std::vector<int> rows;  // empty: the natural order
+  if (options.order == RowOrder::Reverse) sweep_order(options.order, pgs.rows(), rng, rows);
+  SolverSummary s = iterate_rows(
+      J.rows(),
+      lambda,
+      options,
+      [&](VecX& l) {
+        if (options.order == RowOrder::Random) sweep_order(options.order, pgs.rows(), rng, rows);
+        return pgs.sweep(b, cmin, cmax, l, u, options.relaxation, rows);
+      },
+      [&](const VecX& l) { return pgs.residual(b, cmin, cmax, l, u); });
+  if (options.describe) s.message.insert(0, "matrix-free: ");
+  return s;
+}
+
+SolverSummary solve_sgs(const SpMat& A,
+                        const VecX& b,
+                        const VecX& cmin,
+                        const VecX& cmax,
+                        VecX& lambda,
+                        const SolverOptions& options) {
+  const Eigen::Index c = A.outerSize();
+  return iterate(A, b, cmin, cmax, lambda, options, [&](VecX& l) {
+    const double forward = pgs_sweep(A, b, cmin, cmax, l, options.relaxation);
+    const double backward = sweep_rows(
+        A, b, cmin, cmax, l, options.relaxation, c, [c](Eigen::Index k) { return c - 1 - k; });
+    return std::max(forward, backward);
   });
 }
 
@@ -264,7 +369,8 @@ SolverSummary solve_jacobi(const SpMat& A,
 }
 
 bool is_solver_name(const std::string& method) {
-  return method == "pgs" || method == "block-pgs" || method == "jacobi" || method == "direct";
+  return method == "pgs" || method == "block-pgs" || method == "sgs" || method == "jacobi" ||
+         method == "matrix-free" || method == "direct";
 }
 
 namespace {
@@ -278,10 +384,13 @@ SolverSummary solve_whole(const std::string& method,
                           const SolverOptions& options) {
   if (method == "pgs") return solve_pgs(A, b, cmin, cmax, lambda, options);
   if (method == "block-pgs") return solve_block_pgs(A, b, cmin, cmax, lambda, options);
+  if (method == "sgs") return solve_sgs(A, b, cmin, cmax, lambda, options);
+  if (method == "matrix-free")
+    throw std::invalid_argument("solver 'matrix-free' works on J and Minv: solve_matrix_free");
   if (method == "jacobi") return solve_jacobi(A, b, cmin, cmax, lambda, options);
   if (method == "direct") return solve_direct(A, b, cmin, cmax, lambda);
   throw std::invalid_argument("unknown solver '" + method +
-                              "' (valid: pgs, block-pgs, jacobi, direct)");
+                              "' (valid: pgs, block-pgs, sgs, jacobi, direct)");
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // allowed | |q| − 1 | in a
 // A quaternion already unit to rounding is kept as written, so written scenes read back exactly.
 constexpr double kUnitRounding = 4.0 * std::numeric_limits<double>::epsilon();
 constexpr double kSymmetryTolerance = 1e-12;  // allowed |I_ij − I_ji| / max |I_kl|
-const std::vector<std::string> kSolverMethods{"pgs", "block-pgs", "jacobi", "direct"};
+const std::vector<std::string> kSolverMethods{
+    "pgs", "block-pgs", "sgs", "jacobi", "matrix-free", "direct"};
 const std::vector<std::string> kShapeTypes{"sphere", "box", "plane"};
 const std::vector<std::string> kPushModes{"original", "improved"};   // PushMode order
 const std::vector<std::string> kFrictionModels{"paper", "coulomb"};  // FrictionModel order

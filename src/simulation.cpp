@@ -162,9 +162,16 @@ SolverSummary Simulation::solve_system(const System& sys,
   options.relaxation = settings.relaxation;
   options.split_islands = settings.split_islands;
   options.row_blocks = &sys.manifold;  // block PGS: one block per contact manifold
+  options.order = settings.order;
+  options.seed = settings.seed + static_cast<std::uint64_t>(steps_);  // new permutations each step
+  const auto run = [&](const VecX& lo, const VecX& hi, VecX& l, const SolverOptions& o) {
+    if (settings.method == "matrix-free")
+      return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o);
+    return solve(settings.method, sys.A, b, lo, hi, l, o);
+  };
   const bool coulomb =
       std::any_of(sys.normal_row.begin(), sys.normal_row.end(), [](int n) { return n >= 0; });
-  if (!coulomb) return solve(settings.method, sys.A, b, sys.cmin, sys.cmax, lambda, options);
+  if (!coulomb) return run(sys.cmin, sys.cmax, lambda, options);
 
   VecX lo = sys.cmin, hi = sys.cmax;
   if (lambda.size() != sys.rows()) lambda = VecX::Zero(sys.rows());
@@ -204,7 +211,8 @@ SolverSummary Simulation::solve_system(const System& sys,
   total.termination = Termination::MaxIterations;
   while (total.iterations < settings.iterations) {
     update_coulomb_bounds(sys, lambda, lo, hi);
-    const SolverSummary s = solve(settings.method, sys.A, b, lo, hi, lambda, one);
+    one.seed = options.seed * 1000003u + static_cast<std::uint64_t>(total.iterations);
+    const SolverSummary s = run(lo, hi, lambda, one);
     total.iterations += s.iterations;
     total.residual = s.residual;
     total.delta = s.delta;

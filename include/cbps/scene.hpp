@@ -9,6 +9,7 @@
 
 #include "cbps/body.hpp"
 #include "cbps/constraint.hpp"
+#include "cbps/solver.hpp"
 
 namespace cbps {
 
@@ -35,13 +36,15 @@ struct World {
 };
 
 struct SolverSettings {
-  std::string method = "pgs";    ///< "pgs", "jacobi" or "direct"
-  int iterations = 100;          ///< max sweeps per step
-  double tolerance = 1e-10;      ///< natural-map residual to stop at, N (0 = run all sweeps)
-  double delta_tolerance = 0.0;  ///< max |Δlambda| to stop at, N (0 = off)
-  double relaxation = 1.0;       ///< omega (Jacobi damping)
-  bool warm_start = true;        ///< start from last step's lambda, matched by row id
-  bool split_islands = true;     ///< solve independent islands of A apart (PGS, Jacobi)
+  std::string method = "pgs";          ///< pgs, block-pgs, sgs, jacobi, matrix-free or direct
+  int iterations = 100;                ///< max sweeps per step
+  double tolerance = 1e-10;            ///< natural-map residual to stop at, N (0 = run all sweeps)
+  double delta_tolerance = 0.0;        ///< max |Δlambda| to stop at, N (0 = off)
+  double relaxation = 1.0;             ///< omega (Jacobi damping)
+  bool warm_start = true;              ///< start from last step's lambda, matched by row id
+  bool split_islands = true;           ///< solve independent islands of A apart (PGS, Jacobi)
+  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel row order (pgs, matrix-free)
+  std::uint64_t seed = 0;              ///< RowOrder::Random's seed (--seed)
 };
 
 struct Scene {

@@ -2,13 +2,22 @@
 // They see only (A, b, cmin, cmax), never bodies, so stored problems feed them as well.
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "cbps/types.hpp"
 
 namespace cbps {
+
+/// The order in which a Gauss-Seidel sweep visits the rows (7.1.1 uses the natural order).
+enum class RowOrder {
+  Natural,  ///< 0, 1, …, c−1
+  Reverse,  ///< c−1, …, 0
+  Random    ///< a fresh permutation every sweep, from SolverOptions::seed
+};
 
 struct SolverOptions {
   int max_iterations = 100;       ///< sweeps
@@ -23,6 +32,8 @@ struct SolverOptions {
   /// Block PGS: delta / max_j A_jj of the block, added to the diagonal of each block of
   /// several rows before it is solved (see block_pgs_sweep).
   double block_regularization = 1e-7;
+  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, psor, matrix-free)
+  std::uint64_t seed = 0;              ///< RowOrder::Random: the first permutation's seed
 };
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
@@ -69,6 +80,67 @@ double pgs_sweep(const SpMat& A,
                  const VecX& cmax,
                  VecX& lambda,
                  double relaxation = 1.0);
+
+/// The same sweep visiting the rows in the order given (a permutation of 0 … c−1).
+double pgs_sweep(const SpMat& A,
+                 const VecX& b,
+                 const VecX& cmin,
+                 const VecX& cmax,
+                 VecX& lambda,
+                 double relaxation,
+                 const std::vector<int>& rows);
+
+/// The rows of a sweep in `order`: natural, reversed, or shuffled by rng (Random).
+void sweep_order(RowOrder order, int rows, std::mt19937_64& rng, std::vector<int>& out);
+
+/// The matrix-free form of PGS (sequential impulses, as game engines write 7.1.1): A is never
+/// built. It keeps W = M⁻¹ Jᵀ (6n × c), the diagonal d_j = j_j W_j = A_jj, and u = W lambda, so
+/// that (A lambda)_j = j_j u costs one row of J; row j then does
+///   lambda_j ← clamp(lambda_j + omega (b_j − j_j u) / d_j),  u ← u + W_j Δlambda_j,
+/// which is 7.1.1's update written with A = J M⁻¹ Jᵀ: the same iterates to round-off. u is the
+/// velocity change per unit time the constraint forces make: v2 = v1 + Δt (u + M⁻¹ f_ext).
+class MatrixFreePgs {
+ public:
+  MatrixFreePgs(const SpMatRow& J, const SpMat& Minv);
+  /// u = W lambda (call after changing lambda outside sweep()).
+  VecX impulse(const VecX& lambda) const;
+  /// One sweep over `rows` (empty: natural order), lambda and u in place; max |Δlambda|.
+  double sweep(const VecX& b,
+               const VecX& cmin,
+               const VecX& cmax,
+               VecX& lambda,
+               VecX& u,
+               double relaxation,
+               const std::vector<int>& rows) const;
+  /// w = J u − b, the natural-map residual without A.
+  double residual(
+      const VecX& b, const VecX& cmin, const VecX& cmax, const VecX& lambda, const VecX& u) const;
+  int rows() const { return static_cast<int>(J_.rows()); }
+
+ private:
+  const SpMatRow& J_;
+  SpMat W_;  ///< M⁻¹ Jᵀ, column j = W_j
+  VecX d_;   ///< A_jj = j_j W_j
+};
+
+/// PGS in the matrix-free form from the guess in lambda; options as for solve_pgs (order,
+/// relaxation, tolerances; no islands: the rows never meet).
+SolverSummary solve_matrix_free(const SpMatRow& J,
+                                const SpMat& Minv,
+                                const VecX& b,
+                                const VecX& cmin,
+                                const VecX& cmax,
+                                VecX& lambda,
+                                const SolverOptions& options);
+
+/// Symmetric Gauss-Seidel: one iteration is a forward sweep and a backward sweep (SSOR with
+/// relaxation omega); its iteration matrix is similar to a symmetric one for symmetric A.
+SolverSummary solve_sgs(const SpMat& A,
+                        const VecX& b,
+                        const VecX& cmin,
+                        const VecX& cmax,
+                        VecX& lambda,
+                        const SolverOptions& options);
 
 /// One projected Jacobi sweep: as pgs_sweep but every row reads the previous sweep's lambda;
 /// with relaxation omega, lambda ← clamp(lambda + omega (lambda_J − lambda)).
@@ -215,5 +287,32 @@ SolverSummary solve(const std::string& method,
 bool is_solver_name(const std::string& method);
 
 std::string to_string(Termination t);
+
+/// A solver as named on the command line (`--solver`, `cbps converge --solvers`):
+/// NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off], e.g. `psor:1.3`,
+/// `pgs:order=random`, `jacobi:0.7`, `sgs`, `matrix-free`, `block-pgs`, `direct`.
+///   pgs          7.1.1 (omega = 1); psor:OMEGA is PGS with relaxation 0 < OMEGA < 2
+///   jacobi       projected Jacobi; jacobi:OMEGA damps it, 0 < OMEGA ≤ 1
+///   sgs          symmetric Gauss-Seidel (forward and backward sweep), sgs:OMEGA is SSOR
+///   block-pgs    contact manifolds solved as blocks (block_pgs_sweep)
+///   matrix-free  7.1.1 without A (MatrixFreePgs), the sequential-impulse form
+///   direct       the exact path (6.2)
+/// order applies to pgs, psor and matrix-free; warm=off starts from lambda = 0 instead of the
+/// previous step's lambda.
+struct SolverSpec {
+  std::string text;                    ///< as given
+  std::string method;                  ///< pgs, jacobi, sgs, block-pgs, matrix-free, direct
+  double relaxation = 1.0;             ///< omega
+  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms
+  bool warm_start = true;
+};
+
+/// Parses one spec; throws InputError naming `what` (the option or JSON path) and the spec:
+/// "--solver 'psor:3': relaxation factor '3' must be a number in (0, 2)".
+SolverSpec parse_solver_spec(const std::string& text, const std::string& what = "solver");
+/// A comma-separated list of specs (`pgs,psor:1.3,direct`).
+std::vector<SolverSpec> parse_solver_list(const std::string& text,
+                                          const std::string& what = "solvers");
+std::string to_string(RowOrder order);
 
 }  // namespace cbps

@@ -29,8 +29,12 @@ void add_step_options(CLI::App* cmd, StepOptions& o) {
   cmd->add_option("--duration", o.duration, "simulated time in s (instead of --steps)")
       ->check(CLI::PositiveNumber)
       ->excludes(steps);
-  cmd->add_option(
-      "--solver", o.solver, "pgs | block-pgs | jacobi | direct (default: the scene's, pgs)");
+  cmd->add_option("--solver",
+                  o.solver,
+                  "NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off] with NAME pgs, "
+                  "psor, sgs, jacobi, block-pgs, matrix-free or direct, e.g. psor:1.3 "
+                  "(default: the scene's, pgs)");
+  cmd->add_option("--seed", o.seed, "seed of the random row order (order=random)");
   cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", o.tolerance, "natural-map residual to stop at, N (0: all sweeps)")
@@ -77,12 +81,14 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.push == "original") scene.world.push = PushMode::Original;
   if (o.push == "improved") scene.world.push = PushMode::Improved;
   if (!o.solver.empty()) {
-    if (!is_solver_name(o.solver)) {
-      throw InputError("--solver '" + o.solver +
-                       "': unknown (valid: pgs, block-pgs, jacobi, direct)");
-    }
-    scene.solver.method = o.solver;
+    const SolverSpec spec =
+        parse_solver_spec(o.solver, "--solver");  // InputError names what is wrong
+    scene.solver.method = spec.method;
+    scene.solver.relaxation = spec.relaxation;
+    scene.solver.order = spec.order;
+    scene.solver.warm_start = spec.warm_start;
   }
+  if (o.seed >= 0) scene.solver.seed = static_cast<std::uint64_t>(o.seed);
   if (o.iterations > 0) scene.solver.iterations = o.iterations;
   if (o.tolerance >= 0.0) scene.solver.tolerance = o.tolerance;
 }

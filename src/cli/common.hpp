@@ -28,6 +28,7 @@ struct StepOptions {
   double tolerance = -1.0;
   double beta = -1.0;
   std::string push;  ///< "original" | "improved"; empty keeps the scene's
+  long long seed = -1;  ///< --seed; negative keeps the scene's
 };
 
 void add_scene_options(CLI::App* cmd, SceneOptions& o);

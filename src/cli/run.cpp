@@ -208,7 +208,10 @@ int run_command(const RunOptions& o) {
   summary["solver"] = {{"method", scene.solver.method},
                        {"iterations", scene.solver.iterations},
                        {"tolerance", scene.solver.tolerance},
-                       {"warm_start", scene.solver.warm_start}};
+                       {"warm_start", scene.solver.warm_start},
+                       {"relaxation", scene.solver.relaxation},
+                       {"order", to_string(scene.solver.order)},
+                       {"seed", scene.solver.seed}};
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
   summary["contacts"] = {
       {"mu", scene.world.mu},
