@@ -344,9 +344,9 @@ SolverSummary solve_block_pgs(const SpMat& A,
                            &fallbacks);
   });
   if (options.describe) {
-    s.message.append(", blocks regularised by ");
-    s.message.append(std::to_string(options.block_regularization));
-    s.message.append(" max A_jj");
+    std::ostringstream note;
+    note << ", blocks regularised by " << options.block_regularization << " max A_jj";
+    s.message.append(note.str());
   }
   if (fallbacks > 0 && options.describe) {
     s.message.append(", ");
