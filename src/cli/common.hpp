@@ -27,7 +27,7 @@ struct StepOptions {
   int iterations = -1;
   double tolerance = -1.0;
   double beta = -1.0;
-  std::string push;  ///< "original" | "improved"; empty keeps the scene's
+  std::string push;     ///< "original" | "improved"; empty keeps the scene's
   long long seed = -1;  ///< --seed; negative keeps the scene's
 };
 
@@ -78,5 +78,6 @@ void register_explain(CLI::App& app, Action& run);
 void register_matrices(CLI::App& app, Action& run);
 void register_lcp(CLI::App& app, Action& run);
 void register_verify(CLI::App& app, Action& run);
+void register_converge(CLI::App& app, Action& run);
 
 }  // namespace cbps::cli

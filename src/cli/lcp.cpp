@@ -18,6 +18,7 @@
 #include "cbps/siconos.hpp"
 #include "cbps/solver.hpp"
 #include "common.hpp"
+#include "problem.hpp"
 
 namespace cbps::cli {
 
@@ -37,66 +38,8 @@ struct LcpOptions {
   std::string out;
 };
 
-/// A stored problem in the paper's convention: w = A lambda − b, cmin ≤ lambda ≤ cmax.
-struct Problem {
-  SpMat A;    ///< c×c
-  VecX b;     ///< c
-  VecX cmin;  ///< c, −∞ allowed
-  VecX cmax;  ///< c, +∞ allowed
-  bool folder = false;
-  long rows() const { return static_cast<long>(b.size()); }
-};
-
-Problem read_folder(const std::string& dir) {
-  const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
-  Problem p;
-  p.folder = true;
-  p.A = read_matrix_market_sparse(file("A.mtx"));
-  p.b = read_matrix_market_vector(file("b.mtx"));
-  p.cmin = read_matrix_market_vector(file("cmin.mtx"));
-  p.cmax = read_matrix_market_vector(file("cmax.mtx"));
-  const long c = p.A.rows();
-  if (p.A.cols() != c)
-    throw InputError(file("A.mtx") + ": A is " + std::to_string(c) + " x " +
-                     std::to_string(p.A.cols()) + ", not square");
-  for (const auto& [name, v] : {std::pair<const char*, const VecX*>{"b.mtx", &p.b},
-                                {"cmin.mtx", &p.cmin},
-                                {"cmax.mtx", &p.cmax}}) {
-    if (v->size() != c)
-      throw InputError(file(name) + ": has " + std::to_string(v->size()) + " rows, A has " +
-                       std::to_string(c));
-  }
-  for (long k = 0; k < c; ++k) {
-    if (p.cmin(k) > p.cmax(k))
-      throw InputError(file("cmin.mtx") + ": line " + std::to_string(k + 3) + ": cmin[" +
-                       std::to_string(k) + "] > cmax[" + std::to_string(k) + "]");
-    if (!std::isfinite(p.b(k)))
-      throw InputError(file("b.mtx") + ": b[" + std::to_string(k) + "] is not finite");
-  }
-  return p;
-}
-
-Problem read_dat(const std::string& path) {
-  const StoredLcp s = read_siconos(path, siconos_is_relay(path));
-  Problem p;
-  p.A = s.M.sparseView(0.0, 0.0);
-  p.b = -s.q;
-  p.cmin = s.lb;
-  p.cmax = s.ub;
-  return p;
-}
-
 bool is_standard_lcp(const Problem& p) {
   return (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
-}
-
-/// max(1, ‖q‖∞, max |M_ij|) with q = −b, M = A.
-double scale_of(const Problem& p) {
-  double s = 1.0;
-  if (p.b.size() > 0) s = std::max(s, p.b.lpNorm<Eigen::Infinity>());
-  for (Eigen::Index j = 0; j < p.A.outerSize(); ++j)
-    for (SpMat::InnerIterator it(p.A, j); it; ++it) s = std::max(s, std::abs(it.value()));
-  return s;
 }
 
 /// What the solver returned, before the command's own check.
@@ -169,7 +112,7 @@ int lcp_command(const LcpOptions& o) {
   const bool folder = fs::is_directory(o.problem, ec);
   if (!o.out.empty() && fs::exists(o.out, ec) && fs::equivalent(o.out, o.problem, ec))
     throw InputError("--out " + o.out + ": is the problem itself; choose another folder");
-  const Problem p = folder ? read_folder(o.problem) : read_dat(o.problem);
+  const Problem p = read_problem(o.problem);
 
   std::string solver = o.solver;
   if (solver.empty()) solver = (!folder || p.rows() <= kMaxLemkeRows) ? "lemke" : "pgs";

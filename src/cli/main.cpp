@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
       "  cbps matrices chain --step 10 --out out/m\n"
       "  cbps lcp out/m --solver pgs\n"
       "  cbps verify\n"
+      "  cbps converge chain --param n=100 --param mass_ratio=100 --step 100 --out out/conv\n"
       "Exit codes: 0 success, 1 failed computation, 2 bad input or usage.");
   app.require_subcommand(1);
   app.set_version_flag("--version", "cbps 0.1.0");
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
   cbps::cli::register_matrices(app, action);
   cbps::cli::register_lcp(app, action);
   cbps::cli::register_verify(app, action);
+  cbps::cli::register_converge(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -1,0 +1,463 @@
+// cbps converge SCENE|PROBLEM --solvers LIST --out DIR: error against iterations and run time.
+//
+// One system (a scene's step K, or a stored problem) is solved by each solver of LIST from the
+// same guess; after every sweep the command records the wall time of the sweeps so far (the
+// recording itself is not timed), the natural-map residual (6.2), the error against the direct
+// solution (lambda where A is positive definite, else only the unique v2 of 12.3.1) and the QP
+// objective ½ λᵀ A λ − bᵀ λ. The direct path (6.2) is one point: its time and residual.
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <random>
+#include <sstream>
+
+#include "cbps/error.hpp"
+#include "cbps/simulation.hpp"
+#include "cbps/solver.hpp"
+#include "common.hpp"
+#include "problem.hpp"
+
+extern char** environ;
+
+namespace cbps::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+/// The residuals the summary reports the first sweep and time for (N).
+constexpr double kMilestones[] = {1e-3, 1e-6, 1e-10};
+
+struct ConvergeOptions {
+  SceneOptions scene;
+  StepOptions step;
+  std::string solvers = "pgs,psor:1.3,sgs,jacobi:0.7,matrix-free,direct";
+  long at_step = 0;
+  int iterations = 100000;
+  double tolerance = 1e-10;
+  double time_limit = 10.0;
+  std::string out;
+  bool json = false;
+  bool quiet = false;
+  bool plot = true;
+};
+
+/// The system under study and what is known about its answer.
+struct Study {
+  std::string name;
+  SpMat A;
+  VecX b, cmin, cmax;
+  std::vector<int> blocks;  ///< contact manifold of each row (block PGS), −1 for others
+  SpMatRow J;               ///< empty for Siconos files
+  SpMat Minv;
+  VecX v1, fext;
+  double dt = 0.0;
+  VecX warm;  ///< the previous step's lambda by row id (scenes after step 0), else 0
+  VecX lambda_star, v2_star;
+  bool lambda_unique = false;  ///< A positive definite (a Cholesky factorization exists)
+  bool has_bodies() const { return J.rows() > 0 && dt > 0.0; }
+  VecX v2(const VecX& lambda) const { return compute_v2(v1, Minv, J, lambda, fext, dt); }
+};
+
+bool is_problem(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return true;
+  return fs::path(path).extension() == ".dat";
+}
+
+Study study_of_problem(const std::string& path) {
+  Problem p = read_problem(path);
+  Study s;
+  s.name = path;
+  s.A = std::move(p.A);
+  s.b = std::move(p.b);
+  s.cmin = std::move(p.cmin);
+  s.cmax = std::move(p.cmax);
+  if (p.has_bodies()) {
+    s.J = std::move(p.J);
+    s.Minv = std::move(p.Minv);
+    s.v1 = std::move(p.v1);
+    s.fext = std::move(p.fext);
+    s.dt = p.dt;
+  }
+  s.blocks.assign(static_cast<std::size_t>(s.b.size()), -1);
+  s.warm = VecX::Zero(s.b.size());
+  return s;
+}
+
+Study study_of_scene(const ConvergeOptions& o) {
+  Scene scene = load_scene(o.scene);
+  apply_step_options(scene, o.step);
+  if (scene.world.friction == FrictionModel::Coulomb && scene.world.mu > 0.0)
+    throw InputError(o.scene.scene +
+                     ": Coulomb friction bounds move with lambda, so the system is not one boxed "
+                     "problem; study it with friction=paper");
+  Simulation sim(scene);
+  for (long k = 0; k < o.at_step; ++k) sim.step();
+  const System& sys = sim.assemble();
+  Study s;
+  s.name = o.scene.scene;
+  s.A = sys.A;
+  s.b = sys.b;
+  s.cmin = sys.cmin;
+  s.cmax = sys.cmax;
+  s.blocks = sys.manifold;
+  s.J = sys.J;
+  s.Minv = sys.Minv;
+  s.v1 = sys.v1;
+  s.fext = sys.fext;
+  s.dt = sys.dt;
+  s.warm = sim.initial_lambda(sys);
+  return s;
+}
+
+/// The reference: the direct path from lambda = 0; lambda is unique when A has a Cholesky
+/// factorization.
+SolverSummary solve_reference(Study& s) {
+  s.lambda_star = VecX::Zero(s.b.size());
+  const SolverSummary d = solve_direct(s.A, s.b, s.cmin, s.cmax, s.lambda_star);
+  try {
+    VecX unused;
+    solve_cholesky(s.A, s.b, unused);
+    s.lambda_unique = true;
+  } catch (const ComputationError&) {
+    s.lambda_unique = false;
+  }
+  if (s.has_bodies()) s.v2_star = s.v2(s.lambda_star);
+  return d;
+}
+
+struct Sample {
+  int iteration = 0;
+  double time_s = 0.0, residual = 0.0, lambda_error = NAN, velocity_error = NAN, objective = 0.0;
+};
+
+struct Run {
+  SolverSpec spec;
+  std::vector<Sample> samples;
+  std::string stopped;  ///< why the sweeps ended
+};
+
+Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s) {
+  Sample m;
+  m.iteration = iteration;
+  m.time_s = time_s;
+  const VecX Alambda = s.A * lambda;
+  m.residual = natural_map_residual(s.A, s.b, s.cmin, s.cmax, lambda);
+  m.objective = 0.5 * lambda.dot(Alambda) - s.b.dot(lambda);  // (6.2)
+  if (s.lambda_unique) m.lambda_error = (lambda - s.lambda_star).lpNorm<Eigen::Infinity>();
+  if (s.has_bodies()) m.velocity_error = (s.v2(lambda) - s.v2_star).lpNorm<Eigen::Infinity>();
+  return m;
+}
+
+/// One sweep of the spec's method, lambda in place.
+std::function<void(VecX&)> make_sweep(const Study& s, const SolverSpec& spec, std::uint64_t seed) {
+  const double omega = spec.relaxation;
+  const auto rng = std::make_shared<std::mt19937_64>(seed);
+  const auto rows = std::make_shared<std::vector<int>>();
+  const int c = static_cast<int>(s.b.size());
+  if (spec.order != RowOrder::Natural) sweep_order(spec.order, c, *rng, *rows);
+  const auto next_order = [spec, c, rng, rows] {
+    if (spec.order == RowOrder::Random) sweep_order(spec.order, c, *rng, *rows);
+  };
+  if (spec.method == "pgs") {
+    return [&s, omega, rows, next_order](VecX& l) {
+      next_order();
+      if (rows->empty()) {
+        pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega);
+      } else {
+        pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega, *rows);
+      }
+    };
+  }
+  if (spec.method == "sgs") {
+    std::vector<int> backward(static_cast<std::size_t>(c));
+    for (int k = 0; k < c; ++k) backward[std::size_t(k)] = c - 1 - k;
+    return [&s, omega, backward](VecX& l) {
+      pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega);
+      pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega, backward);
+    };
+  }
+  if (spec.method == "jacobi") {
+    const auto scratch = std::make_shared<VecX>();
+    return [&s, omega, scratch](VecX& l) {
+      jacobi_sweep(s.A, s.b, s.cmin, s.cmax, l, omega, *scratch);
+    };
+  }
+  if (spec.method == "block-pgs") {
+    return [&s, omega](VecX& l) { block_pgs_sweep(s.A, s.b, s.cmin, s.cmax, s.blocks, l, omega); };
+  }
+  // matrix-free: u = W lambda is kept across sweeps; lambda changes only in its sweeps.
+  const auto pgs = std::make_shared<MatrixFreePgs>(s.J, s.Minv);
+  const auto u = std::make_shared<VecX>();
+  return [&s, omega, rows, next_order, pgs, u](VecX& l) {
+    if (u->size() == 0) *u = pgs->impulse(l);  // first sweep: u = W lambda of the guess
+    next_order();
+    pgs->sweep(s.b, s.cmin, s.cmax, l, *u, omega, *rows);
+  };
+}
+
+Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions& o) {
+  if (spec.method == "matrix-free" && !s.has_bodies())
+    throw InputError("--solvers " + spec.text + ": " + s.name +
+                     " has no J and Minv (a Siconos file); the matrix-free form needs them");
+  Run run;
+  run.spec = spec;
+  VecX lambda = spec.warm_start ? s.warm : VecX::Zero(s.b.size());
+  const auto sweep = make_sweep(s, spec, o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u);
+  double time_s = 0.0;
+  run.samples.push_back(measure(s, lambda, 0, 0.0));
+  int last_report = 0;
+  for (int k = 1;; ++k) {
+    const auto start = Clock::now();
+    sweep(lambda);  // only this is timed
+    time_s += std::chrono::duration<double>(Clock::now() - start).count();
+    const Sample m = measure(s, lambda, k, time_s);
+    run.samples.push_back(m);
+    if (!std::isfinite(m.residual)) {
+      run.stopped = "non-finite values";
+      break;
+    }
+    if (m.residual <= o.tolerance) {
+      run.stopped = "residual tolerance";
+      break;
+    }
+    if (k >= o.iterations) {
+      run.stopped = "iteration limit";
+      break;
+    }
+    if (time_s >= o.time_limit) {
+      run.stopped = "time limit";
+      break;
+    }
+    if (!o.quiet && k - last_report >= 1000 && k % 1000 == 0) {
+      std::fprintf(stderr,
+                   "converge: %s: %d sweeps, %.2f s, residual %.3g N\n",
+                   spec.text.c_str(),
+                   k,
+                   time_s,
+                   m.residual);
+      last_report = k;
+    }
+  }
+  return run;
+}
+
+Run run_direct(const Study& s, const SolverSpec& spec) {
+  Run run;
+  run.spec = spec;
+  VecX lambda = VecX::Zero(s.b.size());
+  const auto start = Clock::now();
+  const SolverSummary d = solve_direct(s.A, s.b, s.cmin, s.cmax, lambda);
+  const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
+  run.stopped = to_string(d.termination);
+  return run;
+}
+
+std::string number(double x) {
+  if (std::isnan(x)) return "";
+  std::ostringstream out;
+  out.precision(9);
+  out << x;
+  return out.str();
+}
+
+nlohmann::json json_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+/// Runs the plot script on the CSV; true if it wrote its files.
+bool plot(const std::string& csv, const std::string& prefix, const std::string& title) {
+  const std::string python = CBPS_PLOT_PYTHON;
+  const std::string script = std::string(CBPS_SOURCE_DIR) + "/scripts/plot_convergence.py";
+  std::vector<std::string> args{python, script, csv, prefix, "--title", title};
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return false;
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return false;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+int converge_command(const ConvergeOptions& o) {
+  const std::vector<SolverSpec> specs = parse_solver_list(o.solvers, "--solvers");
+  const bool problem = is_problem(o.scene.scene);
+  if (problem && !o.scene.params.empty())
+    throw InputError("--param: parameters apply to built-in scenes, not to the problem " +
+                     o.scene.scene);
+  Study s = problem ? study_of_problem(o.scene.scene) : study_of_scene(o);
+  std::unique_ptr<OutputDir> dir;
+  if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
+  if (!o.quiet)
+    std::fprintf(stderr,
+                 "converge: %s: %ld rows, reference by the direct path\n",
+                 s.name.c_str(),
+                 static_cast<long>(s.b.size()));
+  const SolverSummary reference = solve_reference(s);
+
+  std::vector<Run> runs;
+  for (const SolverSpec& spec : specs) {
+    runs.push_back(spec.method == "direct" ? run_direct(s, spec) : run_iterative(s, spec, o));
+    if (!o.quiet) {
+      const Sample& last = runs.back().samples.back();
+      std::fprintf(stderr,
+                   "converge: %s: %s after %d sweeps, %.3g s, residual %.3g N\n",
+                   spec.text.c_str(),
+                   runs.back().stopped.c_str(),
+                   last.iteration,
+                   last.time_s,
+                   last.residual);
+    }
+  }
+
+  nlohmann::json summary;
+  summary["problem"] = s.name;
+  summary["rows"] = s.b.size();
+  summary["step"] = problem ? nlohmann::json(nullptr) : nlohmann::json(o.at_step);
+  summary["lambda_unique"] = s.lambda_unique;
+  summary["reference"] = {{"residual", reference.residual},
+                          {"termination", to_string(reference.termination)}};
+  summary["tolerance"] = o.tolerance;
+  summary["solvers"] = nlohmann::json::array();
+  std::ostringstream csv;
+  csv << "solver,iteration,time_s,residual,lambda_error,velocity_error,objective\n";
+  for (const Run& run : runs) {
+    for (const Sample& m : run.samples) {
+      csv << run.spec.text << ',' << m.iteration << ',' << number(m.time_s) << ','
+          << number(m.residual) << ',' << number(m.lambda_error) << ',' << number(m.velocity_error)
+          << ',' << number(m.objective) << '\n';
+    }
+    nlohmann::json j;
+    const Sample& last = run.samples.back();
+    j["solver"] = run.spec.text;
+    j["method"] = run.spec.method;
+    j["relaxation"] = run.spec.relaxation;
+    j["order"] = to_string(run.spec.order);
+    j["warm_start"] = run.spec.warm_start;
+    j["stopped"] = run.stopped;
+    j["iterations"] = last.iteration;
+    j["time_s"] = last.time_s;
+    j["residual"] = json_or_null(last.residual);
+    j["lambda_error"] = json_or_null(last.lambda_error);
+    j["velocity_error"] = json_or_null(last.velocity_error);
+    nlohmann::json reached = nlohmann::json::object();
+    for (const double target : kMilestones) {
+      nlohmann::json at = nullptr;
+      for (const Sample& m : run.samples) {
+        if (m.residual <= target) {
+          at = {{"iterations", m.iteration}, {"time_s", m.time_s}};
+          break;
+        }
+      }
+      reached[number(target)] = at;
+    }
+    j["reached"] = reached;
+    summary["solvers"].push_back(j);
+  }
+
+  if (dir) {
+    write_text(dir->file("convergence.csv"), csv.str());
+    write_text(dir->file("summary.json"), summary.dump(2) + "\n");
+    if (o.plot) {
+      const std::string title = s.name + " (" + std::to_string(s.b.size()) + " rows)";
+      if (!plot(dir->file("convergence.csv"), dir->file("convergence"), title))
+        throw ComputationError("converge: the plot script failed (" +
+                               std::string(CBPS_PLOT_PYTHON) +
+                               " scripts/plot_convergence.py); "
+                               "nothing written (--no-plot skips the plot)");
+    }
+    dir->commit();
+  }
+  if (o.json) {
+    std::printf("%s\n", summary.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %ld rows, lambda %s; direct reference residual %.3g N\n",
+              s.name.c_str(),
+              static_cast<long>(s.b.size()),
+              s.lambda_unique ? "unique (A definite)" : "not unique (A singular): v2 compared",
+              reference.residual);
+  std::printf("%-24s %10s %11s %11s  %-18s %-18s %-18s\n",
+              "solver",
+              "sweeps",
+              "time (s)",
+              "residual",
+              "to 1e-3 N",
+              "to 1e-6 N",
+              "to 1e-10 N");
+  for (const nlohmann::json& j : summary["solvers"]) {
+    std::printf("%-24s %10d %11.3g %11.3g ",
+                j["solver"].get<std::string>().c_str(),
+                j["iterations"].get<int>(),
+                j["time_s"].get<double>(),
+                j["residual"].is_null() ? NAN : j["residual"].get<double>());
+    for (const double target : kMilestones) {
+      const nlohmann::json& at = j["reached"][number(target)];
+      char cell[64] = "-";
+      if (!at.is_null())
+        std::snprintf(cell,
+                      sizeof cell,
+                      "%d / %.3g s",
+                      at["iterations"].get<int>(),
+                      at["time_s"].get<double>());
+      std::printf(" %-18s", cell);
+    }
+    std::printf("\n");
+  }
+  if (!o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void register_converge(CLI::App& app, Action& run) {
+  auto* cmd = app.add_subcommand(
+      "converge",
+      "error against iterations and run time for each solver on one system (a scene's step or "
+      "a stored problem): convergence.csv, summary.json, convergence.png/.svg");
+  auto o = std::make_shared<ConvergeOptions>();
+  cmd->add_option("SCENE",
+                  o->scene.scene,
+                  "built-in scene, JSON scene file, `cbps matrices` folder or Siconos .dat file")
+      ->required();
+  cmd->add_option("--param", o->scene.params, "NAME=VALUE: a built-in scene's parameter");
+  cmd->add_option("--solvers",
+                  o->solvers,
+                  "comma-separated solver specs, e.g. pgs,psor:1.3,sgs,jacobi:0.7,"
+                  "pgs:order=random,block-pgs,matrix-free,direct (default: " +
+                      o->solvers + ")");
+  cmd->add_option("--step",
+                  o->at_step,
+                  "scenes: study the system of this step (0: the first; later steps start "
+                  "from the previous step's lambda unless a spec says warm=off)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--dt", o->step.dt, "scenes: time step in s");
+  cmd->add_option("--push", o->step.push, "scenes: original | improved")
+      ->check(CLI::IsMember({"original", "improved"}));
+  cmd->add_option("--iterations", o->iterations, "max sweeps per solver (default 100000)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--time-limit", o->time_limit, "max sweep time per solver, s (default 10)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--seed", o->step.seed, "seed of random row orders (default 0)");
+  cmd->add_option("--out", o->out, "write convergence.csv, summary.json and the plot here");
+  cmd->add_flag("--json", o->json, "print the summary as JSON");
+  cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
+  cmd->add_flag("!--no-plot", o->plot, "write no convergence.png/.svg");
+  cmd->callback([&run, o] { run = [o] { return converge_command(*o); }; });
+}
+
+}  // namespace cbps::cli

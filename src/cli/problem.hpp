@@ -1,0 +1,35 @@
+// Stored problems for `cbps lcp` and `cbps converge`: a folder written by `cbps matrices` or a
+// Siconos .dat file (LCP or relay), held in the paper's convention (6.2).
+#pragma once
+
+#include <string>
+
+#include "cbps/types.hpp"
+
+namespace cbps::cli {
+
+/// w = A lambda − b, cmin ≤ lambda ≤ cmax. Siconos' w = M z + q, lb ≤ z ≤ ub is M = A,
+/// q = −b, lb = cmin, ub = cmax. A `cbps matrices` folder also gives the system's J, Minv, v1,
+/// fext and dt (6.1), so v2 (12.3.1) can be formed; has_bodies() says so.
+struct Problem {
+  SpMat A;    ///< c×c
+  VecX b;     ///< c
+  VecX cmin;  ///< c, −∞ allowed
+  VecX cmax;  ///< c, +∞ allowed
+  bool folder = false;
+  SpMatRow J;  ///< c×6n, folders only
+  SpMat Minv;  ///< 6n×6n, folders only
+  VecX v1, fext;
+  double dt = 0.0;
+  long rows() const { return static_cast<long>(b.size()); }
+  bool has_bodies() const { return J.rows() == rows() && J.rows() > 0 && dt > 0.0; }
+};
+
+/// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx; J.mtx, Minv.mtx, v1.mtx, fext.mtx and
+/// dt.txt when all are there) or a Siconos file. Throws InputError naming the file and line.
+Problem read_problem(const std::string& path);
+
+/// max(1, ‖q‖∞, max |M_ij|) with q = −b, M = A: the scale residuals are judged against.
+double scale_of(const Problem& p);
+
+}  // namespace cbps::cli
