@@ -109,7 +109,7 @@ namespace {
 
 constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2.0;
 /// A free block whose reciprocal condition estimate is below this is treated as singular.
-constexpr double kSingularRcond = 1e-12;
+constexpr double kSingularRcond = kDefiniteRcond;
 /// Outer iterations without a new best residual before the direct path gives up.
 constexpr int kStallLimit = 10;
 /// The factor by which ε falls when the proximal steps converge slowly (and rises back).

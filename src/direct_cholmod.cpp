@@ -116,4 +116,10 @@ SolverSummary solve_cholesky(const SpMat& A, const VecX& b, VecX& lambda) {
   return s;
 }
 
+double cholesky_rcond(const SpMat& A) {
+  if (A.rows() == 0) return 1.0;
+  CholmodFactor llt;
+  return llt.factor(A, 0.0) ? llt.rcond() : 0.0;
+}
+
 }  // namespace cbps

@@ -200,6 +200,12 @@ SolverSummary solve_jacobi(const SpMat& A,
 /// that case.
 SolverSummary solve_cholesky(const SpMat& A, const VecX& b, VecX& lambda);
 
+/// CHOLMOD's estimate of the reciprocal condition number of A's Cholesky factor (squared
+/// factor diagonal ratio), 0 when the factorization fails. The direct path takes A as
+/// numerically definite (lambda unique) when this is ≥ kDefiniteRcond.
+double cholesky_rcond(const SpMat& A);
+inline constexpr double kDefiniteRcond = 1e-12;
+
 /// The principal submatrix A(idx, idx) of a symmetric A, idx sorted ascending. `local` is
 /// scratch of size A.rows() that holds −1 everywhere on entry and on exit.
 SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local);
