@@ -78,7 +78,9 @@ def plot(data, title):
         color = f"C{i % 10}"
         it, t, r = (np.array(col, dtype=float) for col in zip(*rows))
         label = name + (" (reaches 0)" if np.any(r == 0) else "")
-        ok = np.isfinite(r) & (r > 0)  # log axes: drop non-positive / non-finite
+        # log axes: drop non-positive and non-finite values, and diverged ones beyond 1e100
+        # (matplotlib overflows computing ticks near 1e308)
+        ok = np.isfinite(r) & (r > 0) & (r < 1e100)
         if name.startswith("direct"):
             # Direct solve: one row = total iterations and time; draw a star.
             it, t, r, ok = it[-1:], t[-1:], r[-1:], ok[-1:]
