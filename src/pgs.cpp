@@ -217,9 +217,22 @@ SolverSummary iterate_rows(
   if (options.residual_tolerance > 0.0 && s.residual <= options.residual_tolerance) {
     s.termination = Termination::ResidualTolerance;
   }
+  double sweep_time = 0.0;  // s, in the sweeps alone (for after_sweep)
   while (s.termination == Termination::MaxIterations && s.iterations < options.max_iterations) {
-    s.delta = sweep(lambda);
+    if (options.after_sweep) {  // the clock only for an observer: sweeps can be 1 µs
+      const auto sweep_start = std::chrono::steady_clock::now();
+      s.delta = sweep(lambda);
+      sweep_time +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - sweep_start).count();
+    } else {
+      s.delta = sweep(lambda);
+    }
     ++s.iterations;
+    if (options.after_sweep && !options.after_sweep(s.iterations, lambda, sweep_time)) {
+      s.termination = Termination::Stopped;
+      s.residual = residual(lambda);
+      break;
+    }
     if (!std::isfinite(s.delta)) {
       s.termination = Termination::NonFinite;
       break;
@@ -470,6 +483,8 @@ std::string to_string(Termination t) {
       return "direct solve stopped short of its tolerance";
     case Termination::NonFinite:
       return "non-finite values";
+    case Termination::Stopped:
+      return "stopped by the caller";
   }
   return "?";
 }

@@ -34,6 +34,10 @@ struct SolverOptions {
   double block_regularization = 1e-7;
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, psor, matrix-free)
   std::uint64_t seed = 0;              ///< RowOrder::Random: the first permutation's seed
+  /// Iterative solvers call this after every sweep with the sweep count, lambda and the seconds
+  /// spent in sweeps so far (the call itself is not timed); false ends the solve
+  /// (Termination::Stopped). `cbps converge` records its samples here.
+  std::function<bool(int, const VecX&, double)> after_sweep;
 };
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
@@ -45,7 +49,8 @@ enum class Termination {
   MaxIterations,
   Direct,
   NotConverged,
-  NonFinite
+  NonFinite,
+  Stopped  ///< SolverOptions::after_sweep returned false
 };
 
 struct SolverSummary {

@@ -13,10 +13,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <memory>
 #include <optional>
-#include <random>
 #include <sstream>
 
 #include "cbps/error.hpp"
@@ -155,53 +153,6 @@ Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s)
   return m;
 }
 
-/// One sweep of the spec's method, lambda in place.
-std::function<void(VecX&)> make_sweep(const Study& s, const SolverSpec& spec, std::uint64_t seed) {
-  const double omega = spec.relaxation;
-  const auto rng = std::make_shared<std::mt19937_64>(seed);
-  const auto rows = std::make_shared<std::vector<int>>();
-  const int c = static_cast<int>(s.b.size());
-  if (spec.order != RowOrder::Natural) sweep_order(spec.order, c, *rng, *rows);
-  const auto next_order = [spec, c, rng, rows] {
-    if (spec.order == RowOrder::Random) sweep_order(spec.order, c, *rng, *rows);
-  };
-  if (spec.method == "pgs") {
-    return [&s, omega, rows, next_order](VecX& l) {
-      next_order();
-      if (rows->empty()) {
-        pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega);
-      } else {
-        pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega, *rows);
-      }
-    };
-  }
-  if (spec.method == "sgs") {
-    std::vector<int> backward(static_cast<std::size_t>(c));
-    for (int k = 0; k < c; ++k) backward[std::size_t(k)] = c - 1 - k;
-    return [&s, omega, backward](VecX& l) {
-      pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega);
-      pgs_sweep(s.A, s.b, s.cmin, s.cmax, l, omega, backward);
-    };
-  }
-  if (spec.method == "jacobi") {
-    const auto scratch = std::make_shared<VecX>();
-    return [&s, omega, scratch](VecX& l) {
-      jacobi_sweep(s.A, s.b, s.cmin, s.cmax, l, omega, *scratch);
-    };
-  }
-  if (spec.method == "block-pgs") {
-    return [&s, omega](VecX& l) { block_pgs_sweep(s.A, s.b, s.cmin, s.cmax, s.blocks, l, omega); };
-  }
-  // matrix-free: u = W lambda is kept across sweeps; lambda changes only in its sweeps.
-  const auto pgs = std::make_shared<MatrixFreePgs>(s.J, s.Minv);
-  const auto u = std::make_shared<VecX>();
-  return [&s, omega, rows, next_order, pgs, u](VecX& l) {
-    if (u->size() == 0) *u = pgs->impulse(l);  // first sweep: u = W lambda of the guess
-    next_order();
-    pgs->sweep(s.b, s.cmin, s.cmax, l, *u, omega, *rows);
-  };
-}
-
 Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions& o) {
   if (spec.method == "matrix-free" && !s.has_bodies())
     throw InputError("--solvers " + spec.text + ": " + s.name +
@@ -209,42 +160,37 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   Run run;
   run.spec = spec;
   VecX lambda = spec.warm_start ? s.warm : VecX::Zero(s.b.size());
-  const auto sweep = make_sweep(s, spec, o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u);
-  double time_s = 0.0;
   run.samples.push_back(measure(s, lambda, 0, 0.0));
-  int last_report = 0;
-  for (int k = 1;; ++k) {
-    const auto start = Clock::now();
-    sweep(lambda);  // only this is timed
-    time_s += std::chrono::duration<double>(Clock::now() - start).count();
-    const Sample m = measure(s, lambda, k, time_s);
+  // The solvers themselves, as `cbps run` uses them; they time their sweeps and hand each
+  // iterate here, outside the clock.
+  SolverOptions options;
+  options.max_iterations = o.iterations;
+  options.relaxation = spec.relaxation;
+  options.order = spec.order;
+  options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
+  options.row_blocks = &s.blocks;
+  options.describe = false;
+  options.after_sweep = [&](int k, const VecX& l, double time_s) {
+    const Sample m = measure(s, l, k, time_s);
     run.samples.push_back(m);
-    if (!std::isfinite(m.residual)) {
-      run.stopped = "non-finite values";
-      break;
-    }
-    if (m.residual <= o.tolerance) {
-      run.stopped = "residual tolerance";
-      break;
-    }
-    if (k >= o.iterations) {
-      run.stopped = "iteration limit";
-      break;
-    }
-    if (time_s >= o.time_limit) {
-      run.stopped = "time limit";
-      break;
-    }
-    if (!o.quiet && k - last_report >= 1000 && k % 1000 == 0) {
+    if (!std::isfinite(m.residual)) run.stopped = "non-finite values";
+    if (m.residual <= o.tolerance) run.stopped = "residual tolerance";
+    if (run.stopped.empty() && time_s >= o.time_limit) run.stopped = "time limit";
+    if (!o.quiet && k % 1000 == 0)
       std::fprintf(stderr,
                    "converge: %s: %d sweeps, %.2f s, residual %.3g N\n",
                    spec.text.c_str(),
                    k,
                    time_s,
                    m.residual);
-      last_report = k;
-    }
+    return run.stopped.empty();
+  };
+  if (spec.method == "matrix-free") {
+    solve_matrix_free(s.J, s.Minv, s.b, s.cmin, s.cmax, lambda, options);
+  } else {
+    solve(spec.method, s.A, s.b, s.cmin, s.cmax, lambda, options);
   }
+  if (run.stopped.empty()) run.stopped = "iteration limit";
   return run;
 }
 
