@@ -299,8 +299,9 @@ SolverSummary solve_matrix_free(const SpMatRow& J,
                                 const VecX& cmin,
                                 const VecX& cmax,
                                 VecX& lambda,
-                                const SolverOptions& options) {
-  const MatrixFreePgs pgs(J, Minv);
+                                const SolverOptions& options,
+                                double cfm) {
+  const MatrixFreePgs pgs(J, Minv, cfm);
   if (lambda.size() != J.rows()) lambda = VecX::Zero(J.rows());
   VecX u = pgs.impulse(lambda);  // kept equal to W lambda by every sweep
   std::mt19937_64 rng(options.seed);

@@ -10,6 +10,8 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   s.duration *= T;
   s.world.restitution_threshold *= L / T;  // m/s
   s.world.contact_margin *= L;             // m
+  s.world.divergence_speed *= L / T;       // m/s
+  s.world.divergence_spin /= T;            // rad/s
   for (Body& body : s.bodies) {
     body.shape.radius *= L;
     body.shape.half_extents *= L;
@@ -29,6 +31,7 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   }
   s.solver.tolerance *= M * L / (T * T);  // residual in N
   s.solver.delta_tolerance *= M * L / (T * T);
+  s.solver.cfm /= M;  // kg⁻¹, as A
   return s;
 }
 

@@ -95,14 +95,28 @@ std::vector<Row> Simulation::build_rows() const {
   return rows;
 }
 
+namespace {
+
+/// Constraint-force mixing: A ← A + eps E (the scene's solver.cfm), recorded in sys.cfm.
+void add_cfm(System& sys, double eps) {
+  sys.cfm = eps;
+  if (eps == 0.0) return;
+  for (int k = 0; k < sys.rows(); ++k) sys.A.coeffRef(k, k) += eps;
+}
+
+}  // namespace
+
 System Simulation::build_system() const {
-  return assemble_system(scene_.bodies, build_rows(), scene_.world.gravity, scene_.world.dt);
+  System sys = assemble_system(scene_.bodies, build_rows(), scene_.world.gravity, scene_.world.dt);
+  add_cfm(sys, scene_.solver.cfm);
+  return sys;
 }
 
 const System& Simulation::assemble(StageTimes* times) {
   build_rows(rows_, manifolds_, times);
   auto clock = Clock::now();
   assemble_system(scene_.bodies, rows_, scene_.world.gravity, scene_.world.dt, sys_);
+  add_cfm(sys_, scene_.solver.cfm);
   if (times != nullptr) times->assembly = lap(clock);
   return sys_;
 }
@@ -166,7 +180,7 @@ SolverSummary Simulation::solve_system(const System& sys,
   options.seed = settings.seed + static_cast<std::uint64_t>(steps_);  // new permutations each step
   const auto run = [&](const VecX& lo, const VecX& hi, VecX& l, const SolverOptions& o) {
     if (settings.method == "matrix-free")
-      return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o);
+      return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o, sys.cfm);
     return solve(settings.method, sys.A, b, lo, hi, l, o);
   };
   const bool coulomb =
@@ -230,28 +244,88 @@ SolverSummary Simulation::solve_system(const System& sys,
 
 namespace {
 
-/// Names the first non-finite entry of v2 by step and body, or of lambda by row.
-void check_finite(const System& sys,
-                  const std::vector<Body>& bodies,
-                  const VecX& lambda,
-                  const VecX& v2,
-                  long step) {
+/// The body of a row: the first movable body its j_c acts on, −1 if none.
+int body_of_row(const System& sys, int k) {
+  for (SpMatRow::InnerIterator it(sys.J, k); it; ++it)
+    return sys.body_of_block[static_cast<std::size_t>(it.col() / 6)];
+  return -1;
+}
+
+/// The row whose impulse on column block `blk` is largest, |lambda_k| ‖j_k restricted to the
+/// block‖, −1 if no row acts on it: the row a diverging body is most likely driven by.
+int strongest_row_on(const System& sys, const VecX& lambda, int blk) {
+  int best = -1;
+  double largest = -1.0;
   for (int k = 0; k < sys.rows(); ++k) {
-    if (!std::isfinite(lambda(k))) {
-      std::ostringstream msg;
-      msg << "step " << step << ": lambda of row " << k << " ("
-          << sys.labels[static_cast<std::size_t>(k)] << ") is " << lambda(k);
-      throw ComputationError(msg.str());
+    double norm2 = 0.0;
+    for (SpMatRow::InnerIterator it(sys.J, k); it; ++it)
+      if (it.col() / 6 == blk) norm2 += it.value() * it.value();
+    if (norm2 == 0.0) continue;
+    const double impulse = std::abs(lambda(k)) * std::sqrt(norm2);
+    if (!(impulse <= largest)) {  // NaN wins: it is the row to name
+      largest = impulse;
+      best = k;
     }
   }
-  for (Eigen::Index i = 0; i < v2.size(); ++i) {
-    if (!std::isfinite(v2(i))) {
-      const int body = sys.body_of_block[static_cast<std::size_t>(i / 6)];
-      std::ostringstream msg;
-      msg << "step " << step << ": velocity of body " << body << " ("
-          << bodies[static_cast<std::size_t>(body)].name << ") is not finite";
-      throw ComputationError(msg.str());
+  return best;
+}
+
+/// The divergence guard, run on every solve of every step: any lambda or v2 entry that is not
+/// finite, or a body whose speed |v| or spin |omega| exceeds the scene's limits
+/// (World::divergence_speed, divergence_spin), stops the run with a DivergenceError naming the
+/// step, the body and the row, before the step's positions move.
+void check_divergence(const System& sys,
+                      const std::vector<Body>& bodies,
+                      const World& world,
+                      const VecX& lambda,
+                      const VecX& v2,
+                      long step,
+                      const char* system) {
+  const auto row_text = [&](int k) {
+    std::ostringstream text;
+    text << "row " << k << " (" << sys.labels[static_cast<std::size_t>(k)]
+         << "), lambda = " << lambda(k) << " N";
+    return text.str();
+  };
+  const auto body_text = [&](int body) {
+    std::ostringstream text;
+    text << "body " << body << " (" << bodies[static_cast<std::size_t>(body)].name << ")";
+    return text.str();
+  };
+  const double t = static_cast<double>(step) * world.dt;
+  for (int k = 0; k < sys.rows(); ++k) {
+    if (std::isfinite(lambda(k))) continue;
+    const int body = body_of_row(sys, k);
+    std::ostringstream msg;
+    msg << "step " << step << " (t = " << t << " s), " << system << ": " << row_text(k)
+        << " is not finite";
+    if (body >= 0) msg << "; it acts on " << body_text(body);
+    throw DivergenceError(msg.str(), step, body, k);
+  }
+  for (int blk = 0; blk < sys.blocks(); ++blk) {
+    const double speed = v2.segment<3>(6 * blk).norm();
+    const double spin = v2.segment<3>(6 * blk + 3).norm();
+    const bool finite = std::isfinite(speed) && std::isfinite(spin);
+    if (finite && speed <= world.divergence_speed && spin <= world.divergence_spin) continue;
+    const int body = sys.body_of_block[static_cast<std::size_t>(blk)];
+    const int row = strongest_row_on(sys, lambda, blk);
+    std::ostringstream msg;
+    msg << "step " << step << " (t = " << t << " s), " << system << ": " << body_text(body);
+    if (!finite) {
+      msg << " has a velocity that is not finite";
+    } else if (speed > world.divergence_speed) {
+      msg << " moves at " << speed << " m/s, beyond divergence_speed " << world.divergence_speed
+          << " m/s";
+    } else {
+      msg << " spins at " << spin << " rad/s, beyond divergence_spin " << world.divergence_spin
+          << " rad/s";
     }
+    if (row >= 0) {
+      msg << "; the largest constraint impulse on it is " << row_text(row);
+    } else {
+      msg << "; no constraint row acts on it";
+    }
+    throw DivergenceError(msg.str(), step, body, row);
   }
 }
 
@@ -290,8 +364,16 @@ StepReport Simulation::step() {
   // 3. New velocities v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1).
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, dt);
   report.times.integrate = lap(clock);
-  check_finite(sys, scene_.bodies, lambda, v2, steps_);
+  check_divergence(sys,
+                   scene_.bodies,
+                   scene_.world,
+                   lambda,
+                   v2,
+                   steps_,
+                   improved ? "velocity system (8.1)" : "system (6.2)");
   if (observer_) observer_(sys, lambda, v2);  // not timed: a cross-check is not the step
+  if (sys.cfm > 0.0 && sys.rows() > 0)
+    report.cfm_acceleration_error = sys.cfm * lambda.lpNorm<Eigen::Infinity>();
 
   // 3b. The improved push factor (8.1): the position system, the same A with the push terms
   // in b, gives the velocities that move the bodies this step only.
@@ -308,7 +390,13 @@ StepReport Simulation::step() {
     report.position_solver = solve_system(sys, b_position, lambda_position);
     report.times.solve += lap(clock);
     v_position = compute_v2(sys.v1, sys.Minv, sys.J, lambda_position, sys.fext, dt);
-    check_finite(sys, scene_.bodies, lambda_position, v_position, steps_);
+    check_divergence(sys,
+                     scene_.bodies,
+                     scene_.world,
+                     lambda_position,
+                     v_position,
+                     steps_,
+                     "position system (8.1)");
     warm_position_.clear();
     for (int k = 0; k < sys.rows(); ++k)
       warm_position_[sys.ids[static_cast<std::size_t>(k)]] = lambda_position(k) - lambda(k);

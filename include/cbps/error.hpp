@@ -19,4 +19,20 @@ class ComputationError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A step whose values turned non-finite or exploded (speed beyond the scene's divergence
+/// limits). what() names the step, the body and the row; the fields say the same for programs.
+class DivergenceError : public ComputationError {
+ public:
+  DivergenceError(const std::string& what, long step, int body, int row)
+      : ComputationError(what), step_(step), body_(body), row_(row) {}
+  long step() const { return step_; }  ///< 0-based index of the step that failed
+  int body() const { return body_; }   ///< index into the scene's bodies, −1 if none
+  int row() const { return row_; }     ///< row of that step's system, −1 if none
+
+ private:
+  long step_;
+  int body_;
+  int row_;
+};
+
 }  // namespace cbps

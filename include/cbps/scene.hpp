@@ -33,6 +33,10 @@ struct World {
   double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
   double restitution_threshold = 0.1;  ///< approach speed below which no bounce (8.2), m/s
   double contact_margin = 0.0;         ///< contacts kept up to this separation (4), m
+  /// A step diverges when a body's speed |v| or spin |omega| exceeds these (or any value turns
+  /// non-finite): the run stops there with a DivergenceError naming step, body and row.
+  double divergence_speed = 1e4;  ///< m/s
+  double divergence_spin = 1e4;   ///< rad/s
 };
 
 struct SolverSettings {
@@ -45,6 +49,10 @@ struct SolverSettings {
   bool split_islands = true;           ///< solve independent islands of A apart (PGS, Jacobi)
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel row order (pgs, matrix-free)
   std::uint64_t seed = 0;              ///< RowOrder::Random's seed (--seed)
+  /// Constraint-force mixing (ODE's CFM): eps added to A's diagonal, (A + eps E) lambda = b, so
+  /// that redundant or degenerate rows get a unique, bounded lambda. kg⁻¹. The answer then
+  /// misses A lambda = b by eps lambda (m/s²); `cbps run` reports that. 0: off.
+  double cfm = 0.0;
 };
 
 struct Scene {

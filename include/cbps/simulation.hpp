@@ -49,7 +49,10 @@ struct StepReport {
   SolverSummary position_solver;      ///< the position system of 8.1 (improved push only)
   double max_constraint_error = 0.0;  ///< after the step, m
   double max_penetration = 0.0;       ///< deepest contact found at the start of the step, m
-  double wall_time_s = 0.0;           ///< of the whole step
+  /// Constraint-force mixing's effect: (A + eps E) lambda = b misses A lambda = b by eps lambda;
+  /// this is eps max |lambda_k|, m/s² (0 without CFM). Times dt it is a velocity error, m/s.
+  double cfm_acceleration_error = 0.0;
+  double wall_time_s = 0.0;  ///< of the whole step
   StageTimes times;
 };
 
@@ -59,7 +62,9 @@ class Simulation {
 
   /// One step of dt: rows (5.2) → system (6.1, 6.2.9) → lambda (7) → v2 (12.3.1) →
   /// positions with v2 (3.2) → momenta p = m v2, l = I omega2.
-  /// Throws ComputationError naming the step, body or row when values turn non-finite.
+  /// Throws DivergenceError naming the step, body and row when lambda or v2 turn non-finite or
+  /// a body's speed or spin exceeds World::divergence_speed / divergence_spin; the bodies then
+  /// stay as they were before the step.
   StepReport step();
 
   /// The rows of the current state, into `rows` (storage reused): distance rows (5.2) in

@@ -106,7 +106,8 @@ void sweep_order(RowOrder order, int rows, std::mt19937_64& rng, std::vector<int
 /// velocity change per unit time the constraint forces make: v2 = v1 + Δt (u + M⁻¹ f_ext).
 class MatrixFreePgs {
  public:
-  MatrixFreePgs(const SpMatRow& J, const SpMat& Minv);
+  /// cfm: constraint-force mixing eps, kg⁻¹: the rows solved are those of A + eps E.
+  MatrixFreePgs(const SpMatRow& J, const SpMat& Minv, double cfm = 0.0);
   /// u = W lambda (call after changing lambda outside sweep()).
   VecX impulse(const VecX& lambda) const;
   /// One sweep over `rows` (empty: natural order), lambda and u in place; max |Δlambda|.
@@ -124,8 +125,9 @@ class MatrixFreePgs {
 
  private:
   const SpMatRow& J_;
-  SpMat W_;  ///< M⁻¹ Jᵀ, column j = W_j
-  VecX d_;   ///< A_jj = j_j W_j
+  SpMat W_;           ///< M⁻¹ Jᵀ, column j = W_j
+  VecX d_;            ///< A_jj + eps = j_j W_j + cfm
+  double cfm_ = 0.0;  ///< eps, kg⁻¹
 };
 
 /// PGS in the matrix-free form from the guess in lambda; options as for solve_pgs (order,
@@ -136,7 +138,8 @@ SolverSummary solve_matrix_free(const SpMatRow& J,
                                 const VecX& cmin,
                                 const VecX& cmax,
                                 VecX& lambda,
-                                const SolverOptions& options);
+                                const SolverOptions& options,
+                                double cfm = 0.0);
 
 /// Symmetric Gauss-Seidel: one iteration is a forward sweep and a backward sweep (SSOR with
 /// relaxation omega); its iteration matrix is similar to a symmetric one for symmetric A.

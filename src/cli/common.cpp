@@ -39,6 +39,11 @@ void add_step_options(CLI::App* cmd, StepOptions& o) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--tolerance", o.tolerance, "natural-map residual to stop at, N (0: all sweeps)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--cfm",
+                  o.cfm,
+                  "constraint-force mixing eps in kg^-1: solve (A + eps E) lambda = b; the "
+                  "summary reports its effect eps max|lambda| (default: the scene's, 0)")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--push",
@@ -91,6 +96,7 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.seed >= 0) scene.solver.seed = static_cast<std::uint64_t>(o.seed);
   if (o.iterations > 0) scene.solver.iterations = o.iterations;
   if (o.tolerance >= 0.0) scene.solver.tolerance = o.tolerance;
+  if (o.cfm >= 0.0) scene.solver.cfm = o.cfm;
 }
 
 long step_count(const Scene& scene, const StepOptions& o) {

@@ -29,6 +29,7 @@ struct StepOptions {
   double beta = -1.0;
   std::string push;     ///< "original" | "improved"; empty keeps the scene's
   long long seed = -1;  ///< --seed; negative keeps the scene's
+  double cfm = -1.0;    ///< --cfm; negative keeps the scene's
 };
 
 void add_scene_options(CLI::App* cmd, SceneOptions& o);
@@ -36,7 +37,7 @@ void add_step_options(CLI::App* cmd, StepOptions& o);
 
 /// A built-in scene by name (with its --param values) or a JSON scene file.
 Scene load_scene(const SceneOptions& o);
-/// Applies --dt, --beta, --solver, --iterations, --tolerance to the scene.
+/// Applies --dt, --beta, --solver, --iterations, --tolerance, --cfm to the scene.
 void apply_step_options(Scene& scene, const StepOptions& o);
 /// Number of steps from --steps, else --duration, else the scene's duration.
 long step_count(const Scene& scene, const StepOptions& o);
@@ -74,6 +75,7 @@ nlohmann::json vector_json(const VecX& v);
 using Action = std::function<int()>;
 void register_scenes(CLI::App& app, Action& run);
 void register_run(CLI::App& app, Action& run);
+void register_stress(CLI::App& app, Action& run);
 void register_explain(CLI::App& app, Action& run);
 void register_matrices(CLI::App& app, Action& run);
 void register_lcp(CLI::App& app, Action& run);

@@ -59,7 +59,8 @@ struct Study {
   SpMat Minv;
   VecX v1, fext;
   double dt = 0.0;
-  VecX warm;  ///< the previous step's lambda by row id (scenes after step 0), else 0
+  double cfm = 0.0;  ///< the scene's constraint-force mixing, already on A's diagonal, kg⁻¹
+  VecX warm;         ///< the previous step's lambda by row id (scenes after step 0), else 0
   VecX lambda_star, v2_star;
   bool lambda_unique = false;  ///< A positive definite (a Cholesky factorization exists)
   bool has_bodies() const { return J.rows() > 0 && dt > 0.0; }
@@ -115,6 +116,7 @@ Study study_of_scene(const ConvergeOptions& o) {
   s.v1 = sys.v1;
   s.fext = sys.fext;
   s.dt = sys.dt;
+  s.cfm = sys.cfm;
   s.warm = sim.initial_lambda(sys);
   return s;
 }
@@ -186,7 +188,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
     return run.stopped.empty();
   };
   if (spec.method == "matrix-free") {
-    solve_matrix_free(s.J, s.Minv, s.b, s.cmin, s.cmax, lambda, options);
+    solve_matrix_free(s.J, s.Minv, s.b, s.cmin, s.cmax, lambda, options, s.cfm);
   } else {
     solve(spec.method, s.A, s.b, s.cmin, s.cmax, lambda, options);
   }

@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   cbps::cli::register_lcp(app, action);
   cbps::cli::register_verify(app, action);
   cbps::cli::register_converge(app, action);
+  cbps::cli::register_stress(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

@@ -23,6 +23,7 @@ struct RunOptions {
   bool json = false;
   bool check = false;
   bool quiet = false;
+  bool no_timing = false;
   long record_every = 1;
 };
 
@@ -104,9 +105,10 @@ int run_command(const RunOptions& o) {
     dir = std::make_unique<OutputDir>(o.out);
     trajectory = std::make_unique<Csv>(dir->file("trajectory.csv"),
                                        "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
-    steps_csv =
-        std::make_unique<Csv>(dir->file("steps.csv"),
-                              "t,rows,iterations,residual,max_constraint_error,energy,wall_time_s");
+    steps_csv = std::make_unique<Csv>(
+        dir->file("steps.csv"),
+        o.no_timing ? "t,rows,iterations,residual,max_constraint_error,energy"
+                    : "t,rows,iterations,residual,max_constraint_error,energy,wall_time_s");
   }
 
   Simulation sim(scene);
@@ -149,13 +151,26 @@ int run_command(const RunOptions& o) {
   int max_contacts = 0;
   StageTimes stage_s;  // summed over the steps
   double max_penetration = 0.0;
+  double cfm_error = 0.0;           // max eps |lambda|, m/s²
   std::vector<std::string> stages;  // every stage that ran, in order of first appearance
   if (trajectory) record_bodies(*trajectory, 0.0, sim.scene().bodies);
 
   const auto start = std::chrono::steady_clock::now();
   auto last_progress = start;
+  // The divergence guard (Simulation::step) stops the run at the step that failed; what was
+  // recorded before it is kept and the summary says where and why.
+  std::unique_ptr<DivergenceError> diverged;
+  long steps_done = 0;
   for (long s = 0; s < steps; ++s) {
-    const StepReport r = sim.step();
+    StepReport r;
+    try {
+      r = sim.step();
+    } catch (const DivergenceError& e) {
+      diverged = std::make_unique<DivergenceError>(e);
+      break;
+    }
+    steps_done = s + 1;
+    cfm_error = std::max(cfm_error, r.cfm_acceleration_error);
     iterations_total += r.solver.iterations;
     max_residual = std::max(max_residual, r.solver.residual);
     max_constraint_error = std::max(max_constraint_error, r.max_constraint_error);
@@ -173,7 +188,7 @@ int run_command(const RunOptions& o) {
       steps_csv->num(r.solver.residual);
       steps_csv->num(r.max_constraint_error);
       steps_csv->num(sim.energy());
-      steps_csv->num(r.wall_time_s);
+      if (!o.no_timing) steps_csv->num(r.wall_time_s);
       steps_csv->end_row();
     }
     if (trajectory && (s + 1) % o.record_every == 0) {
@@ -199,9 +214,17 @@ int run_command(const RunOptions& o) {
   nlohmann::json params = nlohmann::json::object();
   for (const auto& [name, value] : scene.parameters) params[name] = value;
   summary["parameters"] = params;
+  summary["status"] = diverged ? "diverged" : "completed";
+  if (diverged) {
+    summary["divergence"] = {{"step", diverged->step()},
+                             {"body", diverged->body()},
+                             {"row", diverged->row()},
+                             {"message", diverged->what()}};
+  }
   summary["bodies"] = scene.bodies.size();
   summary["rows"] = max_rows;
-  summary["steps"] = steps;
+  summary["steps"] = steps_done;
+  summary["steps_requested"] = steps;
   summary["dt"] = scene.world.dt;
   summary["beta"] = scene.world.beta;
   summary["duration"] = sim.time();
@@ -211,7 +234,14 @@ int run_command(const RunOptions& o) {
                        {"warm_start", scene.solver.warm_start},
                        {"relaxation", scene.solver.relaxation},
                        {"order", to_string(scene.solver.order)},
-                       {"seed", scene.solver.seed}};
+                       {"seed", scene.solver.seed},
+                       {"cfm", scene.solver.cfm}};
+  if (scene.solver.cfm > 0.0) {
+    // CFM is never silent: how far the answer is from A lambda = b because of it.
+    summary["regularization"] = {{"cfm", scene.solver.cfm},
+                                 {"max_acceleration_error", cfm_error},
+                                 {"max_velocity_error", cfm_error * scene.world.dt}};
+  }
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
   summary["contacts"] = {
       {"mu", scene.world.mu},
@@ -221,17 +251,19 @@ int run_command(const RunOptions& o) {
   summary["max_penetration"] = max_penetration;
   summary["iterations_total"] = iterations_total;
   summary["max_residual"] = max_residual;
-  summary["wall_time_s"] = wall;
+  if (!o.no_timing) summary["wall_time_s"] = wall;
   summary["max_constraint_error"] = max_constraint_error;
   summary["energy_initial"] = energy_initial;
   summary["energy_final"] = sim.energy();
   summary["stages"] = stages;
-  summary["stage_times_s"] = {{"broad_phase", stage_s.broad_phase},
-                              {"narrow_phase", stage_s.narrow_phase},
-                              {"rows", stage_s.rows},
-                              {"assembly", stage_s.assembly},
-                              {"solve", stage_s.solve},
-                              {"integrate", stage_s.integrate}};
+  if (!o.no_timing) {
+    summary["stage_times_s"] = {{"broad_phase", stage_s.broad_phase},
+                                {"narrow_phase", stage_s.narrow_phase},
+                                {"rows", stage_s.rows},
+                                {"assembly", stage_s.assembly},
+                                {"solve", stage_s.solve},
+                                {"integrate", stage_s.integrate}};
+  }
   if (o.check) {
     summary["cross_check"] = {{"max_velocity_difference", max_velocity_difference},
                               {"max_pgs_residual", max_pgs_residual},
@@ -250,16 +282,17 @@ int run_command(const RunOptions& o) {
     std::cout << summary.dump(2) << "\n";
   } else {
     std::printf(
-        "%s: %ld steps of %.6g s, %zu bodies, %d rows, solver %s\n"
+        "%s: %ld steps of %.6g s, %zu bodies, %d rows, solver %s%s\n"
         "  iterations %ld in all, max residual %.3g N, max constraint error %.3g m, "
         "max penetration %.3g m\n"
         "  energy %.9g J -> %.9g J, wall time %.3f s\n",
         scene.name.c_str(),
-        steps,
+        steps_done,
         scene.world.dt,
         scene.bodies.size(),
         max_rows,
         scene.solver.method.c_str(),
+        diverged ? " (stopped: diverged)" : "",
         iterations_total,
         max_residual,
         max_constraint_error,
@@ -278,7 +311,25 @@ int run_command(const RunOptions& o) {
           direct_short,
           direct_unverified);
     }
+    if (scene.solver.cfm > 0.0) {
+      std::printf(
+          "  cfm %.3g kg^-1: the answer misses A lambda = b by up to %.3g m/s^2 (%.3g m/s "
+          "per step)\n",
+          scene.solver.cfm,
+          cfm_error,
+          cfm_error * scene.world.dt);
+    }
     if (dir) std::printf("  wrote %s\n", o.out.c_str());
+  }
+  if (diverged) {
+    std::string msg = "cbps run: diverged: ";
+    msg.append(diverged->what());
+    if (dir) {
+      msg.append("; what was recorded before that step is in ");
+      msg.append(o.out);
+    }
+    std::fprintf(stderr, "%s\n", msg.c_str());
+    return 1;
   }
   return 0;
 }
@@ -299,6 +350,10 @@ void register_run(CLI::App& app, Action& run) {
                 "cross-check every step against the direct path (active set on CHOLMOD); adds "
                 "cross_check");
   cmd->add_flag("--quiet", o->quiet, "no progress lines on stderr");
+  cmd->add_flag("--no-timing",
+                o->no_timing,
+                "leave wall times out of summary.json and steps.csv, so that the same inputs "
+                "give byte-identical outputs");
   cmd->callback([&run, o] { run = [o] { return run_command(*o); }; });
 }
 
