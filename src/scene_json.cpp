@@ -222,7 +222,9 @@ World read_world(const Node& node) {
                 "friction",
                 "restitution",
                 "restitution_threshold",
-                "contact_margin"});
+                "contact_margin",
+                "divergence_speed",
+                "divergence_spin"});
   World world;
   if (has(node, "gravity")) world.gravity = vec3(child(node, "gravity"));
   if (has(node, "dt")) world.dt = time_step(child(node, "dt"));
@@ -238,6 +240,10 @@ World read_world(const Node& node) {
     world.restitution_threshold = nonnegative(child(node, "restitution_threshold"));
   if (has(node, "contact_margin"))
     world.contact_margin = nonnegative(child(node, "contact_margin"));
+  if (has(node, "divergence_speed"))
+    world.divergence_speed = positive(child(node, "divergence_speed"));
+  if (has(node, "divergence_spin"))
+    world.divergence_spin = positive(child(node, "divergence_spin"));
   return world;
 }
 
@@ -249,7 +255,8 @@ SolverSettings read_solver(const Node& node) {
                 "delta_tolerance",
                 "relaxation",
                 "warm_start",
-                "split_islands"});
+                "split_islands",
+                "cfm"});
   SolverSettings solver;
   if (has(node, "method")) {
     const Node method = child(node, "method");
@@ -270,6 +277,7 @@ SolverSettings read_solver(const Node& node) {
   }
   if (has(node, "warm_start")) solver.warm_start = boolean(child(node, "warm_start"));
   if (has(node, "split_islands")) solver.split_islands = boolean(child(node, "split_islands"));
+  if (has(node, "cfm")) solver.cfm = nonnegative(child(node, "cfm"));
   return solver;
 }
 
@@ -331,6 +339,16 @@ Mat3 read_inertia(const Node& node) {
     fail(node, why.str());
   }
   return I;
+}
+
+/// Sets `inverse` to I⁻¹ and returns true if I, det I (> 0) and I⁻¹ are all finite: a tiny or
+/// huge I can have a determinant that underflows to 0 or overflows to ∞.
+bool finite_inverse(const Mat3& I, Mat3& inverse) {
+  if (!I.allFinite()) return false;
+  const double det = I.determinant();
+  if (!(det > 0.0 && std::isfinite(det))) return false;
+  inverse = I.inverse();
+  return inverse.allFinite();
 }
 
 /// [w, x, y, z], unit to within kUnitQuaternionTolerance, normalised.
@@ -395,19 +413,34 @@ Body read_body(const Node& node, std::size_t i) {
   // Mass, then inertia: set_mass gives the solid's inertia, which "inertia" overrides.
   if (has(node, "mass") && has(node, "density"))
     fail(node, "give \"mass\" or \"density\", not both");
+  // m, m⁻¹, I and I⁻¹ must all be finite; a mass or size far from 1 can overflow them.
+  const auto set_checked_mass = [&](const Node& given, double m) {
+    if (!std::isfinite(1.0 / m)) fail(given, "too small: 1/mass is not finite" + got(given));
+    if (has(node, "inertia")) {  // "inertia" replaces the solid's inertia below
+      body.m = m;
+      return;
+    }
+    Mat3 inverse;
+    if (!finite_inverse(body.shape.inertia(m), inverse))
+      fail(given, "gives an inertia tensor or inverse that is not finite" + got(given));
+    set_mass(body, m);
+  };
   if (has(node, "mass")) {
-    set_mass(body, positive(child(node, "mass")));
+    const Node mass = child(node, "mass");
+    set_checked_mass(mass, positive(mass));
   } else if (has(node, "density")) {
     const Node density = child(node, "density");
     const double m = positive(density) * body.shape.volume();
     if (!(m > 0.0) || !std::isfinite(m)) fail(density, "gives a mass that is not > 0 and finite");
-    set_mass(body, m);
+    set_checked_mass(density, m);
   } else if (!body.is_static) {
     fail(node, "a movable body needs \"mass\" (kg) or \"density\" (kg/m^3)");
   }
   if (has(node, "inertia")) {
-    body.I_body = read_inertia(child(node, "inertia"));
-    body.I_body_inv = body.I_body.inverse();
+    const Node inertia = child(node, "inertia");
+    body.I_body = read_inertia(inertia);
+    if (!finite_inverse(body.I_body, body.I_body_inv))
+      fail(inertia, "its inverse is not finite (determinant out of a double's range)");
   }
 
   if (has(node, "position")) body.x = vec3(child(node, "position"));
@@ -432,6 +465,13 @@ Body read_body(const Node& node, std::size_t i) {
                     angular_kind == 1 ? angular : Vec3::Zero());
   if (linear_kind == 2) body.p = linear;
   if (angular_kind == 2) body.l = angular;
+  // p = m v and l = I omega can overflow; v = p/m and omega = I⁻¹ l likewise.
+  if (linear_kind != 0 && !(body.p.allFinite() && body.v().allFinite()))
+    fail(child(node, linear_kind == 1 ? "velocity" : "momentum"),
+         "gives a momentum or velocity that is not finite");
+  if (angular_kind != 0 && !(body.l.allFinite() && body.omega().allFinite()))
+    fail(child(node, angular_kind == 1 ? "angular_velocity" : "angular_momentum"),
+         "gives an angular momentum or velocity that is not finite");
   return body;
 }
 
@@ -479,6 +519,8 @@ DistanceConstraint read_distance(const Node& node, std::size_t k, const std::vec
       fail(node,
            "the anchor points coincide, so the default length (their distance) is 0; "
            "give \"length\"");
+    if (!std::isfinite(dc.l))
+      fail(node, "the default length (the anchors' distance) is not finite; give \"length\"");
   }
   return dc;
 }
@@ -545,12 +587,21 @@ Scene read_scene(const Node& root, const std::string& default_name) {
 /// duplicate key, a number too large for a double) get a JSON pointer.
 class PathTracker {
  public:
+  static constexpr std::size_t kMaxNesting = 64;
+
   explicit PathTracker(const std::string& source) : source_(source) {}
 
   bool operator()(int /*depth*/, Json::parse_event_t event, Json& parsed) {
     switch (event) {
       case Json::parse_event_t::object_start:
       case Json::parse_event_t::array_start:
+        // A scene nests 5 levels deep. Far deeper documents are refused here, while parsing:
+        // nlohmann copies values recursively (ordered_json copies an object's members when it
+        // grows), so 10^4 levels or more would overflow the stack.
+        if (frames_.size() >= kMaxNesting)
+          fail(source_,
+               path(),
+               "nested deeper than " + std::to_string(kMaxNesting) + " arrays and objects");
         frames_.push_back(Frame{event == Json::parse_event_t::array_start, 0, "", {}});
         break;
       case Json::parse_event_t::key: {
@@ -787,6 +838,8 @@ std::string scene_to_json(const Scene& scene) {
   world["restitution"] = scene.world.restitution;
   world["restitution_threshold"] = scene.world.restitution_threshold;
   world["contact_margin"] = scene.world.contact_margin;
+  world["divergence_speed"] = scene.world.divergence_speed;
+  world["divergence_spin"] = scene.world.divergence_spin;
   root["world"] = world;
 
   Json solver = Json::object();
@@ -797,6 +850,7 @@ std::string scene_to_json(const Scene& scene) {
   solver["relaxation"] = scene.solver.relaxation;
   solver["warm_start"] = scene.solver.warm_start;
   solver["split_islands"] = scene.solver.split_islands;
+  solver["cfm"] = scene.solver.cfm;
   root["solver"] = solver;
 
   Json bodies = Json::array();

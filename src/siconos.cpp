@@ -1,11 +1,13 @@
 // Siconos .dat reader: a tokeniser that remembers each token's line, then the fields in order.
 #include "cbps/siconos.hpp"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <istream>
 #include <sstream>
 #include <vector>
 
@@ -23,9 +25,7 @@ struct Token {
 /// Reads the fields of one file in order; every error names the file and the line.
 class TokenReader {
  public:
-  explicit TokenReader(const std::string& path) : path_(path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path + ": line 0: cannot open the file");
+  TokenReader(std::istream& in, const std::string& source) : path_(source) {
     std::ostringstream text;
     text << in.rdbuf();
     split(text.str());
@@ -43,6 +43,9 @@ class TokenReader {
 
   /// The line of the token read last.
   int line() const { return pos_ == 0 ? 1 : tokens_[pos_ - 1].line; }
+
+  /// How many tokens are left to read.
+  std::size_t remaining() const { return tokens_.size() - pos_; }
 
   /// A whole token as an integer.
   long next_integer(const std::string& what) {
@@ -115,8 +118,8 @@ void read_vector(TokenReader& reader, const std::string& name, VecX& v) {
 
 }  // namespace
 
-StoredLcp read_siconos(const std::string& path, bool relay) {
-  TokenReader reader(path);
+StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay) {
+  TokenReader reader(in, source);
 
   // Header: n, storage type, rows cols, rows cols.
   const long n = reader.next_integer("n (size of the problem)");
@@ -136,15 +139,21 @@ StoredLcp read_siconos(const std::string& path, bool relay) {
           std::string(what) + " = " + std::to_string(size) + ", not n = " + std::to_string(n));
   }
 
-  StoredLcp p;
-  p.source = path;
-  p.boxed = relay;
-  p.M.resize(n, n);
+  // M is read into a buffer that grows with the numbers actually there, and only then into an
+  // n×n matrix: a header may claim n = kMaxSiconosSize (200 MB) over a file of a few bytes.
   // Column-major, as Siconos reads it (see siconos.hpp): the k-th number is M(k mod n, k / n).
+  const std::size_t count = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  std::vector<double> m_values;
+  m_values.reserve(std::min(count, reader.remaining()));
   for (Eigen::Index j = 0; j < n; ++j)
     for (Eigen::Index i = 0; i < n; ++i)
-      p.M(i, j) = reader.next_number(
-          [&] { return "M(" + std::to_string(i) + ", " + std::to_string(j) + ")"; });
+      m_values.push_back(reader.next_number(
+          [&] { return "M(" + std::to_string(i) + ", " + std::to_string(j) + ")"; }));
+
+  StoredLcp p;
+  p.source = source;
+  p.boxed = relay;
+  p.M = Eigen::Map<const MatX>(m_values.data(), n, n);
   p.q.resize(n);
   read_vector(reader, "q", p.q);
   if (relay) {
@@ -161,6 +170,12 @@ StoredLcp read_siconos(const std::string& path, bool relay) {
   }
   reader.expect_end_of_data(relay ? "ub" : "q");
   return p;
+}
+
+StoredLcp read_siconos(const std::string& path, bool relay) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": line 0: cannot open the file");
+  return parse_siconos(in, path, relay);
 }
 
 bool siconos_is_relay(const std::string& path) {

@@ -3,11 +3,16 @@
 // what the writers (and scipy.io.mmwrite) write.
 #pragma once
 
+#include <istream>
 #include <string>
 
 #include "cbps/types.hpp"
 
 namespace cbps {
+
+/// The largest number of rows or columns read: a sparse matrix allocates per row and column
+/// before its entries are read, so a larger size is more likely a corrupt header than a problem.
+inline constexpr long kMaxMatrixMarketSize = 10'000'000;
 
 /// Writes a sparse matrix as "%%MatrixMarket matrix coordinate real general". The comment
 /// line (may be empty) goes after the header. Throws std::runtime_error if the file fails.
@@ -19,11 +24,18 @@ void write_matrix_market(const std::string& path, const VecX& v, const std::stri
 /// Reads a "%%MatrixMarket matrix coordinate real general" (or "symmetric", expanded to both
 /// triangles; "integer" is read as real) sparse matrix. Duplicate entries are summed, as
 /// scipy does. Throws InputError "<path>: line L: <why>" on a missing file, a bad header, wrong
-/// counts, an index out of range, a token that is not a number, or NaN.
+/// counts, more than kMaxMatrixMarketSize rows or columns, an index out of range, a token that
+/// is not a number, or NaN (also duplicates summing to NaN, inf + -inf).
 SpMat read_matrix_market_sparse(const std::string& path);
 
 /// Reads an n×1 "%%MatrixMarket matrix array real general" vector; inf, -inf, Inf and Infinity
 /// are read as ±∞. Throws InputError "<path>: line L: <why>" as read_matrix_market_sparse.
 VecX read_matrix_market_vector(const std::string& path);
+
+/// read_matrix_market_sparse from a stream; `source` names it in errors ("<source>: line L: ").
+SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source);
+
+/// read_matrix_market_vector from a stream; `source` names it in errors.
+VecX parse_matrix_market_vector(std::istream& in, const std::string& source);
 
 }  // namespace cbps

@@ -20,6 +20,7 @@
 // number, so that a wrong n or a relay file read as an LCP is caught rather than half-read.
 #pragma once
 
+#include <istream>
 #include <string>
 
 #include "cbps/types.hpp"
@@ -45,6 +46,10 @@ struct StoredLcp {
 /// "<path>: line L: <why>" on a missing file, a token that is not a number, too few or too many
 /// numbers, storage type 1, a non-finite value, or n ≤ 0 or n > kMaxSiconosSize.
 StoredLcp read_siconos(const std::string& path, bool relay);
+
+/// read_siconos from a stream; `source` names it in errors ("<source>: line L: <why>") and in
+/// StoredLcp::source.
+StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay);
 
 /// True if the file lies in a folder named "relay" (the Siconos layout), i.e. it is a relay file.
 bool siconos_is_relay(const std::string& path);

@@ -76,6 +76,12 @@ nlohmann::json result_json(const StressResult& r) {
   return j;
 }
 
+/// A divergence message without its "step N (t = …), system:" head (the table shows the step).
+std::string short_divergence(const std::string& message) {
+  const auto colon = message.find("): ");
+  return colon == std::string::npos ? message : "guard: " + message.substr(colon + 3);
+}
+
 /// One line per run, columns padded; the same text goes to stdout and stress.md.
 std::string table(const std::vector<StressResult>& results) {
   const std::vector<std::string> header = {"case",
@@ -109,7 +115,7 @@ std::string table(const std::vector<StressResult>& results) {
                     sci(r.final_residual),
                     cond,
                     sci(r.wall_time_s),
-                    r.status == "diverged" ? r.note : r.verdict.measure});
+                    r.status == "diverged" ? short_divergence(r.note) : r.verdict.measure});
   }
   std::ostringstream out;
   const auto line = [&](const std::vector<std::string>& cells) {
