@@ -26,26 +26,6 @@ Scene builtin(const std::string& name, const std::map<std::string, std::string>&
   return make_builtin_scene(name, values);
 }
 
-Body box_body(const std::string& name, const Vec3& half_extents, double mass, const Vec3& x) {
-  Body b;
-  b.name = name;
-  b.shape.kind = Shape::Kind::Box;
-  b.shape.half_extents = half_extents;
-  set_mass(b, mass);
-  b.x = x;
-  return b;
-}
-
-Body sphere_body(const std::string& name, double radius, double mass, const Vec3& x) {
-  Body b;
-  b.name = name;
-  b.shape.kind = Shape::Kind::Sphere;
-  b.shape.radius = radius;
-  set_mass(b, mass);
-  b.x = x;
-  return b;
-}
-
 /// Moves a whole scene by `offset`: bodies and the world anchors of distance constraints.
 Scene translated(Scene scene, const Vec3& offset) {
   for (Body& body : scene.bodies) body.x += offset;

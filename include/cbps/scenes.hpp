@@ -34,6 +34,14 @@ const BuiltinScene* find_builtin_scene(const std::string& name);
 /// parameter for an unknown parameter (listing the valid ones) or a value that is not valid.
 Scene make_builtin_scene(const std::string& name, const std::map<std::string, std::string>& values);
 
+/// Body builders shared by the built-in scenes and the stress catalogue (src/stress.cpp).
+/// A static ground plane through `point` with outward normal `normal` (unit).
+Body ground_body(const std::string& name, const Vec3& point, const Vec3& normal);
+/// A movable solid box of uniform density: half extents in m, mass in kg, centre x in m.
+Body box_body(const std::string& name, const Vec3& half_extents, double mass, const Vec3& x);
+/// A movable solid sphere of uniform density: radius in m, mass in kg, centre x in m.
+Body sphere_body(const std::string& name, double radius, double mass, const Vec3& x);
+
 /// Parses a finite number such as "0.25", "1e-3" or a fraction "1/240"; false if the text is
 /// not one.
 bool parse_number(const std::string& text, double& value);

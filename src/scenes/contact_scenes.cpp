@@ -24,8 +24,10 @@ void read_contact_world(const ParameterValues& p, Scene& scene) {
   scene.duration = p.positive("duration");
 }
 
+}  // namespace
+
 /// A static ground plane through `point` with outward normal `normal` (unit).
-Body ground(const std::string& name, const Vec3& point, const Vec3& normal) {
+Body ground_body(const std::string& name, const Vec3& point, const Vec3& normal) {
   Body plane;
   plane.name = name;
   plane.shape.kind = Shape::Kind::Plane;
@@ -35,7 +37,7 @@ Body ground(const std::string& name, const Vec3& point, const Vec3& normal) {
   return plane;
 }
 
-Body box(const std::string& name, const Vec3& half_extents, double mass, const Vec3& x) {
+Body box_body(const std::string& name, const Vec3& half_extents, double mass, const Vec3& x) {
   Body b;
   b.name = name;
   b.shape.kind = Shape::Kind::Box;
@@ -45,7 +47,7 @@ Body box(const std::string& name, const Vec3& half_extents, double mass, const V
   return b;
 }
 
-Body sphere(const std::string& name, double radius, double mass, const Vec3& x) {
+Body sphere_body(const std::string& name, double radius, double mass, const Vec3& x) {
   Body b;
   b.name = name;
   b.shape.kind = Shape::Kind::Sphere;
@@ -54,8 +56,6 @@ Body sphere(const std::string& name, double radius, double mass, const Vec3& x) 
   b.x = x;
   return b;
 }
-
-}  // namespace
 
 // The appendix's Figure 11 (12.2): a sphere of mass m resting in a static V of two planes
 // tilted by angle_left and angle_right from the horizontal. Normals a = (sin φ_l, cos φ_l, 0),
@@ -71,13 +71,13 @@ Scene build_v_corner(const std::map<std::string, std::string>& values) {
   const double r = p.positive("radius");
   const Vec3 a(std::sin(phi_l), std::cos(phi_l), 0.0);
   const Vec3 b(-std::sin(phi_r), std::cos(phi_r), 0.0);
-  scene.bodies.push_back(ground("left", Vec3::Zero(), a));
-  scene.bodies.push_back(ground("right", Vec3::Zero(), b));
+  scene.bodies.push_back(ground_body("left", Vec3::Zero(), a));
+  scene.bodies.push_back(ground_body("right", Vec3::Zero(), b));
   // The centre c touching both planes: a·c = r and b·c = r (z = 0).
   Eigen::Matrix2d N;
   N << a.x(), a.y(), b.x(), b.y();
   const Eigen::Vector2d c = N.inverse() * Eigen::Vector2d(r, r);
-  scene.bodies.push_back(sphere("ball", r, p.positive("mass"), Vec3(c.x(), c.y(), 0.0)));
+  scene.bodies.push_back(sphere_body("ball", r, p.positive("mass"), Vec3(c.x(), c.y(), 0.0)));
   scene.parameters = p.in_force();
   return scene;
 }
@@ -94,17 +94,17 @@ Scene build_stack(const std::map<std::string, std::string>& values) {
   const double h = 0.5 * p.positive("size");
   const double gap = p.number("gap", 0.0, kInf);
   const double mass = p.positive("mass");
-  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
   const auto side = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(columns))));
   for (long c = 0; c < columns; ++c) {
     const double x = static_cast<double>(c % side) * (2 * h + gap);
     const double z = static_cast<double>(c / side) * (2 * h + gap);
     for (long k = 0; k < n; ++k) {
       const double y = h + 2 * h * static_cast<double>(k);
-      scene.bodies.push_back(box("box" + std::to_string(c) + "_" + std::to_string(k),
-                                 Vec3::Constant(h),
-                                 mass,
-                                 Vec3(x, y, z)));
+      scene.bodies.push_back(box_body("box" + std::to_string(c) + "_" + std::to_string(k),
+                                      Vec3::Constant(h),
+                                      mass,
+                                      Vec3(x, y, z)));
     }
   }
   scene.parameters = p.in_force();
@@ -122,16 +122,16 @@ Scene build_pyramid(const std::map<std::string, std::string>& values) {
   const double h = 0.5 * p.positive("size");
   const double gap = p.number("gap", 0.0, kInf);
   const double mass = p.positive("mass");
-  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
   const double pitch = 2 * h + gap;
   for (long row = 0; row < base; ++row) {
     for (long i = 0; i < base - row; ++i) {
       const double x = (static_cast<double>(i) + 0.5 * static_cast<double>(row)) * pitch;
       const double y = h + 2 * h * static_cast<double>(row);
-      scene.bodies.push_back(box("box" + std::to_string(row) + "_" + std::to_string(i),
-                                 Vec3::Constant(h),
-                                 mass,
-                                 Vec3(x, y, 0.0)));
+      scene.bodies.push_back(box_body("box" + std::to_string(row) + "_" + std::to_string(i),
+                                      Vec3::Constant(h),
+                                      mass,
+                                      Vec3(x, y, 0.0)));
     }
   }
   scene.parameters = p.in_force();
@@ -157,7 +157,7 @@ Scene build_newtons_cradle(const std::map<std::string, std::string>& values) {
     const Vec3 pivot(static_cast<double>(k) * (2 * r + gap), L, 0.0);
     const double angle = k == 0 ? theta0 : 0.0;  // pulled back along −x
     const Vec3 x = pivot + L * Vec3(-std::sin(angle), -std::cos(angle), 0.0);
-    scene.bodies.push_back(sphere("ball" + std::to_string(k), r, mass, x));
+    scene.bodies.push_back(sphere_body("ball" + std::to_string(k), r, mass, x));
     DistanceConstraint string;
     string.name = "string" + std::to_string(k);
     string.a = -1;
@@ -178,8 +178,8 @@ Scene build_slide(const std::map<std::string, std::string>& values) {
   scene.name = "slide";
   read_contact_world(p, scene);
   const double h = 0.5 * p.positive("size");
-  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
-  Body b = box("box", Vec3::Constant(h), p.positive("mass"), Vec3(0.0, h, 0.0));
+  scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
+  Body b = box_body("box", Vec3::Constant(h), p.positive("mass"), Vec3(0.0, h, 0.0));
   b.set_velocity(Vec3(p.positive("v0"), 0.0, 0.0), Vec3::Zero());
   scene.bodies.push_back(b);
   scene.parameters = p.in_force();
@@ -195,9 +195,9 @@ Scene build_bounce(const std::map<std::string, std::string>& values) {
   scene.name = "bounce";
   read_contact_world(p, scene);
   const double r = p.positive("radius");
-  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
   scene.bodies.push_back(
-      sphere("ball", r, p.positive("mass"), Vec3(0.0, r + p.positive("height"), 0.0)));
+      sphere_body("ball", r, p.positive("mass"), Vec3(0.0, r + p.positive("height"), 0.0)));
   scene.parameters = p.in_force();
   return scene;
 }
@@ -215,10 +215,11 @@ Scene build_overlap(const std::map<std::string, std::string>& values) {
   const double h = 0.5 * p.positive("size");
   const double depth = p.number("overlap", 0.0, 0.9) * 2 * h;
   const double mass = p.positive("mass");
-  scene.bodies.push_back(ground("ground", Vec3::Zero(), Vec3::UnitY()));
+  scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
   for (long k = 0; k < n; ++k) {
     const double y = h - depth + static_cast<double>(k) * (2 * h - depth);
-    scene.bodies.push_back(box("box" + std::to_string(k), Vec3::Constant(h), mass, Vec3(0, y, 0)));
+    scene.bodies.push_back(
+        box_body("box" + std::to_string(k), Vec3::Constant(h), mass, Vec3(0, y, 0)));
   }
   scene.parameters = p.in_force();
   return scene;
