@@ -82,7 +82,7 @@ std::string short_divergence(const std::string& message) {
   return colon == std::string::npos ? message : "guard: " + message.substr(colon + 3);
 }
 
-/// One line per run, columns padded; the same text goes to stdout and stress.md.
+/// One Markdown table row per run; the same text goes to stdout and stress.md.
 std::string table(const std::vector<StressResult>& results) {
   const std::vector<std::string> header = {"case",
                                            "solver",
@@ -120,7 +120,14 @@ std::string table(const std::vector<StressResult>& results) {
   std::ostringstream out;
   const auto line = [&](const std::vector<std::string>& cells) {
     out << "|";
-    for (const std::string& cell : cells) out << " " << cell << " |";
+    for (const std::string& cell : cells) {
+      out << " ";
+      for (const char ch : cell) {
+        if (ch == '|') out << '\\';  // a Markdown table cell keeps its |c| and |ΔL|
+        out << ch;
+      }
+      out << " |";
+    }
     out << "\n";
   };
   line(header);
