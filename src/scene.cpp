@@ -35,6 +35,13 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   return s;
 }
 
+void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings) {
+  settings.method = spec.method;
+  settings.relaxation = spec.relaxation;
+  settings.order = spec.order;
+  settings.warm_start = spec.warm_start;
+}
+
 bool Scene::has_contact_pairs() const {
   int colliding = 0, movable = 0;
   for (const Body& body : bodies) {

@@ -767,13 +767,8 @@ StressResult run_stress(const StressCase& c,
   r.solver = solver;
   r.steps = c.steps;
   Scene scene = c.build();
-  if (solver != "-") {
-    const SolverSpec spec = parse_solver_spec(solver, "stress case " + c.name);
-    scene.solver.method = spec.method;
-    scene.solver.relaxation = spec.relaxation;
-    scene.solver.order = spec.order;
-    scene.solver.warm_start = spec.warm_start;
-  }
+  if (solver != "-")
+    apply_solver_spec(parse_solver_spec(solver, "stress case " + c.name), scene.solver);
   r.cfm = scene.solver.cfm;
   const std::unique_ptr<StressProbe> probe = c.probe(scene);
   Simulation sim(std::move(scene));

@@ -55,6 +55,10 @@ struct SolverSettings {
   double cfm = 0.0;
 };
 
+/// Sets a scene's solver settings from a parsed spec (parse_solver_spec): method, relaxation,
+/// row order, warm start; the other settings stay.
+void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
+
 struct Scene {
   std::string name;
   /// The parameters a built-in scene was made with, as name → value text (for summaries).

@@ -86,12 +86,8 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.push == "original") scene.world.push = PushMode::Original;
   if (o.push == "improved") scene.world.push = PushMode::Improved;
   if (!o.solver.empty()) {
-    const SolverSpec spec =
-        parse_solver_spec(o.solver, "--solver");  // InputError names what is wrong
-    scene.solver.method = spec.method;
-    scene.solver.relaxation = spec.relaxation;
-    scene.solver.order = spec.order;
-    scene.solver.warm_start = spec.warm_start;
+    // InputError names what is wrong
+    apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);
   }
   if (o.seed >= 0) scene.solver.seed = static_cast<std::uint64_t>(o.seed);
   if (o.iterations > 0) scene.solver.iterations = o.iterations;
@@ -167,12 +163,11 @@ std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
   return labels;
 }
 
-namespace {
 nlohmann::json number_json(double x) {
+  if (std::isnan(x)) return "nan";
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
   return x;
 }
-}  // namespace
 
 nlohmann::json dense_json(const MatX& M) {
   nlohmann::json rows = nlohmann::json::array();

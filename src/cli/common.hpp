@@ -67,6 +67,9 @@ void write_text(const std::string& path, const std::string& text);
 /// Column labels of J: "<body>.vx" … "<body>.wz" for each movable body (6.1.1).
 std::vector<std::string> column_labels(const Scene& scene, const System& sys);
 
+/// A number for JSON, which has none of these: inf, -inf and NaN as the strings "inf", "-inf"
+/// and "nan".
+nlohmann::json number_json(double x);
 /// A dense matrix as nested JSON arrays (inf as the strings "inf"/"-inf").
 nlohmann::json dense_json(const MatX& M);
 nlohmann::json vector_json(const VecX& v);

@@ -33,12 +33,6 @@ std::string sci(double x) {
   return buf;
 }
 
-/// A number that may be infinite, for JSON (which has no inf): the strings "inf" / "-inf".
-nlohmann::json number_json(double x) {
-  if (std::isfinite(x)) return x;
-  return std::isnan(x) ? nlohmann::json("nan") : nlohmann::json(x > 0 ? "inf" : "-inf");
-}
-
 nlohmann::json result_json(const StressResult& r) {
   nlohmann::json j;
   j["case"] = r.case_name;
