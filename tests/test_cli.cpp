@@ -1,4 +1,4 @@
-// The command line against its contract (../shared/cli-contract.md): exit codes, error
+// The command line against its contract (docs/cli-contract.md): exit codes, error
 // messages naming what was wrong, nothing written on failure, the files of `run` and `matrices`.
 #include <catch2/catch.hpp>
 #include <cstdio>

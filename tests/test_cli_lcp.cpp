@@ -1,4 +1,4 @@
-// `cbps lcp` against its contract (../shared/cli-contract.md): a `cbps matrices` folder solved
+// `cbps lcp` against its contract (docs/cli-contract.md): a `cbps matrices` folder solved
 // by every solver to the same lambda, Siconos LCP and relay files, exit codes 0/1/2, errors
 // naming the file, and --out written only when solved.
 #include <catch2/catch.hpp>
@@ -20,7 +20,7 @@ using namespace cbps::test;
 namespace {
 
 std::string siconos(const std::string& relative) {
-  return std::string(CBPS_SHARED_DIR) + "/data/siconos/" + relative;
+  return std::string(CBPS_DATA_DIR) + "/siconos/" + relative;
 }
 
 std::vector<double> lambda_of(const nlohmann::json& j) {

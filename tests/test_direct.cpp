@@ -340,7 +340,7 @@ TEST_CASE("non-finite data ends the direct solve with NonFinite", "[direct]") {
 
 TEST_CASE("every symmetric Siconos relay problem: direct and boxed Lemke agree on w",
           "[direct][siconos]") {
-  const fs::path dir = fs::path(CBPS_SHARED_DIR) / "data" / "siconos" / "relay";
+  const fs::path dir = fs::path(CBPS_DATA_DIR) / "siconos" / "relay";
   int compared = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.path().extension() != ".dat") continue;

@@ -20,8 +20,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Where the external data lives (shared/data/README.md).
-const fs::path kSiconosDir = fs::path(CBPS_SHARED_DIR) / "data" / "siconos";
+/// Where the external data lives (tests/data/README.md).
+const fs::path kSiconosDir = fs::path(CBPS_DATA_DIR) / "siconos";
 
 /// The tolerance Solved promises (lcp.hpp), relative to max(1, ‖q‖∞, max |M_ij|).
 constexpr double kSolvedTolerance = kLcpSolvedTolerance;

@@ -1,4 +1,4 @@
-// cbps: the command line (see ../shared/cli-contract.md). Exit codes: 0 success, 1 a failed
+// cbps: the command line (see docs/cli-contract.md). Exit codes: 0 success, 1 a failed
 // computation, 2 bad input or usage. Errors go to stderr as "cbps: <what>: <why>".
 #include <iostream>
 
