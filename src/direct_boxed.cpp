@@ -222,12 +222,12 @@ class IslandSolver {
     return Place::Free;
   }
 
-  /// The rounding floor of the natural-map residual at lambda, or the user's tolerance.
+  /// The user's tolerance or, where it is lower, the rounding floor of the natural-map residual
+  /// at lambda (no solve can go below that).
   double tolerance(const VecX& lambda) const {
-    if (options_.tolerance > 0.0) return options_.tolerance;
     const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
     const double bn = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
-    return 64.0 * kUnitRoundoff * (max_row_sum_ * l + bn);
+    return std::max(options_.tolerance, 64.0 * kUnitRoundoff * (max_row_sum_ * l + bn));
   }
 
   /// Factor of (A + εI)(F, F) for the free rows F, reused while F and ε stay.

@@ -19,7 +19,7 @@ namespace cbps {
 namespace {
 
 /// Shortest text that reads back to the same double; inf and -inf spelled out.
-std::string number_text(double x) {
+std::string exact_text(double x) {
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", x);
@@ -50,7 +50,7 @@ void write_matrix_market(const std::string& path, const SpMat& M, const std::str
   out << M.rows() << " " << M.cols() << " " << M.nonZeros() << "\n";
   for (Eigen::Index c = 0; c < M.outerSize(); ++c) {
     for (SpMat::InnerIterator it(M, c); it; ++it) {
-      out << it.row() + 1 << " " << it.col() + 1 << " " << number_text(it.value()) << "\n";
+      out << it.row() + 1 << " " << it.col() + 1 << " " << exact_text(it.value()) << "\n";
     }
   }
   finish(out, path);
@@ -61,7 +61,7 @@ void write_matrix_market(const std::string& path, const VecX& v, const std::stri
   out << "%%MatrixMarket matrix array real general\n";
   write_comment(out, comment);
   out << v.size() << " 1\n";
-  for (Eigen::Index k = 0; k < v.size(); ++k) out << number_text(v(k)) << "\n";
+  for (Eigen::Index k = 0; k < v.size(); ++k) out << exact_text(v(k)) << "\n";
   finish(out, path);
 }
 

@@ -14,10 +14,14 @@ namespace cbps {
 
 double clamp(double x, double lo, double hi) { return std::min(std::max(x, lo), hi); }
 
-double natural_map_residual(
-    const SpMat& A, const VecX& b, const VecX& cmin, const VecX& cmax, const VecX& lambda) {
+double natural_map_residual(const SpMat& A,
+                            const VecX& b,
+                            const VecX& cmin,
+                            const VecX& cmax,
+                            const VecX& lambda,
+                            double cfm) {
   if (lambda.size() == 0) return 0.0;
-  const VecX w = A * lambda - b;  // w = A λ − b (6.2)
+  const VecX w = A * lambda + cfm * lambda - b;  // w = (A + eps E) λ − b (6.2)
   double r = 0.0;
   for (Eigen::Index k = 0; k < lambda.size(); ++k) {
     const double projected = clamp(lambda(k) - w(k), cmin(k), cmax(k));
@@ -25,6 +29,13 @@ double natural_map_residual(
     if (!(rk <= r)) r = rk;  // also propagates NaN
   }
   return r;
+}
+
+SpMat with_cfm(const SpMat& A, double eps) {
+  SpMat regularised = A;
+  if (eps == 0.0) return regularised;
+  for (Eigen::Index k = 0; k < A.rows(); ++k) regularised.coeffRef(k, k) += eps;
+  return regularised;
 }
 
 namespace {
@@ -299,9 +310,8 @@ SolverSummary solve_matrix_free(const SpMatRow& J,
                                 const VecX& cmin,
                                 const VecX& cmax,
                                 VecX& lambda,
-                                const SolverOptions& options,
-                                double cfm) {
-  const MatrixFreePgs pgs(J, Minv, cfm);
+                                const SolverOptions& options) {
+  const MatrixFreePgs pgs(J, Minv, options.cfm);
   if (lambda.size() != J.rows()) lambda = VecX::Zero(J.rows());
   VecX u = pgs.impulse(lambda);  // kept equal to W lambda by every sweep
   std::mt19937_64 rng(options.seed);
@@ -402,7 +412,11 @@ SolverSummary solve_whole(const std::string& method,
   if (method == "matrix-free")
     throw std::invalid_argument("solver 'matrix-free' works on J and Minv: solve_matrix_free");
   if (method == "jacobi") return solve_jacobi(A, b, cmin, cmax, lambda, options);
-  if (method == "direct") return solve_direct(A, b, cmin, cmax, lambda);
+  if (method == "direct") {
+    DirectOptions direct;
+    direct.tolerance = options.residual_tolerance;  // one tolerance for every method
+    return solve_direct(A, b, cmin, cmax, lambda, direct);
+  }
   throw std::invalid_argument("unknown solver '" + method +
                               "' (valid: pgs, block-pgs, sgs, jacobi, direct)");
 }
@@ -416,6 +430,11 @@ SolverSummary solve(const std::string& method,
                     const VecX& cmax,
                     VecX& lambda,
                     const SolverOptions& options) {
+  if (options.cfm != 0.0) {  // every method solves A + eps E, the same way
+    SolverOptions plain = options;
+    plain.cfm = 0.0;
+    return solve(method, with_cfm(A, options.cfm), b, cmin, cmax, lambda, plain);
+  }
   if (!options.split_islands || method == "direct") {  // direct splits by itself
     return solve_whole(method, A, b, cmin, cmax, lambda, options);
   }

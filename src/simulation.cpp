@@ -95,28 +95,14 @@ std::vector<Row> Simulation::build_rows() const {
   return rows;
 }
 
-namespace {
-
-/// Constraint-force mixing: A ← A + eps E (the scene's solver.cfm), recorded in sys.cfm.
-void add_cfm(System& sys, double eps) {
-  sys.cfm = eps;
-  if (eps == 0.0) return;
-  for (int k = 0; k < sys.rows(); ++k) sys.A.coeffRef(k, k) += eps;
-}
-
-}  // namespace
-
 System Simulation::build_system() const {
-  System sys = assemble_system(scene_.bodies, build_rows(), scene_.world.gravity, scene_.world.dt);
-  add_cfm(sys, scene_.solver.cfm);
-  return sys;
+  return assemble_system(scene_.bodies, build_rows(), scene_.world.gravity, scene_.world.dt);
 }
 
 const System& Simulation::assemble(StageTimes* times) {
   build_rows(rows_, manifolds_, times);
   auto clock = Clock::now();
   assemble_system(scene_.bodies, rows_, scene_.world.gravity, scene_.world.dt, sys_);
-  add_cfm(sys_, scene_.solver.cfm);
   if (times != nullptr) times->assembly = lap(clock);
   return sys_;
 }
@@ -159,10 +145,14 @@ void bounds_at(const System& sys, const VecX& lambda, VecX& lo, VecX& hi) {
   update_coulomb_bounds(sys, lambda, lo, hi);
 }
 
-double system_residual(const System& sys, const VecX& b, const VecX& lambda) {
+double system_residual(const System& sys, const VecX& b, const VecX& lambda, double cfm) {
   VecX lo, hi;
   bounds_at(sys, lambda, lo, hi);
-  return natural_map_residual(sys.A, b, lo, hi, lambda);
+  return natural_map_residual(sys.A, b, lo, hi, lambda, cfm);
+}
+
+bool has_coulomb_rows(const System& sys) {
+  return std::any_of(sys.normal_row.begin(), sys.normal_row.end(), [](int n) { return n >= 0; });
 }
 
 SolverSummary Simulation::solve_system(const System& sys,
@@ -178,14 +168,13 @@ SolverSummary Simulation::solve_system(const System& sys,
   options.row_blocks = &sys.manifold;  // block PGS: one block per contact manifold
   options.order = settings.order;
   options.seed = settings.seed + static_cast<std::uint64_t>(steps_);  // new permutations each step
+  options.cfm = settings.cfm;  // A + eps E in every method; sys.A stays J Minv Jᵀ
   const auto run = [&](const VecX& lo, const VecX& hi, VecX& l, const SolverOptions& o) {
     if (settings.method == "matrix-free")
-      return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o, sys.cfm);
+      return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o);
     return solve(settings.method, sys.A, b, lo, hi, l, o);
   };
-  const bool coulomb =
-      std::any_of(sys.normal_row.begin(), sys.normal_row.end(), [](int n) { return n >= 0; });
-  if (!coulomb) return run(sys.cmin, sys.cmax, lambda, options);
+  if (!has_coulomb_rows(sys)) return run(sys.cmin, sys.cmax, lambda, options);
 
   VecX lo = sys.cmin, hi = sys.cmax;
   if (lambda.size() != sys.rows()) lambda = VecX::Zero(sys.rows());
@@ -198,7 +187,7 @@ SolverSummary Simulation::solve_system(const System& sys,
     while (rounds < 100) {
       change = update_coulomb_bounds(sys, lambda, lo, hi);
       if (rounds > 0 && change <= 1e-12 * scale) break;
-      const SolverSummary s = solve_direct(sys.A, b, lo, hi, lambda);
+      const SolverSummary s = run(lo, hi, lambda, options);
       ++rounds;
       total.iterations += s.iterations;
       total.factorizations += s.factorizations;
@@ -210,7 +199,7 @@ SolverSummary Simulation::solve_system(const System& sys,
     }
     if (change > 1e-12 * scale && total.termination == Termination::Direct)
       total.termination = Termination::NotConverged;
-    total.residual = natural_map_residual(sys.A, b, lo, hi, lambda);
+    total.residual = natural_map_residual(sys.A, b, lo, hi, lambda, settings.cfm);
     std::ostringstream msg;
     msg << "direct with Coulomb bounds: fixed point in " << rounds << " rounds (last bound change "
         << change << " N), " << total.factorizations << " factorizations, residual "
@@ -372,8 +361,8 @@ StepReport Simulation::step() {
                    steps_,
                    improved ? "velocity system (8.1)" : "system (6.2)");
   if (observer_) observer_(sys, lambda, v2);  // not timed: a cross-check is not the step
-  if (sys.cfm > 0.0 && sys.rows() > 0)
-    report.cfm_acceleration_error = sys.cfm * lambda.lpNorm<Eigen::Infinity>();
+  if (scene_.solver.cfm > 0.0 && sys.rows() > 0)
+    report.cfm_acceleration_error = scene_.solver.cfm * lambda.lpNorm<Eigen::Infinity>();
 
   // 3b. The improved push factor (8.1): the position system, the same A with the push terms
   // in b, gives the velocities that move the bodies this step only.

@@ -806,7 +806,8 @@ StressResult run_stress(const StressCase& c,
   }
   r.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
   r.energy_final = sim.energy();
-  r.condition = estimate_condition(sim.assemble().A);
+  // of the matrix the solvers work on: A + eps E with constraint-force mixing
+  r.condition = estimate_condition(with_cfm(sim.assemble().A, scene.solver.cfm));
   r.verdict = probe->finish(sim);
   if (r.status.empty()) r.status = r.verdict.stable ? "stable" : "unstable";
   return r;

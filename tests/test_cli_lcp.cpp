@@ -52,10 +52,10 @@ TEST_CASE("cbps lcp: lemke, pgs and direct agree on a chain's system (A positive
     lambdas.push_back(lambda_of(j));
     CHECK(lambdas.back().size() == j.at("rows").get<std::size_t>());
   }
-  // The default for a small folder is lemke.
+  // The default for a folder (a symmetric A = J Minv Jᵀ) is the exact path.
   const CliResult d = run_cli("lcp " + m.string() + " --json");
   REQUIRE(d.code == 0);
-  CHECK(nlohmann::json::parse(d.out).at("solver") == "lemke");
+  CHECK(nlohmann::json::parse(d.out).at("solver") == "direct");
   double largest = 0.0;
   for (double x : lambdas[0]) largest = std::max(largest, std::abs(x));
   for (std::size_t s = 1; s < lambdas.size(); ++s) {

@@ -1,10 +1,22 @@
 // Errors the command line reports with the contract's exit codes.
 #pragma once
 
+#include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace cbps {
+
+/// A number for an error message: 6 significant digits, "inf", "-inf" or "nan" (never the 300
+/// digits std::to_string gives DBL_MAX).
+inline std::string number_text(double x) {
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", x);
+  return text;
+}
 
 /// Bad input or usage (exit code 2). what() reads "<where>: <why>", where names the file and
 /// the JSON path or line, or the option.

@@ -19,8 +19,12 @@ namespace cbps {
 void bounds_at(const System& sys, const VecX& lambda, VecX& lo, VecX& hi);
 
 /// The natural-map residual of the system with right-hand side b at lambda, Coulomb bounds
-/// taken at lambda (bounds_at), N.
-double system_residual(const System& sys, const VecX& b, const VecX& lambda);
+/// taken at lambda (bounds_at), with constraint-force mixing cfm (kg⁻¹) on A's diagonal, N.
+double system_residual(const System& sys, const VecX& b, const VecX& lambda, double cfm);
+
+/// True when some row is a Coulomb friction row (5.4): its bounds ±mu lambda_normal move with
+/// lambda, so the step's problem is a fixed point of boxed problems, not one boxed problem.
+bool has_coulomb_rows(const System& sys);
 
 /// Wall time of each stage of one step, s.
 struct StageTimes {

@@ -34,6 +34,9 @@ struct SolverOptions {
   double block_regularization = 1e-7;
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, psor, matrix-free)
   std::uint64_t seed = 0;              ///< RowOrder::Random: the first permutation's seed
+  /// Constraint-force mixing eps, kg⁻¹: every method solves the boxed problem of A + eps E
+  /// (with_cfm) instead of A; A itself stays J Minv Jᵀ. Residuals are those of A + eps E. 0: off.
+  double cfm = 0.0;
   /// Iterative solvers call this after every sweep with the sweep count, lambda and the seconds
   /// spent in sweeps so far (the call itself is not timed); false ends the solve
   /// (Termination::Stopped). `cbps converge` records its samples here.
@@ -71,10 +74,17 @@ struct SolverSummary {
 /// Clamp of 7.1.1: min(max(x, lo), hi).
 double clamp(double x, double lo, double hi);
 
-/// Natural-map residual ‖lambda − clamp(lambda − (A lambda − b), cmin, cmax)‖∞, N.
-/// Zero exactly at a solution of the boxed LCP of 6.2.
-double natural_map_residual(
-    const SpMat& A, const VecX& b, const VecX& cmin, const VecX& cmax, const VecX& lambda);
+/// Natural-map residual ‖lambda − clamp(lambda − w, cmin, cmax)‖∞ with w = (A + cfm E) lambda − b,
+/// N. Zero exactly at a solution of the boxed LCP of 6.2 (of A + cfm E when cfm > 0, kg⁻¹).
+double natural_map_residual(const SpMat& A,
+                            const VecX& b,
+                            const VecX& cmin,
+                            const VecX& cmax,
+                            const VecX& lambda,
+                            double cfm = 0.0);
+
+/// A + eps E: the matrix a solve with constraint-force mixing eps (kg⁻¹) works on.
+SpMat with_cfm(const SpMat& A, double eps);
 
 /// One projected Gauss-Seidel sweep (7.1.1), in place, rows j = 0 … c−1:
 ///   lambda_j ← clamp((b_j − Σ_{i≠j} A_ji lambda_i) / A_jj, cmin_j, cmax_j),
@@ -131,15 +141,14 @@ class MatrixFreePgs {
 };
 
 /// PGS in the matrix-free form from the guess in lambda; options as for solve_pgs (order,
-/// relaxation, tolerances; no islands: the rows never meet).
+/// relaxation, tolerances, cfm on the diagonal d; no islands: the rows never meet).
 SolverSummary solve_matrix_free(const SpMatRow& J,
                                 const SpMat& Minv,
                                 const VecX& b,
                                 const VecX& cmin,
                                 const VecX& cmax,
                                 VecX& lambda,
-                                const SolverOptions& options,
-                                double cfm = 0.0);
+                                const SolverOptions& options);
 
 /// Symmetric Gauss-Seidel: one iteration is a forward sweep and a backward sweep (SSOR with
 /// relaxation omega); its iteration matrix is similar to a symmetric one for symmetric A.
@@ -239,9 +248,9 @@ void for_each_island(const std::vector<std::vector<int>>& islands,
                      const IslandSolve& solve_island);
 
 struct DirectOptions {
-  /// Stop when the natural-map residual ≤ this (N); 0 = machine precision, i.e.
+  /// Stop when the natural-map residual ≤ max(this, the rounding floor) (N), the floor being
   /// 64 u (max_i Σ_j |A_ij| ‖lambda‖∞ + ‖b‖∞), u the unit roundoff: the rounding of
-  /// w = A lambda − b, with room for the regularised solves' own rounding.
+  /// w = A lambda − b, with room for the regularised solves' own rounding. 0: the floor.
   double tolerance = 0.0;
   int max_outer_iterations = 500;  ///< proximal-point steps per island
   double epsilon = 1e-4;           ///< proximal ε as a fraction of the island's max A_jj
@@ -286,9 +295,12 @@ SolverSummary solve_block_pgs(const SpMat& A,
                               VecX& lambda,
                               const SolverOptions& options);
 
-/// By name: "pgs", "block-pgs", "jacobi", "direct" (solve_direct). With options.split_islands the
-/// iterative solvers run on each island of A apart, each until its own tolerance; the summary then
-/// has the largest sweep count and residual of any island.
+/// By name: "pgs", "block-pgs", "sgs", "jacobi", "direct" (solve_direct). With
+/// options.split_islands the iterative solvers run on each island of A apart, each until its own
+/// tolerance; the summary then has the largest sweep count and residual of any island. With
+/// options.cfm > 0 every method works on with_cfm(A, options.cfm). options.residual_tolerance
+/// reaches every method: the direct path stops at max(that, its rounding floor)
+/// (DirectOptions::tolerance).
 SolverSummary solve(const std::string& method,
                     const SpMat& A,
                     const VecX& b,

@@ -43,7 +43,6 @@ struct System {
   std::vector<int> normal_row;  ///< c, Coulomb friction: the contact row bounding it, else −1
   VecX mu;                      ///< c, Coulomb friction coefficient of the row, else 0
   std::vector<int> manifold;    ///< c, the row's contact manifold (4), else −1 (block PGS)
-  double cfm = 0.0;             ///< constraint-force mixing already on A's diagonal, kg⁻¹
 
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }
@@ -77,8 +76,8 @@ VecX stack_forces(const std::vector<Body>& bodies,
                   const std::vector<int>& body_of_block,
                   const Vec3& gravity);
 
-/// A = J Minv Jᵀ (6.2.9): c×c, symmetric positive semidefinite.
-/// (Simulation adds the scene's CFM eps to its diagonal afterwards: A + eps E, System::cfm.)
+/// A = J Minv Jᵀ (6.2.9): c×c, symmetric positive semidefinite. Always exactly this: constraint-
+/// force mixing is a solver setting (SolverOptions::cfm), never folded into A.
 SpMat compute_A(const SpMatRow& J, const SpMat& Minv);
 
 /// b = upsilon/dt − J (v1/dt + Minv fext) (6.2.9).

@@ -22,28 +22,35 @@ void add_scene_options(CLI::App* cmd, SceneOptions& o) {
   cmd->add_option("--param", o.params, "NAME=VALUE: a built-in scene's parameter (repeatable)");
 }
 
-void add_step_options(CLI::App* cmd, StepOptions& o) {
+void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
   cmd->add_option("--dt", o.dt, "time step in s (fractions such as 1/240 accepted)");
-  auto* steps =
-      cmd->add_option("--steps", o.steps, "number of steps")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--duration", o.duration, "simulated time in s (instead of --steps)")
-      ->check(CLI::PositiveNumber)
-      ->excludes(steps);
+  if (run_length) {
+    auto* steps =
+        cmd->add_option("--steps", o.steps, "number of steps (default: the scene's duration)")
+            ->check(non_negative());
+    cmd->add_option("--duration", o.duration, "simulated time in s (instead of --steps)")
+        ->check(positive())
+        ->excludes(steps);
+  }
   cmd->add_option("--solver",
                   o.solver,
                   "NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off] with NAME pgs, "
                   "psor, sgs, jacobi, block-pgs, matrix-free or direct, e.g. psor:1.3 "
                   "(default: the scene's, pgs)");
-  cmd->add_option("--seed", o.seed, "seed of the random row order (order=random)");
-  cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--tolerance", o.tolerance, "natural-map residual to stop at, N (0: all sweeps)")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", o.seed, "seed of the random row order (order=random), >= 0")
+      ->check(non_negative());
+  cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")->check(positive());
+  cmd->add_option("--tolerance",
+                  o.tolerance,
+                  "natural-map residual to stop at, N, for every method (0: all sweeps; the "
+                  "direct path stops at its rounding floor if that is higher; default: the "
+                  "scene's, 1e-10)")
+      ->check(non_negative());
   cmd->add_option("--cfm",
                   o.cfm,
                   "constraint-force mixing eps in kg^-1: solve (A + eps E) lambda = b; the "
                   "summary reports its effect eps max|lambda| (default: the scene's, 0)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative());
   cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--push",
@@ -97,8 +104,40 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
 
 long step_count(const Scene& scene, const StepOptions& o) {
   if (o.steps >= 0) return o.steps;
-  const double duration = o.duration > 0.0 ? o.duration : scene.duration;
-  return static_cast<long>(std::llround(duration / scene.world.dt));
+  const bool given = o.duration > 0.0;
+  const double duration = given ? o.duration : scene.duration;
+  const std::string what = given ? "--duration " + number_text(duration)
+                                 : "the scene's duration " + number_text(duration);
+  const double steps = duration / scene.world.dt;
+  if (!std::isfinite(steps) || steps > kMaxSteps)
+    throw InputError(what + " s: " + number_text(steps) +
+                     " steps of dt = " + number_text(scene.world.dt) +
+                     " s, more than a run can take (" + number_text(kMaxSteps) + ")");
+  const long count = std::lround(steps);
+  if (count < 1)
+    throw InputError(what + " s: shorter than half a step (dt = " + number_text(scene.world.dt) +
+                     " s), so no step would run; use --steps 1 or a longer duration");
+  return count;
+}
+
+CLI::Validator positive() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double x = 0.0;
+        if (!parse_number(text, x) || !(x > 0.0)) return "'" + text + "' is not a number > 0";
+        return {};
+      },
+      "> 0");
+}
+
+CLI::Validator non_negative() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double x = 0.0;
+        if (!parse_number(text, x) || !(x >= 0.0)) return "'" + text + "' is not a number >= 0";
+        return {};
+      },
+      ">= 0");
 }
 
 OutputDir::OutputDir(const std::string& final_path) : final_(final_path) {

@@ -33,13 +33,23 @@ struct StepOptions {
 };
 
 void add_scene_options(CLI::App* cmd, SceneOptions& o);
-void add_step_options(CLI::App* cmd, StepOptions& o);
+/// --dt, --solver, --seed, --iterations, --tolerance, --cfm, --beta, --push; with run_length
+/// also --steps and --duration (commands that run a scene; explain and matrices take --step).
+void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
+
+/// Option checks whose messages show the value as given (CLI11's own print DBL_MAX in full).
+CLI::Validator positive();      ///< a finite number > 0
+CLI::Validator non_negative();  ///< a finite number >= 0
+
+/// The most steps a run takes (a longer run is a typo: 1e12 steps of a one-body scene take days).
+inline constexpr double kMaxSteps = 1e12;
 
 /// A built-in scene by name (with its --param values) or a JSON scene file.
 Scene load_scene(const SceneOptions& o);
 /// Applies --dt, --beta, --solver, --iterations, --tolerance, --cfm to the scene.
 void apply_step_options(Scene& scene, const StepOptions& o);
-/// Number of steps from --steps, else --duration, else the scene's duration.
+/// Number of steps from --steps, else --duration, else the scene's duration; InputError when
+/// the duration gives no step or more than kMaxSteps.
 long step_count(const Scene& scene, const StepOptions& o);
 
 /// A folder written under a temporary name and renamed to its final name by commit(), so

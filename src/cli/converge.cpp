@@ -59,7 +59,8 @@ struct Study {
   SpMat Minv;
   VecX v1, fext;
   double dt = 0.0;
-  double cfm = 0.0;  ///< the scene's constraint-force mixing, already on A's diagonal, kg⁻¹
+  double cfm = 0.0;  ///< constraint-force mixing eps, kg⁻¹: the problem studied is A + eps E
+  SpMat A_solved;    ///< with_cfm(A, cfm): the matrix every solver works on
   VecX warm;         ///< the previous step's lambda by row id (scenes after step 0), else 0
   VecX lambda_star, v2_star;
   bool lambda_unique = false;  ///< A positive definite (a Cholesky factorization exists)
@@ -89,6 +90,8 @@ Study study_of_problem(const std::string& path) {
     s.fext = std::move(p.fext);
     s.dt = p.dt;
   }
+  s.cfm = p.cfm;
+  s.A_solved = with_cfm(s.A, s.cfm);
   s.blocks.assign(static_cast<std::size_t>(s.b.size()), -1);
   s.warm = VecX::Zero(s.b.size());
   return s;
@@ -116,7 +119,8 @@ Study study_of_scene(const ConvergeOptions& o) {
   s.v1 = sys.v1;
   s.fext = sys.fext;
   s.dt = sys.dt;
-  s.cfm = sys.cfm;
+  s.cfm = scene.solver.cfm;
+  s.A_solved = with_cfm(s.A, s.cfm);
   s.warm = sim.initial_lambda(sys);
   return s;
 }
@@ -126,8 +130,8 @@ Study study_of_scene(const ConvergeOptions& o) {
 /// still factor in floating point: four contacts per face give rcond ~1e-17.
 SolverSummary solve_reference(Study& s) {
   s.lambda_star = VecX::Zero(s.b.size());
-  const SolverSummary d = solve_direct(s.A, s.b, s.cmin, s.cmax, s.lambda_star);
-  s.lambda_unique = cholesky_rcond(s.A) >= kDefiniteRcond;
+  const SolverSummary d = solve_direct(s.A_solved, s.b, s.cmin, s.cmax, s.lambda_star);
+  s.lambda_unique = cholesky_rcond(s.A_solved) >= kDefiniteRcond;
   if (s.has_bodies()) s.v2_star = s.v2(s.lambda_star);
   return d;
 }
@@ -147,8 +151,8 @@ Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s)
   Sample m;
   m.iteration = iteration;
   m.time_s = time_s;
-  const VecX Alambda = s.A * lambda;
-  m.residual = natural_map_residual(s.A, s.b, s.cmin, s.cmax, lambda);
+  const VecX Alambda = s.A_solved * lambda;
+  m.residual = natural_map_residual(s.A_solved, s.b, s.cmin, s.cmax, lambda);
   m.objective = 0.5 * lambda.dot(Alambda) - s.b.dot(lambda);  // (6.2)
   if (s.lambda_unique) m.lambda_error = (lambda - s.lambda_star).lpNorm<Eigen::Infinity>();
   if (s.has_bodies()) m.velocity_error = (s.v2(lambda) - s.v2_star).lpNorm<Eigen::Infinity>();
@@ -172,6 +176,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   options.row_blocks = &s.blocks;
   options.describe = false;
+  options.cfm = s.cfm;
   options.after_sweep = [&](int k, const VecX& l, double time_s) {
     const Sample m = measure(s, l, k, time_s);
     run.samples.push_back(m);
@@ -188,7 +193,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
     return run.stopped.empty();
   };
   if (spec.method == "matrix-free") {
-    solve_matrix_free(s.J, s.Minv, s.b, s.cmin, s.cmax, lambda, options, s.cfm);
+    solve_matrix_free(s.J, s.Minv, s.b, s.cmin, s.cmax, lambda, options);
   } else {
     solve(spec.method, s.A, s.b, s.cmin, s.cmax, lambda, options);
   }
@@ -201,7 +206,7 @@ Run run_direct(const Study& s, const SolverSpec& spec) {
   run.spec = spec;
   VecX lambda = VecX::Zero(s.b.size());
   const auto start = Clock::now();
-  const SolverSummary d = solve_direct(s.A, s.b, s.cmin, s.cmax, lambda);
+  const SolverSummary d = solve_direct(s.A_solved, s.b, s.cmin, s.cmax, lambda);
   const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
   run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
   run.stopped = to_string(d.termination);
@@ -386,17 +391,18 @@ void register_converge(CLI::App& app, Action& run) {
                   o->at_step,
                   "scenes: study the system of this step (0: the first; later steps start "
                   "from the previous step's lambda unless a spec says warm=off)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative());
   cmd->add_option("--dt", o->step.dt, "scenes: time step in s");
   cmd->add_option("--push", o->step.push, "scenes: original | improved")
       ->check(CLI::IsMember({"original", "improved"}));
   cmd->add_option("--iterations", o->iterations, "max sweeps per solver (default 100000)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative());
   cmd->add_option("--time-limit", o->time_limit, "max sweep time per solver, s (default 10)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--seed", o->step.seed, "seed of random row orders (default 0)");
+      ->check(positive());
+  cmd->add_option("--seed", o->step.seed, "seed of random row orders, >= 0 (default 0)")
+      ->check(non_negative());
   cmd->add_option("--out", o->out, "write convergence.csv, summary.json and the plot here");
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");

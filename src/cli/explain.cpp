@@ -64,6 +64,17 @@ int explain_command(const ExplainOptions& o) {
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, sys.dt);
   const std::vector<std::string> cols = column_labels(scene, sys);
   const std::vector<std::string>& rows = sys.labels;
+  // The bounds lambda satisfies: with Coulomb friction (5.4) those of the fixed point, ±mu
+  // lambda_n, not the zeros the rows are built with.
+  VecX cmin, cmax;
+  bounds_at(sys, lambda, cmin, cmax);
+  const bool coulomb = has_coulomb_rows(sys);
+  const char* const coulomb_note =
+      "Coulomb friction rows: bounds -mu lambda_n, +mu lambda_n at the fixed point lambda "
+      "satisfies (5.4)";
+  const double cfm = scene.solver.cfm;
+  const char* const cfm_note =
+      "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
 
   if (o.json) {
     nlohmann::json out;
@@ -78,8 +89,13 @@ int explain_command(const ExplainOptions& o) {
     out["A"] = {{"equation", "6.2.9"}, {"value", dense_json(MatX(sys.A))}};
     out["b"] = {{"equation", "6.2.9"}, {"value", vector_json(sys.b)}};
     out["upsilon"] = {{"equation", "5.1.2"}, {"value", vector_json(sys.upsilon)}};
-    out["cmin"] = {{"equation", "5.1"}, {"value", vector_json(sys.cmin)}};
-    out["cmax"] = {{"equation", "5.1"}, {"value", vector_json(sys.cmax)}};
+    out["cmin"] = {{"equation", "5.1"}, {"value", vector_json(cmin)}};
+    out["cmax"] = {{"equation", "5.1"}, {"value", vector_json(cmax)}};
+    if (coulomb) {
+      out["cmin"]["note"] = coulomb_note;
+      out["cmax"]["note"] = coulomb_note;
+    }
+    out["cfm"] = {{"value", cfm}, {"unit", "kg^-1"}, {"note", cfm_note}};
     out["v1"] = {{"equation", "6.1.1"}, {"value", vector_json(sys.v1)}};
     out["fext"] = {{"equation", "6.1.3"}, {"value", vector_json(sys.fext)}};
     out["lambda"] = {{"equation", "7.1.1"}, {"value", vector_json(lambda)}};
@@ -103,10 +119,12 @@ int explain_command(const ExplainOptions& o) {
   print_matrix("A = J Minv J^T (6.2.9)", MatX(sys.A), rows, rows);
   print_vector("upsilon: velocity bias, m/s (5.1.2, 5.2.3)", sys.upsilon, rows);
   print_vector("b = upsilon/dt - J (v1/dt + Minv fext), m/s^2 (6.2.9)", sys.b, rows);
-  print_vector("cmin, N (5.1)", sys.cmin, rows);
-  print_vector("cmax, N (5.1)", sys.cmax, rows);
+  print_vector("cmin, N (5.1)", cmin, rows);
+  print_vector("cmax, N (5.1)", cmax, rows);
+  if (coulomb) std::printf("  (%s)\n", coulomb_note);
   print_vector("lambda, N (7.1.1)", lambda, rows);
   print_vector("v2 = v1 + dt Minv (J^T lambda + fext), m/s and rad/s (12.3.1)", v2, cols);
+  if (cfm > 0.0) std::printf("\neps = %.6g kg^-1: %s\n", cfm, cfm_note);
   std::printf("\nsolver %s: %s\n", scene.solver.method.c_str(), summary.message.c_str());
   return 0;
 }
@@ -117,9 +135,9 @@ void register_explain(CLI::App& app, Action& run) {
   auto* cmd = app.add_subcommand("explain", "print one step's J, Minv, A, b, bounds, lambda, v2");
   auto o = std::make_shared<ExplainOptions>();
   add_scene_options(cmd, o->scene);
-  add_step_options(cmd, o->step);
+  add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "explain the system of step K (after K steps)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative());
   cmd->add_flag("--json", o->json, "dense arrays with row and column labels, as JSON");
   cmd->callback([&run, o] { run = [o] { return explain_command(*o); }; });
 }

@@ -87,7 +87,7 @@ std::string format_number(double x) {
   return buf;
 }
 
-Outcome run_direct(const Problem& p) {
+Outcome run_direct(const Problem& p, double tolerance) {
   // The direct path is for the paper's A = J Minv Jᵀ: symmetric positive semidefinite.
   const SpMat difference = p.A - SpMat(p.A.transpose());
   double asymmetry = 0.0, largest = 1.0;
@@ -101,7 +101,9 @@ Outcome run_direct(const Problem& p) {
         format_number(asymmetry) + "; use --solver lemke");
   }
   VecX lambda = VecX::Zero(p.rows());
-  const SolverSummary s = solve_direct(p.A, p.b, p.cmin, p.cmax, lambda);
+  DirectOptions options;
+  options.tolerance = tolerance;
+  const SolverSummary s = solve_direct(p.A, p.b, p.cmin, p.cmax, lambda, options);
   std::ostringstream msg;
   msg << s.message << "; " << s.wall_time_s << " s";
   return {lambda, s.iterations, false, msg.str()};
@@ -112,10 +114,14 @@ int lcp_command(const LcpOptions& o) {
   const bool folder = fs::is_directory(o.problem, ec);
   if (!o.out.empty() && fs::exists(o.out, ec) && fs::equivalent(o.out, o.problem, ec))
     throw InputError("--out " + o.out + ": is the problem itself; choose another folder");
-  const Problem p = read_problem(o.problem);
+  // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does this.
+  Problem p = read_problem(o.problem);
+  p.A = with_cfm(p.A, p.cfm);
 
+  // The default: the exact path for the symmetric A of a `cbps matrices` folder (and for a
+  // Siconos file too large for dense Lemke), Lemke for Siconos files.
   std::string solver = o.solver;
-  if (solver.empty()) solver = (!folder || p.rows() <= kMaxLemkeRows) ? "lemke" : "pgs";
+  if (solver.empty()) solver = (!folder && p.rows() <= kMaxLemkeRows) ? "lemke" : "direct";
   if (solver != "lemke" && solver != "pgs" && solver != "jacobi" && solver != "direct")
     throw InputError("--solver " + solver + ": unknown; use lemke, pgs, jacobi or direct");
   std::unique_ptr<OutputDir> dir;
@@ -125,7 +131,7 @@ int lcp_command(const LcpOptions& o) {
   run.solver = solver;
   const auto start = std::chrono::steady_clock::now();
   const Outcome r = solver == "lemke"    ? run_lemke(p)
-                    : solver == "direct" ? run_direct(p)
+                    : solver == "direct" ? run_direct(p, o.tolerance)
                                          : run_iterative(p, run);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -141,6 +147,7 @@ int lcp_command(const LcpOptions& o) {
   nlohmann::json j;
   j["problem"] = o.problem;
   j["rows"] = p.rows();
+  j["cfm"] = p.cfm;
   j["solver"] = solver;
   j["status"] = status;
   j["iterations"] = r.iterations;
@@ -164,6 +171,9 @@ int lcp_command(const LcpOptions& o) {
                 o.problem.c_str(),
                 p.rows(),
                 folder ? "cbps matrices folder" : "Siconos file");
+    if (p.cfm > 0.0)
+      std::printf("cfm %s kg^-1 (cfm.txt): solving the boxed problem of A + eps E\n",
+                  number_text(p.cfm).c_str());
     std::printf("%s: %s, %d %s, %s s\n",
                 solver.c_str(),
                 status.c_str(),
@@ -192,12 +202,16 @@ void register_lcp(CLI::App& app, Action& run) {
       ->required();
   cmd->add_option("--solver",
                   o->solver,
-                  "lemke (default for .dat and up to 3000 rows), pgs, jacobi, or direct "
-                  "(sparse active set on CHOLMOD; symmetric positive semidefinite A)");
+                  "lemke (dense, any square A; the default for Siconos files up to 3000 rows), "
+                  "pgs, jacobi, or direct (sparse active set on CHOLMOD, symmetric positive "
+                  "semidefinite A; the default for cbps matrices folders)");
   cmd->add_option("--iterations", o->iterations, "pgs/jacobi: sweeps (default 10000)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--tolerance", o->tolerance, "pgs/jacobi: stop at this residual (default 1e-10)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(positive());
+  cmd->add_option("--tolerance",
+                  o->tolerance,
+                  "pgs/jacobi/direct: stop at this natural-map residual, N (default 1e-10; "
+                  "the direct path never below its rounding floor; not used by lemke)")
+      ->check(non_negative());
   cmd->add_flag("--json", o->json, "print the result as JSON");
   cmd->add_option("--out", o->out, "write result.json and lambda.mtx here (only if solved)");
   cmd->callback([&run, o] { run = [o] { return lcp_command(*o); }; });

@@ -1,7 +1,12 @@
 // cbps matrices SCENE [--step K] --out DIR: the step's system as Matrix Market files.
+//
+// What is written is the problem the step solves: A = J Minv Jᵀ exactly (6.2.9); a constraint-
+// force mixing eps, when the scene has one, apart in cfm.txt; with Coulomb friction (5.4) the
+// bounds ±mu lambda_n that the step's lambda satisfies at its fixed point, said in labels.json.
 #include <cstdio>
 #include <memory>
 
+#include "cbps/error.hpp"
 #include "cbps/matrix_market.hpp"
 #include "cbps/simulation.hpp"
 #include "common.hpp"
@@ -24,16 +29,31 @@ int matrices_command(const MatricesOptions& o) {
   Simulation sim(scene);
   for (long s = 0; s < o.at_step; ++s) sim.step();
   const System sys = sim.build_system();
-  VecX lambda;
-  const SolverSummary direct =
-      solve("direct", sys.A, sys.b, sys.cmin, sys.cmax, lambda, SolverOptions{});
+  // lambda by the exact path (to its rounding floor), with the scene's cfm and, with Coulomb
+  // friction, iterated to the fixed point of the bounds, as the step itself would.
+  SolverSettings exact = scene.solver;
+  exact.method = "direct";
+  exact.tolerance = 0.0;
+  VecX lambda = VecX::Zero(sys.rows());
+  const SolverSummary direct = sim.solve_system(sys, sys.b, lambda, exact);
+  const bool coulomb = has_coulomb_rows(sys);
+  if (coulomb && direct.termination != Termination::Direct)
+    throw ComputationError("matrices: " + scene.name + ", step " + std::to_string(o.at_step) +
+                           ": the Coulomb bounds did not reach a fixed point (" + direct.message +
+                           "), so no boxed problem is the step's; nothing written");
+  VecX cmin, cmax;  // the bounds lambda satisfies: Coulomb rows at ±mu lambda_n
+  bounds_at(sys, lambda, cmin, cmax);
+  const std::string coulomb_note =
+      coulomb ? "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)" : "";
 
   write_matrix_market(dir.file("J.mtx"), SpMat(sys.J), "J: c x 6n constraint Jacobian (6.1)");
   write_matrix_market(dir.file("Minv.mtx"), sys.Minv, "Minv: 6n x 6n inverse mass (6.1.2)");
   write_matrix_market(dir.file("A.mtx"), sys.A, "A = J Minv J^T, c x c, 1/kg (6.2.9)");
   write_matrix_market(dir.file("b.mtx"), sys.b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)");
-  write_matrix_market(dir.file("cmin.mtx"), sys.cmin, "cmin: lower bounds on lambda, N (5.1)");
-  write_matrix_market(dir.file("cmax.mtx"), sys.cmax, "cmax: upper bounds on lambda, N (5.1)");
+  write_matrix_market(
+      dir.file("cmin.mtx"), cmin, "cmin: lower bounds on lambda, N (5.1)" + coulomb_note);
+  write_matrix_market(
+      dir.file("cmax.mtx"), cmax, "cmax: upper bounds on lambda, N (5.1)" + coulomb_note);
   write_matrix_market(dir.file("v1.mtx"), sys.v1, "v1: velocities, m/s and rad/s (6.1.1)");
   write_matrix_market(dir.file("fext.mtx"), sys.fext, "fext: forces and torques, N, N m (6.1.3)");
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
@@ -44,6 +64,29 @@ int matrices_command(const MatricesOptions& o) {
   labels["step"] = o.at_step;
   labels["rows"] = sys.labels;
   labels["columns"] = column_labels(scene, sys);
+  labels["system"] = scene.world.push == PushMode::Improved
+                         ? "velocity system of the improved push (8.1): b without the push terms"
+                         : "the one system of the original push (5.2.3, 6.2.9)";
+  labels["cfm"] = scene.solver.cfm;
+  if (scene.solver.cfm > 0.0) {
+    char cfm_text[40];
+    std::snprintf(cfm_text, sizeof cfm_text, "%.17g\n", scene.solver.cfm);
+    write_text(dir.file("cfm.txt"), cfm_text);
+  }
+  if (coulomb) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (int k = 0; k < sys.rows(); ++k) {
+      const int n = sys.normal_row[static_cast<std::size_t>(k)];
+      if (n >= 0) rows.push_back({{"row", k}, {"normal_row", n}, {"mu", sys.mu(k)}});
+    }
+    labels["coulomb"] = {
+        {"note",
+         "Coulomb friction (5.4): the bounds of these rows are -mu lambda_n and +mu lambda_n "
+         "with lambda_n the lambda of their normal row at the fixed point the step converged "
+         "to; lambda.mtx solves the boxed problem with the bounds written here."},
+        {"rows", rows},
+        {"solve", direct.message}};
+  }
   write_text(dir.file("labels.json"), labels.dump(2) + "\n");
   char dt_text[40];
   std::snprintf(dt_text, sizeof dt_text, "%.17g\n", sys.dt);
@@ -64,9 +107,9 @@ void register_matrices(CLI::App& app, Action& run) {
   auto* cmd = app.add_subcommand("matrices", "write one step's system as Matrix Market files");
   auto o = std::make_shared<MatricesOptions>();
   add_scene_options(cmd, o->scene);
-  add_step_options(cmd, o->step);
+  add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "the system of step K (after K steps)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative());
   cmd->add_option("--out", o->out, "output folder")->required();
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });
 }

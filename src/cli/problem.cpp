@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "cbps/error.hpp"
 #include "cbps/matrix_market.hpp"
@@ -15,6 +16,40 @@ namespace cbps::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// The one number of a one-line text file such as dt.txt or cfm.txt.
+double read_number_file(const std::string& path, const char* what) {
+  std::ifstream in(path);
+  std::string text;
+  in >> text;
+  double x = 0.0;
+  if (!parse_number(text, x) || !std::isfinite(x))
+    throw InputError(path + ": line 1: '" + text + "' is not " + what);
+  return x;
+}
+
+/// cmin ≤ cmax, neither NaN, cmin < +inf and cmax > −inf (a bound no lambda can meet), b finite.
+void check_bounds(const VecX& b,
+                  const VecX& cmin,
+                  const VecX& cmax,
+                  const std::string& cmin_file,
+                  const std::string& cmax_file,
+                  const std::string& b_file) {
+  const auto fail =
+      [](const std::string& file, const char* name, Eigen::Index k, double x, const char* why) {
+        std::ostringstream msg;
+        msg << file << ": " << name << "[" << k << "] = " << number_text(x) << ": " << why;
+        throw InputError(msg.str());
+      };
+  for (Eigen::Index k = 0; k < b.size(); ++k) {
+    if (std::isnan(cmin(k)) || cmin(k) == kInf)
+      fail(cmin_file, "cmin", k, cmin(k), "a lower bound must be a number or -inf");
+    if (std::isnan(cmax(k)) || cmax(k) == -kInf)
+      fail(cmax_file, "cmax", k, cmax(k), "an upper bound must be a number or +inf");
+    if (cmin(k) > cmax(k)) fail(cmin_file, "cmin", k, cmin(k), "above cmax, no lambda fits");
+    if (!std::isfinite(b(k))) fail(b_file, "b", k, b(k), "not finite");
+  }
+}
 
 Problem read_folder(const std::string& dir) {
   const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
@@ -35,12 +70,13 @@ Problem read_folder(const std::string& dir) {
       throw InputError(file(name) + ": has " + std::to_string(v->size()) + " rows, A has " +
                        std::to_string(c));
   }
-  for (long k = 0; k < c; ++k) {
-    if (p.cmin(k) > p.cmax(k))
-      throw InputError(file("cmin.mtx") + ": line " + std::to_string(k + 3) + ": cmin[" +
-                       std::to_string(k) + "] > cmax[" + std::to_string(k) + "]");
-    if (!std::isfinite(p.b(k)))
-      throw InputError(file("b.mtx") + ": b[" + std::to_string(k) + "] is not finite");
+  check_bounds(p.b, p.cmin, p.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"));
+  std::error_code ec;
+  if (fs::exists(file("cfm.txt"), ec)) {
+    p.cfm = read_number_file(file("cfm.txt"), "a constraint-force mixing eps >= 0 in kg^-1");
+    if (p.cfm < 0.0)
+      throw InputError(file("cfm.txt") + ": line 1: eps = " + number_text(p.cfm) +
+                       " kg^-1 is negative");
   }
   return p;
 }
@@ -52,6 +88,7 @@ Problem read_dat(const std::string& path) {
   p.b = -s.q;
   p.cmin = s.lb;
   p.cmax = s.ub;
+  check_bounds(p.b, p.cmin, p.cmax, path + " (lb)", path + " (ub)", path + " (q)");
   return p;
 }
 
@@ -62,12 +99,10 @@ void read_bodies(const std::string& dir, Problem& p) {
     std::error_code ec;
     if (!fs::is_regular_file(file(name), ec)) return;
   }
-  std::ifstream in(file("dt.txt"));
-  std::string text;
-  in >> text;
-  double dt = 0.0;
-  if (!parse_number(text, dt) || !(dt > 0.0))
-    throw InputError(file("dt.txt") + ": line 1: '" + text + "' is not a positive time step");
+  const double dt = read_number_file(file("dt.txt"), "a positive time step in s");
+  if (!(dt > 0.0))
+    throw InputError(file("dt.txt") + ": line 1: " + number_text(dt) +
+                     " is not a positive time step");
   p.J = read_matrix_market_sparse(file("J.mtx"));
   p.Minv = read_matrix_market_sparse(file("Minv.mtx"));
   p.v1 = read_matrix_market_vector(file("v1.mtx"));

@@ -21,12 +21,16 @@ struct Problem {
   SpMat Minv;  ///< 6n×6n, folders only
   VecX v1, fext;
   double dt = 0.0;
+  /// Constraint-force mixing eps, kg⁻¹, from the folder's cfm.txt (0 without one): the step
+  /// solved the boxed problem of A + eps E (with_cfm), and so do `cbps lcp` and `converge`.
+  double cfm = 0.0;
   long rows() const { return static_cast<long>(b.size()); }
   bool has_bodies() const { return J.rows() == rows() && J.rows() > 0 && dt > 0.0; }
 };
 
-/// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx; J.mtx, Minv.mtx, v1.mtx, fext.mtx and
-/// dt.txt when all are there) or a Siconos file. Throws InputError naming the file and line.
+/// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx, cfm.txt if there is one; J.mtx, Minv.mtx,
+/// v1.mtx, fext.mtx and dt.txt when all are there) or a Siconos file. Throws InputError naming
+/// the file and line.
 Problem read_problem(const std::string& path);
 
 /// max(1, ‖q‖∞, max |M_ij|) with q = −b, M = A: the scale residuals are judged against.

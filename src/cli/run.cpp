@@ -137,7 +137,8 @@ int run_command(const RunOptions& o) {
         max_velocity_difference =
             std::max(max_velocity_difference, (v2 - v2_direct).lpNorm<Eigen::Infinity>());
       }
-      max_pgs_residual = std::max(max_pgs_residual, system_residual(sys, sys.b, lambda));
+      max_pgs_residual =
+          std::max(max_pgs_residual, system_residual(sys, sys.b, lambda, scene.solver.cfm));
       max_direct_residual = std::max(max_direct_residual, s.residual);
       ++steps_checked;
     });
@@ -343,7 +344,7 @@ void register_run(CLI::App& app, Action& run) {
   add_step_options(cmd, o->step);
   cmd->add_option("--out", o->out, "folder for summary.json, trajectory.csv, steps.csv");
   cmd->add_option("--record-every", o->record_every, "record the trajectory every K steps")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cmd->add_flag("--json", o->json, "print the summary as JSON on stdout");
   cmd->add_flag("--check",
                 o->check,

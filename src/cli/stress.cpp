@@ -290,7 +290,7 @@ void register_stress(CLI::App& app, Action& run) {
                   "comma-separated solver specs to keep (of each case's own list), e.g. "
                   "pgs,direct");
   cmd->add_option("--budget", o->budget, "wall-time budget of one run, s (default 90)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive());
   cmd->add_option("--out", o->out, "folder for summary.json (all numbers) and stress.md (table)");
   cmd->add_flag("--json", o->json, "print the results as JSON on stdout instead of the table");
   cmd->add_flag("--list", o->list, "list the cases, what stable means for each, and exit");
