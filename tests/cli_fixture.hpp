@@ -39,13 +39,15 @@ inline void write_file(const std::filesystem::path& p, const std::string& text) 
   std::ofstream(p) << text;
 }
 
-/// Runs `cbps ARGS` (the executable under test, CBPS_EXECUTABLE) with stdout and stderr captured.
-inline CliResult run_cli(const std::string& args) {
+/// Runs `cbps ARGS` (the executable under test, CBPS_EXECUTABLE) with stdout and stderr captured,
+/// from the folder `cwd` when one is given.
+inline CliResult run_cli(const std::string& args, const std::filesystem::path& cwd = {}) {
   static const std::filesystem::path dir = scratch_dir("io");
   const std::filesystem::path out = dir / "stdout";
   const std::filesystem::path err = dir / "stderr";
+  const std::string cd = cwd.empty() ? std::string() : "cd '" + cwd.string() + "' && ";
   const std::string cmd =
-      std::string(CBPS_EXECUTABLE) + " " + args + " >" + out.string() + " 2>" + err.string();
+      cd + std::string(CBPS_EXECUTABLE) + " " + args + " >" + out.string() + " 2>" + err.string();
   const int status = std::system(cmd.c_str());
   CliResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -1,11 +1,19 @@
 #include "common.hpp"
 
+#include <pthread.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
 
 #include "cbps/error.hpp"
 #include "cbps/scene_json.hpp"
@@ -140,36 +148,155 @@ CLI::Validator non_negative() {
       ">= 0");
 }
 
-OutputDir::OutputDir(const std::string& final_path) : final_(final_path) {
+namespace {
+
+/// The temporary folders of the live OutputDirs and, for each, the output folder to remove
+/// with it when this process made it; guarded by registry_mutex (the signal thread reads it).
+std::mutex registry_mutex;
+std::map<std::string, std::string>& temp_registry() {
+  static std::map<std::string, std::string> registry;
+  return registry;
+}
+std::string command_line = "cbps";
+
+/// cbps's own unfinished files: .cbps-tmp-PID folders and .cbps-manifest.tmp-PID files.
+bool is_temp_name(const std::string& name) { return name.rfind(".cbps-", 0) == 0; }
+
+/// Absolute and lexically normal, without a trailing separator: "ts/", "ts/." and "ts" alike.
+fs::path normal_folder(const std::string& path) {
+  fs::path p = fs::absolute(fs::path(path)).lexically_normal();
+  while (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();
+  return p;
+}
+
+/// Every regular file (or link) below `root`, as relative generic paths, sorted; folders only
+/// through what they hold. cbps's temporary files and folders (.cbps-*) at the top are skipped.
+std::vector<std::string> files_below(const fs::path& root) {
+  std::vector<std::string> files;
   std::error_code ec;
-  if (fs::exists(final_, ec)) {
-    if (!fs::is_directory(final_, ec)) {
-      throw InputError("--out " + final_ + ": exists and is not a folder");
+  fs::recursive_directory_iterator it(root, ec), end;
+  if (ec) throw InputError(root.string() + ": cannot list: " + ec.message());
+  for (; it != end; it.increment(ec)) {
+    if (ec) throw InputError(root.string() + ": cannot list: " + ec.message());
+    const fs::path rel = it->path().lexically_relative(root);
+    if (it.depth() == 0 && is_temp_name(rel.string())) {
+      it.disable_recursion_pending();
+      continue;
     }
-    const bool empty = fs::is_empty(final_, ec);
-    const bool ours = fs::exists(fs::path(final_) / "summary.json", ec) ||
-                      fs::exists(fs::path(final_) / "labels.json", ec) ||
-                      fs::exists(fs::path(final_) / "result.json", ec);
-    if (!empty && !ours) {
-      throw InputError("--out " + final_ +
-                       ": folder exists and is not a cbps output; refusing to replace it");
-    }
+    if (it->is_directory(ec) && !it->is_symlink(ec)) continue;
+    files.push_back(rel.generic_string());
   }
-  const fs::path parent = fs::absolute(final_).parent_path();
-  fs::create_directories(parent, ec);
-  if (ec) throw InputError("--out " + final_ + ": cannot create " + parent.string());
-  temp_ =
-      (parent / ("." + fs::path(final_).filename().string() + ".tmp-" + std::to_string(::getpid())))
-          .string();
-  fs::remove_all(temp_, ec);
-  if (!fs::create_directory(temp_, ec)) throw InputError("--out " + final_ + ": cannot create");
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void write_manifest(const fs::path& folder, const std::vector<std::string>& files) {
+  const nlohmann::json manifest = {
+      {"format", kManifestFormat},
+      {"about",
+       "the files cbps wrote in this folder; a later --out here replaces only these and refuses "
+       "if the folder holds any other file"},
+      {"command", command_line},
+      {"files", files}};
+  const fs::path temp = folder / (".cbps-manifest.tmp-" + std::to_string(::getpid()));
+  write_text(temp.string(), manifest.dump(2) + "\n");
+  std::error_code ec;
+  fs::rename(temp, folder / kManifestName, ec);
+  if (ec) throw std::runtime_error((folder / kManifestName).string() + ": " + ec.message());
+}
+
+/// Removes `dir` and its parents up to (not including) `top` while they are empty.
+void remove_empty_parents(fs::path dir, const fs::path& top) {
+  std::error_code ec;
+  while (dir != top && dir.string().size() > top.string().size() && fs::is_empty(dir, ec) && !ec) {
+    fs::remove(dir, ec);
+    dir = dir.parent_path();
+  }
+}
+
+}  // namespace
+
+void set_command_line(int argc, char** argv) {
+  command_line.clear();
+  for (int k = 0; k < argc; ++k) {
+    if (k > 0) command_line += ' ';
+    command_line += k == 0 ? fs::path(argv[0]).filename().string() : std::string(argv[k]);
+  }
+}
+
+std::vector<std::string> read_manifest(const std::string& folder) {
+  const fs::path path = fs::path(folder) / kManifestName;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return {};
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  const auto not_ours = [&](const std::string& why) {
+    return InputError(path.string() + ": not a cbps manifest (" + why +
+                      "); cbps replaces files only in folders it wrote");
+  };
+  const nlohmann::json j = nlohmann::json::parse(text.str(), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw not_ours("not a JSON object");
+  if (!j.contains("format") || j["format"] != kManifestFormat)
+    throw not_ours(std::string("no \"format\": \"") + kManifestFormat + "\"");
+  if (!j.contains("files") || !j["files"].is_array()) throw not_ours("no \"files\" list");
+  std::vector<std::string> files;
+  for (const auto& f : j["files"]) {
+    if (!f.is_string()) throw not_ours("a file name that is not a string");
+    const fs::path rel = fs::path(f.get<std::string>()).lexically_normal();
+    if (rel.empty() || rel.is_absolute() || *rel.begin() == "..")
+      throw not_ours("a file outside the folder: " + f.get<std::string>());
+    files.push_back(rel.generic_string());
+  }
+  return files;
+}
+
+OutputDir::OutputDir(const std::string& final_path) : option_(final_path) {
+  if (final_path.empty()) throw InputError("--out: empty folder name");
+  const fs::path final_dir = normal_folder(final_path);
+  final_ = final_dir.string();
+  std::error_code ec;
+  if (fs::exists(final_dir, ec)) {
+    if (!fs::is_directory(final_dir, ec))
+      throw InputError("--out " + option_ + ": exists and is not a folder");
+    std::vector<std::string> ours = read_manifest(final_);
+    std::sort(ours.begin(), ours.end());
+    std::vector<std::string> foreign;
+    for (const std::string& f : files_below(final_dir)) {
+      if (f != kManifestName && !std::binary_search(ours.begin(), ours.end(), f))
+        foreign.push_back(f);
+    }
+    if (!foreign.empty()) {
+      std::string list;
+      for (std::size_t k = 0; k < foreign.size() && k < 5; ++k)
+        list += (k ? ", " : "") + foreign[k];
+      if (foreign.size() > 5) list += " and " + std::to_string(foreign.size() - 5) + " more";
+      throw InputError("--out " + option_ + ": the folder holds " + std::to_string(foreign.size()) +
+                       " file(s) cbps did not write (" + list +
+                       "); cbps only replaces files listed in its " + kManifestName +
+                       ", so choose another folder or move them");
+    }
+  } else {
+    fs::create_directories(final_dir, ec);
+    if (ec) throw InputError("--out " + option_ + ": cannot create: " + ec.message());
+    created_final_ = true;
+  }
+  temp_ = (final_dir / (".cbps-tmp-" + std::to_string(::getpid()))).string();
+  const std::lock_guard<std::mutex> lock(registry_mutex);
+  fs::remove_all(temp_, ec);  // a leftover of an earlier process with this id
+  if (!fs::create_directory(temp_, ec)) {
+    if (created_final_) fs::remove(final_dir, ec);
+    throw InputError("--out " + option_ + ": cannot create a folder in it: " + ec.message());
+  }
+  temp_registry()[temp_] = created_final_ ? final_ : std::string();
 }
 
 OutputDir::~OutputDir() {
-  if (!committed_) {
-    std::error_code ec;
-    fs::remove_all(temp_, ec);
-  }
+  const std::lock_guard<std::mutex> lock(registry_mutex);
+  temp_registry().erase(temp_);
+  std::error_code ec;
+  fs::remove_all(temp_, ec);  // only our own temporary folder; after commit() it is empty
+  if (!committed_ && created_final_ && fs::is_empty(final_, ec)) fs::remove(final_, ec);
 }
 
 std::string OutputDir::file(const std::string& name) const {
@@ -177,11 +304,67 @@ std::string OutputDir::file(const std::string& name) const {
 }
 
 void OutputDir::commit() {
+  const std::lock_guard<std::mutex> lock(registry_mutex);  // not interrupted half-way
+  const fs::path final_dir(final_);
+  const fs::path temp_dir(temp_);
+  const std::vector<std::string> old_files = read_manifest(final_);
+  const std::vector<std::string> new_files = files_below(temp_dir);
+  // A file that appeared since the check, under a name this output uses, is not replaced.
   std::error_code ec;
-  fs::remove_all(final_, ec);
-  fs::rename(temp_, final_, ec);
-  if (ec) throw std::runtime_error("--out " + final_ + ": cannot rename: " + ec.message());
+  for (const std::string& f : new_files) {
+    if (f != kManifestName && fs::exists(final_dir / f, ec) &&
+        std::find(old_files.begin(), old_files.end(), f) == old_files.end())
+      throw InputError("--out " + option_ + ": " + f +
+                       " appeared there while cbps ran and was not written by cbps; nothing "
+                       "replaced");
+  }
+  // The manifest first lists old and new files, so that an interruption half-way leaves every
+  // cbps file listed; then the files move in, old ones not written again go, and the manifest
+  // is rewritten with the new files only.
+  std::vector<std::string> both = old_files;
+  both.insert(both.end(), new_files.begin(), new_files.end());
+  std::sort(both.begin(), both.end());
+  both.erase(std::unique(both.begin(), both.end()), both.end());
+  write_manifest(final_dir, both);
+  for (const std::string& f : new_files) {
+    const fs::path target = final_dir / f;
+    fs::create_directories(target.parent_path(), ec);
+    fs::rename(temp_dir / f, target, ec);
+    if (ec)
+      throw std::runtime_error("--out " + option_ + ": cannot move " + f +
+                               " into place: " + ec.message());
+  }
+  for (const std::string& f : old_files) {
+    if (std::find(new_files.begin(), new_files.end(), f) != new_files.end()) continue;
+    const fs::path stale = final_dir / f;
+    if (fs::is_regular_file(stale, ec) || fs::is_symlink(stale, ec)) fs::remove(stale, ec);
+    remove_empty_parents(stale.parent_path(), final_dir);
+  }
+  write_manifest(final_dir, new_files);
+  temp_registry().erase(temp_);
+  fs::remove_all(temp_dir, ec);  // empty folders only: every file moved out
   committed_ = true;
+}
+
+void install_interrupt_cleanup() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every later thread
+  std::thread([signals] {
+    int signal = 0;
+    if (sigwait(&signals, &signal) != 0) return;
+    const std::lock_guard<std::mutex> lock(registry_mutex);
+    for (const auto& [temp, made] : temp_registry()) {
+      std::error_code ec;
+      fs::remove_all(temp, ec);
+      if (!made.empty() && fs::is_empty(made, ec)) fs::remove(made, ec);
+      std::fprintf(stderr, "cbps: interrupted; removed the unfinished output %s\n", temp.c_str());
+    }
+    std::fprintf(stderr, "cbps: stopped by %s\n", signal == SIGINT ? "SIGINT" : "SIGTERM");
+    std::_Exit(128 + signal);
+  }).detach();
 }
 
 void write_text(const std::string& path, const std::string& text) {

@@ -52,24 +52,47 @@ void apply_step_options(Scene& scene, const StepOptions& o);
 /// the duration gives no step or more than kMaxSteps.
 long step_count(const Scene& scene, const StepOptions& o);
 
-/// A folder written under a temporary name and renamed to its final name by commit(), so
-/// nothing appears at the final path unless the command succeeds. Without commit() the
-/// temporary folder is removed. An existing final folder is replaced only if it is empty or
-/// holds a previous cbps output (a summary.json, labels.json or result.json).
+/// The file in every output folder that lists the files cbps wrote there (kManifestFormat).
+inline constexpr const char* kManifestName = "cbps-manifest.json";
+inline constexpr const char* kManifestFormat = "cbps-output/1";
+
+/// An output folder (--out) that never loses a user's file. The files are written into a hidden
+/// temporary folder inside it (.cbps-tmp-PID) and moved into place by commit(), so nothing
+/// changes unless the command succeeds; without commit() the temporary folder is removed, and
+/// so is the output folder if this made it and it is still empty. cbps-manifest.json lists the
+/// files cbps wrote: commit() replaces and removes only files listed there (and its own new
+/// ones). A folder holding anything else is refused up front (InputError naming those files),
+/// so nothing is ever deleted that cbps did not write. "DIR", "DIR/" and "DIR/." are the same.
+/// SIGINT and SIGTERM remove every temporary folder (install_interrupt_cleanup).
 class OutputDir {
  public:
   explicit OutputDir(const std::string& final_path);
   ~OutputDir();
   OutputDir(const OutputDir&) = delete;
   OutputDir& operator=(const OutputDir&) = delete;
+  /// Where to write the output file `name` (inside the temporary folder until commit()).
   std::string file(const std::string& name) const;
   void commit();
 
  private:
-  std::string final_;
+  std::string option_;  ///< as given, for messages
+  std::string final_;   ///< absolute, normalised, no trailing separator
   std::string temp_;
+  bool created_final_ = false;
   bool committed_ = false;
 };
+
+/// The files a cbps output folder's manifest lists (relative paths), or InputError if it is not
+/// a cbps manifest; empty when the folder has none.
+std::vector<std::string> read_manifest(const std::string& folder);
+
+/// Records the command line for the manifests (main calls this first).
+void set_command_line(int argc, char** argv);
+
+/// Blocks SIGINT and SIGTERM in every thread and handles them in one thread of their own: it
+/// removes every OutputDir's temporary folder (and output folders made for them), says so on
+/// stderr and exits with 128 + the signal (130, 143). main calls this before anything else.
+void install_interrupt_cleanup();
 
 /// Writes text to a file, throwing on failure.
 void write_text(const std::string& path, const std::string& text);

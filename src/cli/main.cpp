@@ -6,6 +6,8 @@
 #include "common.hpp"
 
 int main(int argc, char** argv) {
+  cbps::cli::install_interrupt_cleanup();  // before any other thread: Ctrl-C leaves nothing behind
+  cbps::cli::set_command_line(argc, argv);
   CLI::App app{
       "cbps: the constraint-based rigid-body solver of Tamis & Maggiore (2015), built from the "
       "paper's matrices: J, Minv, A = J Minv J^T, b, solved by projected Gauss-Seidel."};
