@@ -338,6 +338,16 @@ Mat3 read_inertia(const Node& node) {
         << eigenvalues(2) << ")";
     fail(node, why.str());
   }
+  // A rigid body's principal moments obey the triangle inequality I_a + I_b ≥ I_c (each is
+  // ∫ of a sum of two squared coordinates); no mass distribution has e.g. [1, 1, 5].
+  const double slack = 1e-9 * eigenvalues.maxCoeff();
+  if (eigenvalues(0) + eigenvalues(1) < eigenvalues(2) - slack) {
+    std::ostringstream why;
+    why << "no rigid body has these principal moments (" << eigenvalues(0) << ", " << eigenvalues(1)
+        << ", " << eigenvalues(2) << " kg m^2): the two smaller must add up to "
+        << "at least the largest";
+    fail(node, why.str());
+  }
   return I;
 }
 

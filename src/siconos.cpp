@@ -47,6 +47,15 @@ class TokenReader {
   /// How many tokens are left to read.
   std::size_t remaining() const { return tokens_.size() - pos_; }
 
+  /// How many of the tokens left, from the next one on, are numbers before the first that is not.
+  std::size_t leading_numbers() const {
+    std::size_t count = 0;
+    double value = 0;
+    while (pos_ + count < tokens_.size() && parse_number(tokens_[pos_ + count].text, value))
+      ++count;
+    return count;
+  }
+
   /// A whole token as an integer.
   long next_integer(const std::string& what) {
     const Token& t = next(what);
@@ -119,6 +128,10 @@ void read_vector(TokenReader& reader, const std::string& name, VecX& v) {
 }  // namespace
 
 StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay) {
+  return parse_siconos(in, source, relay ? SiconosKind::Relay : SiconosKind::Lcp);
+}
+
+StoredLcp parse_siconos(std::istream& in, const std::string& source, SiconosKind kind) {
   TokenReader reader(in, source);
 
   // Header: n, storage type, rows cols, rows cols.
@@ -138,6 +151,24 @@ StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay)
           reader.line(),
           std::string(what) + " = " + std::to_string(size) + ", not n = " + std::to_string(n));
   }
+  if (kind == SiconosKind::Auto) {
+    const std::size_t numbers = reader.leading_numbers();
+    const std::size_t nn = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    const std::size_t un = static_cast<std::size_t>(n);
+    // Short of a whole LCP or relay problem: read as the smaller one that does not fit, so the
+    // reader names the token or the end of file where the data stop.
+    if (numbers <= nn + un) {
+      kind = SiconosKind::Lcp;
+    } else if (numbers <= nn + 3 * un) {
+      kind = SiconosKind::Relay;
+    } else {
+      reader.fail(reader.line(),
+                  std::to_string(numbers) + " numbers after the header; n = " + std::to_string(n) +
+                      " needs " + std::to_string(nn + un) + " for an LCP (M, q) or " +
+                      std::to_string(nn + 3 * un) + " for a relay problem (M, q, lb, ub)");
+    }
+  }
+  const bool relay = kind == SiconosKind::Relay;
 
   // M is read into a buffer that grows with the numbers actually there, and only then into an
   // n×n matrix: a header may claim n = kMaxSiconosSize (200 MB) over a file of a few bytes.
@@ -173,13 +204,20 @@ StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay)
 }
 
 StoredLcp read_siconos(const std::string& path, bool relay) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": line 0: cannot open the file");
-  return parse_siconos(in, path, relay);
+  return read_siconos(path, relay ? SiconosKind::Relay : SiconosKind::Lcp);
 }
 
-bool siconos_is_relay(const std::string& path) {
-  return std::filesystem::path(path).parent_path().filename() == "relay";
+StoredLcp read_siconos(const std::string& path, SiconosKind kind) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": line 0: cannot open the file");
+  return parse_siconos(in, path, kind);
+}
+
+SiconosKind parse_siconos_kind(const std::string& text, const std::string& what) {
+  if (text == "auto") return SiconosKind::Auto;
+  if (text == "lcp") return SiconosKind::Lcp;
+  if (text == "relay") return SiconosKind::Relay;
+  throw InputError(what + " '" + text + "': expected auto, lcp or relay");
 }
 
 }  // namespace cbps

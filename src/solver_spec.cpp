@@ -86,6 +86,8 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
       continue;
     }
     const std::string key = p.substr(0, eq), value = p.substr(eq + 1);
+    for (std::size_t j = 1; j < k; ++j)
+      if (parts[j].substr(0, parts[j].find('=')) == key) fail("'" + key + "=' given twice");
     if (key == "order") {
       if (spec.method != "pgs" && spec.method != "matrix-free")
         fail("order= applies to pgs, psor and matrix-free");

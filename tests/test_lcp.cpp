@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -293,7 +294,7 @@ TEST_CASE("every Siconos LCP is either solved correctly or reported unsolved", "
 TEST_CASE("every Siconos relay problem is solved by boxed Lemke", "[lcp][siconos]") {
   for (const fs::path& file : dat_files(kSiconosDir / "relay")) {
     CAPTURE(file.filename().string());
-    REQUIRE(siconos_is_relay(file.string()));
+    REQUIRE(read_siconos(file.string(), SiconosKind::Auto).boxed);  // by content
     const StoredLcp p = read_siconos(file.string(), true);
     REQUIRE(p.boxed);
     const LcpResult r = solve_boxed_lemke(p.M, p.q, p.lb, p.ub);
@@ -326,7 +327,32 @@ TEST_CASE("the Siconos reader reads dense files as written", "[siconos]") {
   CHECK(relay.q(3) == 5.0);
   CHECK(relay.lb == VecX::Constant(4, -1.0));
   CHECK(relay.ub == VecX::Constant(4, 1.0));
-  CHECK(!siconos_is_relay((kSiconosDir / "lcp" / "lcp_CPS_1.dat").string()));
+}
+
+TEST_CASE("the Siconos reader tells LCP and relay files apart by their contents", "[siconos]") {
+  // n² + n numbers after the header: an LCP; n² + 3n: a relay problem. Wherever the file is.
+  for (const char* folder : {"lcp", "relay"}) {
+    for (const fs::path& file : dat_files(kSiconosDir / folder)) {
+      if (file.filename().string().find("_block") != std::string::npos) continue;  // storage 1
+      CAPTURE(file.filename().string());
+      CHECK(read_siconos(file.string(), SiconosKind::Auto).boxed ==
+            (std::string(folder) == "relay"));
+    }
+  }
+  const std::string own = std::string(CBPS_SOURCE_DIR) + "/fuzz/corpus/siconos/cbps_relay_2x2.dat";
+  CHECK(read_siconos(own, SiconosKind::Auto).boxed);
+  // A count that fits neither is refused, saying what each would need.
+  std::istringstream odd("2 0 2 2 2 2  1 0 0 1  -1 -1  0 0 1 1 7");
+  try {
+    parse_siconos(odd, "odd.dat", SiconosKind::Auto);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("11 numbers after the header") != std::string::npos);
+    CHECK(std::string(e.what()).find("6 for an LCP") != std::string::npos);
+    CHECK(std::string(e.what()).find("10 for a relay") != std::string::npos);
+  }
+  CHECK(parse_siconos_kind("relay", "--siconos") == SiconosKind::Relay);
+  CHECK_THROWS_AS(parse_siconos_kind("boxed", "--siconos"), InputError);
 }
 
 TEST_CASE("the Siconos reader names the file and line of bad input", "[siconos]") {

@@ -1,5 +1,5 @@
 // Reader of the Siconos numerics test problems (.dat, dense storage only): the external data in
-// shared/data/siconos, problems nobody on the team chose (see shared/data/README.md).
+// tests/data/siconos, problems nobody on the team chose (see tests/data/README.md).
 //
 // File layout, whitespace separated (numbers may be spread over lines in any way):
 //   n                       size of the problem, 1 ≤ n ≤ kMaxSiconosSize
@@ -51,7 +51,18 @@ StoredLcp read_siconos(const std::string& path, bool relay);
 /// StoredLcp::source.
 StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay);
 
-/// True if the file lies in a folder named "relay" (the Siconos layout), i.e. it is a relay file.
-bool siconos_is_relay(const std::string& path);
+/// What a .dat file holds: found from its contents (Auto), or as the user says.
+enum class SiconosKind { Auto, Lcp, Relay };
+
+/// Reads a dense Siconos .dat file of the given kind. Auto tells the two apart by the count of
+/// numbers after the header: n² + n (M, q) is an LCP, n² + 3n (M, q, lb, ub) a relay problem;
+/// as free text after the data may not start with a number, the count is never ambiguous. A
+/// count between the two is read as a relay problem, a smaller one as an LCP, so the error
+/// names where the data stop; a larger one is an InputError saying what each kind needs.
+StoredLcp read_siconos(const std::string& path, SiconosKind kind);
+StoredLcp parse_siconos(std::istream& in, const std::string& source, SiconosKind kind);
+
+/// The kind named on the command line: "auto", "lcp" or "relay"; InputError otherwise.
+SiconosKind parse_siconos_kind(const std::string& text, const std::string& what);
 
 }  // namespace cbps

@@ -2,13 +2,19 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <sstream>
 
+#include "cbps/error.hpp"
 #include "cbps/simulation.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
 
 namespace {
+
+/// The most matrix entries explain prints (its dense J, Minv and A together; 8 bytes each, and
+/// several copies as text and JSON).
+constexpr double kMaxExplainEntries = 4e6;
 
 struct ExplainOptions {
   SceneOptions scene;
@@ -59,6 +65,20 @@ int explain_command(const ExplainOptions& o) {
   for (long s = 0; s < o.at_step; ++s) sim.step();
 
   System sys = sim.build_system();
+  // explain prints J, Minv and A densely: refuse, naming the sizes, what would not fit.
+  const double dense = static_cast<double>(sys.rows()) * 6.0 * sys.blocks() +
+                       36.0 * sys.blocks() * sys.blocks() +
+                       static_cast<double>(sys.rows()) * sys.rows();
+  if (dense > kMaxExplainEntries) {
+    std::ostringstream why;
+    why << scene.name << ", step " << o.at_step << ": " << sys.rows() << " rows and "
+        << sys.blocks() << " movable bodies make a dense J of " << sys.rows() << " x "
+        << 6 * sys.blocks() << ", Minv " << 6 * sys.blocks() << " x " << 6 * sys.blocks()
+        << " and A " << sys.rows() << " x " << sys.rows() << " (" << number_text(dense)
+        << " numbers); explain prints at most " << number_text(kMaxExplainEntries)
+        << "; use `cbps matrices`, which writes them sparse";
+    throw InputError(why.str());
+  }
   VecX lambda = sim.initial_lambda(sys);
   const SolverSummary summary = sim.solve_system(sys, lambda);
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, sys.dt);

@@ -36,6 +36,7 @@ struct LcpOptions {
   double tolerance = 1e-10;
   bool json = false;
   std::string out;
+  std::string siconos = "auto";
 };
 
 bool is_standard_lcp(const Problem& p) {
@@ -89,17 +90,7 @@ std::string format_number(double x) {
 
 Outcome run_direct(const Problem& p, double tolerance) {
   // The direct path is for the paper's A = J Minv Jᵀ: symmetric positive semidefinite.
-  const SpMat difference = p.A - SpMat(p.A.transpose());
-  double asymmetry = 0.0, largest = 1.0;
-  for (Eigen::Index k = 0; k < difference.nonZeros(); ++k)
-    asymmetry = std::max(asymmetry, std::abs(difference.valuePtr()[k]));
-  for (Eigen::Index k = 0; k < p.A.nonZeros(); ++k)
-    largest = std::max(largest, std::abs(p.A.valuePtr()[k]));
-  if (asymmetry > 1e-12 * largest) {
-    throw InputError(
-        "--solver direct: needs a symmetric A (it solves the QP of 6.2); max |A - Aᵀ| = " +
-        format_number(asymmetry) + "; use --solver lemke");
-  }
+  require_symmetric(p, "--solver direct");
   VecX lambda = VecX::Zero(p.rows());
   DirectOptions options;
   options.tolerance = tolerance;
@@ -115,7 +106,7 @@ int lcp_command(const LcpOptions& o) {
   if (!o.out.empty() && fs::exists(o.out, ec) && fs::equivalent(o.out, o.problem, ec))
     throw InputError("--out " + o.out + ": is the problem itself; choose another folder");
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does this.
-  Problem p = read_problem(o.problem);
+  Problem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
   p.A = with_cfm(p.A, p.cfm);
 
   // The default: the exact path for the symmetric A of a `cbps matrices` folder (and for a
@@ -212,6 +203,10 @@ void register_lcp(CLI::App& app, Action& run) {
                   "pgs/jacobi/direct: stop at this natural-map residual, N (default 1e-10; "
                   "the direct path never below its rounding floor; not used by lemke)")
       ->check(non_negative());
+  cmd->add_option("--siconos",
+                  o->siconos,
+                  "what a .dat file holds: auto (from the count of numbers: n^2 + n an LCP, "
+                  "n^2 + 3n a relay problem), lcp or relay (default auto)");
   cmd->add_flag("--json", o->json, "print the result as JSON");
   cmd->add_option("--out", o->out, "write result.json and lambda.mtx here (only if solved)");
   cmd->callback([&run, o] { run = [o] { return lcp_command(*o); }; });

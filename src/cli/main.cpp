@@ -1,6 +1,7 @@
 // cbps: the command line (see docs/cli-contract.md). Exit codes: 0 success, 1 a failed
 // computation, 2 bad input or usage. Errors go to stderr as "cbps: <what>: <why>".
 #include <iostream>
+#include <new>
 
 #include "cbps/error.hpp"
 #include "common.hpp"
@@ -52,6 +53,11 @@ int main(int argc, char** argv) {
   } catch (const std::invalid_argument& e) {
     std::cerr << "cbps: " << e.what() << "\n";
     return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "cbps: out of memory: the scene or problem needs more memory than this machine "
+                 "gave (try fewer bodies or rows; for large systems `cbps matrices` writes "
+                 "sparse files where `explain` prints dense ones)\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "cbps: " << e.what() << "\n";
     return 1;

@@ -81,8 +81,8 @@ Problem read_folder(const std::string& dir) {
   return p;
 }
 
-Problem read_dat(const std::string& path) {
-  const StoredLcp s = read_siconos(path, siconos_is_relay(path));
+Problem read_dat(const std::string& path, SiconosKind kind) {
+  const StoredLcp s = read_siconos(path, kind);
   Problem p;
   p.A = s.M.sparseView(0.0, 0.0);
   p.b = -s.q;
@@ -117,12 +117,26 @@ void read_bodies(const std::string& dir, Problem& p) {
 
 }  // namespace
 
-Problem read_problem(const std::string& path) {
+Problem read_problem(const std::string& path, SiconosKind kind) {
   std::error_code ec;
-  if (!fs::is_directory(path, ec)) return read_dat(path);
+  if (!fs::is_directory(path, ec)) return read_dat(path, kind);
   Problem p = read_folder(path);
   read_bodies(path, p);
   return p;
+}
+
+void require_symmetric(const Problem& p, const std::string& what) {
+  const SpMat difference = p.A - SpMat(p.A.transpose());
+  double asymmetry = 0.0, largest = 1.0;
+  for (Eigen::Index k = 0; k < difference.nonZeros(); ++k)
+    asymmetry = std::max(asymmetry, std::abs(difference.valuePtr()[k]));
+  for (Eigen::Index k = 0; k < p.A.nonZeros(); ++k)
+    largest = std::max(largest, std::abs(p.A.valuePtr()[k]));
+  if (asymmetry > 1e-12 * largest)
+    throw InputError(what +
+                     ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - "
+                     "A^T| = " +
+                     number_text(asymmetry) + "; `cbps lcp --solver lemke` solves any square A");
 }
 
 double scale_of(const Problem& p) {

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "cbps/siconos.hpp"
 #include "cbps/types.hpp"
 
 namespace cbps::cli {
@@ -31,7 +32,12 @@ struct Problem {
 /// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx, cfm.txt if there is one; J.mtx, Minv.mtx,
 /// v1.mtx, fext.mtx and dt.txt when all are there) or a Siconos file. Throws InputError naming
 /// the file and line.
-Problem read_problem(const std::string& path);
+/// `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
+Problem read_problem(const std::string& path, SiconosKind kind = SiconosKind::Auto);
+
+/// InputError naming `what` and max |A − Aᵀ| unless A is symmetric to 1e-12 max(1, max |A_ij|):
+/// the direct path solves the QP of 6.2, which needs it.
+void require_symmetric(const Problem& p, const std::string& what);
 
 /// max(1, ‖q‖∞, max |M_ij|) with q = −b, M = A: the scale residuals are judged against.
 double scale_of(const Problem& p);

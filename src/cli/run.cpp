@@ -22,6 +22,7 @@ struct RunOptions {
   std::string out;
   bool json = false;
   bool check = false;
+  double check_tolerance = -1.0;  ///< --check-tolerance, m/s; negative: none
   bool quiet = false;
   bool no_timing = false;
   long record_every = 1;
@@ -97,6 +98,8 @@ int run_command(const RunOptions& o) {
   apply_step_options(scene, o.step);
   const long steps = step_count(scene, o.step);
   if (o.record_every < 1) throw InputError("--record-every: must be ≥ 1");
+  if (o.check_tolerance >= 0.0 && !o.check)
+    throw InputError("--check-tolerance: needs --check (the cross-check it judges)");
 
   std::unique_ptr<OutputDir> dir;
   std::unique_ptr<Csv> trajectory;
@@ -120,9 +123,13 @@ int run_command(const RunOptions& o) {
   long steps_checked = 0;
   long direct_short = 0;
   long direct_unverified = 0;
+  long steps_beyond = 0;   // steps whose v2 differs by more than --check-tolerance
+  long first_beyond = -1;  // the first of them
+  double first_beyond_diff = 0.0;
   if (o.check) {
     SolverSettings direct = scene.solver;
     direct.method = "direct";
+    direct.tolerance = 0.0;  // the reference: to the direct path's rounding floor
     sim.set_observer([&, direct](const System& sys, const VecX& lambda, const VecX& v2) {
       VecX lambda_direct = lambda;
       const SolverSummary s = sim.solve_system(sys, sys.b, lambda_direct, direct);
@@ -133,9 +140,14 @@ int run_command(const RunOptions& o) {
         scale = std::max(scale, std::abs(sys.A.valuePtr()[k]));
       if (!(s.residual <= kLcpSolvedTolerance * scale)) ++direct_unverified;
       const VecX v2_direct = compute_v2(sys.v1, sys.Minv, sys.J, lambda_direct, sys.fext, sys.dt);
-      if (v2.size() > 0) {
-        max_velocity_difference =
-            std::max(max_velocity_difference, (v2 - v2_direct).lpNorm<Eigen::Infinity>());
+      const double difference = v2.size() > 0 ? (v2 - v2_direct).lpNorm<Eigen::Infinity>() : 0.0;
+      max_velocity_difference = std::max(max_velocity_difference, difference);
+      if (o.check_tolerance >= 0.0 && !(difference <= o.check_tolerance)) {
+        if (first_beyond < 0) {
+          first_beyond = sim.steps_done();
+          first_beyond_diff = difference;
+        }
+        ++steps_beyond;
       }
       max_pgs_residual =
           std::max(max_pgs_residual, system_residual(sys, sys.b, lambda, scene.solver.cfm));
@@ -272,6 +284,13 @@ int run_command(const RunOptions& o) {
                               {"direct_stopped_short", direct_short},
                               {"direct_unverified", direct_unverified},
                               {"steps_checked", steps_checked}};
+    if (o.check_tolerance >= 0.0) {
+      summary["cross_check"]["tolerance"] = o.check_tolerance;
+      summary["cross_check"]["steps_beyond_tolerance"] = steps_beyond;
+      summary["cross_check"]["first_step_beyond_tolerance"] =
+          first_beyond >= 0 ? nlohmann::json(first_beyond) : nlohmann::json(nullptr);
+      summary["cross_check"]["passed"] = steps_beyond == 0;
+    }
   }
   if (dir) {
     trajectory->close();
@@ -322,6 +341,19 @@ int run_command(const RunOptions& o) {
     }
     if (dir) std::printf("  wrote %s\n", o.out.c_str());
   }
+  if (steps_beyond > 0) {
+    std::fprintf(stderr,
+                 "cbps run: --check failed: %ld of %ld steps beyond --check-tolerance %s m/s, "
+                 "the first step %ld (t = %.6g s) with max |v2 - v2_direct| = %s m/s%s%s\n",
+                 steps_beyond,
+                 steps_checked,
+                 number_text(o.check_tolerance).c_str(),
+                 first_beyond,
+                 static_cast<double>(first_beyond) * scene.world.dt,
+                 number_text(first_beyond_diff).c_str(),
+                 dir ? "; the run's output is in " : "",
+                 dir ? o.out.c_str() : "");
+  }
   if (diverged) {
     std::string msg = "cbps run: diverged: ";
     msg.append(diverged->what());
@@ -332,7 +364,7 @@ int run_command(const RunOptions& o) {
     std::fprintf(stderr, "%s\n", msg.c_str());
     return 1;
   }
-  return 0;
+  return steps_beyond > 0 ? 1 : 0;
 }
 
 }  // namespace
@@ -350,6 +382,11 @@ void register_run(CLI::App& app, Action& run) {
                 o->check,
                 "cross-check every step against the direct path (active set on CHOLMOD); adds "
                 "cross_check");
+  cmd->add_option("--check-tolerance",
+                  o->check_tolerance,
+                  "with --check: exit 1, naming the first step, when a step's max |v2 - "
+                  "v2_direct| exceeds this, m/s (the run still completes and writes --out)")
+      ->check(non_negative());
   cmd->add_flag("--quiet", o->quiet, "no progress lines on stderr");
   cmd->add_flag("--no-timing",
                 o->no_timing,
