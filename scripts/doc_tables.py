@@ -282,6 +282,17 @@ def _validation_periods_full(src):
                   "amplitude change", "max \\|c\\| (m)"], out, "rrrrrrrrrrr")
 
 
+@generator("validation-asymptotic", VAL)
+def _validation_asymptotic(src):
+    """The finest step's largest period error over (ω dt)² of the fastest ball."""
+    v, rows = _validation_rows(src)
+    sc = need(v, "scene", where=VAL)
+    finest = rows[-1]
+    omega = 2 * math.pi * (sc["n0"] + sc["n"] - 1) / sc["cycle_s"]
+    ratio = finest["max_rel_error"] / (omega * finest["dt"]) ** 2
+    return f"{ratio:.3f} (ω dt)² of the fastest ball at 1/dt = {finest['dt_inv']}"
+
+
 @generator("validation-elliptic-k", VAL)
 def _validation_elliptic(src):
     return sci(need(src.json(VAL), "elliptic_K", "max_rel_diff_vs_kcomp", where=VAL))
