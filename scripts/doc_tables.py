@@ -42,8 +42,8 @@ PROG = "doc_tables.py"
 REGENERATE = "/usr/bin/python3 scripts/doc_tables.py"
 DOCS = ["README.md", "docs/*.md", "bench/README.md", "validation/README.md"]
 
-BLOCK = re.compile(r"<!-- table: (?P<name>[A-Za-z0-9_.:/+-]+)(?P<rest>[^\n]*?)-->\n"
-                   r"(?P<body>.*?)<!-- /table -->", re.S)
+BLOCK = re.compile(r"^(?P<indent>[ \t]*)<!-- table: (?P<name>[A-Za-z0-9_.:/+-]+)"
+                   r"(?P<rest>[^\n]*?)-->\n(?P<body>.*?)[ \t]*<!-- /table -->", re.S | re.M)
 VALUE = re.compile(r"<!-- value: (?P<name>[A-Za-z0-9_.:/+-]+) -->(?P<body>[^\n]*?)<!-- /value -->")
 
 
@@ -291,6 +291,54 @@ def _validation_asymptotic(src):
     omega = 2 * math.pi * (sc["n0"] + sc["n"] - 1) / sc["cycle_s"]
     ratio = finest["max_rel_error"] / (omega * finest["dt"]) ** 2
     return f"{ratio:.3f} (ω dt)² of the fastest ball at 1/dt = {finest['dt_inv']}"
+
+
+BETA = "validation/results/beta-study/beta-{}-theta-{}.csv"
+BETA0 = "validation/results/beta-study/beta-0.json"
+
+
+def csv_rows(src, rel):
+    """A committed CSV as a list of dicts (cached like the JSON files)."""
+    key = ("csv", rel)
+    if key not in src.cache:
+        import csv
+        path = os.path.join(src.root, rel)
+        try:
+            with open(path, encoding="utf-8", newline="") as f:
+                src.cache[key] = list(csv.DictReader(f))
+        except FileNotFoundError:
+            raise SourceError(f"{rel}: missing (it is a committed result)") from None
+    return src.cache[key]
+
+
+@generator("validation-beta", *[BETA.format(b, t) for b in (0.1, 0.2, 0.4, 0.8) for t in (15, 2)])
+def _validation_beta(src):
+    """Ball 0 at 1/dt = 7680: e/(ω dt)² and ½ c̄/L / (ω dt)² by β and θ0."""
+    def ball0(b, theta):
+        rel = BETA.format(b, theta)
+        for r in csv_rows(src, rel):
+            if r["dt_inv"] == "7680" and r["k"] == "0":
+                w2dt2 = (2 * math.pi / float(r["period_exact_s"]) * float(r["dt"])) ** 2
+                return float(r["rel_error"]) / w2dt2, 0.5 * float(r["mean_stretch"]) / w2dt2
+        raise SourceError(f"{rel}: no row for ball 0 at 1/dt = 7680")
+    rows = []
+    for b in (0.1, 0.2, 0.4, 0.8):
+        e15, s15 = ball0(b, 15)
+        e2, _ = ball0(b, 2)
+        rows.append((b, minus(f"{e15:+.4f}"), f"{s15:.4f}", minus(f"{e2:+.4f}")))
+    return table(["β", "θ0 = 15°: e/(ωdt)²", "θ0 = 15°: ½ c̄/L / (ωdt)²", "θ0 = 2°: e/(ωdt)²"],
+                 rows, "rrrr")
+
+
+@generator("validation-beta-zero", BETA0)
+def _validation_beta_zero(src):
+    runs = sorted(need(src.json(BETA0), "runs", where=BETA0), key=lambda r: float(r["dt_inv"]))
+    errors = ", ".join(sci(r["mean_rel_error"]) for r in runs)
+    orders = [r["order_mean"] for r in runs if r.get("order_mean") is not None]
+    stretch = [r["max_constraint_error_m"] for r in runs]
+    return (f"e = {errors} (mean), order {min(orders):.2f} … {max(orders):.2f}: first order, as "
+            f"predicted, with the string stretched by up to {length(min(stretch))} … "
+            f"{length(max(stretch))}")
 
 
 @generator("validation-elliptic-k", VAL)
@@ -903,12 +951,13 @@ def render(text, rel, src, used):
     changed = []
 
     def block(m):
-        name = m.group("name")
-        body = generate(name, src, rel).rstrip("\n") + "\n"
+        name, indent = m.group("name"), m.group("indent")  # a block inside a list is indented
+        body = "".join(indent + line + "\n"
+                       for line in generate(name, src, rel).rstrip("\n").split("\n"))
         used.add(name)
-        if m.group("body") != body or m.group(0).split("\n", 1)[0] + "\n" != header(name):
+        if m.group("body") != body or m.group(0).split("\n", 1)[0] + "\n" != indent + header(name):
             changed.append(name)
-        return header(name) + body + "<!-- /table -->"
+        return indent + header(name) + body + indent + "<!-- /table -->"
 
     def value(m):
         marker = m.group("name")

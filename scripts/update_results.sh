@@ -43,6 +43,14 @@ done
 # --target validation
 copy $v/validation.json $v/results/pendulum/validation.json
 copy $v/period_error.png docs/period_error.png
+# --target validation-beta-study
+for b in 0.1 0.2 0.4 0.8; do
+  for theta in 15 2; do
+    copy $v/beta-study/beta-$b-theta-$theta/period_errors.csv \
+      $v/results/beta-study/beta-$b-theta-$theta.csv
+  done
+done
+copy $v/beta-study/beta-0/validation.json $v/results/beta-study/beta-0.json
 # --target validation-contacts
 copy $v/contacts.json $v/results/contacts.json
 copy $v/push-factor.png docs/push-factor.png
