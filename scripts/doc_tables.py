@@ -986,6 +986,7 @@ def main(argv=None):
     if args.list:
         for name, (sources, fn) in GENERATORS.items():
             print(f"{name}: {', '.join(sources)}")
+        print(f"stress:CASE:SOLVER:FIELD:FORMAT: {STRESS}")
         return 0
     src = Sources(args.root)
     used = set()
