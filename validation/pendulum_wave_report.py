@@ -10,8 +10,13 @@ Reads OUTDIR/summary.json and OUTDIR/trajectory.csv and writes into OUTDIR:
                               above: x against z, balls as circles, the line of pivots;
   report.md                   settings and summary numbers, per ball the length, design period
                               T_k = cycle/(n0+k), measured period and their relative difference,
-                              the phase error at the end of the cycle (if the run reached it).
-Every file is written to a temporary name and renamed. Exit status 0, 1 if the trajectory gives
+                              the phase error at the end of the cycle (if the run reached it);
+  report.json                 the numbers report.md shows, machine-readable (format
+                              "cbps-pendulum-report/1"; scripts/doc_tables.py reads the committed
+                              copy in validation/results/pendulum-wave/).
+Every file is written to a temporary name and renamed. If OUTDIR holds a cbps-manifest.json (the
+list of files cbps wrote there), the names of these four files are added to its "files" list, so
+that a later `cbps run ... --out OUTDIR` may replace them; without a manifest none is written. Exit status 0, 1 if the trajectory gives
 no measurable period, 2 if an input file is missing or malformed. Debian's numpy and matplotlib
 only (run it with /usr/bin/python3).
 """
@@ -30,6 +35,8 @@ from matplotlib.patches import Circle  # noqa: E402
 
 PROG = "pendulum_wave_report"
 HEADER = "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
+OUTPUT_FILES = ("report.md", "report.json", "figure10.png", "figure10.svg")  # what this writes
+MANIFEST = "cbps-manifest.json"  # cbps's list of the files it wrote into an output folder
 SNAPSHOT_TIMES = (0.0, 10.0, 20.0, 30.0)  # s, as in the paper's Figure 10
 G_DEFAULT = 9.81  # m/s², the built-in scene's |gravity| when summary.json does not give it
 
@@ -451,6 +458,123 @@ def write_report(outdir, summary, s, balls, reached, snapshot_times, t):
     return nanmax_abs(rel), nanmax_abs(phases) if reached else math.nan
 
 
+def json_number(v):
+    """A float for JSON: None for NaN (report.md shows "—" there)."""
+    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
+
+
+def write_report_json(outdir, summary, s, balls, reached, t, steps_wall_s):
+    """report.json: the numbers of report.md, and the run's own timing fields with what each
+    one measures."""
+    rel = [b["rel"] for b in balls]
+    phases = [b["phase_deg"] for b in balls]
+    stage = summary.get("stage_times_s")
+    timing = {
+        "wall_time_s": summary.get("wall_time_s"),
+        "wall_time_s_means": "summary.json wall_time_s: the step loop of `cbps run`, i.e. every "
+                             "step with its --check cross-check, plus writing each step's rows "
+                             "of steps.csv and trajectory.csv; not the start-up, not closing "
+                             "the files, not summary.json",
+        "steps_wall_time_s": steps_wall_s,
+        "steps_wall_time_s_means": "the sum of steps.csv wall_time_s: the steps themselves, with "
+                                   "the --check cross-check, without any file writing",
+        "stage_times_s": stage,
+        "stage_time_sum_s": sum(stage.values()) if isinstance(stage, dict) else None,
+        "stage_time_sum_s_means": "the sum of summary.json stage_times_s: the solver's stages "
+                                  "(collision, rows, assembly, solve, integrate) only, without "
+                                  "the --check cross-check and without file writing",
+    }
+    report = {
+        "format": "cbps-pendulum-report/1",
+        "parameters": summary.get("parameters"),
+        "dt": s["dt"],
+        "steps": summary.get("steps"),
+        "bodies": summary.get("bodies"),
+        "rows": summary.get("rows"),
+        "solver": summary.get("solver"),
+        "g": s["g"],
+        "attach": s["attach"],
+        "samples": len(t),
+        "t_end": float(t[-1]),
+        "reached_cycle": bool(reached),
+        "timing": timing,
+        "max_constraint_error": summary.get("max_constraint_error"),
+        "max_residual": summary.get("max_residual"),
+        "cross_check": summary.get("cross_check"),
+        "energy_initial": summary.get("energy_initial"),
+        "energy_final": summary.get("energy_final"),
+        "max_abs_period_error": json_number(nanmax_abs(rel)),
+        "mean_abs_period_error": json_number(float(np.nanmean(np.abs(rel)))),
+        "max_abs_phase_deg": json_number(nanmax_abs(phases)) if reached else None,
+        "mean_abs_phase_deg": json_number(float(np.nanmean(np.abs(phases)))) if reached else None,
+        "balls": [{key: json_number(b.get(key)) if key not in ("k", "crossings", "phase_method")
+                   else b.get(key)
+                   for key in ("k", "L", "T_design", "T_measured", "rel", "crossings",
+                               "phase_deg", "phase_method", "l", "T_double") if key in b}
+                  for b in balls],
+    }
+    if s["attach"] == "top":
+        report["max_abs_double_error"] = json_number(nanmax_abs(
+            [(b["T_double"] - b["T_design"]) / b["T_design"] for b in balls]))
+    balls_json = report.pop("balls")
+    text = json.dumps(report, indent=1)  # then the balls, one line each: a small file
+    text = (text[:-2] + ',\n "balls": [\n  '
+            + ",\n  ".join(json.dumps(b, separators=(",", ":")) for b in balls_json) + "\n ]\n}\n")
+    json.loads(text)  # still valid JSON
+    final = os.path.join(outdir, "report.json")
+    temp = os.path.join(outdir, ".report.json.tmp")
+    with open(temp, "w", encoding="utf-8") as f:
+        f.write(text)
+    os.replace(temp, final)
+
+
+def steps_wall_time(path):
+    """Sum of the wall_time_s column of steps.csv (s), or None when the run has none
+    (--no-timing) or the file is missing."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            header = f.readline().strip().split(",")
+            if "wall_time_s" not in header:
+                return None
+            col = header.index("wall_time_s")
+            return float(sum(float(line.split(",")[col]) for line in f if line.strip()))
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def read_manifest(outdir):
+    """The folder's cbps-manifest.json as a dict, or None when there is none. A manifest that
+    is not {"format": ..., "files": [names]} is an input error: nothing is written then."""
+    path = os.path.join(outdir, MANIFEST)
+    try:
+        with open(path, encoding="utf-8") as f:
+            manifest = json.load(f)
+    except FileNotFoundError:
+        return None
+    except OSError as e:
+        raise InputError(f"{path}: {e.strerror or e}") from None
+    except json.JSONDecodeError as e:
+        raise InputError(f"{path}: not valid JSON (line {e.lineno}: {e.msg})") from None
+    if not isinstance(manifest, dict) or not isinstance(manifest.get("files"), list) \
+            or not all(isinstance(x, str) for x in manifest["files"]):
+        raise InputError(f"{path}: expected an object with a \"files\" list of names")
+    return manifest
+
+
+def add_to_manifest(outdir, manifest):
+    """Adds OUTPUT_FILES to the manifest's "files" (keeping its order and every other field),
+    written to a temporary file in the same folder and renamed over it."""
+    for name in OUTPUT_FILES:
+        if name not in manifest["files"]:
+            manifest["files"].append(name)
+    final = os.path.join(outdir, MANIFEST)
+    temp = os.path.join(outdir, f".{MANIFEST}.tmp")
+    with open(temp, "w", encoding="utf-8") as f:
+        json.dump(manifest, f, indent=2)
+        f.write("\n")
+    os.replace(temp, final)
+
+
 def main():
     if len(sys.argv) != 2 or sys.argv[1] in ("-h", "--help"):
         print(__doc__.strip(), file=sys.stdout if len(sys.argv) == 2 else sys.stderr)
@@ -462,8 +586,13 @@ def main():
         summary, s = load_summary(os.path.join(outdir, "summary.json"))
         t, x, y, z, q0 = load_trajectory(os.path.join(outdir, "trajectory.csv"), s["n"])
         balls, reached = measure(s, t, x, y, z, q0)
+        manifest = read_manifest(outdir)  # before anything is written
         snapshots = draw_figure(outdir, s, t, x, z)
         max_rel, max_phase = write_report(outdir, summary, s, balls, reached, snapshots, t)
+        write_report_json(outdir, summary, s, balls, reached, t,
+                          steps_wall_time(os.path.join(outdir, "steps.csv")))
+        if manifest is not None:
+            add_to_manifest(outdir, manifest)
     except InputError as e:
         print(f"{PROG}: {e}", file=sys.stderr)
         return 2
@@ -481,7 +610,8 @@ def main():
         print(f"  max |phase error| at t = cycle = {max_phase:.3f} deg")
     else:
         print(f"  run ended before t = cycle = {s['cycle']:g} s: no phase error")
-    print(f"  wrote {os.path.join(outdir, 'report.md')}, figure10.png, figure10.svg")
+    print(f"  wrote {os.path.join(outdir, 'report.md')}, report.json, figure10.png, figure10.svg"
+          + (f"; listed them in {MANIFEST}" if manifest is not None else ""))
     return 0
 
 
