@@ -60,6 +60,10 @@ void print_matrix(const std::string& title,
                   const std::vector<std::string>& col_labels) {
   std::printf(
       "%s  (%ld x %ld)\n", title.c_str(), static_cast<long>(M.rows()), static_cast<long>(M.cols()));
+  if (M.rows() == 0 || M.cols() == 0) {
+    std::printf("  (empty)\n");
+    return;
+  }
   const int row_w = width(longest(row_labels));
   if (M.cols() <= 12) {
     std::vector<int> col_w;
