@@ -124,3 +124,121 @@ TEST_CASE("cbps converge refuses bad solver lists and writes nothing", "[cli][co
   CHECK(r.err.find(bad.expect) != std::string::npos);
   CHECK_FALSE(std::filesystem::exists(out));
 }
+
+TEST_CASE("cbps converge --record-every K writes every K-th sweep, the guess and the last",
+          "[cli][converge]") {
+  const auto dir = scratch_dir("converge_every");
+  const std::string base =
+      "converge chain --param n=30 --param mass_ratio=10 --step 20 --quiet --no-plot "
+      "--solvers pgs,jacobi:0.6,direct --out ";
+  const auto all = run_cli(base + (dir / "all").string());
+  const auto some = run_cli(base + (dir / "some").string() + " --record-every 7");
+  INFO(all.err << some.err);
+  REQUIRE(all.code == 0);
+  REQUIRE(some.code == 0);
+  const auto every = read_csv(slurp(dir / "all" / "convergence.csv"));
+  const auto sparse = read_csv(slurp(dir / "some" / "convergence.csv"));
+  for (const std::string solver : {"pgs", "jacobi:0.6"}) {
+    CAPTURE(solver);
+    const auto& e = every.at(solver);
+    const auto& s = sparse.at(solver);
+    const double last = e.back()[0];
+    REQUIRE(last > 20);
+    // Sweeps 0, 7, 14, … and the last one (if it is not a multiple of 7).
+    const std::size_t expected =
+        static_cast<std::size_t>(last) / 7 + 1 + (static_cast<long>(last) % 7 != 0 ? 1 : 0);
+    CHECK(s.size() == expected);
+    CHECK(s.size() < e.size());
+    CHECK(s.front()[0] == 0.0);
+    CHECK(s.back()[0] == last);
+    for (std::size_t k = 0; k + 1 < s.size(); ++k) CHECK(s[k][0] == 7.0 * double(k));
+    // The recorded sweeps have the values of the full record (same iterates; time apart).
+    for (const auto& row : s) {
+      const auto& full = e[static_cast<std::size_t>(row[0])];
+      CHECK(full[0] == row[0]);
+      CHECK(row[2] == Approx(full[2]).epsilon(1e-12));
+      CHECK(row[3] == Approx(full[3]).epsilon(1e-12));
+    }
+  }
+  CHECK(sparse.at("direct").size() == 1);
+  // The summary still finds the milestones sweep by sweep, as the full record does.
+  const auto sa = nlohmann::json::parse(slurp(dir / "all" / "summary.json"));
+  const auto ss = nlohmann::json::parse(slurp(dir / "some" / "summary.json"));
+  CHECK(ss["record_every"] == 7);
+  CHECK(sa["record_every"] == 1);
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(ss["solvers"][i]["reached"]["1e-06"]["iterations"] ==
+          sa["solvers"][i]["reached"]["1e-06"]["iterations"]);
+    CHECK(ss["solvers"][i]["iterations"] == sa["solvers"][i]["iterations"]);
+    CHECK(ss["solvers"][i]["samples"].get<std::size_t>() ==
+          sparse.at(ss["solvers"][i]["solver"].get<std::string>()).size());
+  }
+  CHECK(run_cli(base + (dir / "bad").string() + " --record-every 0").code == 2);
+  CHECK_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
+TEST_CASE("cbps converge warns when the step is already solved by the initial guess",
+          "[cli][converge]") {
+  // Step 0 of a chain released from rest, straight along x under gravity along -y: v1 = 0 and
+  // J Minv fext = 0 (the links pull along x, gravity acts along y), so b = 0 and lambda = 0
+  // solves it before any sweep.
+  const auto r =
+      run_cli("converge chain --param n=5 --solvers pgs,jacobi --quiet --no-plot --json");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto summary = nlohmann::json::parse(r.out);
+  CHECK(summary["solved_by_initial_guess"] == true);
+  REQUIRE(summary["warnings"].size() == 1);
+  CHECK(summary["warnings"][0].get<std::string>().find("already solved by the initial guess") !=
+        std::string::npos);
+  CHECK(r.err.find("cbps: warning: converge:") != std::string::npos);  // even with --quiet
+  for (const auto& s : summary["solvers"]) {
+    CHECK(s["reached"]["1e-10"]["iterations"] == 0);  // "converged" before any sweep
+    CHECK(s["guess_residual"].get<double>() <= 1e-10);
+  }
+  // A later step is not: no warning.
+  const auto later =
+      run_cli("converge chain --param n=5 --step 10 --solvers pgs --quiet --no-plot --json");
+  REQUIRE(later.code == 0);
+  const auto s10 = nlohmann::json::parse(later.out);
+  CHECK(s10["solved_by_initial_guess"] == false);
+  CHECK(s10["warnings"].empty());
+  CHECK(later.err.find("warning") == std::string::npos);
+}
+
+TEST_CASE("plot_convergence.py draws a CSV with a diverging solver", "[cli][converge][plot]") {
+  const auto dir = scratch_dir("converge_plot");
+  // pgs converges, jacobi diverges to 1e300 and then inf, direct is one point.
+  std::string csv = "solver,iteration,time_s,residual,lambda_error,velocity_error,objective\n";
+  const auto num = [](double x) {
+    std::ostringstream out;
+    out.precision(17);
+    out << x;
+    return out.str();
+  };
+  for (int k = 0; k <= 400; ++k) {
+    const double r = 10.0 * std::pow(0.9, k);
+    csv += "pgs," + std::to_string(k) + "," + num(1e-4 * k) + "," + num(r) + "," + num(0.1 * r) +
+           "," + num(0.01 * r) + ",-1\n";
+  }
+  for (int k = 0; k <= 300; ++k) {
+    const std::string r = k < 300 ? "1e" + std::to_string(k) : "inf";
+    csv += "jacobi," + std::to_string(k) + "," + num(1e-4 * k) + "," + r + "," + r + "," + r + "," +
+           r + "\n";
+  }
+  csv += "direct,1,0.0005,1e-14,,,-1\n";
+  cbps::test::write_file(dir / "c.csv", csv);
+  const std::string python =
+      std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const std::string cmd = python + " " + CBPS_SOURCE_DIR + "/scripts/plot_convergence.py " +
+                          (dir / "c.csv").string() + " " + (dir / "c").string() +
+                          " --title diverging 2>" + (dir / "err").string();
+  const int status = std::system(cmd.c_str());
+  INFO(slurp(dir / "err"));
+  CHECK(status == 0);
+  REQUIRE(std::filesystem::exists(dir / "c.png"));
+  CHECK(std::filesystem::file_size(dir / "c.png") > 10000);
+  // The legend says which solver diverged.
+  CHECK(slurp(dir / "c.svg").find("diverged") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}

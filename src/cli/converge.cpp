@@ -5,6 +5,8 @@
 // recording itself is not timed), the natural-map residual (6.2), the error against the direct
 // solution (lambda where A is positive definite, else only the unique v2 of 12.3.1) and the QP
 // objective ½ λᵀ A λ − bᵀ λ. The direct path (6.2) is one point: its time and residual.
+// With --record-every K only every K-th sweep (and the guess and the last sweep) is written;
+// the milestones of the summary are still taken from every sweep.
 #include <spawn.h>
 #include <sys/wait.h>
 
@@ -41,6 +43,7 @@ struct ConvergeOptions {
   std::string solvers = "pgs,psor:1.3,sgs,jacobi:0.7,matrix-free,direct";
   long at_step = 0;
   int iterations = 100000;
+  int record_every = 1;
   double tolerance = 1e-10;
   double time_limit = 10.0;
   std::string out;
@@ -143,10 +146,22 @@ struct Sample {
   double time_s = 0.0, residual = 0.0, lambda_error = NAN, velocity_error = NAN, objective = 0.0;
 };
 
+/// The first sweep and time at which the residual reached each of kMilestones, from every
+/// sweep (recorded or not); iteration −1 while not reached.
+struct Milestone {
+  int iteration = -1;
+  double time_s = 0.0;
+};
+
 struct Run {
   SolverSpec spec;
-  std::vector<Sample> samples;
-  std::string stopped;  ///< why the sweeps ended
+  std::vector<Sample> samples;  ///< the recorded ones (the guess, every K-th sweep, the last)
+  std::string stopped;          ///< why the sweeps ended
+  Milestone reached[std::size(kMilestones)];
+  void reach(int iteration, double time_s, double residual) {
+    for (std::size_t i = 0; i < std::size(kMilestones); ++i)
+      if (reached[i].iteration < 0 && residual <= kMilestones[i]) reached[i] = {iteration, time_s};
+  }
 };
 
 Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s) {
@@ -169,6 +184,11 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   run.spec = spec;
   VecX lambda = spec.warm_start ? s.warm : VecX::Zero(s.b.size());
   run.samples.push_back(measure(s, lambda, 0, 0.0));
+  run.reach(0, 0.0, run.samples.back().residual);
+  // The last sweep's iterate when it was not recorded, to record it at the end.
+  VecX last_lambda;
+  int last_k = 0;
+  double last_time = 0.0;
   // The solvers themselves, as `cbps run` uses them; they time their sweeps and hand each
   // iterate here, outside the clock.
   SolverOptions options;
@@ -180,11 +200,22 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.describe = false;
   options.cfm = s.cfm;
   options.after_sweep = [&](int k, const VecX& l, double time_s) {
-    const Sample m = measure(s, l, k, time_s);
-    run.samples.push_back(m);
-    if (!std::isfinite(m.residual)) run.stopped = "non-finite values";
-    if (m.residual <= o.tolerance) run.stopped = "residual tolerance";
+    const double residual = natural_map_residual(s.A_solved, s.b, s.cmin, s.cmax, l);
+    run.reach(k, time_s, residual);
+    if (!std::isfinite(residual)) run.stopped = "non-finite values";
+    if (residual <= o.tolerance) run.stopped = "residual tolerance";
     if (run.stopped.empty() && time_s >= o.time_limit) run.stopped = "time limit";
+    const bool record = k % o.record_every == 0 || !run.stopped.empty() || k >= o.iterations;
+    Sample m;
+    if (record) {
+      m = measure(s, l, k, time_s);
+      run.samples.push_back(m);
+    } else {
+      m.residual = residual;
+      last_lambda = l;
+    }
+    last_k = k;
+    last_time = time_s;
     if (!o.quiet && k % 1000 == 0)
       std::fprintf(stderr,
                    "converge: %s: %d sweeps, %.2f s, residual %.3g N\n",
@@ -200,6 +231,8 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
     solve(spec.method, s.A, s.b, s.cmin, s.cmax, lambda, options);
   }
   if (run.stopped.empty()) run.stopped = "iteration limit";
+  if (run.samples.back().iteration != last_k)  // the solver stopped on its own
+    run.samples.push_back(measure(s, last_lambda, last_k, last_time));
   return run;
 }
 
@@ -211,6 +244,7 @@ Run run_direct(const Study& s, const SolverSpec& spec) {
   const SolverSummary d = solve_direct(s.A_solved, s.b, s.cmin, s.cmax, lambda);
   const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
   run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
+  run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);
   run.stopped = to_string(d.termination);
   return run;
 }
@@ -273,6 +307,30 @@ int converge_command(const ConvergeOptions& o) {
     }
   }
 
+  // A step its guess already solves (step 0 of a chain released from rest: b = 0, lambda = 0)
+  // shows nothing: every solver "converges" in 0 sweeps. Say so, on stderr and in the summary.
+  std::vector<std::string> solved_by_guess;
+  double guess_residual = 0.0;
+  for (const Run& run : runs) {
+    if (run.spec.method == "direct") continue;
+    const double r0 = run.samples.front().residual;
+    guess_residual = std::max(guess_residual, r0);
+    if (r0 <= o.tolerance) solved_by_guess.push_back(run.spec.text);
+  }
+  nlohmann::json warnings = nlohmann::json::array();
+  if (!solved_by_guess.empty()) {
+    std::string names;
+    for (const std::string& n : solved_by_guess) names += (names.empty() ? "" : ", ") + n;
+    const std::string where = problem ? s.name : s.name + " step " + std::to_string(o.at_step);
+    const std::string text =
+        where + " is already solved by the initial guess of " + names +
+        " (residual at the guess <= tolerance " + number_text(o.tolerance) +
+        " N), so they reach it at sweep 0 and show no convergence" +
+        (problem ? std::string("") : "; study a later --step (e.g. --step 10)");
+    warnings.push_back(text);
+    std::fprintf(stderr, "cbps: warning: converge: %s\n", text.c_str());
+  }
+
   nlohmann::json summary;
   summary["problem"] = s.name;
   summary["rows"] = s.b.size();
@@ -281,6 +339,9 @@ int converge_command(const ConvergeOptions& o) {
   summary["reference"] = {{"residual", reference.residual},
                           {"termination", to_string(reference.termination)}};
   summary["tolerance"] = o.tolerance;
+  summary["record_every"] = o.record_every;
+  summary["solved_by_initial_guess"] = !solved_by_guess.empty();
+  summary["warnings"] = warnings;
   summary["solvers"] = nlohmann::json::array();
   std::ostringstream csv;
   csv << "solver,iteration,time_s,residual,lambda_error,velocity_error,objective\n";
@@ -298,21 +359,19 @@ int converge_command(const ConvergeOptions& o) {
     j["order"] = to_string(run.spec.order);
     j["warm_start"] = run.spec.warm_start;
     j["stopped"] = run.stopped;
+    j["guess_residual"] = json_or_null(run.samples.front().residual);
+    j["samples"] = run.samples.size();
     j["iterations"] = last.iteration;
     j["time_s"] = last.time_s;
     j["residual"] = json_or_null(last.residual);
     j["lambda_error"] = json_or_null(last.lambda_error);
     j["velocity_error"] = json_or_null(last.velocity_error);
     nlohmann::json reached = nlohmann::json::object();
-    for (const double target : kMilestones) {
-      nlohmann::json at = nullptr;
-      for (const Sample& m : run.samples) {
-        if (m.residual <= target) {
-          at = {{"iterations", m.iteration}, {"time_s", m.time_s}};
-          break;
-        }
-      }
-      reached[number(target)] = at;
+    for (std::size_t i = 0; i < std::size(kMilestones); ++i) {
+      const Milestone& at = run.reached[i];
+      reached[number(kMilestones[i])] =
+          at.iteration < 0 ? nlohmann::json(nullptr)
+                           : nlohmann::json({{"iterations", at.iteration}, {"time_s", at.time_s}});
     }
     j["reached"] = reached;
     summary["solvers"].push_back(j);
@@ -401,6 +460,11 @@ void register_converge(CLI::App& app, Action& run) {
       ->check(positive());
   cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
       ->check(non_negative());
+  cmd->add_option("--record-every",
+                  o->record_every,
+                  "write one sample every K sweeps to convergence.csv (the guess and the last "
+                  "sweep always; the summary's milestones still see every sweep; default 1)")
+      ->check(positive());
   cmd->add_option("--time-limit", o->time_limit, "max sweep time per solver, s (default 10)")
       ->check(positive());
   cmd->add_option("--seed", o->step.seed, "seed of random row orders, >= 0 (default 0)")

@@ -1,6 +1,14 @@
 // cbps explain SCENE [--step K] [--json]: one step's system, labelled, for reading.
+//
+// Everything needed to redo the step by hand is printed: J, Minv, v1, fext, upsilon and dt give
+// A = J Minv J^T and b = upsilon/dt − J (v1/dt + Minv fext) (6.2.9); lambda with cmin, cmax and
+// w = A lambda − b shows which rows are free and which sit at a bound (6.2); v2 follows by
+// 12.3.1. Every number has the same significant digits and every block its unit.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
@@ -16,6 +24,9 @@ namespace {
 /// several copies as text and JSON).
 constexpr double kMaxExplainEntries = 4e6;
 
+/// Significant digits of every number in the text output.
+constexpr int kDigits = 6;
+
 struct ExplainOptions {
   SceneOptions scene;
   StepOptions step;
@@ -23,39 +34,124 @@ struct ExplainOptions {
   bool json = false;
 };
 
-/// Prints a matrix densely when it is narrow, else its nonzeros with their labels.
-void print_matrix(const char* title,
+/// A number with kDigits significant digits; -0 is printed as 0.
+std::string num(double x) {
+  if (x == 0.0) return "0";
+  if (std::isnan(x)) return "nan";
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", kDigits, x);
+  return text;
+}
+
+std::size_t longest(const std::vector<std::string>& labels, std::size_t at_least = 0) {
+  std::size_t w = at_least;
+  for (const std::string& s : labels) w = std::max(w, s.size());
+  return w;
+}
+
+int width(std::size_t w) { return static_cast<int>(w); }
+
+/// The coordinate of a column label "<body>.vx" … "<body>.wz": true for wx, wy, wz.
+bool angular_column(const std::string& label) {
+  const std::size_t dot = label.rfind('.');
+  return dot != std::string::npos && dot + 1 < label.size() && label[dot + 1] == 'w';
+}
+
+/// Prints a matrix densely when it is narrow, else its nonzeros with their labels. Labels are
+/// never cut: column widths come from the longest label and the widest number.
+void print_matrix(const std::string& title,
                   const MatX& M,
                   const std::vector<std::string>& row_labels,
                   const std::vector<std::string>& col_labels) {
-  std::printf("%s  (%ld x %ld)\n", title, static_cast<long>(M.rows()), static_cast<long>(M.cols()));
+  std::printf(
+      "%s  (%ld x %ld)\n", title.c_str(), static_cast<long>(M.rows()), static_cast<long>(M.cols()));
+  if (M.rows() == 0 || M.cols() == 0) {
+    std::printf("  (empty)\n");
+    return;
+  }
+  const int row_w = width(longest(row_labels));
   if (M.cols() <= 12) {
-    std::printf("  %-22s", "");
-    for (const std::string& c : col_labels) std::printf(" %12.12s", c.c_str());
+    std::vector<int> col_w;
+    for (Eigen::Index c = 0; c < M.cols(); ++c) {
+      std::size_t w = col_labels[static_cast<std::size_t>(c)].size();
+      for (Eigen::Index r = 0; r < M.rows(); ++r) w = std::max(w, num(M(r, c)).size());
+      col_w.push_back(width(w));
+    }
+    std::printf("  %-*s", row_w, "");
+    for (Eigen::Index c = 0; c < M.cols(); ++c)
+      std::printf("  %*s",
+                  col_w[static_cast<std::size_t>(c)],
+                  col_labels[static_cast<std::size_t>(c)].c_str());
     std::printf("\n");
     for (Eigen::Index r = 0; r < M.rows(); ++r) {
-      std::printf("  %-22.22s", row_labels[static_cast<std::size_t>(r)].c_str());
-      for (Eigen::Index c = 0; c < M.cols(); ++c) std::printf(" %12.5g", M(r, c));
+      std::printf("  %-*s", row_w, row_labels[static_cast<std::size_t>(r)].c_str());
+      for (Eigen::Index c = 0; c < M.cols(); ++c)
+        std::printf("  %*s", col_w[static_cast<std::size_t>(c)], num(M(r, c)).c_str());
       std::printf("\n");
     }
     return;
   }
+  std::printf("  (%ld columns: nonzero entries only, row by row)\n", static_cast<long>(M.cols()));
+  const int col_w = width(longest(col_labels));
   for (Eigen::Index r = 0; r < M.rows(); ++r) {
     for (Eigen::Index c = 0; c < M.cols(); ++c) {
       if (M(r, c) == 0.0) continue;
-      std::printf("  [%s, %s] = %.10g\n",
+      std::printf("  %-*s  %-*s  %s\n",
+                  row_w,
                   row_labels[static_cast<std::size_t>(r)].c_str(),
+                  col_w,
                   col_labels[static_cast<std::size_t>(c)].c_str(),
-                  M(r, c));
+                  num(M(r, c)).c_str());
     }
   }
 }
 
-void print_vector(const char* title, const VecX& v, const std::vector<std::string>& labels) {
-  std::printf("%s  (%ld)\n", title, static_cast<long>(v.size()));
+/// Prints a vector, one labelled entry a line, with each entry's unit.
+void print_vector(const std::string& title,
+                  const VecX& v,
+                  const std::vector<std::string>& labels,
+                  const std::vector<std::string>& units) {
+  std::printf("%s  (%ld)\n", title.c_str(), static_cast<long>(v.size()));
+  const int label_w = width(longest(labels));
+  std::vector<std::string> values;
+  for (Eigen::Index k = 0; k < v.size(); ++k) values.push_back(num(v(k)));
+  const int value_w = width(longest(values));
   for (Eigen::Index k = 0; k < v.size(); ++k) {
-    std::printf("  %-22s %.10g\n", labels[static_cast<std::size_t>(k)].c_str(), v(k));
+    const auto i = static_cast<std::size_t>(k);
+    std::printf("  %-*s  %*s  %s\n",
+                label_w,
+                labels[i].c_str(),
+                value_w,
+                values[i].c_str(),
+                units[i].c_str());
   }
+}
+
+/// Where row k's lambda sits and whether w = A lambda − b agrees (6.2): free (cmin < lambda <
+/// cmax, w ≈ 0), at cmin (w ≥ 0) or at cmax (w ≤ 0).
+struct RowStatus {
+  std::string where;      ///< "free", "at cmin", "at cmax", "at cmin = cmax"
+  bool satisfied = true;  ///< the sign or zero condition of w holds within the tolerance
+};
+
+RowStatus row_status(double lambda, double lo, double hi, double w, double tol) {
+  RowStatus s;
+  const double tol_lo = std::max(tol, 1e-12 * std::abs(lo));
+  const double tol_hi = std::max(tol, 1e-12 * std::abs(hi));
+  if (std::isfinite(lo) && std::isfinite(hi) && hi - lo <= tol_lo) {
+    s.where = "at cmin = cmax";  // a fixed lambda (Coulomb friction with no normal force): any w
+  } else if (std::isfinite(lo) && lambda - lo <= tol_lo) {
+    s.where = "at cmin";
+    s.satisfied = w >= -tol;
+  } else if (std::isfinite(hi) && hi - lambda <= tol_hi) {
+    s.where = "at cmax";
+    s.satisfied = w <= tol;
+  } else {
+    s.where = "free";
+    s.satisfied = std::abs(w) <= tol;
+  }
+  return s;
 }
 
 int explain_command(const ExplainOptions& o) {
@@ -96,30 +192,107 @@ int explain_command(const ExplainOptions& o) {
   const char* const cfm_note =
       "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
 
+  // w = A lambda − b (6.2), of A itself (with cfm the solve met (A + eps E) lambda = b, so w
+  // of A is eps lambda off on free rows). "w ≈ 0" and "at a bound" mean within the solve's
+  // tolerance or its residual, whichever is larger, plus the rounding of A lambda − b.
+  const VecX w = sys.A * lambda - sys.b;
+  const VecX rounding = 64.0 * std::numeric_limits<double>::epsilon() *
+                        ((sys.A.cwiseAbs() * lambda.cwiseAbs()) + sys.b.cwiseAbs()).array();
+  const double tol = std::max(scene.solver.tolerance, summary.residual);
+  std::vector<RowStatus> status;
+  for (Eigen::Index k = 0; k < w.size(); ++k) {
+    const double row_tol = tol + rounding(k) + cfm * std::abs(lambda(k));
+    status.push_back(row_status(lambda(k), cmin(k), cmax(k), w(k), row_tol));
+  }
+  const bool all_satisfied =
+      std::all_of(status.begin(), status.end(), [](const RowStatus& s) { return s.satisfied; });
+
+  // Units (9): every row of this project is a force row (lambda in N: J's linear part a unit
+  // vector, its angular part r × n in m), so A is kg^-1 throughout. A row with no linear part
+  // would be a torque row (lambda in N m) and mix A's units; say so if one appears.
+  const SpMat Jt = SpMat(sys.J.transpose());
+  bool torque_rows = false;
+  for (Eigen::Index k = 0; k < Jt.outerSize(); ++k) {
+    bool linear = false, any = false;
+    for (SpMat::InnerIterator it(Jt, k); it; ++it) {
+      if (it.value() == 0.0) continue;
+      any = true;
+      if (!angular_column(cols[static_cast<std::size_t>(it.row())])) linear = true;
+    }
+    if (any && !linear) torque_rows = true;
+  }
+  const std::string A_unit =
+      torque_rows ? "mixed units: kg^-1 between force rows, kg^-1 m^-1 between a force row and "
+                    "a torque row, kg^-1 m^-2 between torque rows"
+                  : "kg^-1 (every row is a force row, lambda in N)";
+
+  const bool improved = scene.world.push == PushMode::Improved;
+  const std::string system_shown =
+      improved ? "the velocity system of the improved push (8.1): upsilon holds restitution only "
+                 "(8.2); its v2 is kept. The position system (same J, Minv, A; upsilon_position "
+                 "adds the push term) is solved apart and only moves the positions this step"
+               : "the one system of the original push (5.2.3, 5.3): upsilon holds the Baumgarte "
+                 "push term and restitution; its v2 moves the bodies and is kept";
+
+  std::vector<std::string> v_units, f_units;
+  for (const std::string& c : cols) {
+    v_units.emplace_back(angular_column(c) ? "rad/s" : "m/s");
+    f_units.emplace_back(angular_column(c) ? "N m" : "N");
+  }
+
   if (o.json) {
     nlohmann::json out;
     out["scene"] = scene.name;
     out["step"] = o.at_step;
     out["t"] = sim.time();
     out["dt"] = sys.dt;
+    out["system"] = {{"push", improved ? "improved" : "original"},
+                     {"shown", improved ? "velocity" : "one"},
+                     {"note", system_shown}};
     out["row_labels"] = rows;
     out["column_labels"] = cols;
-    out["J"] = {{"equation", "6.1"}, {"value", dense_json(MatX(sys.J))}};
-    out["Minv"] = {{"equation", "6.1.2"}, {"value", dense_json(MatX(sys.Minv))}};
-    out["A"] = {{"equation", "6.2.9"}, {"value", dense_json(MatX(sys.A))}};
-    out["b"] = {{"equation", "6.2.9"}, {"value", vector_json(sys.b)}};
-    out["upsilon"] = {{"equation", "5.1.2"}, {"value", vector_json(sys.upsilon)}};
-    out["cmin"] = {{"equation", "5.1"}, {"value", vector_json(cmin)}};
-    out["cmax"] = {{"equation", "5.1"}, {"value", vector_json(cmax)}};
+    out["J"] = {{"equation", "6.1"},
+                {"unit", "1 (linear columns), m (angular columns)"},
+                {"value", dense_json(MatX(sys.J))}};
+    out["Minv"] = {{"equation", "6.1.2"},
+                   {"unit", "kg^-1 (linear block), kg^-1 m^-2 (angular block)"},
+                   {"value", dense_json(MatX(sys.Minv))}};
+    out["A"] = {{"equation", "6.2.9"}, {"unit", A_unit}, {"value", dense_json(MatX(sys.A))}};
+    out["b"] = {{"equation", "6.2.9"}, {"unit", "m/s^2"}, {"value", vector_json(sys.b)}};
+    out["upsilon"] = {{"equation", "5.1.2"}, {"unit", "m/s"}, {"value", vector_json(sys.upsilon)}};
+    if (improved)
+      out["upsilon_position"] = {{"equation", "8.1"},
+                                 {"unit", "m/s"},
+                                 {"note", "the position system's bias; not the system shown"},
+                                 {"value", vector_json(sys.upsilon_position)}};
+    out["cmin"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(cmin)}};
+    out["cmax"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(cmax)}};
     if (coulomb) {
       out["cmin"]["note"] = coulomb_note;
       out["cmax"]["note"] = coulomb_note;
     }
     out["cfm"] = {{"value", cfm}, {"unit", "kg^-1"}, {"note", cfm_note}};
-    out["v1"] = {{"equation", "6.1.1"}, {"value", vector_json(sys.v1)}};
-    out["fext"] = {{"equation", "6.1.3"}, {"value", vector_json(sys.fext)}};
-    out["lambda"] = {{"equation", "7.1.1"}, {"value", vector_json(lambda)}};
-    out["v2"] = {{"equation", "12.3.1"}, {"value", vector_json(v2)}};
+    out["v1"] = {{"equation", "6.1.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(sys.v1)}};
+    out["fext"] = {{"equation", "6.1.3"}, {"unit", "N, N m"}, {"value", vector_json(sys.fext)}};
+    out["lambda"] = {{"equation", "7.1.1"}, {"unit", "N"}, {"value", vector_json(lambda)}};
+    out["w"] = {{"equation", "6.2"},
+                {"unit", "m/s^2"},
+                {"note", "w = A lambda - b, with A = J Minv J^T"},
+                {"value", vector_json(w)}};
+    nlohmann::json where = nlohmann::json::array(), satisfied = nlohmann::json::array();
+    for (const RowStatus& s : status) {
+      where.push_back(s.where);
+      satisfied.push_back(s.satisfied);
+    }
+    out["status"] = {{"equation", "6.2"},
+                     {"note",
+                      "free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; "
+                      "within tolerance (max of the solver tolerance and residual, N, plus "
+                      "rounding and eps |lambda|)"},
+                     {"tolerance", tol},
+                     {"value", where},
+                     {"satisfied", satisfied}};
+    out["v2"] = {{"equation", "12.3.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(v2)}};
     out["solver"] = {{"method", scene.solver.method},
                      {"iterations", summary.iterations},
                      {"residual", summary.residual},
@@ -127,24 +300,85 @@ int explain_command(const ExplainOptions& o) {
     std::cout << out.dump(2) << "\n";
     return 0;
   }
-  std::printf("%s, step %ld (t = %.6g s, dt = %.6g s): %d rows, %d movable bodies\n\n",
+  std::printf("%s, step %ld (t = %s s, dt = %s s): %d rows, %d movable bodies\n",
               scene.name.c_str(),
               o.at_step,
-              sim.time(),
-              sys.dt,
+              num(sim.time()).c_str(),
+              num(sys.dt).c_str(),
               sys.rows(),
               sys.blocks());
-  print_matrix("J: constraint Jacobian, rows j_c (5.1.3, 5.2.1), 6.1", MatX(sys.J), rows, cols);
-  print_matrix("Minv = blockdiag(m^-1 E3, I^-1) (6.1.2)", MatX(sys.Minv), cols, cols);
-  print_matrix("A = J Minv J^T (6.2.9)", MatX(sys.A), rows, rows);
-  print_vector("upsilon: velocity bias, m/s (5.1.2, 5.2.3)", sys.upsilon, rows);
-  print_vector("b = upsilon/dt - J (v1/dt + Minv fext), m/s^2 (6.2.9)", sys.b, rows);
-  print_vector("cmin, N (5.1)", cmin, rows);
-  print_vector("cmax, N (5.1)", cmax, rows);
+  std::printf("System shown: %s.\n", system_shown.c_str());
+  std::printf("Numbers to %d significant digits.\n\n", kDigits);
+  print_matrix(
+      "J: constraint Jacobian, rows j_c (5.1.3, 5.2.1), 6.1; unit 1 in the linear "
+      "columns (vx, vy, vz), m in the angular ones (wx, wy, wz)",
+      MatX(sys.J),
+      rows,
+      cols);
+  std::printf("\n");
+  print_matrix(
+      "Minv = blockdiag(m^-1 E3, I^-1) (6.1.2); kg^-1 (linear block), kg^-1 m^-2 "
+      "(angular block)",
+      MatX(sys.Minv),
+      cols,
+      cols);
+  std::printf("\n");
+  print_matrix("A = J Minv J^T (6.2.9); " + A_unit, MatX(sys.A), rows, rows);
+  std::printf("\n");
+  print_vector("v1: velocities at the start of the step (6.1.1)", sys.v1, cols, v_units);
+  std::printf("\n");
+  print_vector(
+      "fext: external forces and torques, gravity included (6.1.3)", sys.fext, cols, f_units);
+  std::printf("\n");
+  const std::vector<std::string> ms(rows.size(), "m/s"), ms2(rows.size(), "m/s^2");
+  print_vector("upsilon: velocity bias (5.1.2, 5.2.3, 8.2)", sys.upsilon, rows, ms);
+  if (improved) {
+    std::printf("\n");
+    print_vector("upsilon_position: the position system's bias (8.1), not the system shown",
+                 sys.upsilon_position,
+                 rows,
+                 ms);
+  }
+  std::printf("\n");
+  print_vector("b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)", sys.b, rows, ms2);
+  std::printf("\n");
+
+  // The solution with its bounds, w and each row's status, one row a line.
+  std::printf("lambda (7.1.1) within [cmin, cmax] (5.1), and w = A lambda - b (6.2)  (%d)\n",
+              sys.rows());
+  std::vector<std::vector<std::string>> table;
+  table.push_back({"row", "cmin (N)", "lambda (N)", "cmax (N)", "w (m/s^2)", "status"});
+  for (Eigen::Index k = 0; k < w.size(); ++k) {
+    const RowStatus& s = status[static_cast<std::size_t>(k)];
+    table.push_back({rows[static_cast<std::size_t>(k)],
+                     num(cmin(k)),
+                     num(lambda(k)),
+                     num(cmax(k)),
+                     num(w(k)),
+                     s.where + (s.satisfied ? "" : " (w violates it)")});
+  }
+  std::vector<int> col_w(6, 0);
+  for (const auto& line : table)
+    for (std::size_t c = 0; c < line.size(); ++c)
+      col_w[c] = std::max(col_w[c], width(line[c].size()));
+  for (const auto& line : table) {
+    std::printf("  %-*s", col_w[0], line[0].c_str());
+    for (std::size_t c = 1; c < 5; ++c) std::printf("  %*s", col_w[c], line[c].c_str());
+    std::printf("  %s\n", line[5].c_str());
+  }
+  std::printf(
+      "  (free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; within "
+      "%s, the larger of the solver tolerance and residual)\n",
+      num(tol).c_str());
+  if (!all_satisfied)
+    std::printf("  (some rows miss their condition: the solver stopped before it met them)\n");
   if (coulomb) std::printf("  (%s)\n", coulomb_note);
-  print_vector("lambda, N (7.1.1)", lambda, rows);
-  print_vector("v2 = v1 + dt Minv (J^T lambda + fext), m/s and rad/s (12.3.1)", v2, cols);
-  if (cfm > 0.0) std::printf("\neps = %.6g kg^-1: %s\n", cfm, cfm_note);
+  std::printf("\n");
+  print_vector("v2 = v1 + dt Minv (J^T lambda + fext) (12.3.1)", v2, cols, v_units);
+  if (cfm > 0.0)
+    std::printf("\neps = %s kg^-1: %s; w of A is eps lambda off on free rows\n",
+                num(cfm).c_str(),
+                cfm_note);
   std::printf("\nsolver %s: %s\n", scene.solver.method.c_str(), summary.message.c_str());
   return 0;
 }
@@ -152,13 +386,19 @@ int explain_command(const ExplainOptions& o) {
 }  // namespace
 
 void register_explain(CLI::App& app, Action& run) {
-  auto* cmd = app.add_subcommand("explain", "print one step's J, Minv, A, b, bounds, lambda, v2");
+  auto* cmd = app.add_subcommand(
+      "explain",
+      "print one step's system for checking by hand: J, Minv, A, v1, fext, upsilon, b, bounds, "
+      "lambda, w = A lambda - b with each row's status, v2, with units and equation numbers");
   auto o = std::make_shared<ExplainOptions>();
   add_scene_options(cmd, o->scene);
   add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "explain the system of step K (after K steps)")
       ->check(non_negative());
-  cmd->add_flag("--json", o->json, "dense arrays with row and column labels, as JSON");
+  cmd->add_flag("--json",
+                o->json,
+                "full-precision dense arrays with row and column labels, units, w and per-row "
+                "status, as JSON");
   cmd->callback([&run, o] { run = [o] { return explain_command(*o); }; });
 }
 

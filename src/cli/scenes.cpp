@@ -1,47 +1,150 @@
-// cbps scenes [--json]: the built-in scenes, their parameters, defaults and units.
+// cbps scenes [NAME [--param K=V ...] [--export FILE [--force]]] [--json]: the built-in scenes,
+// their parameters, defaults and units; with --export one of them as an editable JSON scene file.
 #include "cbps/scenes.hpp"
 
-#include <iostream>
+#include <unistd.h>
 
+#include <filesystem>
+#include <iostream>
+#include <map>
+
+#include "cbps/error.hpp"
+#include "cbps/scene_json.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
 
-void register_scenes(CLI::App& app, Action& run) {
-  auto* cmd = app.add_subcommand("scenes", "list the built-in scenes and their parameters");
-  auto json = std::make_shared<bool>(false);
-  cmd->add_flag("--json", *json, "print as JSON");
-  cmd->callback([&run, json] {
-    run = [json] {
-      if (*json) {
-        nlohmann::json out = nlohmann::json::array();
-        for (const BuiltinScene& s : builtin_scenes()) {
-          nlohmann::json params = nlohmann::json::array();
-          for (const SceneParameter& p : s.parameters) {
-            params.push_back({{"name", p.name},
-                              {"default", p.default_value},
-                              {"unit", p.unit},
-                              {"description", p.description}});
-          }
-          out.push_back({{"name", s.name}, {"description", s.description}, {"parameters", params}});
-        }
-        std::cout << out.dump(2) << "\n";
-        return 0;
-      }
-      for (const BuiltinScene& s : builtin_scenes()) {
-        std::cout << s.name << ": " << s.description << "\n";
-        for (const SceneParameter& p : s.parameters) {
-          std::string unit = p.unit == "-" ? "" : p.unit;
-          std::cout << "  " << p.name << " = " << p.default_value << (unit.empty() ? "" : " ")
-                    << unit << "  (" << p.description << ")\n";
-        }
-        std::cout << "\n";
-      }
-      std::cout << "Set parameters with --param NAME=VALUE; a JSON scene file may be given "
-                   "instead of a name.\n";
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ScenesOptions {
+  std::string name;
+  std::vector<std::string> params;
+  std::string export_file;
+  bool force = false;
+  bool json = false;
+};
+
+nlohmann::json scene_listing_json(const BuiltinScene& s) {
+  nlohmann::json params = nlohmann::json::array();
+  for (const SceneParameter& p : s.parameters) {
+    params.push_back({{"name", p.name},
+                      {"default", p.default_value},
+                      {"unit", p.unit},
+                      {"description", p.description}});
+  }
+  return {{"name", s.name}, {"description", s.description}, {"parameters", params}};
+}
+
+void print_listing(const BuiltinScene& s) {
+  std::cout << s.name << ": " << s.description << "\n";
+  for (const SceneParameter& p : s.parameters) {
+    std::string unit = p.unit == "-" ? "" : p.unit;
+    std::cout << "  " << p.name << " = " << p.default_value << (unit.empty() ? "" : " ") << unit
+              << "  (" << p.description << ")\n";
+  }
+  std::cout << "\n";
+}
+
+/// Writes the scene's JSON to a temporary file beside FILE and renames it to FILE, so FILE is
+/// either the whole scene or untouched. An existing FILE is replaced only with --force.
+void export_scene(const ScenesOptions& o) {
+  const std::string& file = o.export_file;
+  const std::string what = "--export " + file;
+  std::error_code ec;
+  if (fs::is_directory(file, ec)) throw InputError(what + ": is a folder, not a file");
+  if (fs::exists(file, ec) && !o.force)
+    throw InputError(what + ": exists; refusing to overwrite it (--force replaces it)");
+  const fs::path parent = fs::absolute(file).parent_path();
+  if (!fs::is_directory(parent, ec))
+    throw InputError(what + ": the folder " + parent.string() + " does not exist");
+
+  std::map<std::string, std::string> values;
+  for (const std::string& p : o.params) {
+    const auto eq = p.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--param '" + p + "': expected NAME=VALUE");
+    values[p.substr(0, eq)] = p.substr(eq + 1);
+  }
+  const Scene scene = make_builtin_scene(o.name, values);  // InputError for a bad name or value
+  const std::string text = scene_to_json(scene);
+
+  const fs::path temp =
+      parent / ("." + fs::path(file).filename().string() + ".tmp-" + std::to_string(::getpid()));
+  try {
+    write_text(temp.string(), text);
+  } catch (const std::exception&) {
+    fs::remove(temp, ec);
+    throw InputError(what + ": cannot write in " + parent.string());
+  }
+  fs::rename(temp, file, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw InputError(what + ": cannot rename the written file to it: " + ec.message());
+  }
+}
+
+int scenes_command(const ScenesOptions& o) {
+  if (o.name.empty()) {
+    if (!o.params.empty()) throw InputError("--param: give the scene NAME it applies to");
+    if (!o.export_file.empty()) throw InputError("--export: give the scene NAME to export");
+    if (o.json) {
+      nlohmann::json out = nlohmann::json::array();
+      for (const BuiltinScene& s : builtin_scenes()) out.push_back(scene_listing_json(s));
+      std::cout << out.dump(2) << "\n";
       return 0;
-    };
-  });
+    }
+    for (const BuiltinScene& s : builtin_scenes()) print_listing(s);
+    std::cout << "Set parameters with --param NAME=VALUE; a JSON scene file may be given "
+                 "instead of a name. `cbps scenes NAME --export FILE` writes a scene as an "
+                 "editable JSON file.\n";
+    return 0;
+  }
+  const BuiltinScene* s = find_builtin_scene(o.name);
+  if (s == nullptr) make_builtin_scene(o.name, {});  // throws, listing the built-in scenes
+  if (!o.export_file.empty()) {
+    export_scene(o);
+    if (o.json) {
+      std::cout << nlohmann::json({{"scene", o.name}, {"export", o.export_file}}).dump(2) << "\n";
+    } else {
+      std::cout << "wrote " << o.export_file << "\n";
+    }
+    return 0;
+  }
+  if (!o.params.empty())
+    throw InputError("--param: only with --export (the listing shows the defaults)");
+  if (o.json) {
+    std::cout << scene_listing_json(*s).dump(2) << "\n";
+  } else {
+    print_listing(*s);
+  }
+  return 0;
+}
+
+}  // namespace
+
+void register_scenes(CLI::App& app, Action& run) {
+  auto* cmd = app.add_subcommand(
+      "scenes",
+      "list the built-in scenes and their parameters; with NAME --export FILE write one as an "
+      "editable JSON scene file");
+  auto o = std::make_shared<ScenesOptions>();
+  cmd->add_option("NAME", o->name, "a built-in scene: list only it, or export it with --export");
+  cmd->add_option("--param",
+                  o->params,
+                  "NAME=VALUE: a parameter of the exported scene (repeatable; with --export)")
+      ->type_name("NAME=VALUE");
+  auto* exp = cmd->add_option("--export",
+                              o->export_file,
+                              "write scene NAME, with its --param values, as a JSON scene file "
+                              "FILE that `cbps run FILE` reads (written to a temporary file "
+                              "beside FILE, then renamed)")
+                  ->type_name("FILE");
+  cmd->add_flag("--force", o->force, "with --export: replace an existing FILE")->needs(exp);
+  cmd->add_flag("--json", o->json, "print as JSON");
+  cmd->callback([&run, o] { run = [o] { return scenes_command(*o); }; });
 }
 
 }  // namespace cbps::cli

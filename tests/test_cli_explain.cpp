@@ -1,0 +1,283 @@
+// cbps explain: one step's system printed so that a student can redo it by hand.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cbps/types.hpp"
+#include "cli_fixture.hpp"
+
+using namespace cbps;
+using namespace cbps::test;
+
+namespace {
+
+double number_of(const nlohmann::json& j) {
+  if (j.is_string()) {
+    const std::string s = j.get<std::string>();
+    if (s == "inf") return INFINITY;
+    if (s == "-inf") return -INFINITY;
+    return NAN;
+  }
+  return j.get<double>();
+}
+
+VecX vector_of(const nlohmann::json& j) {
+  VecX v(static_cast<Eigen::Index>(j.size()));
+  for (std::size_t k = 0; k < j.size(); ++k) v(static_cast<Eigen::Index>(k)) = number_of(j[k]);
+  return v;
+}
+
+MatX matrix_of(const nlohmann::json& j, Eigen::Index cols) {
+  MatX M(static_cast<Eigen::Index>(j.size()), cols);
+  for (std::size_t r = 0; r < j.size(); ++r) {
+    REQUIRE(static_cast<Eigen::Index>(j[r].size()) == cols);
+    for (std::size_t c = 0; c < j[r].size(); ++c)
+      M(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = number_of(j[r][c]);
+  }
+  return M;
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+/// Every whitespace-separated token of the text that reads as a negative zero.
+std::vector<std::string> negative_zeros(const std::string& text) {
+  static const std::regex minus_zero(R"(-0(\.0*)?(e[+-]?0*\d+)?)");
+  std::vector<std::string> found;
+  std::istringstream in(text);
+  for (std::string token; in >> token;)
+    if (std::regex_match(token, minus_zero)) found.push_back(token);
+  return found;
+}
+
+/// Checks the printed JSON by an independent computation: b from upsilon, J, v1, Minv, fext and
+/// dt (6.2.9), A = J Minv J^T, w = A lambda − b (6.2), each row's status against its bounds.
+/// Returns the statuses.
+std::vector<std::string> check_explained(const nlohmann::json& e, bool solved_exactly) {
+  const auto rows = e["row_labels"].size();
+  const auto cols = static_cast<Eigen::Index>(e["column_labels"].size());
+  const MatX J = matrix_of(e["J"]["value"], cols);
+  const MatX Minv = matrix_of(e["Minv"]["value"], cols);
+  const MatX A = matrix_of(e["A"]["value"], static_cast<Eigen::Index>(rows));
+  const VecX v1 = vector_of(e["v1"]["value"]), fext = vector_of(e["fext"]["value"]);
+  const VecX upsilon = vector_of(e["upsilon"]["value"]), b = vector_of(e["b"]["value"]);
+  const VecX lambda = vector_of(e["lambda"]["value"]), w = vector_of(e["w"]["value"]);
+  const VecX cmin = vector_of(e["cmin"]["value"]), cmax = vector_of(e["cmax"]["value"]);
+  const double dt = e["dt"].get<double>();
+  REQUIRE(J.rows() == static_cast<Eigen::Index>(rows));
+  REQUIRE(v1.size() == cols);
+  REQUIRE(fext.size() == cols);
+  REQUIRE(w.size() == b.size());
+
+  // b = upsilon/dt − J (v1/dt + Minv fext) (6.2.9), to round-off.
+  const VecX b_hand = upsilon / dt - J * (v1 / dt + Minv * fext);
+  const double b_scale =
+      std::max(1.0,
+               (upsilon.cwiseAbs() / dt +
+                J.cwiseAbs() * (v1.cwiseAbs() / dt + Minv.cwiseAbs() * fext.cwiseAbs()))
+                   .maxCoeff());
+  CHECK((b_hand - b).cwiseAbs().maxCoeff() <= 1e-12 * b_scale);
+  // A = J Minv J^T.
+  const MatX A_hand = J * Minv * J.transpose();
+  CHECK((A_hand - A).cwiseAbs().maxCoeff() <= 1e-12 * std::max(1.0, A.cwiseAbs().maxCoeff()));
+  // w = A lambda − b.
+  const VecX w_hand = A * lambda - b;
+  const double w_scale =
+      std::max(1.0, (A.cwiseAbs() * lambda.cwiseAbs() + b.cwiseAbs()).maxCoeff());
+  CHECK((w_hand - w).cwiseAbs().maxCoeff() <= 1e-12 * w_scale);
+
+  // Statuses: where lambda sits against its bounds, and w's sign there (6.2).
+  const auto& status = e["status"]["value"];
+  REQUIRE(status.size() == rows);
+  REQUIRE(e["status"]["satisfied"].size() == rows);
+  const double tol = 1e-8 * w_scale;
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < rows; ++i) {
+    const auto k = static_cast<Eigen::Index>(i);
+    const std::string s = status[i].get<std::string>();
+    CAPTURE(i, e["row_labels"][i].get<std::string>(), s, cmin(k), lambda(k), cmax(k), w(k));
+    out.push_back(s);
+    CHECK(cmin(k) <= lambda(k) + tol);
+    CHECK(lambda(k) <= cmax(k) + tol);
+    if (s == "at cmin") {
+      CHECK(std::abs(lambda(k) - cmin(k)) <= tol * std::max(1.0, std::abs(cmin(k))));
+      if (solved_exactly) CHECK(w(k) >= -tol);
+    } else if (s == "at cmax") {
+      CHECK(std::abs(lambda(k) - cmax(k)) <= tol * std::max(1.0, std::abs(cmax(k))));
+      if (solved_exactly) CHECK(w(k) <= tol);
+    } else if (s == "free") {
+      CHECK(lambda(k) > cmin(k));
+      CHECK(lambda(k) < cmax(k));
+      if (solved_exactly) CHECK(std::abs(w(k)) <= tol);
+    } else {
+      CHECK(s == "at cmin = cmax");
+      CHECK(cmin(k) == cmax(k));
+    }
+    if (solved_exactly) CHECK(e["status"]["satisfied"][i] == true);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("cbps explain prints labels whole: a stack's friction rows all distinct",
+          "[cli][explain]") {
+  // One box on the ground: 4 contact points, each a contact row and two friction rows; J (12 x
+  // 6) and A (12 x 12) are narrow enough to print densely, with every label in full.
+  const CliResult js = run_cli("explain stack --param n=1 --step 5 --json");
+  REQUIRE(js.code == 0);
+  const auto e = nlohmann::json::parse(js.out);
+  std::vector<std::string> labels;
+  for (const auto& l : e["row_labels"]) labels.push_back(l.get<std::string>());
+  REQUIRE(labels.size() == 12);
+  const std::set<std::string> distinct(labels.begin(), labels.end());
+  CHECK(distinct.size() == labels.size());
+  int friction = 0;
+  for (const std::string& l : labels) friction += l.rfind("friction", 0) == 0 ? 1 : 0;
+  CHECK(friction == 8);
+
+  const CliResult r = run_cli("explain stack --param n=1 --step 5");
+  REQUIRE(r.code == 0);
+  const std::vector<std::string> lines = lines_of(r.out);
+  // A's block: a header line with every row label as a column label, then one line per row
+  // starting with its label.
+  const auto a_title = std::find_if(lines.begin(), lines.end(), [](const std::string& l) {
+    return l.rfind("A = J Minv J^T", 0) == 0;
+  });
+  REQUIRE(a_title != lines.end());
+  REQUIRE(lines.end() - a_title > 13);
+  const std::string& header = *(a_title + 1);
+  std::size_t from = 0;
+  for (const std::string& l : labels) {
+    CAPTURE(l);
+    const std::size_t at = header.find(l, from);
+    CHECK(at != std::string::npos);  // in full and in order
+    if (at != std::string::npos) from = at + l.size();
+  }
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    const std::string& line = *(a_title + 2 + static_cast<long>(k));
+    CAPTURE(line);
+    CHECK(line.rfind("  " + labels[k] + "  ", 0) == 0);
+  }
+  // J's rows likewise.
+  const auto j_title = std::find_if(
+      lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("J: ", 0) == 0; });
+  REQUIRE(j_title != lines.end());
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    const std::string& line = *(j_title + 2 + static_cast<long>(k));
+    CAPTURE(line);
+    CHECK(line.rfind("  " + labels[k] + "  ", 0) == 0);
+  }
+}
+
+TEST_CASE("cbps explain prints no -0, the same digits everywhere, v1, fext, units and w",
+          "[cli][explain]") {
+  for (const char* args : {"chain --param n=2 --step 10",
+                           "chain --param n=3",
+                           "stack --param n=1 --step 5",
+                           "slide --step 5",
+                           "v-corner --step 3 --push improved"}) {
+    CAPTURE(args);
+    const CliResult r = run_cli(std::string("explain ") + args);
+    REQUIRE(r.code == 0);
+    CHECK(negative_zeros(r.out).empty());
+    for (const char* block : {"J: ",
+                              "Minv = ",
+                              "A = J Minv J^T",
+                              "v1: ",
+                              "fext: ",
+                              "upsilon: ",
+                              "b = upsilon/dt",
+                              "w = A lambda - b",
+                              "v2 = v1",
+                              "System shown: "}) {
+      CAPTURE(block);
+      CHECK(r.out.find(block) != std::string::npos);
+    }
+    // Units on every block.
+    for (const char* unit : {"unit 1 in the linear columns",
+                             "m in the angular ones",
+                             "kg^-1 (linear block), kg^-1 m^-2 (angular block)",
+                             "m/s^2",
+                             "rad/s",
+                             "N m",
+                             "cmin (N)",
+                             "lambda (N)",
+                             "cmax (N)",
+                             "w (m/s^2)"}) {
+      CAPTURE(unit);
+      CHECK(r.out.find(unit) != std::string::npos);
+    }
+    // Six significant digits at most in every number, matrices and vectors alike.
+    static const std::regex number(R"(-?(\d+)(\.(\d+))?(e[+-]\d+)?)");
+    std::istringstream in(r.out);
+    int longer = 0;
+    for (std::string token; in >> token;) {
+      std::smatch m;
+      if (!std::regex_match(token, m, number)) continue;
+      std::string digits = m[1].str() + m[3].str();
+      digits.erase(0, std::min(digits.find_first_not_of('0'), digits.size()));
+      if (digits.size() > 6) ++longer;
+    }
+    CHECK(longer == 0);
+  }
+  const CliResult improved = run_cli("explain v-corner --step 3 --push improved");
+  CHECK(improved.out.find("the velocity system of the improved push (8.1)") != std::string::npos);
+  const CliResult original = run_cli("explain v-corner --step 3");
+  CHECK(original.out.find("the one system of the original push") != std::string::npos);
+}
+
+TEST_CASE("cbps explain --json: b, A and w recomputed by hand, statuses agree with the bounds",
+          "[cli][explain]") {
+  SECTION("a chain swinging: every row free (distance rows are unbounded)") {
+    const CliResult r = run_cli("explain chain --param n=2 --step 10 --solver direct --json");
+    REQUIRE(r.code == 0);
+    const auto e = nlohmann::json::parse(r.out);
+    CHECK(e["system"]["shown"] == "one");
+    const auto status = check_explained(e, true);
+    CHECK(std::count(status.begin(), status.end(), "free") == 2);
+    // Not the uninstructive rest state: b and lambda are not zero.
+    CHECK(vector_of(e["b"]["value"]).cwiseAbs().maxCoeff() > 1.0);
+    CHECK(vector_of(e["lambda"]["value"]).cwiseAbs().maxCoeff() > 0.1);
+  }
+  SECTION("a box sliding along x: its x-friction rows at a bound, the contacts pushing") {
+    // Sliding along x (v0 = 2 m/s, paper friction, 5.4): kinetic friction holds each of the 4
+    // points' x rows at a bound, the z rows (no sideways motion) are free, and the 4 contact
+    // rows push, lambda > 0, free.
+    const CliResult r = run_cli("explain slide --step 5 --solver direct --json");
+    REQUIRE(r.code == 0);
+    const auto e = nlohmann::json::parse(r.out);
+    const auto status = check_explained(e, true);
+    int contacts_free = 0, friction_at_bound = 0;
+    for (std::size_t i = 0; i < status.size(); ++i) {
+      const std::string label = e["row_labels"][i].get<std::string>();
+      if (label.rfind("contact", 0) == 0 && status[i] == "free") ++contacts_free;
+      if (label.rfind("friction", 0) == 0 && status[i].rfind("at cm", 0) == 0) ++friction_at_bound;
+    }
+    CHECK(contacts_free == 4);
+    CHECK(friction_at_bound == 4);
+  }
+  SECTION("the default solver's answer: statuses still consistent with the bounds") {
+    const CliResult r = run_cli("explain stack --param n=2 --step 20 --json");
+    REQUIRE(r.code == 0);
+    check_explained(nlohmann::json::parse(r.out), false);
+  }
+  SECTION("the improved push shows the velocity system and says so") {
+    const CliResult r = run_cli("explain v-corner --step 3 --push improved --json");
+    REQUIRE(r.code == 0);
+    const auto e = nlohmann::json::parse(r.out);
+    CHECK(e["system"]["shown"] == "velocity");
+    CHECK(e.contains("upsilon_position"));
+    check_explained(e, false);
+  }
+}
