@@ -238,8 +238,8 @@ World read_world(const Node& node) {
   if (has(node, "restitution")) world.restitution = unit_interval(child(node, "restitution"));
   if (has(node, "restitution_threshold"))
     world.restitution_threshold = nonnegative(child(node, "restitution_threshold"));
-  if (has(node, "contact_margin"))
-    world.contact_margin = nonnegative(child(node, "contact_margin"));
+  world.contact_margin = has(node, "contact_margin") ? nonnegative(child(node, "contact_margin"))
+                                                     : kSceneContactMargin;
   if (has(node, "divergence_speed"))
     world.divergence_speed = positive(child(node, "divergence_speed"));
   if (has(node, "divergence_spin"))

@@ -33,7 +33,10 @@ std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
   own.push_back({"friction", "paper", "-", "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n)"});
   own.push_back({"restitution", restitution, "", "coefficient of restitution epsilon (8.2.1)"});
   own.push_back({"push", push, "-", "original (Baumgarte, 5.3) | improved (two systems, 8.1)"});
-  own.push_back({"margin", "0.001", "m", "contacts kept up to this separation (4)"});
+  own.push_back({"margin",
+                 "0.001",
+                 "m",
+                 "contacts kept up to this separation (4)"});  // as kSceneContactMargin
   own.push_back({"duration", duration, "s", "simulated time"});
   return own;
 }
@@ -118,7 +121,11 @@ const std::vector<BuiltinScene>& builtin_scenes() {
                            {"length", "0.5", "m", "string length (pivot to centre)"},
                            {"theta0_deg", "30", "deg", "release angle of the first ball"},
                            {"mass", "0.2", "kg", "ball mass"},
-                           {"gap", "0", "m", "gap between neighbouring balls at rest"}},
+                           {"gap",
+                            "0.002",
+                            "m",
+                            "gap between neighbouring balls at rest; 0: all touching, and the "
+                            "one simultaneous impact sends balls 1..n-1 off together"}},
                           "1/240",
                           "0",
                           "1",
