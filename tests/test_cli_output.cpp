@@ -82,7 +82,7 @@ TEST_CASE("an output folder given as DIR/, DIR or DIR/. is one folder, rewritten
     CHECK(leftovers(dir).empty());
   }
   CHECK(manifest_files(dir / "ts") ==
-        std::vector<std::string>{"steps.csv", "summary.json", "trajectory.csv"});
+        std::vector<std::string>{"bodies.json", "steps.csv", "summary.json", "trajectory.csv"});
   // "." inside the output folder is that folder: rewritten, nothing else touched.
   const CliResult dot = run_cli("run chain --steps 3 --quiet --no-timing --out .", dir / "ts");
   INFO(dot.err);
@@ -152,7 +152,7 @@ TEST_CASE("files a cbps script listed in the manifest are cbps's: replaced on th
   REQUIRE(r.code == 0);
   CHECK_FALSE(fs::exists(out / "report.md"));  // it described the run that was replaced
   CHECK(manifest_files(out) ==
-        std::vector<std::string>{"steps.csv", "summary.json", "trajectory.csv"});
+        std::vector<std::string>{"bodies.json", "steps.csv", "summary.json", "trajectory.csv"});
   fs::remove_all(dir);
 }
 

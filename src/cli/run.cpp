@@ -93,6 +93,24 @@ void record_bodies(Csv& csv, double t, const std::vector<Body>& bodies) {
   }
 }
 
+/// The bodies of trajectory.csv's `body` column: index, name, shape, static or not, mass.
+nlohmann::json bodies_json(const Scene& scene) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& body = scene.bodies[i];
+    const char* shape = body.shape.kind == Shape::Kind::Sphere ? "sphere"
+                        : body.shape.kind == Shape::Kind::Box  ? "box"
+                                                               : "plane";
+    nlohmann::json b = {
+        {"index", i}, {"name", body.name}, {"shape", shape}, {"static", body.is_static}};
+    if (!body.is_static) b["mass"] = body.m;
+    list.push_back(b);
+  }
+  return {{"about",
+           "the bodies of trajectory.csv: its column body is the index here (docs/outputs.md)"},
+          {"bodies", list}};
+}
+
 int run_command(const RunOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
@@ -296,6 +314,7 @@ int run_command(const RunOptions& o) {
     trajectory->close();
     steps_csv->close();
     write_text(dir->file("summary.json"), summary.dump(2) + "\n");
+    write_text(dir->file("bodies.json"), bodies_json(scene).dump(2) + "\n");
     dir->commit();
   }
   if (o.json) {
@@ -374,7 +393,10 @@ void register_run(CLI::App& app, Action& run) {
   auto o = std::make_shared<RunOptions>();
   add_scene_options(cmd, o->scene);
   add_step_options(cmd, o->step);
-  cmd->add_option("--out", o->out, "folder for summary.json, trajectory.csv, steps.csv");
+  cmd->add_option("--out",
+                  o->out,
+                  "folder for summary.json, trajectory.csv, steps.csv, bodies.json (the body "
+                  "names of trajectory.csv) and cbps-manifest.json (docs/outputs.md)");
   cmd->add_option("--record-every", o->record_every, "record the trajectory every K steps")
       ->check(positive());
   cmd->add_flag("--json", o->json, "print the summary as JSON on stdout");
