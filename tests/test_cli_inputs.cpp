@@ -113,7 +113,7 @@ TEST_CASE("lcp on a 4000-link chain's folder uses the exact path and solves it",
   fs::remove_all(dir);
 }
 
-TEST_CASE("--check-tolerance fails the run and names the first step beyond it",
+TEST_CASE("run --check with a tolerance fails the run and names the first step beyond it",
           "[cli][inputs][check]") {
   const fs::path dir = scratch_dir("inputs_check");
   const fs::path out = dir / "run";
