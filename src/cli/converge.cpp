@@ -334,6 +334,7 @@ int converge_command(const ConvergeOptions& o) {
   nlohmann::json summary;
   summary["problem"] = s.name;
   summary["rows"] = s.b.size();
+  summary["cfm"] = s.cfm;  // the problem studied is A + eps E (kg^-1; 0: A itself)
   summary["step"] = problem ? nlohmann::json(nullptr) : nlohmann::json(o.at_step);
   summary["lambda_unique"] = s.lambda_unique;
   summary["reference"] = {{"residual", reference.residual},
