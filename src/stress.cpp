@@ -399,7 +399,7 @@ void add_size_cases(std::vector<StressCase>& cases) {
        {"pgs", "block-pgs"},
        {{"direct",
          "one island of ~5,000 rows: the direct path needed 161 s for one step of base 20 "
-         "(README, cbps converge on the pyramid)"}},
+         "(cbps converge on the pyramid, docs/convergence.md)"}},
        rest_of_last(0.01, 0.01)});
 }
 

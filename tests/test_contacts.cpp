@@ -444,7 +444,7 @@ TEST_CASE(
     "sweeps, and the direct path (8.1, 7.1.1, 6.2)",
     "[contact][eq8.1][eq7.1.1][eq6.2]") {
   // Row-by-row PGS with 20 sweeps does not hold this stack (the top box walks 4–15 cm in 10 s,
-  // README "Stacks"); block PGS, each manifold's 12 rows solved together, does.
+  // docs/contacts.md, "Stacks"); block PGS, each manifold's 12 rows solved together, does.
   const std::string method = GENERATE(as<std::string>{}, "block-pgs", "direct");
   CAPTURE(method);
   Scene scene = contact_scene("stack", {{"n", "10"}, {"dt", "1/60"}, {"push", "improved"}}, method);

@@ -85,7 +85,7 @@ TEST_CASE("every variant converges to the direct path's answer (7.1.1, 6.2)",
           "[solver][variants]") {
   // A hanging chain of 20 links (A definite: lambda unique) and a resting 3-box stack with
   // contacts (4 per face, A singular: v2 unique; frictionless: with the paper's friction rows PGS
-  // stalls near 1e-4 N on this system, README "Convergence").
+  // stalls near 1e-4 N on this system, docs/convergence.md).
   const std::string spec = GENERATE(as<std::string>{},
                                     "pgs",
                                     "psor:1.5",
