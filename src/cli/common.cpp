@@ -68,15 +68,20 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
       ->check(CLI::IsMember({"original", "improved"}));
 }
 
-Scene load_scene(const SceneOptions& o) {
+std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params) {
   std::map<std::string, std::string> values;
-  for (const std::string& p : o.params) {
+  for (const std::string& p : params) {
     const auto eq = p.find('=');
     if (eq == std::string::npos || eq == 0) {
       throw InputError("--param '" + p + "': expected NAME=VALUE");
     }
     values[p.substr(0, eq)] = p.substr(eq + 1);
   }
+  return values;
+}
+
+Scene load_scene(const SceneOptions& o) {
+  const std::map<std::string, std::string> values = parameter_values(o.params);
   if (find_builtin_scene(o.scene) != nullptr) return make_builtin_scene(o.scene, values);
   std::error_code ec;
   if (fs::is_regular_file(o.scene, ec)) {

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -44,6 +45,8 @@ CLI::Validator non_negative();  ///< a finite number >= 0
 /// The most steps a run takes (a longer run is a typo: 1e12 steps of a one-body scene take days).
 inline constexpr double kMaxSteps = 1e12;
 
+/// The --param NAME=VALUE texts as name → value; InputError for one without a name or '='.
+std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params);
 /// A built-in scene by name (with its --param values) or a JSON scene file.
 Scene load_scene(const SceneOptions& o);
 /// Applies --dt, --beta, --solver, --iterations, --tolerance, --cfm to the scene.

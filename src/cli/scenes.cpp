@@ -60,14 +60,7 @@ void export_scene(const ScenesOptions& o) {
   if (!fs::is_directory(parent, ec))
     throw InputError(what + ": the folder " + parent.string() + " does not exist");
 
-  std::map<std::string, std::string> values;
-  for (const std::string& p : o.params) {
-    const auto eq = p.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw InputError("--param '" + p + "': expected NAME=VALUE");
-    values[p.substr(0, eq)] = p.substr(eq + 1);
-  }
-  const Scene scene = make_builtin_scene(o.name, values);  // InputError for a bad name or value
+  const Scene scene = make_builtin_scene(o.name, parameter_values(o.params));  // InputError for a bad name or value
   const std::string text = scene_to_json(scene);
 
   const fs::path temp =
