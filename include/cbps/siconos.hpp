@@ -13,11 +13,12 @@
 // The order of M. Siconos (numerics, NumericsMatrix newFromFile) reads the n² numbers in file
 // order into its dense array matrix0, which is column-major (entry (i, j) at i + j n), so the
 // file's lines are the columns of M, not its rows as a plain reading of the layout suggests. The
-// data agree: read by rows, lcp_CPS_4 has the row w_4 = −z_1 − z_2 − z_3 − 6 < 0 and lcp_Pang_isolated_sol
-// the row w_2 = −z_1 − 1 < 0 (no solution at all, against their sources); read by columns, both
-// have solutions (CPS_4 is then the KKT system of a convex QP). Symmetric files are unaffected.
-// Free text after the numbers (a remark on the source) is not data; it must not start with a
-// number, so that a wrong n or a relay file read as an LCP is caught rather than half-read.
+// data agree: read by rows, lcp_CPS_4 has the row w_4 = −z_1 − z_2 − z_3 − 6 < 0 and
+// lcp_Pang_isolated_sol the row w_2 = −z_1 − 1 < 0 (no solution at all, against their sources);
+// read by columns, both have solutions (CPS_4 is then the KKT system of a convex QP). Symmetric
+// files are unaffected. Free text after the numbers (a remark on the source) is not data; it must
+// not start with a number, so that a wrong n or a relay file read as an LCP is caught rather than
+// half-read.
 #pragma once
 
 #include <istream>
