@@ -184,7 +184,8 @@ double jacobi_sweep(const SpMat& A,
 /// fails on a block, that block gets one row-by-row pass and *fallbacks (if given) grows.
 /// Why blocks: the four contact points of a resting face and their friction rows are redundant
 /// and coupled; row-by-row PGS shifts load between them slowly and, warm-started step after step
-/// with 20 sweeps, a 10-box stack rocks and walks (docs/contacts.md, "Stacks: block PGS"). Returns max |Δlambda|.
+/// with 20 sweeps, a 10-box stack rocks and walks (docs/contacts.md, "Stacks: block PGS"). Returns
+/// max |Δlambda|.
 double block_pgs_sweep(const SpMat& A,
                        const VecX& b,
                        const VecX& cmin,

@@ -60,7 +60,8 @@ void export_scene(const ScenesOptions& o) {
   if (!fs::is_directory(parent, ec))
     throw InputError(what + ": the folder " + parent.string() + " does not exist");
 
-  const Scene scene = make_builtin_scene(o.name, parameter_values(o.params));  // InputError for a bad name or value
+  const Scene scene =
+      make_builtin_scene(o.name, parameter_values(o.params));  // InputError for a bad name or value
   const std::string text = scene_to_json(scene);
 
   const fs::path temp =
