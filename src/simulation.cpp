@@ -168,11 +168,17 @@ SolverSummary Simulation::solve_system(const System& sys,
   options.row_blocks = &sys.manifold;  // block PGS: one block per contact manifold
   options.order = settings.order;
   options.seed = settings.seed + static_cast<std::uint64_t>(steps_);  // new permutations each step
-  options.cfm = settings.cfm;  // A + eps E in every method; sys.A stays J Minv Jᵀ
+  // Constraint-force mixing: the solvers work on A + eps E (sys.A stays J Minv Jᵀ), formed here
+  // once per solve rather than by solve() on every call of the Coulomb loops below; the
+  // matrix-free form puts eps on its own diagonal.
+  const bool matrix_free = settings.method == "matrix-free";
+  const SpMat regularised =
+      settings.cfm != 0.0 && !matrix_free ? with_cfm(sys.A, settings.cfm) : SpMat();
+  const SpMat& A = regularised.nonZeros() > 0 ? regularised : sys.A;
+  options.cfm = matrix_free ? settings.cfm : 0.0;
   const auto run = [&](const VecX& lo, const VecX& hi, VecX& l, const SolverOptions& o) {
-    if (settings.method == "matrix-free")
-      return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o);
-    return solve(settings.method, sys.A, b, lo, hi, l, o);
+    if (matrix_free) return solve_matrix_free(sys.J, sys.Minv, b, lo, hi, l, o);
+    return solve(settings.method, A, b, lo, hi, l, o);
   };
   if (!has_coulomb_rows(sys)) return run(sys.cmin, sys.cmax, lambda, options);
 
@@ -199,7 +205,7 @@ SolverSummary Simulation::solve_system(const System& sys,
     }
     if (change > 1e-12 * scale && total.termination == Termination::Direct)
       total.termination = Termination::NotConverged;
-    total.residual = natural_map_residual(sys.A, b, lo, hi, lambda, settings.cfm);
+    total.residual = natural_map_residual(A, b, lo, hi, lambda);  // A + eps E when cfm > 0
     std::ostringstream msg;
     msg << "direct with Coulomb bounds: fixed point in " << rounds << " rounds (last bound change "
         << change << " N), " << total.factorizations << " factorizations, residual "
