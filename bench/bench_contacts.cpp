@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 
 int main(int argc, char** argv) {
   std::string out_path, solver = "pgs";
@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   nlohmann::json result = nlohmann::json::array();
   for (const int base : {10, 20, 40}) {
     cbps::Scene scene = cbps::make_builtin_scene("pyramid", {{"base", std::to_string(base)}});
-    scene.solver.method = solver;
+    scene.solver.method = cbps::method_of(solver);
     cbps::Simulation sim(scene);
     for (long s = 0; s < settle; ++s) sim.step();
     cbps::StageTimes sum;

@@ -25,9 +25,9 @@
 #include <string>
 #include <vector>
 
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/cbps.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 
 namespace {
 
@@ -59,7 +59,7 @@ cbps::System chain_system(long n) {
 cbps::System stack_system() {
   cbps::Scene scene = cbps::make_builtin_scene(
       "stack", {{"n", "10"}, {"columns", "100"}, {"margin", "0.001"}, {"push", "improved"}});
-  scene.solver.method = "direct";
+  scene.solver.method = cbps::Method::Direct;
   cbps::Simulation sim(scene);
   for (int s = 0; s < 3; ++s) sim.step();
   return sim.build_system();
@@ -81,13 +81,13 @@ std::vector<PgsReach> pgs_reach(const cbps::System& sys, double budget_s) {
   double solving = 0.0;
   long sweeps = 0;
   long check = 1;
-  double residual = cbps::natural_map_residual(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+  double residual = cbps::natural_map_residual(sys.problem(), lambda);
   while (solving < budget_s) {
     const auto start = Clock::now();
-    for (long k = 0; k < check; ++k) cbps::pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+    for (long k = 0; k < check; ++k) cbps::pgs_sweep(sys.problem(), lambda);
     solving += seconds_since(start);
     sweeps += check;
-    residual = cbps::natural_map_residual(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+    residual = cbps::natural_map_residual(sys.problem(), lambda);
     bool all = true;
     for (PgsReach& r : out) {
       if (!r.reached && residual <= r.tolerance) {
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
     cbps::SolverSummary summary;
     for (int r = 0; r < repeats; ++r) {
       cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
-      summary = cbps::solve_direct(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+      summary = cbps::solve_direct(sys.problem(), lambda);
       direct_s.push_back(summary.wall_time_s);
     }
     std::vector<double> sweep_s;
@@ -159,8 +159,7 @@ int main(int argc, char** argv) {
     const int sweeps_timed = static_cast<int>(std::max<long>(1, 1000000 / n));
     for (int r = 0; r < repeats; ++r) {
       const auto start = Clock::now();
-      for (int k = 0; k < sweeps_timed; ++k)
-        cbps::pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+      for (int k = 0; k < sweeps_timed; ++k) cbps::pgs_sweep(sys.problem(), lambda);
       sweep_s.push_back(seconds_since(start) / sweeps_timed);
     }
     const bool run_pgs = n <= max_n;  // the 10⁶ chain: direct and one sweep only
@@ -211,7 +210,7 @@ int main(int argc, char** argv) {
   cbps::SolverSummary stack_summary;
   for (int r = 0; r < repeats; ++r) {
     cbps::VecX lambda = cbps::VecX::Zero(stack.rows());
-    stack_summary = cbps::solve_direct(stack.A, stack.b, stack.cmin, stack.cmax, lambda);
+    stack_summary = cbps::solve_direct(stack.problem(), lambda);
     stack_s.push_back(stack_summary.wall_time_s);
   }
   std::fprintf(stderr,

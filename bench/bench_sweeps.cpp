@@ -36,10 +36,10 @@
 #include <utility>
 #include <vector>
 
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
-#include "cbps/system.hpp"
+#include "cbps/cbps.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/system/system.hpp"
 
 namespace {
 
@@ -127,7 +127,8 @@ const Problem& problem(SceneKind kind, long size) {
     }
     p->rows = p->sim->build_rows();
     const cbps::World& world = p->sim->scene().world;
-    p->sys = cbps::assemble_system(p->sim->scene().bodies, p->rows, world.gravity, world.dt);
+    p->sys =
+        cbps::assemble_system(p->sim->scene().bodies, p->rows, world.gravity, world.dt, world.push);
   }
   return *p;
 }
@@ -193,9 +194,11 @@ void bm_assembly(benchmark::State& state, SceneKind kind) {
   const Problem& p = problem(kind, state.range(0));
   const cbps::Scene& scene = p.sim->scene();
   cbps::System sys;
-  cbps::assemble_system(scene.bodies, p.rows, scene.world.gravity, scene.world.dt, sys);
+  cbps::assemble_system(
+      scene.bodies, p.rows, scene.world.gravity, scene.world.dt, scene.world.push, sys);
   for (auto _ : state) {
-    cbps::assemble_system(scene.bodies, p.rows, scene.world.gravity, scene.world.dt, sys);
+    cbps::assemble_system(
+        scene.bodies, p.rows, scene.world.gravity, scene.world.dt, scene.world.push, sys);
     benchmark::DoNotOptimize(sys.A.valuePtr());
     benchmark::DoNotOptimize(sys.b.data());
   }
@@ -208,10 +211,10 @@ void bm_pgs_sweep(benchmark::State& state, SceneKind kind) {
   const cbps::System& sys = problem(kind, state.range(0)).sys;
   cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
   for (int k = 0; k < kWarmUpSweeps; ++k) {
-    cbps::pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+    cbps::pgs_sweep(sys.problem(), lambda);
   }
   for (auto _ : state) {
-    benchmark::DoNotOptimize(cbps::pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, lambda));
+    benchmark::DoNotOptimize(cbps::pgs_sweep(sys.problem(), lambda));
     benchmark::ClobberMemory();
   }
   if (!lambda.allFinite()) {
@@ -249,7 +252,7 @@ void bm_direct(benchmark::State& state, SceneKind kind) {
   cbps::SolverSummary summary;
   for (auto _ : state) {
     cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
-    summary = cbps::solve_direct(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+    summary = cbps::solve_direct(sys.problem(), lambda);
     benchmark::DoNotOptimize(lambda.data());
   }
   if (!summary.ok()) {

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
-#include "cbps/system.hpp"
+#include "cbps/cbps.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/system/system.hpp"
 
 namespace {
 
@@ -72,14 +72,14 @@ void bm_pgs_sweep(benchmark::State& state) {
   const cbps::System sys = chain(state.range(0)).build_system();
   cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
   for (int it = 0; it < kWarmUpSweeps; ++it) {
-    cbps::pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+    cbps::pgs_sweep(sys.problem(), lambda);
   }
   if (!lambda.allFinite()) {
     state.SkipWithError("lambda is not finite after the warm-up sweeps");
     return;
   }
   for (auto _ : state) {
-    benchmark::DoNotOptimize(cbps::pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, lambda));
+    benchmark::DoNotOptimize(cbps::pgs_sweep(sys.problem(), lambda));
     benchmark::ClobberMemory();
   }
   if (!lambda.allFinite()) {

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "cbps/error.hpp"
-#include "cbps/matrix_market.hpp"
+#include "cbps/io/matrix_market.hpp"
 
 namespace {
 

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "cbps/error.hpp"
-#include "cbps/scene.hpp"
-#include "cbps/scene_json.hpp"
+#include "cbps/scene/scene.hpp"
+#include "cbps/scene/scene_json.hpp"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "cbps/error.hpp"
-#include "cbps/siconos.hpp"
+#include "cbps/io/siconos.hpp"
 
 namespace {
 

@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cbps/body.hpp"
+#include "cbps/body/body.hpp"
 
 using namespace cbps;
 

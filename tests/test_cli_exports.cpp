@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "cbps/matrix_market.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 #include "cli_fixture.hpp"
 
 namespace fs = std::filesystem;
@@ -183,7 +183,7 @@ TEST_CASE("the solver tolerance reaches the direct path", "[exports][direct][tol
   for (int k = 0; k < 30; ++k) sim.step();
   const System& sys = sim.assemble();
   SolverSettings tight = scene.solver;
-  tight.method = "direct";
+  tight.method = Method::Direct;
   tight.tolerance = 0.0;
   SolverSettings loose = tight;
   loose.tolerance = 1e-3;

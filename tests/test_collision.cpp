@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "cbps/collision.hpp"
+#include "cbps/collision/collision.hpp"
 
 using namespace cbps;
 

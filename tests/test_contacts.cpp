@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "cbps/contact.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/cbps.hpp"
+#include "cbps/rows/contact.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 #include "cli_fixture.hpp"
 
 using namespace cbps;
@@ -27,14 +27,14 @@ Scene contact_scene(const std::string& name,
                     const std::map<std::string, std::string>& values,
                     const std::string& method = "pgs") {
   Scene scene = make_builtin_scene(name, values);
-  scene.solver.method = method;
+  scene.solver.method = method_of(method);
   return scene;
 }
 
 /// The solver settings of the scene with another method (e.g. the direct path, 6.2).
 SolverSettings with_method(const Scene& scene, const std::string& method) {
   SolverSettings s = scene.solver;
-  s.method = method;
+  s.method = method_of(method);
   return s;
 }
 
@@ -297,27 +297,32 @@ TEST_CASE("restitution: upsilon = -eps j_c v1 above the threshold, none below (8
   const double dt = 1.0 / 60.0;
   const double eps = 0.5;
   const double threshold = 0.1;
+  // The bias of a system with the push (5.3; the position system of 8.1) or without it (the
+  // velocity system of 8.1).
+  const auto bias = [&](double depth, double approach, bool push) {
+    const double upsilon = contact_bias(depth, approach, dt, eps, threshold);
+    return push ? with_push(upsilon, contact_push(depth, beta, dt)) : upsilon;
+  };
   // Approaching at 2 m/s (j_c v1 = −2): the row asks to separate at ε · 2 = +1 m/s.
-  CHECK(contact_bias(0.0, -2.0, beta, dt, eps, threshold, false) == 1.0);
-  CHECK(contact_bias(0.0, -2.0, beta, dt, eps, threshold, true) == 1.0);  // d = 0: no push
+  CHECK(bias(0.0, -2.0, false) == 1.0);
+  CHECK(bias(0.0, -2.0, true) == 1.0);  // d = 0: no push
   // With a depth of 1 cm the push β d / dt = 0.2 · 0.01 · 60 = 0.12 m/s adds to it (5.3)...
-  CHECK(contact_bias(0.01, -2.0, beta, dt, eps, threshold, true) == Approx(1.12).epsilon(1e-14));
+  CHECK(bias(0.01, -2.0, true) == Approx(1.12).epsilon(1e-14));
   // ...but not in the velocity system of the improved push (8.1).
-  CHECK(contact_bias(0.01, -2.0, beta, dt, eps, threshold, false) == 1.0);
+  CHECK(bias(0.01, -2.0, false) == 1.0);
   // Below the threshold (a resting contact) and for separating bodies: no bounce.
-  CHECK(contact_bias(0.0, -0.05, beta, dt, eps, threshold, false) == 0.0);
-  CHECK(contact_bias(0.0, 2.0, beta, dt, eps, threshold, false) == 0.0);
-  CHECK(contact_bias(0.01, -0.05, beta, dt, eps, threshold, true) == Approx(0.12).epsilon(1e-14));
+  CHECK(bias(0.0, -0.05, false) == 0.0);
+  CHECK(bias(0.0, 2.0, false) == 0.0);
+  CHECK(bias(0.01, -0.05, true) == Approx(0.12).epsilon(1e-14));
   // A gap of 1 mm (a margin point, d = −0.001): closing at 2 m/s covers 3.3 cm in the step, so
   // the impact is now and the target is the rebound alone, ε · 2 = 1 m/s (adding d / dt =
   // −0.06 m/s would take 6 % off it). At 0.05 m/s the gap stays open: d / dt, a bound on the
   // approach, and no rebound.
-  CHECK(contact_bias(-0.001, -2.0, beta, dt, eps, threshold, true) == 1.0);
-  CHECK(contact_bias(-0.001, -2.0, beta, dt, eps, threshold, false) == 1.0);
-  CHECK(contact_bias(-0.001, -0.05, beta, dt, eps, threshold, true) ==
-        Approx(-0.06).epsilon(1e-14));
+  CHECK(bias(-0.001, -2.0, true) == 1.0);
+  CHECK(bias(-0.001, -2.0, false) == 1.0);
+  CHECK(bias(-0.001, -0.05, true) == Approx(-0.06).epsilon(1e-14));
   // Fast (0.5 m/s, above the threshold) but not fast enough to close 1 cm in 1/60 s (0.6 m/s).
-  CHECK(contact_bias(-0.01, -0.5, beta, dt, eps, threshold, true) == Approx(-0.6).epsilon(1e-14));
+  CHECK(bias(-0.01, -0.5, true) == Approx(-0.6).epsilon(1e-14));
 }
 
 TEST_CASE("bounce: each rebound apex is eps^2 times the one before (8.2.1, 8.1)",

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <string>
 
-#include "cbps/scene_json.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/scene/scene_json.hpp"
+#include "cbps/step/simulation.hpp"
 
 using namespace cbps;
 

@@ -8,12 +8,12 @@
 #include <random>
 #include <vector>
 
+#include "cbps/cbps.hpp"
 #include "cbps/error.hpp"
-#include "cbps/lcp.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/siconos.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/io/siconos.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/step/simulation.hpp"
 
 using namespace cbps;
 namespace fs = std::filesystem;
@@ -97,7 +97,7 @@ double scale_of(const SpMat& A, const VecX& b) { return lcp_scale(MatX(A), -b); 
 
 VecX solve_exact(const Constructed& p, SolverSummary* summary = nullptr) {
   VecX lambda = VecX::Zero(p.b.size());
-  const SolverSummary s = solve_direct(p.A, p.b, p.lo, p.hi, lambda);
+  const SolverSummary s = solve_direct(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda);
   if (summary != nullptr) *summary = s;
   return lambda;
 }
@@ -129,7 +129,7 @@ TEST_CASE("the direct path equals CHOLMOD on an equality system with one factori
   VecX cholesky;
   solve_cholesky(sys.A, sys.b, cholesky);
   VecX lambda;
-  const SolverSummary s = solve_direct(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+  const SolverSummary s = solve_direct(sys.problem(), lambda);
   INFO(s.message);
   CHECK(s.termination == Termination::Direct);
   CHECK(s.factorizations == 1);
@@ -149,7 +149,7 @@ TEST_CASE("positive definite boxed problems: the constructed lambda is found (6.
     CAPTURE(trial, k, s.message);
     REQUIRE(s.termination == Termination::Direct);
     const double scale = scale_of(p.A, p.b);
-    CHECK(natural_map_residual(p.A, p.b, p.lo, p.hi, lambda) <= 1e-12 * scale);
+    CHECK(natural_map_residual(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda) <= 1e-12 * scale);
     // A is positive definite: lambda is unique.
     CHECK((lambda - p.lambda_star).lpNorm<Eigen::Infinity>() <= 1e-8 * scale);
   }
@@ -169,7 +169,7 @@ TEST_CASE("semidefinite boxed problems: w and Jᵀ lambda are the constructed on
     REQUIRE(s.termination == Termination::Direct);
     singular += s.singular ? 1 : 0;
     const double scale = scale_of(p.A, p.b);
-    CHECK(natural_map_residual(p.A, p.b, p.lo, p.hi, lambda) <= 1e-9 * scale);
+    CHECK(natural_map_residual(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda) <= 1e-9 * scale);
     // lambda is not unique, but w = A lambda − b and the force Jᵀ lambda are (6.2).
     const VecX w = p.A * lambda - p.b;
     CHECK((w - p.w_star).lpNorm<Eigen::Infinity>() <= 1e-7 * scale);
@@ -236,16 +236,16 @@ TEST_CASE("many islands solved apart give what one block gives, and boxed Lemke 
   const double scale = scale_of(A, b);
 
   VecX apart;
-  const SolverSummary s = solve_direct(A, b, lo, hi, apart);
+  const SolverSummary s = solve_direct(BoxedProblem{A, b, lo, hi}, apart);
   INFO(s.message);
   CHECK(s.islands == 10);
   CHECK(s.termination == Termination::Direct);
   CHECK((A * apart - b - w_star).lpNorm<Eigen::Infinity>() <= 1e-7 * scale);
 
-  DirectOptions whole;
-  whole.split_islands = false;
+  SolverOptions whole;
+  whole.direct.split_islands = false;
   VecX together;
-  const SolverSummary s1 = solve_direct(A, b, lo, hi, together, whole);
+  const SolverSummary s1 = solve_direct(BoxedProblem{A, b, lo, hi}, together, whole);
   INFO(s1.message);
   CHECK(s1.islands == 1);
   CHECK(s1.termination == Termination::Direct);
@@ -274,7 +274,7 @@ TEST_CASE("a row given twice: Cholesky refuses, the direct path solves it, v2 is
   VecX dummy;
   CHECK_THROWS_AS(solve_cholesky(sys2.A, sys2.b, dummy), ComputationError);
   VecX lambda2;
-  const SolverSummary s = solve_direct(sys2.A, sys2.b, sys2.cmin, sys2.cmax, lambda2);
+  const SolverSummary s = solve_direct(sys2.problem(), lambda2);
   INFO(s.message);
   CHECK(s.termination == Termination::Direct);
   CHECK(s.singular);
@@ -287,8 +287,8 @@ TEST_CASE("a row given twice: Cholesky refuses, the direct path solves it, v2 is
     VecX pgs = VecX::Zero(sys2.rows());
     SolverOptions options;
     options.max_iterations = 100000;
-    options.residual_tolerance = 1e-11;
-    const SolverSummary sp = solve_pgs(sys2.A, sys2.b, sys2.cmin, sys2.cmax, pgs, options);
+    options.tolerance = 1e-11;
+    const SolverSummary sp = solve_pgs(sys2.problem(), pgs, options);
     INFO(sp.message);
     CHECK(sp.termination == Termination::ResidualTolerance);
     const VecX v2_pgs = compute_v2(sys2.v1, sys2.Minv, sys2.J, pgs, sys2.fext, sys2.dt);
@@ -306,8 +306,8 @@ TEST_CASE("PGS converges to the direct lambda on positive definite boxed problem
     VecX pgs = VecX::Zero(10);
     SolverOptions options;
     options.max_iterations = 200000;
-    options.residual_tolerance = 1e-12;
-    const SolverSummary s = solve_pgs(p.A, p.b, p.lo, p.hi, pgs, options);
+    options.tolerance = 1e-12;
+    const SolverSummary s = solve_pgs(BoxedProblem{p.A, p.b, p.lo, p.hi}, pgs, options);
     CAPTURE(trial, s.message);
     REQUIRE(s.termination == Termination::ResidualTolerance);
     CHECK((pgs - exact).lpNorm<Eigen::Infinity>() <= 1e-8 * scale_of(p.A, p.b));
@@ -322,7 +322,7 @@ TEST_CASE("inconsistent equality rows are reported as not converged, never as so
   const VecX b = (VecX(3) << 1.0, 2.0, 4.0).finished();
   const VecX lo = VecX::Constant(3, -kInf), hi = VecX::Constant(3, kInf);
   VecX lambda;
-  const SolverSummary s = solve_direct(A, b, lo, hi, lambda);
+  const SolverSummary s = solve_direct(BoxedProblem{A, b, lo, hi}, lambda);
   INFO(s.message);
   CHECK(s.termination == Termination::NotConverged);
   CHECK(s.residual >= 0.49);  // w = (s − 1, s − 2, ·) can be no smaller than ±0.5
@@ -335,7 +335,7 @@ TEST_CASE("non-finite data ends the direct solve with NonFinite", "[direct]") {
   const VecX b = (VecX(2) << 1.0, std::nan("")).finished();
   const VecX lo = VecX::Zero(2), hi = VecX::Constant(2, kInf);
   VecX lambda;
-  CHECK(solve_direct(A, b, lo, hi, lambda).termination == Termination::NonFinite);
+  CHECK(solve_direct(BoxedProblem{A, b, lo, hi}, lambda).termination == Termination::NonFinite);
 }
 
 TEST_CASE("every symmetric Siconos relay problem: direct and boxed Lemke agree on w",
@@ -350,7 +350,7 @@ TEST_CASE("every symmetric Siconos relay problem: direct and boxed Lemke agree o
     const SpMat A = p.M.sparseView();
     const VecX b = -p.q;
     VecX lambda;
-    const SolverSummary s = solve_direct(A, b, p.lb, p.ub, lambda);
+    const SolverSummary s = solve_direct(BoxedProblem{A, b, p.lb, p.ub}, lambda);
     INFO(s.message);
     const LcpResult lemke = solve_boxed_lemke(p.M, p.q, p.lb, p.ub);
     REQUIRE(lemke.solved());
@@ -372,8 +372,8 @@ TEST_CASE("block PGS with blocks of one row is PGS (7.1.1), iterate for iterate"
   const std::vector<int> singles(30, -1);
   VecX a = VecX::Zero(30), b = VecX::Zero(30);
   for (int sweep = 0; sweep < 25; ++sweep) {
-    pgs_sweep(p.A, p.b, p.lo, p.hi, a);
-    block_pgs_sweep(p.A, p.b, p.lo, p.hi, singles, b);
+    pgs_sweep(BoxedProblem{p.A, p.b, p.lo, p.hi}, a);
+    block_pgs_sweep(BoxedProblem{p.A, p.b, p.lo, p.hi, nullptr, nullptr, &singles}, b);
     REQUIRE((a - b).lpNorm<Eigen::Infinity>() == 0.0);  // the same arithmetic, in the same order
   }
 }
@@ -388,12 +388,13 @@ TEST_CASE("block PGS finds the constructed solution; one block of every row is L
     std::vector<int> blocks(24);
     for (int i = 0; i < 24; ++i) blocks[static_cast<std::size_t>(i)] = i / 4;  // 6 blocks of 4
     SolverOptions options;
-    options.row_blocks = &blocks;
+    options.method = Method::BlockPgs;
     options.max_iterations = 2000;
-    options.residual_tolerance = 1e-10 * scale;
+    options.tolerance = 1e-10 * scale;
     options.block_regularization = 0.0;
     VecX lambda = VecX::Zero(24);
-    const SolverSummary s = solve("block-pgs", p.A, p.b, p.lo, p.hi, lambda, options);
+    const SolverSummary s =
+        solve(BoxedProblem{p.A, p.b, p.lo, p.hi, nullptr, nullptr, &blocks}, lambda, options);
     CAPTURE(s.message);
     CHECK(s.termination == Termination::ResidualTolerance);
     CHECK((lambda - p.lambda_star).lpNorm<Eigen::Infinity>() <= 1e-6);
@@ -401,8 +402,8 @@ TEST_CASE("block PGS finds the constructed solution; one block of every row is L
 
     const std::vector<int> one(24, 0);
     VecX whole = VecX::Zero(24);
-    block_pgs_sweep(p.A, p.b, p.lo, p.hi, one, whole, 1.0, 0.0);
-    CHECK(natural_map_residual(p.A, p.b, p.lo, p.hi, whole) <= 1e-9 * scale);
+    block_pgs_sweep(BoxedProblem{p.A, p.b, p.lo, p.hi, nullptr, nullptr, &one}, whole, 1.0, 0.0);
+    CHECK(natural_map_residual(BoxedProblem{p.A, p.b, p.lo, p.hi}, whole) <= 1e-9 * scale);
   }
 }
 
@@ -416,19 +417,18 @@ TEST_CASE("block PGS on a resting stack reaches the direct path's v2 (7.1.1, 6.2
   const System sys = sim.build_system();
   REQUIRE(sys.rows() == 60);
   VecX exact = VecX::Zero(sys.rows());
-  REQUIRE(solve_direct(sys.A, sys.b, sys.cmin, sys.cmax, exact).termination == Termination::Direct);
+  REQUIRE(solve_direct(sys.problem(), exact).termination == Termination::Direct);
   const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, exact, sys.fext, sys.dt);
-  const auto error_after = [&](const std::string& method) {
+  const auto error_after = [&](Method method) {
     SolverOptions options;
-    options.row_blocks = &sys.manifold;
+    options.method = method;
     options.max_iterations = 400;
     VecX lambda = VecX::Zero(sys.rows());
-    solve(method, sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
-    return (compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, sys.dt) - v2)
-        .lpNorm<Eigen::Infinity>();
+    solve(sys.problem(), lambda, options);  // the problem's blocks: one per contact manifold
+    return (compute_v2(sys, lambda) - v2).lpNorm<Eigen::Infinity>();
   };
-  const double block = error_after("block-pgs");
-  const double rows = error_after("pgs");
+  const double block = error_after(Method::BlockPgs);
+  const double rows = error_after(Method::Pgs);
   INFO("max |v2 - v2_direct| after 400 sweeps: block PGS " << block << " m/s, PGS " << rows
                                                            << " m/s");
   CHECK(block < 1e-6);

@@ -7,9 +7,9 @@
 #include <string>
 
 #include "cbps/error.hpp"
-#include "cbps/matrix_market.hpp"
-#include "cbps/scene_json.hpp"
-#include "cbps/siconos.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "cbps/io/siconos.hpp"
+#include "cbps/scene/scene_json.hpp"
 
 using namespace cbps;
 

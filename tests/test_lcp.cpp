@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "cbps/error.hpp"
-#include "cbps/lcp.hpp"
-#include "cbps/siconos.hpp"
+#include "cbps/io/siconos.hpp"
+#include "cbps/solvers/lemke.hpp"
 
 using namespace cbps;
 namespace fs = std::filesystem;

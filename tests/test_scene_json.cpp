@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "cbps/constraint.hpp"
 #include "cbps/error.hpp"
-#include "cbps/scene_json.hpp"
-#include "cbps/scenes.hpp"
+#include "cbps/rows/distance.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/scene/scene_json.hpp"
 
 using namespace cbps;
 
@@ -27,7 +27,7 @@ Scene mixed_scene() {
   scene.world.gravity = Vec3(0.1, -9.80665, 1.0 / 3.0);
   scene.world.dt = 1.0 / 300.0;
   scene.world.beta = 0.15;
-  scene.solver.method = "jacobi";
+  scene.solver.method = Method::Jacobi;
   scene.solver.iterations = 37;
   scene.solver.tolerance = 1e-9;
   scene.solver.delta_tolerance = 1e-12;

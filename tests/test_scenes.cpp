@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "cbps/error.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 
 using namespace cbps;
 

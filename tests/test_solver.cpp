@@ -2,9 +2,9 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/cbps.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 
 using namespace cbps;
 
@@ -31,8 +31,8 @@ TEST_CASE("PGS with infinite bounds converges to the Cholesky solution (7.1.1, 6
   VecX lambda = VecX::Zero(sys.rows());
   SolverOptions options;
   options.max_iterations = 200000;
-  options.residual_tolerance = 1e-11;
-  const SolverSummary s = solve_pgs(sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+  options.tolerance = 1e-11;
+  const SolverSummary s = solve_pgs(sys.problem(), lambda, options);
   INFO(s.message);
   CHECK(s.termination == Termination::ResidualTolerance);
   // A is positive definite here, so lambda is unique: compare it relative to its size.
@@ -50,12 +50,12 @@ TEST_CASE("one PGS sweep uses each new lambda_j at once, Jacobi the old ones (7.
   const VecX lo = VecX::Constant(2, -kInf);
   const VecX hi = VecX::Constant(2, kInf);
   VecX gs = VecX::Zero(2);
-  pgs_sweep(A, b, lo, hi, gs);
+  pgs_sweep(BoxedProblem{A, b, lo, hi}, gs);
   CHECK(gs(0) == 1.5);   // (3 − 1·0) / 2
   CHECK(gs(1) == 0.75);  // (3 − 1·1.5) / 2
   VecX jac = VecX::Zero(2);
   VecX scratch;
-  jacobi_sweep(A, b, lo, hi, jac, 1.0, scratch);
+  jacobi_sweep(BoxedProblem{A, b, lo, hi}, jac, 1.0, scratch);
   CHECK(jac(0) == 1.5);
   CHECK(jac(1) == 1.5);
 }
@@ -87,11 +87,11 @@ TEST_CASE("PGS clamps each lambda_j to [cmin_j, cmax_j] and solves the boxed LCP
   VecX lambda = VecX::Zero(n);
   SolverOptions options;
   options.max_iterations = 10000;
-  options.residual_tolerance = 1e-13;
-  const SolverSummary s = solve_pgs(A, b, cmin, cmax, lambda, options);
+  options.tolerance = 1e-13;
+  const SolverSummary s = solve_pgs(BoxedProblem{A, b, cmin, cmax}, lambda, options);
   INFO(s.message);
   CHECK((lambda - star).lpNorm<Eigen::Infinity>() < 1e-11);
-  CHECK(natural_map_residual(A, b, cmin, cmax, star) < 1e-13);
+  CHECK(natural_map_residual(BoxedProblem{A, b, cmin, cmax}, star) < 1e-13);
   for (int k = 0; k < n; ++k) {
     CHECK(lambda(k) >= cmin(k));
     CHECK(lambda(k) <= cmax(k));
@@ -110,9 +110,9 @@ TEST_CASE("Jacobi converges on a diagonally dominant system and reports its swee
   VecX lambda = VecX::Zero(3);
   SolverOptions options;
   options.max_iterations = 500;
-  options.residual_tolerance = 1e-14;
-  const SolverSummary s =
-      solve_jacobi(A, b, VecX::Constant(3, -kInf), VecX::Constant(3, kInf), lambda, options);
+  options.tolerance = 1e-14;
+  const VecX cmin = VecX::Constant(3, -kInf), cmax = VecX::Constant(3, kInf);
+  const SolverSummary s = solve_jacobi(BoxedProblem{A, b, cmin, cmax}, lambda, options);
   INFO(s.message);
   CHECK(s.termination == Termination::ResidualTolerance);
   CHECK(s.iterations > 1);
@@ -125,8 +125,8 @@ TEST_CASE("the natural-map residual is zero at a solution and positive elsewhere
   const VecX lo = VecX::Constant(5, -kInf);
   const VecX hi = VecX::Constant(5, kInf);
   const VecX x = MatX(A).ldlt().solve(b);
-  CHECK(natural_map_residual(A, b, lo, hi, x) < 1e-14);
-  CHECK(natural_map_residual(A, b, lo, hi, VecX::Zero(5)) == Approx(1.0));  // |b|∞
+  CHECK(natural_map_residual(BoxedProblem{A, b, lo, hi}, x) < 1e-14);
+  CHECK(natural_map_residual(BoxedProblem{A, b, lo, hi}, VecX::Zero(5)) == Approx(1.0));  // |b|∞
 }
 
 TEST_CASE("the iteration limit, the change tolerance and non-finite values end a solve",
@@ -138,17 +138,18 @@ TEST_CASE("the iteration limit, the change tolerance and non-finite values end a
   VecX lambda = VecX::Zero(6);
   SolverOptions options;
   options.max_iterations = 3;
-  CHECK(solve_pgs(A, b, lo, hi, lambda, options).iterations == 3);
+  CHECK(solve_pgs(BoxedProblem{A, b, lo, hi}, lambda, options).iterations == 3);
   options.max_iterations = 1000;
   options.delta_tolerance = 1e-9;
   lambda.setZero();
-  const SolverSummary s = solve_pgs(A, b, lo, hi, lambda, options);
+  const SolverSummary s = solve_pgs(BoxedProblem{A, b, lo, hi}, lambda, options);
   CHECK(s.termination == Termination::DeltaTolerance);
   CHECK(s.delta <= 1e-9);
   VecX bad_b = b;
   bad_b(2) = std::numeric_limits<double>::quiet_NaN();
   lambda.setZero();
-  CHECK(solve_pgs(A, bad_b, lo, hi, lambda, options).termination == Termination::NonFinite);
+  CHECK(solve_pgs(BoxedProblem{A, bad_b, lo, hi}, lambda, options).termination ==
+        Termination::NonFinite);
 }
 
 TEST_CASE("warm starting from last step's lambda by row id saves sweeps on a hanging chain",

@@ -5,12 +5,12 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
-#include "cbps/conditioning.hpp"
 #include "cbps/error.hpp"
-#include "cbps/euler_reference.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/stress.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/conditioning.hpp"
+#include "cbps/studies/euler_reference.hpp"
+#include "cbps/studies/stress.hpp"
 #include "cli_fixture.hpp"
 
 using namespace cbps;
@@ -81,7 +81,7 @@ TEST_CASE("divergence guard: a speed beyond the limit stops at the step analysis
 TEST_CASE("divergence guard: an exploding solver is stopped naming a row", "[stress][divergence]") {
   // Jacobi (relaxation 1) on a 10-box stack diverges within one step (cbps converge).
   Scene s = make_builtin_scene("stack", {});
-  s.solver.method = "jacobi";
+  s.solver.method = Method::Jacobi;
   Simulation sim(s);
   try {
     for (int k = 0; k < 5; ++k) sim.step();
@@ -125,7 +125,7 @@ TEST_CASE("cfm: the same row twice shares lambda, off A lambda = b by eps lambda
   s.solver.cfm = eps;
   for (const char* method : {"pgs", "matrix-free", "direct"}) {
     INFO(method);
-    s.solver.method = method;
+    s.solver.method = method_of(method);
     Simulation sim(s);
     const System& sys = sim.assemble();
     // A stays J Minv Jᵀ: eps is the solver's, not the system's.

@@ -6,10 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "cbps/cbps.hpp"
 #include "cbps/error.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/solver_spec.hpp"
 
 using namespace cbps;
 
@@ -27,7 +28,7 @@ System system_of(const std::string& name,
 /// The direct path's lambda (6.2) and its v2, the unique reference.
 VecX exact_lambda(const System& sys) {
   VecX lambda = VecX::Zero(sys.rows());
-  const SolverSummary s = solve_direct(sys.A, sys.b, sys.cmin, sys.cmax, lambda);
+  const SolverSummary s = solve_direct(sys.problem(), lambda);
   // Verified, as `cbps lcp` verifies (its own 64 u stop may be out of reach on singular A).
   REQUIRE(s.residual <= 1e-9 * std::max(1.0, sys.b.lpNorm<Eigen::Infinity>()));
   return lambda;
@@ -64,7 +65,7 @@ TEST_CASE("matrix-free PGS gives explicit-A PGS's iterates to round-off (7.1.1)"
   VecX u = matrix_free.impulse(free_lambda);
   double worst = 0.0;
   for (int sweep = 0; sweep < 40; ++sweep) {
-    pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, explicit_lambda, omega, rows);
+    pgs_sweep(sys.problem(), explicit_lambda, omega, rows);
     matrix_free.sweep(sys.b, sys.cmin, sys.cmax, free_lambda, u, omega, rows);
     const double scale = std::max(1.0, explicit_lambda.lpNorm<Eigen::Infinity>());
     worst = std::max(worst, (explicit_lambda - free_lambda).lpNorm<Eigen::Infinity>() / scale);
@@ -76,9 +77,7 @@ TEST_CASE("matrix-free PGS gives explicit-A PGS's iterates to round-off (7.1.1)"
         1e-9 * std::max(1.0, u.lpNorm<Eigen::Infinity>()));  // u = W lambda kept
   // The same residual with or without A.
   CHECK(matrix_free.residual(sys.b, sys.cmin, sys.cmax, free_lambda, u) ==
-        Approx(natural_map_residual(sys.A, sys.b, sys.cmin, sys.cmax, free_lambda))
-            .epsilon(1e-8)
-            .margin(1e-12));
+        Approx(natural_map_residual(sys.problem(), free_lambda)).epsilon(1e-8).margin(1e-12));
 }
 
 TEST_CASE("every variant converges to the direct path's answer (7.1.1, 6.2)",
@@ -101,24 +100,21 @@ TEST_CASE("every variant converges to the direct path's answer (7.1.1, 6.2)",
   CAPTURE(spec);
   const SolverSpec s = parse_solver_spec(spec);
   SolverOptions options;
+  options.method = s.method;
   options.relaxation = s.relaxation;
   options.order = s.order;
   options.seed = 7;
   options.max_iterations = 20000;
-  options.residual_tolerance = 1e-9;
+  options.tolerance = 1e-9;
   for (const bool contact : {false, true}) {
     CAPTURE(contact);
     const System sys = contact ? system_of("stack", {{"n", "3"}, {"mu", "0"}}, 3)
                                : system_of("chain", {{"n", "20"}, {"mass_ratio", "5"}}, 10);
-    options.row_blocks = &sys.manifold;
     const VecX exact = exact_lambda(sys);
     VecX lambda = VecX::Zero(sys.rows());
-    const SolverSummary summary =
-        s.method == "matrix-free"
-            ? solve_matrix_free(sys.J, sys.Minv, sys.b, sys.cmin, sys.cmax, lambda, options)
-            : solve(s.method, sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+    const SolverSummary summary = solve(sys.problem(), lambda, options);
     CAPTURE(summary.message);
-    if (s.method == "block-pgs" && contact) {
+    if (s.method == Method::BlockPgs && contact) {
       // Its blocks carry delta = 1e-7 max A_jj: a floor of O(delta lambda) ~ 1e-6 N, not 1e-9.
       CHECK(summary.residual < 1e-5);
     } else {
@@ -139,10 +135,10 @@ TEST_CASE("symmetric Gauss-Seidel is a forward sweep then a backward sweep", "[s
   SolverOptions options;
   options.max_iterations = 5;
   options.relaxation = 1.2;
-  solve_sgs(sys.A, sys.b, sys.cmin, sys.cmax, sgs, options);
+  solve_sgs(sys.problem(), sgs, options);
   for (int k = 0; k < 5; ++k) {
-    pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, by_hand, 1.2);
-    pgs_sweep(sys.A, sys.b, sys.cmin, sys.cmax, by_hand, 1.2, backward);
+    pgs_sweep(sys.problem(), by_hand, 1.2);
+    pgs_sweep(sys.problem(), by_hand, 1.2, backward);
   }
   CHECK((sgs - by_hand).lpNorm<Eigen::Infinity>() == 0.0);  // the same operations
 }
@@ -156,7 +152,7 @@ TEST_CASE("random row order: the seed fixes the iterates, another seed changes t
     options.seed = seed;
     options.max_iterations = 7;
     VecX lambda = VecX::Zero(sys.rows());
-    solve_pgs(sys.A, sys.b, sys.cmin, sys.cmax, lambda, options);
+    solve_pgs(sys.problem(), lambda, options);
     return lambda;
   };
   CHECK((run(1) - run(1)).lpNorm<Eigen::Infinity>() == 0.0);
@@ -175,12 +171,12 @@ TEST_CASE("damping makes projected Jacobi converge where plain Jacobi diverges",
   const VecX lo = VecX::Constant(3, -kInf), hi = VecX::Constant(3, kInf);
   SolverOptions options;
   options.max_iterations = 2000;
-  options.residual_tolerance = 1e-12;
+  options.tolerance = 1e-12;
   VecX plain = VecX::Zero(3), damped = VecX::Zero(3);
   options.relaxation = 1.0;
-  const SolverSummary p = solve_jacobi(A, b, lo, hi, plain, options);
+  const SolverSummary p = solve_jacobi(BoxedProblem{A, b, lo, hi}, plain, options);
   options.relaxation = 0.3;
-  const SolverSummary d = solve_jacobi(A, b, lo, hi, damped, options);
+  const SolverSummary d = solve_jacobi(BoxedProblem{A, b, lo, hi}, damped, options);
   CHECK(p.termination != Termination::ResidualTolerance);
   CHECK(d.termination == Termination::ResidualTolerance);
   const VecX exact = dense.ldlt().solve(b);  // 1 / (1 + 2a) each
@@ -189,7 +185,7 @@ TEST_CASE("damping makes projected Jacobi converge where plain Jacobi diverges",
 
 TEST_CASE("solver specs: names, relaxation factors, orders and warm starts", "[solver][cli]") {
   const SolverSpec psor = parse_solver_spec("psor:1.3");
-  CHECK(psor.method == "pgs");
+  CHECK(psor.method == Method::Pgs);
   CHECK(psor.relaxation == 1.3);
   const SolverSpec random = parse_solver_spec("pgs:order=random:warm=off");
   CHECK(random.order == RowOrder::Random);
@@ -198,7 +194,7 @@ TEST_CASE("solver specs: names, relaxation factors, orders and warm starts", "[s
   CHECK(parse_solver_spec("matrix-free:order=reverse").order == RowOrder::Reverse);
   const auto list = parse_solver_list("pgs,psor:1.3,direct");
   REQUIRE(list.size() == 3);
-  CHECK(list[2].method == "direct");
+  CHECK(list[2].method == Method::Direct);
   const auto error_of = [](const std::string& text) {
     try {
       parse_solver_spec(text, "--solver");

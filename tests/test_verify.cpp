@@ -1,7 +1,7 @@
 // The derivation checks of cbps verify, one test per paper equation.
 #include <catch2/catch.hpp>
 
-#include "cbps/verify.hpp"
+#include "cbps/studies/verify.hpp"
 
 namespace {
 void require_pass(const cbps::Check& c) {

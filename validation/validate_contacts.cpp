@@ -38,10 +38,10 @@
 #include <string>
 #include <vector>
 
-#include "cbps/collision.hpp"
+#include "cbps/collision/collision.hpp"
 #include "cbps/error.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 
 namespace {
 
@@ -122,7 +122,7 @@ cbps::Scene builtin(const std::string& name,
                     const std::map<std::string, std::string>& values,
                     const std::string& method) {
   cbps::Scene scene = cbps::make_builtin_scene(name, values);
-  scene.solver.method = method;
+  scene.solver.method = cbps::method_of(method);
   return scene;
 }
 

@@ -39,8 +39,8 @@
 #include <vector>
 
 #include "cbps/error.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
 
 namespace {
 

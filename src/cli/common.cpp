@@ -16,9 +16,10 @@
 #include <thread>
 
 #include "cbps/error.hpp"
-#include "cbps/scene_json.hpp"
-#include "cbps/scenes.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/scene/scene_json.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/studies/solver_spec.hpp"
 
 namespace fs = std::filesystem;
 

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "cbps/scene.hpp"
-#include "cbps/system.hpp"
+#include "cbps/scene/scene.hpp"
+#include "cbps/system/system.hpp"
 
 namespace cbps::cli {
 

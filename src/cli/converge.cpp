@@ -20,10 +20,12 @@
 #include <sstream>
 
 #include "cbps/error.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
-#include "problem.hpp"
 
 extern char** environ;
 
@@ -55,20 +57,24 @@ struct ConvergeOptions {
 /// The system under study and what is known about its answer.
 struct Study {
   std::string name;
-  SpMat A;
-  VecX b, cmin, cmax;
+  StoredProblem stored;     ///< A, b, cmin, cmax; J, Minv, v1, fext, dt when known; cfm
   std::vector<int> blocks;  ///< contact manifold of each row (block PGS), −1 for others
-  SpMatRow J;               ///< empty for Siconos files
-  SpMat Minv;
-  VecX v1, fext;
-  double dt = 0.0;
-  double cfm = 0.0;  ///< constraint-force mixing eps, kg⁻¹: the problem studied is A + eps E
-  SpMat A_solved;    ///< with_cfm(A, cfm): the matrix every solver works on
-  VecX warm;         ///< the previous step's lambda by row id (scenes after step 0), else 0
+  SpMat A_solved;           ///< with_cfm(A, cfm): the matrix every solver works on
+  VecX warm;                ///< the previous step's lambda by row id (scenes after step 0), else 0
   VecX lambda_star, v2_star;
   bool lambda_unique = false;  ///< A positive definite (a Cholesky factorization exists)
-  bool has_bodies() const { return J.rows() > 0 && dt > 0.0; }
-  VecX v2(const VecX& lambda) const { return compute_v2(v1, Minv, J, lambda, fext, dt); }
+  bool has_bodies() const { return stored.has_bodies(); }
+  /// The problem the solvers are handed (A = J Minv Jᵀ; each applies the cfm itself).
+  BoxedProblem problem() const {
+    BoxedProblem p = stored.problem();
+    p.blocks = &blocks;
+    return p;
+  }
+  /// The problem with A + eps E: the one whose residual is measured.
+  BoxedProblem solved() const { return BoxedProblem{A_solved, stored.b, stored.cmin, stored.cmax}; }
+  VecX v2(const VecX& lambda) const {
+    return compute_v2(stored.v1, stored.Minv, stored.J, lambda, stored.fext, stored.dt);
+  }
 };
 
 bool is_problem(const std::string& path) {
@@ -78,27 +84,14 @@ bool is_problem(const std::string& path) {
 }
 
 Study study_of_problem(const std::string& path) {
-  Problem p = read_problem(path);
-  // The direct path (the reference) solves the QP of 6.2, which needs a symmetric A.
-  require_symmetric(p, "converge " + path);
-  const bool bodies = p.has_bodies();  // before p's vectors move
   Study s;
   s.name = path;
-  s.A = std::move(p.A);
-  s.b = std::move(p.b);
-  s.cmin = std::move(p.cmin);
-  s.cmax = std::move(p.cmax);
-  if (bodies) {
-    s.J = std::move(p.J);
-    s.Minv = std::move(p.Minv);
-    s.v1 = std::move(p.v1);
-    s.fext = std::move(p.fext);
-    s.dt = p.dt;
-  }
-  s.cfm = p.cfm;
-  s.A_solved = with_cfm(s.A, s.cfm);
-  s.blocks.assign(static_cast<std::size_t>(s.b.size()), -1);
-  s.warm = VecX::Zero(s.b.size());
+  s.stored = read_problem(path);
+  // The direct path (the reference) solves the QP of 6.2, which needs a symmetric A.
+  require_symmetric(s.stored, "converge " + path);
+  s.A_solved = with_cfm(s.stored.A, s.stored.cfm);
+  s.blocks.assign(static_cast<std::size_t>(s.stored.rows()), -1);
+  s.warm = VecX::Zero(s.stored.rows());
   return s;
 }
 
@@ -114,18 +107,19 @@ Study study_of_scene(const ConvergeOptions& o) {
   const System& sys = sim.assemble();
   Study s;
   s.name = o.scene.scene;
-  s.A = sys.A;
-  s.b = sys.b;
-  s.cmin = sys.cmin;
-  s.cmax = sys.cmax;
+  StoredProblem& p = s.stored;
+  p.A = sys.A;
+  p.b = sys.b;
+  p.cmin = sys.cmin;
+  p.cmax = sys.cmax;
+  p.J = sys.J;
+  p.Minv = sys.Minv;
+  p.v1 = sys.v1;
+  p.fext = sys.fext;
+  p.dt = sys.dt;
+  p.cfm = scene.solver.cfm;
   s.blocks = sys.manifold;
-  s.J = sys.J;
-  s.Minv = sys.Minv;
-  s.v1 = sys.v1;
-  s.fext = sys.fext;
-  s.dt = sys.dt;
-  s.cfm = scene.solver.cfm;
-  s.A_solved = with_cfm(s.A, s.cfm);
+  s.A_solved = with_cfm(p.A, p.cfm);
   s.warm = sim.initial_lambda(sys);
   return s;
 }
@@ -134,8 +128,8 @@ Study study_of_scene(const ConvergeOptions& o) {
 /// definite, as the direct path judges it (CHOLMOD's rcond ≥ kDefiniteRcond). A singular A can
 /// still factor in floating point: four contacts per face give rcond ~1e-17.
 SolverSummary solve_reference(Study& s) {
-  s.lambda_star = VecX::Zero(s.b.size());
-  const SolverSummary d = solve_direct(s.A_solved, s.b, s.cmin, s.cmax, s.lambda_star);
+  s.lambda_star = VecX::Zero(s.stored.rows());
+  const SolverSummary d = solve_direct(s.solved(), s.lambda_star);
   s.lambda_unique = cholesky_rcond(s.A_solved) >= kDefiniteRcond;
   if (s.has_bodies()) s.v2_star = s.v2(s.lambda_star);
   return d;
@@ -169,20 +163,20 @@ Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s)
   m.iteration = iteration;
   m.time_s = time_s;
   const VecX Alambda = s.A_solved * lambda;
-  m.residual = natural_map_residual(s.A_solved, s.b, s.cmin, s.cmax, lambda);
-  m.objective = 0.5 * lambda.dot(Alambda) - s.b.dot(lambda);  // (6.2)
+  m.residual = natural_map_residual(s.solved(), lambda);
+  m.objective = 0.5 * lambda.dot(Alambda) - s.stored.b.dot(lambda);  // (6.2)
   if (s.lambda_unique) m.lambda_error = (lambda - s.lambda_star).lpNorm<Eigen::Infinity>();
   if (s.has_bodies()) m.velocity_error = (s.v2(lambda) - s.v2_star).lpNorm<Eigen::Infinity>();
   return m;
 }
 
 Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions& o) {
-  if (spec.method == "matrix-free" && !s.has_bodies())
+  if (spec.method == Method::MatrixFree && !s.has_bodies())
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no J and Minv (a Siconos file); the matrix-free form needs them");
   Run run;
   run.spec = spec;
-  VecX lambda = spec.warm_start ? s.warm : VecX::Zero(s.b.size());
+  VecX lambda = spec.warm_start ? s.warm : VecX::Zero(s.stored.rows());
   run.samples.push_back(measure(s, lambda, 0, 0.0));
   run.reach(0, 0.0, run.samples.back().residual);
   // The last sweep's iterate when it was not recorded, to record it at the end.
@@ -192,15 +186,15 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   // The solvers themselves, as `cbps run` uses them; they time their sweeps and hand each
   // iterate here, outside the clock.
   SolverOptions options;
+  options.method = spec.method;
   options.max_iterations = o.iterations;
   options.relaxation = spec.relaxation;
   options.order = spec.order;
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
-  options.row_blocks = &s.blocks;
   options.describe = false;
-  options.cfm = s.cfm;
+  options.cfm = s.stored.cfm;
   options.after_sweep = [&](int k, const VecX& l, double time_s) {
-    const double residual = natural_map_residual(s.A_solved, s.b, s.cmin, s.cmax, l);
+    const double residual = natural_map_residual(s.solved(), l);
     run.reach(k, time_s, residual);
     if (!std::isfinite(residual)) run.stopped = "non-finite values";
     if (residual <= o.tolerance) run.stopped = "residual tolerance";
@@ -225,11 +219,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
                    m.residual);
     return run.stopped.empty();
   };
-  if (spec.method == "matrix-free") {
-    solve_matrix_free(s.J, s.Minv, s.b, s.cmin, s.cmax, lambda, options);
-  } else {
-    solve(spec.method, s.A, s.b, s.cmin, s.cmax, lambda, options);
-  }
+  solve(s.problem(), lambda, options);
   if (run.stopped.empty()) run.stopped = "iteration limit";
   if (run.samples.back().iteration != last_k)  // the solver stopped on its own
     run.samples.push_back(measure(s, last_lambda, last_k, last_time));
@@ -239,9 +229,9 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
 Run run_direct(const Study& s, const SolverSpec& spec) {
   Run run;
   run.spec = spec;
-  VecX lambda = VecX::Zero(s.b.size());
+  VecX lambda = VecX::Zero(s.stored.rows());
   const auto start = Clock::now();
-  const SolverSummary d = solve_direct(s.A_solved, s.b, s.cmin, s.cmax, lambda);
+  const SolverSummary d = solve_direct(s.solved(), lambda);
   const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
   run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
   run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);
@@ -289,12 +279,12 @@ int converge_command(const ConvergeOptions& o) {
     std::fprintf(stderr,
                  "converge: %s: %ld rows, reference by the direct path\n",
                  s.name.c_str(),
-                 static_cast<long>(s.b.size()));
+                 static_cast<long>(s.stored.rows()));
   const SolverSummary reference = solve_reference(s);
 
   std::vector<Run> runs;
   for (const SolverSpec& spec : specs) {
-    runs.push_back(spec.method == "direct" ? run_direct(s, spec) : run_iterative(s, spec, o));
+    runs.push_back(spec.method == Method::Direct ? run_direct(s, spec) : run_iterative(s, spec, o));
     if (!o.quiet) {
       const Sample& last = runs.back().samples.back();
       std::fprintf(stderr,
@@ -312,7 +302,7 @@ int converge_command(const ConvergeOptions& o) {
   std::vector<std::string> solved_by_guess;
   double guess_residual = 0.0;
   for (const Run& run : runs) {
-    if (run.spec.method == "direct") continue;
+    if (run.spec.method == Method::Direct) continue;
     const double r0 = run.samples.front().residual;
     guess_residual = std::max(guess_residual, r0);
     if (r0 <= o.tolerance) solved_by_guess.push_back(run.spec.text);
@@ -333,8 +323,8 @@ int converge_command(const ConvergeOptions& o) {
 
   nlohmann::json summary;
   summary["problem"] = s.name;
-  summary["rows"] = s.b.size();
-  summary["cfm"] = s.cfm;  // the problem studied is A + eps E (kg^-1; 0: A itself)
+  summary["rows"] = s.stored.rows();
+  summary["cfm"] = s.stored.cfm;  // the problem studied is A + eps E (kg^-1; 0: A itself)
   summary["step"] = problem ? nlohmann::json(nullptr) : nlohmann::json(o.at_step);
   summary["lambda_unique"] = s.lambda_unique;
   summary["reference"] = {{"residual", reference.residual},
@@ -355,7 +345,7 @@ int converge_command(const ConvergeOptions& o) {
     nlohmann::json j;
     const Sample& last = run.samples.back();
     j["solver"] = run.spec.text;
-    j["method"] = run.spec.method;
+    j["method"] = std::string(to_string(run.spec.method));
     j["relaxation"] = run.spec.relaxation;
     j["order"] = to_string(run.spec.order);
     j["warm_start"] = run.spec.warm_start;
@@ -382,7 +372,7 @@ int converge_command(const ConvergeOptions& o) {
     write_text(dir->file("convergence.csv"), csv.str());
     write_text(dir->file("summary.json"), summary.dump(2) + "\n");
     if (o.plot) {
-      const std::string title = s.name + " (" + std::to_string(s.b.size()) + " rows)";
+      const std::string title = s.name + " (" + std::to_string(s.stored.rows()) + " rows)";
       if (!plot(dir->file("convergence.csv"), dir->file("convergence"), title))
         throw ComputationError("converge: the plot script failed (" +
                                std::string(CBPS_PLOT_PYTHON) +
@@ -397,7 +387,7 @@ int converge_command(const ConvergeOptions& o) {
   }
   std::printf("%s: %ld rows, lambda %s; direct reference residual %.3g N\n",
               s.name.c_str(),
-              static_cast<long>(s.b.size()),
+              static_cast<long>(s.stored.rows()),
               s.lambda_unique ? "unique (A definite)" : "not unique (A singular): v2 compared",
               reference.residual);
   std::printf("%-24s %10s %11s %11s  %-18s %-18s %-18s\n",

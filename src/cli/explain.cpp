@@ -13,7 +13,9 @@
 #include <sstream>
 
 #include "cbps/error.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/solvers/coulomb.hpp"
+#include "cbps/step/push.hpp"
+#include "cbps/step/simulation.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -177,14 +179,14 @@ int explain_command(const ExplainOptions& o) {
   }
   VecX lambda = sim.initial_lambda(sys);
   const SolverSummary summary = sim.solve_system(sys, lambda);
-  const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, sys.dt);
+  const VecX v2 = compute_v2(sys, lambda);
   const std::vector<std::string> cols = column_labels(scene, sys);
   const std::vector<std::string>& rows = sys.labels;
   // The bounds lambda satisfies: with Coulomb friction (5.4) those of the fixed point, ±mu
   // lambda_n, not the zeros the rows are built with.
   VecX cmin, cmax;
-  bounds_at(sys, lambda, cmin, cmax);
-  const bool coulomb = has_coulomb_rows(sys);
+  coulomb_bounds(sys.problem(), sys.coulomb(), lambda, cmin, cmax);
+  const bool coulomb = sys.coulomb().any();
   const char* const coulomb_note =
       "Coulomb friction rows: bounds -mu lambda_n, +mu lambda_n at the fixed point lambda "
       "satisfies (5.4)";
@@ -264,7 +266,7 @@ int explain_command(const ExplainOptions& o) {
       out["upsilon_position"] = {{"equation", "8.1"},
                                  {"unit", "m/s"},
                                  {"note", "the position system's bias; not the system shown"},
-                                 {"value", vector_json(sys.upsilon_position)}};
+                                 {"value", vector_json(position_bias(sys))}};
     out["cmin"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(cmin)}};
     out["cmax"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(cmax)}};
     if (coulomb) {
@@ -293,7 +295,7 @@ int explain_command(const ExplainOptions& o) {
                      {"value", where},
                      {"satisfied", satisfied}};
     out["v2"] = {{"equation", "12.3.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(v2)}};
-    out["solver"] = {{"method", scene.solver.method},
+    out["solver"] = {{"method", std::string(to_string(scene.solver.method))},
                      {"iterations", summary.iterations},
                      {"residual", summary.residual},
                      {"message", summary.message}};
@@ -335,7 +337,7 @@ int explain_command(const ExplainOptions& o) {
   if (improved) {
     std::printf("\n");
     print_vector("upsilon_position: the position system's bias (8.1), not the system shown",
-                 sys.upsilon_position,
+                 position_bias(sys),
                  rows,
                  ms);
   }
@@ -379,7 +381,9 @@ int explain_command(const ExplainOptions& o) {
     std::printf("\neps = %s kg^-1: %s; w of A is eps lambda off on free rows\n",
                 num(cfm).c_str(),
                 cfm_note);
-  std::printf("\nsolver %s: %s\n", scene.solver.method.c_str(), summary.message.c_str());
+  std::printf("\nsolver %s: %s\n",
+              std::string(to_string(scene.solver.method)).c_str(),
+              summary.message.c_str());
   return 0;
 }
 

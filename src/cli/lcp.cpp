@@ -5,8 +5,6 @@
 // is Siconos' w = M z + q, lb ≤ z ≤ ub with M = A, q = −b, lb = cmin, ub = cmax. The command
 // measures the natural-map residual of the returned lambda itself, and prints "solved" only if
 // it is ≤ kLcpSolvedTolerance · max(1, ‖q‖∞, max |M_ij|), whatever the solver claims.
-#include "cbps/lcp.hpp"
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,11 +12,13 @@
 #include <memory>
 
 #include "cbps/error.hpp"
-#include "cbps/matrix_market.hpp"
-#include "cbps/siconos.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "cbps/io/siconos.hpp"
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "common.hpp"
-#include "problem.hpp"
 
 namespace cbps::cli {
 
@@ -39,7 +39,7 @@ struct LcpOptions {
   std::string siconos = "auto";
 };
 
-bool is_standard_lcp(const Problem& p) {
+bool is_standard_lcp(const StoredProblem& p) {
   return (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
 }
 
@@ -51,7 +51,7 @@ struct Outcome {
   std::string message;
 };
 
-Outcome run_lemke(const Problem& p) {
+Outcome run_lemke(const StoredProblem& p) {
   if (p.rows() > kMaxLemkeRows)
     throw InputError("--solver lemke: the problem has " + std::to_string(p.rows()) +
                      " rows; the dense Lemke solver takes at most " +
@@ -63,7 +63,7 @@ Outcome run_lemke(const Problem& p) {
   return {r.z, r.pivots, r.status == LcpResult::Status::NoSolution, r.message};
 }
 
-Outcome run_iterative(const Problem& p, const LcpOptions& o) {
+Outcome run_iterative(const StoredProblem& p, const LcpOptions& o) {
   for (long k = 0; k < p.rows(); ++k) {
     const double a_kk = p.A.coeff(k, k);
     if (!(a_kk > 0.0)) {
@@ -75,10 +75,11 @@ Outcome run_iterative(const Problem& p, const LcpOptions& o) {
     }
   }
   SolverOptions options;
+  method_from_string(o.solver, options.method);  // pgs or jacobi, checked by lcp_command
   options.max_iterations = o.iterations;
-  options.residual_tolerance = o.tolerance;
+  options.tolerance = o.tolerance;
   VecX lambda = VecX::Zero(p.rows());
-  const SolverSummary s = solve(o.solver, p.A, p.b, p.cmin, p.cmax, lambda, options);
+  const SolverSummary s = solve(p.problem(), lambda, options);
   return {lambda, s.iterations, false, s.message};
 }
 
@@ -88,13 +89,14 @@ std::string format_number(double x) {
   return buf;
 }
 
-Outcome run_direct(const Problem& p, double tolerance) {
+Outcome run_direct(const StoredProblem& p, double tolerance) {
   // The direct path is for the paper's A = J Minv Jᵀ: symmetric positive semidefinite.
   require_symmetric(p, "--solver direct");
   VecX lambda = VecX::Zero(p.rows());
-  DirectOptions options;
+  SolverOptions options;
+  options.method = Method::Direct;
   options.tolerance = tolerance;
-  const SolverSummary s = solve_direct(p.A, p.b, p.cmin, p.cmax, lambda, options);
+  const SolverSummary s = solve_direct(p.problem(), lambda, options);
   std::ostringstream msg;
   msg << s.message << "; " << s.wall_time_s << " s";
   return {lambda, s.iterations, false, msg.str()};
@@ -106,7 +108,7 @@ int lcp_command(const LcpOptions& o) {
   if (!o.out.empty() && fs::exists(o.out, ec) && fs::equivalent(o.out, o.problem, ec))
     throw InputError("--out " + o.out + ": is the problem itself; choose another folder");
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does this.
-  Problem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
   p.A = with_cfm(p.A, p.cfm);
 
   // The default: the exact path for the symmetric A of a `cbps matrices` folder (and for a
@@ -129,8 +131,8 @@ int lcp_command(const LcpOptions& o) {
 
   // The command's own check of the returned lambda (6.2), independent of the solver's claim.
   const bool sized = r.lambda.size() == p.rows();
-  const double residual = sized ? natural_map_residual(p.A, p.b, p.cmin, p.cmax, r.lambda) : kInf;
-  const double scale = scale_of(p);
+  const double residual = sized ? natural_map_residual(p.problem(), r.lambda) : kInf;
+  const double scale = scale_of(p.problem());
   const bool solved = sized && r.lambda.allFinite() && std::isfinite(residual) &&
                       residual <= kLcpSolvedTolerance * scale;
   const std::string status = solved ? "solved" : r.no_solution ? "no_solution" : "failed";

@@ -7,8 +7,9 @@
 #include <memory>
 
 #include "cbps/error.hpp"
-#include "cbps/matrix_market.hpp"
-#include "cbps/simulation.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "cbps/solvers/coulomb.hpp"
+#include "cbps/step/simulation.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -32,17 +33,17 @@ int matrices_command(const MatricesOptions& o) {
   // lambda by the exact path (to its rounding floor), with the scene's cfm and, with Coulomb
   // friction, iterated to the fixed point of the bounds, as the step itself would.
   SolverSettings exact = scene.solver;
-  exact.method = "direct";
+  exact.method = Method::Direct;
   exact.tolerance = 0.0;
   VecX lambda = VecX::Zero(sys.rows());
   const SolverSummary direct = sim.solve_system(sys, sys.b, lambda, exact);
-  const bool coulomb = has_coulomb_rows(sys);
+  const bool coulomb = sys.coulomb().any();
   if (coulomb && direct.termination != Termination::Direct)
     throw ComputationError("matrices: " + scene.name + ", step " + std::to_string(o.at_step) +
                            ": the Coulomb bounds did not reach a fixed point (" + direct.message +
                            "), so no boxed problem is the step's; nothing written");
   VecX cmin, cmax;  // the bounds lambda satisfies: Coulomb rows at ±mu lambda_n
-  bounds_at(sys, lambda, cmin, cmax);
+  coulomb_bounds(sys.problem(), sys.coulomb(), lambda, cmin, cmax);
   const std::string coulomb_note =
       coulomb ? "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)" : "";
 

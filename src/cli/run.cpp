@@ -7,9 +7,10 @@
 #include <memory>
 
 #include "cbps/error.hpp"
-#include "cbps/lcp.hpp"
-#include "cbps/simulation.hpp"
-#include "cbps/solver.hpp"
+#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/step/simulation.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -146,18 +147,15 @@ int run_command(const RunOptions& o) {
   double first_beyond_diff = 0.0;
   if (o.check) {
     SolverSettings direct = scene.solver;
-    direct.method = "direct";
+    direct.method = Method::Direct;
     direct.tolerance = 0.0;  // the reference: to the direct path's rounding floor
     sim.set_observer([&, direct](const System& sys, const VecX& lambda, const VecX& v2) {
       VecX lambda_direct = lambda;
       const SolverSummary s = sim.solve_system(sys, sys.b, lambda_direct, direct);
       if (s.termination != Termination::Direct) ++direct_short;
       // Verified as `cbps lcp` verifies: residual ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|).
-      double scale = std::max(1.0, sys.b.size() > 0 ? sys.b.lpNorm<Eigen::Infinity>() : 0.0);
-      for (Eigen::Index k = 0; k < sys.A.nonZeros(); ++k)
-        scale = std::max(scale, std::abs(sys.A.valuePtr()[k]));
-      if (!(s.residual <= kLcpSolvedTolerance * scale)) ++direct_unverified;
-      const VecX v2_direct = compute_v2(sys.v1, sys.Minv, sys.J, lambda_direct, sys.fext, sys.dt);
+      if (!(s.residual <= kLcpSolvedTolerance * scale_of(sys.problem()))) ++direct_unverified;
+      const VecX v2_direct = compute_v2(sys, lambda_direct);
       const double difference = v2.size() > 0 ? (v2 - v2_direct).lpNorm<Eigen::Infinity>() : 0.0;
       max_velocity_difference = std::max(max_velocity_difference, difference);
       if (o.check_tolerance >= 0.0 && !(difference <= o.check_tolerance)) {
@@ -168,7 +166,8 @@ int run_command(const RunOptions& o) {
         ++steps_beyond;
       }
       max_pgs_residual =
-          std::max(max_pgs_residual, system_residual(sys, sys.b, lambda, scene.solver.cfm));
+          std::max(max_pgs_residual,
+                   coulomb_residual(sys.problem(), sys.coulomb(), lambda, scene.solver.cfm));
       max_direct_residual = std::max(max_direct_residual, s.residual);
       ++steps_checked;
     });
@@ -259,7 +258,7 @@ int run_command(const RunOptions& o) {
   summary["dt"] = scene.world.dt;
   summary["beta"] = scene.world.beta;
   summary["duration"] = sim.time();
-  summary["solver"] = {{"method", scene.solver.method},
+  summary["solver"] = {{"method", std::string(to_string(scene.solver.method))},
                        {"iterations", scene.solver.iterations},
                        {"tolerance", scene.solver.tolerance},
                        {"warm_start", scene.solver.warm_start},
@@ -330,7 +329,7 @@ int run_command(const RunOptions& o) {
         scene.world.dt,
         scene.bodies.size(),
         max_rows,
-        scene.solver.method.c_str(),
+        std::string(to_string(scene.solver.method)).c_str(),
         diverged ? " (stopped: diverged)" : "",
         iterations_total,
         max_residual,

@@ -1,7 +1,5 @@
 // cbps scenes [NAME [--param K=V ...] [--export FILE [--force]]] [--json]: the built-in scenes,
 // their parameters, defaults and units; with --export one of them as an editable JSON scene file.
-#include "cbps/scenes.hpp"
-
 #include <unistd.h>
 
 #include <filesystem>
@@ -9,7 +7,8 @@
 #include <map>
 
 #include "cbps/error.hpp"
-#include "cbps/scene_json.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/scene/scene_json.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {

@@ -1,5 +1,5 @@
 // cbps stress: the stability catalogue (stiff and extreme cases × solvers) as one table.
-#include "cbps/stress.hpp"
+#include "cbps/studies/stress.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cbps/error.hpp"
+#include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {

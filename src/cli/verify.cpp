@@ -1,5 +1,5 @@
 // cbps verify [--json]: the derivation checks, one line per paper equation.
-#include "cbps/verify.hpp"
+#include "cbps/studies/verify.hpp"
 
 #include <cstdio>
 #include <iostream>

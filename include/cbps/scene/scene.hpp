@@ -1,0 +1,85 @@
+// A scene: bodies, constraints, world settings and solver settings. JSON scene files
+// (scene_json.hpp) and the built-in parametric scenes (scenes.hpp) both produce this struct,
+// so the solver never sees where a scene came from.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbps/body/body.hpp"
+#include "cbps/rows/build_rows.hpp"
+#include "cbps/rows/distance.hpp"
+#include "cbps/solvers/solver.hpp"
+
+namespace cbps {
+
+/// The contact margin of JSON scene files and built-in scenes unless they say otherwise, m: a
+/// resting contact that separates by a rounding error within a step keeps its row, so its rows
+/// do not flicker from step to step (box-on-plane: 12 rows every step, not 12, 6 or 9).
+inline constexpr double kSceneContactMargin = 1e-3;
+
+struct World {
+  Vec3 gravity{0.0, -9.81, 0.0};  ///< g, m/s² (y is up)
+  double dt = 1.0 / 240.0;        ///< time step, s
+  double beta = 0.2;              ///< Baumgarte push factor (5.2.3, 5.3), dimensionless in [0, 1]
+  PushMode push = PushMode::Original;
+  double mu = 0.0;  ///< friction coefficient (5.4); 0: no friction rows
+  FrictionModel friction = FrictionModel::Paper;
+  double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
+  double restitution_threshold = 0.1;  ///< approach speed below which no bounce (8.2), m/s
+  /// Contacts kept up to this separation (4), m. 0 here for scenes built in code (the stress
+  /// catalogue, tests); scene files and built-in scenes default to kSceneContactMargin.
+  double contact_margin = 0.0;
+  /// A step diverges when a body's speed |v| or spin |omega| exceeds these (or any value turns
+  /// non-finite): the run stops there with a DivergenceError naming step, body and row.
+  double divergence_speed = 1e4;  ///< m/s
+  double divergence_spin = 1e4;   ///< rad/s
+
+  /// The settings of the row stage (5.2–5.4) taken from this world.
+  RowSettings rows() const;
+};
+
+/// A scene's solver, as scene files and `--solver` give it: what SolverOptions a step solves
+/// with (options()), and whether it starts from last step's lambda.
+struct SolverSettings {
+  Method method = Method::Pgs;
+  int iterations = 100;                ///< max sweeps per step
+  double tolerance = 1e-10;            ///< natural-map residual to stop at, N (0 = run all sweeps)
+  double delta_tolerance = 0.0;        ///< max |Δlambda| to stop at, N (0 = off)
+  double relaxation = 1.0;             ///< omega (Jacobi damping)
+  bool warm_start = true;              ///< start from last step's lambda, matched by row id
+  bool split_islands = true;           ///< solve independent islands of A apart (PGS, Jacobi)
+  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel row order (pgs, matrix-free)
+  std::uint64_t seed = 0;              ///< RowOrder::Random's seed (--seed)
+  /// Constraint-force mixing (ODE's CFM): eps added to A's diagonal, (A + eps E) lambda = b, so
+  /// that redundant or degenerate rows get a unique, bounded lambda. kg⁻¹. The answer then
+  /// misses A lambda = b by eps lambda (m/s²); `cbps run` reports that. 0: off.
+  double cfm = 0.0;
+
+  /// The options of one solve with these settings; the seed is `seed` as it is (a simulation
+  /// adds its step count, so that random orders differ from step to step).
+  SolverOptions options() const;
+};
+
+struct Scene {
+  std::string name;
+  /// The parameters a built-in scene was made with, as name → value text (for summaries).
+  std::vector<std::pair<std::string, std::string>> parameters;
+  World world;
+  SolverSettings solver;
+  double duration = 10.0;  ///< default simulated time, s
+  std::vector<Body> bodies;
+  std::vector<DistanceConstraint> distances;
+
+  /// True when some pair of bodies may collide: both collide, not both static (4). A scene
+  /// without such a pair runs no collision stage.
+  bool has_contact_pairs() const;
+};
+
+/// Rescales a scene's units (paper 9): lengths by L, masses by M, times by T. Positions,
+/// sizes, anchors and lengths ×L; masses ×M; inertia ×M L²; dt and duration ×T; velocities
+/// ×L/T; angular velocities ×1/T; gravity ×L/T²; momenta accordingly. beta is unchanged.
+Scene rescale_units(const Scene& scene, double L, double M, double T);
+
+}  // namespace cbps

@@ -1,0 +1,35 @@
+// Independent blocks ("islands") of A: rows that share no body never meet in A, so the boxed
+// problem splits into smaller ones solved apart (each to its own tolerance).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "cbps/system/boxed_problem.hpp"
+
+namespace cbps {
+
+/// The islands of a symmetric A: connected components of its graph (rows i, k joined when
+/// A_ik ≠ 0), each a sorted list of rows, in order of their first row.
+std::vector<std::vector<int>> find_islands(const SpMat& A);
+
+/// The principal submatrix A(idx, idx) of a symmetric A, idx sorted ascending. `local` is
+/// scratch of size A.rows() that holds −1 everywhere on entry and on exit.
+SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local);
+
+/// The entries v(idx), in the order of idx.
+VecX gather_rows(const VecX& v, const std::vector<int>& idx);
+
+/// A solver for one island's sub-problem, lambda_I in and out.
+using IslandSolve = std::function<void(const BoxedProblem& island, VecX& lambda_I)>;
+
+/// Calls solve_island on each island in turn with its sub-problem (the whole problem as it is
+/// when one island covers every row, so nothing is copied) and writes lambda_I back. The
+/// sub-problem carries its rows' block ids when the problem has them; it never carries J and
+/// Minv (an island's A is not J_I Minv J_Iᵀ of any stored J).
+void for_each_island(const std::vector<std::vector<int>>& islands,
+                     const BoxedProblem& problem,
+                     VecX& lambda,
+                     const IslandSolve& solve_island);
+
+}  // namespace cbps

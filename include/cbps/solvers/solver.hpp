@@ -1,0 +1,127 @@
+// Solvers of the boxed problem of 6.2 (system/boxed_problem.hpp): the methods, their one options
+// struct, why they stop, and solve(), which runs any of them. They see only the problem, never
+// bodies, so stored problems feed them as well. One header per family beside this one:
+//   pgs.hpp              7.1.1: PGS, PSOR, symmetric Gauss-Seidel, projected Jacobi
+//   pgs_block.hpp        block PGS (contact manifolds solved as blocks by Lemke)
+//   pgs_matrix_free.hpp  7.1.1 without A (sequential impulses)
+//   direct.hpp           the exact path: active set on CHOLMOD inside a proximal-point loop
+//   lemke.hpp            Lemke's method, a dense pivoting reference
+//   islands.hpp          independent blocks of A, solved apart
+//   coulomb.hpp          friction bounds ±mu lambda_n (5.4) around any method: a fixed point
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cbps/system/boxed_problem.hpp"
+
+namespace cbps {
+
+/// The methods, each one name on the command line, in scene files and in summaries
+/// (to_string / method_from_string are the one name table).
+enum class Method {
+  Pgs,         ///< "pgs": projected Gauss-Seidel (7.1.1), PSOR with relaxation ≠ 1
+  BlockPgs,    ///< "block-pgs": contact manifolds solved as blocks (pgs_block.hpp)
+  Sgs,         ///< "sgs": symmetric Gauss-Seidel, a forward and a backward sweep
+  Jacobi,      ///< "jacobi": projected Jacobi
+  MatrixFree,  ///< "matrix-free": 7.1.1 on J and Minv without A (pgs_matrix_free.hpp)
+  Direct       ///< "direct": the exact path (direct.hpp)
+};
+
+/// Every method, in the order of the enum.
+inline constexpr Method kMethods[] = {
+    Method::Pgs, Method::BlockPgs, Method::Sgs, Method::Jacobi, Method::MatrixFree, Method::Direct};
+
+std::string_view to_string(Method method);
+/// The method of a name; false (method untouched) for a name that is none.
+bool method_from_string(std::string_view name, Method& method);
+/// The method of a name known to be one (code, tests); std::invalid_argument otherwise.
+Method method_of(std::string_view name);
+/// "pgs, block-pgs, sgs, jacobi, matrix-free, direct", for messages and help.
+std::string method_names();
+/// True for the methods that sweep (all but Direct): they run to a sweep limit.
+inline bool is_iterative(Method method) { return method != Method::Direct; }
+
+/// The order in which a Gauss-Seidel sweep visits the rows (7.1.1 uses the natural order).
+enum class RowOrder {
+  Natural,  ///< 0, 1, …, c−1
+  Reverse,  ///< c−1, …, 0
+  Random    ///< a fresh permutation every sweep, from SolverOptions::seed
+};
+std::string to_string(RowOrder order);
+
+/// Everything a solve is told, for every method. Fields a method has no use for are ignored
+/// by it (the row order by Jacobi, the direct settings by PGS).
+struct SolverOptions {
+  Method method = Method::Pgs;
+  int max_iterations = 100;  ///< sweeps (iterative methods)
+  /// Stop when the natural-map residual ≤ this, N, for every method; 0: iterative methods run
+  /// every sweep, the direct path stops at its rounding floor (Direct::tolerance_floor).
+  double tolerance = 0.0;
+  double delta_tolerance = 0.0;  ///< stop when max |Δlambda| in a sweep ≤ this (N); 0 = never
+  double relaxation = 1.0;       ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
+  bool split_islands = false;    ///< iterative methods: solve independent blocks of A apart
+  bool describe = true;          ///< write SolverSummary::message (off for each island)
+  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, matrix-free)
+  std::uint64_t seed = 0;              ///< RowOrder::Random: the first permutation's seed
+  /// Constraint-force mixing eps, kg⁻¹: every method solves the boxed problem of A + eps E
+  /// (with_cfm) instead of A; A itself stays J Minv Jᵀ. Residuals are those of A + eps E. 0: off.
+  double cfm = 0.0;
+  /// Block PGS: delta / max_j A_jj of the block, added to the diagonal of each block of
+  /// several rows before it is solved (see block_pgs_sweep).
+  double block_regularization = 1e-7;
+  /// The direct path's own settings (direct.hpp describes the method).
+  struct Direct {
+    int max_outer_iterations = 500;  ///< proximal-point steps per island
+    double epsilon = 1e-4;           ///< proximal ε as a fraction of the island's max A_jj
+    double epsilon_floor = 1e-10;    ///< smallest ε (same units) once the active set settles
+    int start_sweeps = 5;            ///< PGS sweeps (7.1.1) that choose the first active set
+    bool split_islands = true;       ///< solve independent blocks of A apart (exact either way)
+  } direct;
+  /// Iterative solvers call this after every sweep with the sweep count, lambda and the seconds
+  /// spent in sweeps so far (the call itself is not timed); false ends the solve
+  /// (Termination::Stopped). `cbps converge` records its samples here.
+  std::function<bool(int, const VecX&, double)> after_sweep;
+};
+
+/// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
+/// inconsistent or infeasible system, or stagnation); its best lambda is returned, with the
+/// residual that proves how far it is from a solution.
+enum class Termination {
+  ResidualTolerance,
+  DeltaTolerance,
+  MaxIterations,
+  Direct,
+  NotConverged,
+  NonFinite,
+  Stopped  ///< SolverOptions::after_sweep returned false
+};
+std::string to_string(Termination t);
+
+struct SolverSummary {
+  int iterations = 0;      ///< sweeps done; for the direct path its outer (proximal) iterations
+  double residual = 0.0;   ///< natural-map residual at the end, N
+  double delta = 0.0;      ///< max |Δlambda| of the last sweep, N
+  int factorizations = 0;  ///< sparse Cholesky factorizations (direct path)
+  int pivots = 0;          ///< active-set exchanges (direct path)
+  int restarts = 0;        ///< direct path: islands solved again from 0 after a guess stalled
+  int islands = 0;         ///< independent blocks of A solved apart (direct path)
+  bool singular = false;   ///< the direct path found a singular block and regularised it
+  double wall_time_s = 0.0;
+  Termination termination = Termination::MaxIterations;
+  std::string message;  ///< one line with the numbers
+  bool ok() const { return termination != Termination::NonFinite; }
+};
+
+/// Solves the problem by options.method from the guess in lambda (resized to zeros if its size
+/// is wrong). With options.cfm > 0 every method works on A + eps E (the matrix-free sweep on its
+/// own diagonal). With options.split_islands the iterative methods run on each island of A
+/// apart, each until its own tolerance; the summary then has the largest sweep count and
+/// residual of any island and the worst termination. options.tolerance reaches every method.
+/// Method::MatrixFree needs problem.J and problem.Minv (std::invalid_argument otherwise).
+SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
+
+}  // namespace cbps

@@ -1,0 +1,42 @@
+// A solver as the command line names it (`--solver`, `cbps converge --solvers`, stress cases):
+// NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off], e.g. `psor:1.3`,
+// `pgs:order=random`, `jacobi:0.7`, `sgs`, `matrix-free`, `block-pgs`, `direct`.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cbps/scene/scene.hpp"
+#include "cbps/solvers/solver.hpp"
+
+namespace cbps {
+
+/// One parsed spec. The names:
+///   pgs          7.1.1 (omega = 1); psor:OMEGA is PGS with relaxation 0 < OMEGA < 2
+///   jacobi       projected Jacobi; jacobi:OMEGA damps it, 0 < OMEGA ≤ 1
+///   sgs          symmetric Gauss-Seidel (forward and backward sweep), sgs:OMEGA is SSOR
+///   block-pgs    contact manifolds solved as blocks (block_pgs_sweep)
+///   matrix-free  7.1.1 without A (MatrixFreePgs), the sequential-impulse form
+///   direct       the exact path (6.2)
+/// order applies to pgs, psor and matrix-free; warm=off starts from lambda = 0 instead of the
+/// previous step's lambda.
+struct SolverSpec {
+  std::string text;                    ///< as given
+  Method method = Method::Pgs;         ///< psor is Method::Pgs with its relaxation
+  double relaxation = 1.0;             ///< omega
+  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms
+  bool warm_start = true;
+};
+
+/// Parses one spec; throws InputError naming `what` (the option or JSON path) and the spec:
+/// "--solver 'psor:3': relaxation factor '3' must be a number in (0, 2)".
+SolverSpec parse_solver_spec(const std::string& text, const std::string& what = "solver");
+/// A comma-separated list of specs (`pgs,psor:1.3,direct`).
+std::vector<SolverSpec> parse_solver_list(const std::string& text,
+                                          const std::string& what = "solvers");
+
+/// Sets a scene's solver settings from a parsed spec: method, relaxation, row order, warm
+/// start; the other settings stay.
+void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
+
+}  // namespace cbps

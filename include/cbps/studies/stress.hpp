@@ -1,0 +1,82 @@
+// The stress catalogue (`cbps stress`): stiff and extreme cases, each run with several solvers,
+// each with its own statement of what "stable" means and a verdict measured against it.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cbps/scene/scene.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/conditioning.hpp"
+
+namespace cbps {
+
+/// A case's own verdict on a run that did not diverge.
+struct StressVerdict {
+  bool stable = false;
+  std::string measure;  ///< the quantity judged, with its value and limit, e.g. "drift 2e-3 m"
+  /// Further named numbers for the JSON output (e.g. angular momentum drift).
+  std::vector<std::pair<std::string, double>> extra;
+};
+
+/// Watches one run of a case: called before the first step, after every step, at the end.
+class StressProbe {
+ public:
+  virtual ~StressProbe() = default;
+  virtual void start(const Simulation& /*sim*/) {}
+  virtual void after_step(const Simulation& /*sim*/, const StepReport& /*report*/) {}
+  virtual StressVerdict finish(const Simulation& sim) = 0;
+};
+
+struct StressCase {
+  std::string name;          ///< e.g. "stack-50"
+  std::string group;         ///< e.g. "size"
+  std::string description;   ///< what the scene is
+  std::string stable_means;  ///< what "stable" means here, and why
+  std::function<Scene()> build;
+  long steps = 0;
+  /// Solver specs (parse_solver_spec) the case runs with; "-" for a case without rows.
+  std::vector<std::string> solvers;
+  /// Solvers left out on purpose, with the measured reason.
+  std::vector<std::pair<std::string, std::string>> skipped;
+  std::function<std::unique_ptr<StressProbe>(const Scene&)> probe;
+};
+
+/// What one (case, solver) run measured.
+struct StressResult {
+  std::string case_name;
+  std::string solver;
+  /// "stable", "unstable" (the case's criterion failed), "diverged" (the divergence guard
+  /// stopped it), "budget" (the wall-time budget ran out first) or "skipped".
+  std::string status;
+  std::string note;  ///< the divergence message, the skip reason or the budget
+  long steps = 0;
+  long steps_done = 0;
+  int max_rows = 0;
+  double max_constraint_error = 0.0;    ///< m
+  double max_penetration = 0.0;         ///< m
+  double energy_initial = 0.0;          ///< J
+  double energy_final = 0.0;            ///< J
+  double final_residual = 0.0;          ///< last step's velocity-system residual, N
+  double max_residual = 0.0;            ///< N
+  double cfm = 0.0;                     ///< kg⁻¹
+  double cfm_acceleration_error = 0.0;  ///< max eps |lambda|, m/s²
+  ConditionEstimate condition;          ///< of A at the end of the run (the state it stopped in)
+  double wall_time_s = 0.0;             ///< the steps only
+  StressVerdict verdict;
+};
+
+/// The catalogue, in the order `cbps stress` runs it.
+std::vector<StressCase> stress_catalogue();
+
+/// Runs one case with one solver spec for its steps, or until the divergence guard stops it or
+/// `budget_s` of wall time is spent. `progress(step, steps)` is called after every step.
+StressResult run_stress(const StressCase& c,
+                        const std::string& solver,
+                        double budget_s,
+                        const std::function<void(long, long)>& progress = {});
+
+}  // namespace cbps

@@ -1,0 +1,73 @@
+// The boxed problem of 6.2, the hand-off from the system to the solvers:
+//   find lambda with cmin ≤ lambda ≤ cmax and w = A lambda − b such that
+//   lambda_k = cmin_k ⇒ w_k ≥ 0,  lambda_k = cmax_k ⇒ w_k ≤ 0,  cmin_k < lambda_k < cmax_k ⇒ w_k =
+//   0.
+// Every solver in solvers/ takes this and nothing about bodies, so a step's system and a stored
+// problem (a `cbps matrices` folder, a Siconos file) are solved by the same code.
+//
+//   Symbol   Shape   Unit    Equation
+//   A        c×c     kg⁻¹    6.2.9   J Minv Jᵀ, symmetric positive semidefinite
+//   b        c       m/s²    6.2.9   upsilon/dt − J (v1/dt + Minv fext)
+//   cmin     c       N       5.1     −∞ allowed
+//   cmax     c       N       5.1     +∞ allowed
+//   lambda   c       N       6.2.1   the unknown
+//   w        c       m/s²    6.2     A lambda − b
+#pragma once
+
+#include <vector>
+
+#include "cbps/types.hpp"
+
+namespace cbps {
+
+/// A view of one boxed problem: it refers to storage owned elsewhere (a System, a stored
+/// problem, an island's copy), so handing it on copies nothing. When A's factors J and Minv are
+/// known (a step's system, a `cbps matrices` folder) they come along: the matrix-free sweep
+/// needs them and never reads A. `blocks` groups rows for block PGS: consecutive rows with the
+/// same id ≥ 0 form one block (a contact manifold, System::manifold); null: every row alone.
+struct BoxedProblem {
+  const SpMat& A;
+  const VecX& b;
+  const VecX& cmin;
+  const VecX& cmax;
+  const SpMatRow* J = nullptr;               ///< c×6n with A = J Minv Jᵀ, or null
+  const SpMat* Minv = nullptr;               ///< 6n×6n, or null
+  const std::vector<int>* blocks = nullptr;  ///< c block ids (−1: a row alone), or null
+
+  Eigen::Index rows() const { return b.size(); }
+  bool has_factors() const { return J != nullptr && Minv != nullptr; }
+};
+
+/// Which rows are Coulomb friction rows (5.4 with bounds ±mu lambda_n): normal_row[k] is the
+/// contact row bounding row k (−1 for every other row) and mu[k] its coefficient. Their bounds
+/// move with lambda, so a problem with such rows is a fixed point of boxed problems
+/// (solvers/coulomb.hpp); the bounds in the BoxedProblem are then only the other rows'.
+struct CoulombRows {
+  const std::vector<int>& normal_row;
+  const VecX& mu;
+  /// True when some row is a Coulomb friction row.
+  bool any() const;
+};
+
+/// The projection onto the box [lo, hi] of 7.1.1 and of the natural map: min(max(x, lo), hi).
+double clamp(double x, double lo, double hi);
+
+/// The natural-map residual for a given w = A lambda − b (6.2):
+///   ‖lambda − clamp(lambda − w, cmin, cmax)‖∞,
+/// N; zero exactly at a solution, NaN when any term is NaN. The one place this is written: the
+/// sparse, matrix-free and dense (Lemke) forms each compute w their own way and call this.
+double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin, const VecX& cmax);
+
+/// The natural-map residual of the problem at lambda, with constraint-force mixing eps on A's
+/// diagonal (w = (A + eps E) lambda − b; eps in kg⁻¹, 0: the problem as it is), N.
+double natural_map_residual(const BoxedProblem& problem, const VecX& lambda, double cfm = 0.0);
+
+/// A + eps E: the matrix a solve with constraint-force mixing eps (kg⁻¹) works on. A itself
+/// always stays J Minv Jᵀ.
+SpMat with_cfm(const SpMat& A, double eps);
+
+/// The scale residuals are judged against, max(1, ‖b‖∞, max |A_ij|): a residual is small when
+/// it is small beside the data. `cbps lcp`, `--check` and the tests use this one definition.
+double scale_of(const BoxedProblem& problem);
+
+}  // namespace cbps

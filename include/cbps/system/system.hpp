@@ -1,0 +1,130 @@
+// The whole system (paper 6.1) and the system equation A lambda = b (6.2).
+//
+// Notation (n movable bodies, c rows):
+//   Symbol   Shape   Unit                       Equation  Member
+//   J        c×6n    1 (linear), m (angular)    6.1       J
+//   Minv     6n×6n   kg⁻¹, kg⁻¹ m⁻²            6.1.2     Minv
+//   v1       6n      m/s, rad/s                 6.1.1     v1
+//   fext     6n      N, N m                     6.1.3     fext
+//   upsilon  c       m/s                        6.1.4     upsilon (the push in it or not: push)
+//   cmin     c       N                          5.1       cmin
+//   cmax     c       N                          5.1       cmax
+//   A        c×c     kg⁻¹                       6.2.9     A
+//   b        c       m/s²                       6.2.9     b
+//   lambda   c       N                          6.2.1     (solver output)
+//   v2       6n      m/s, rad/s                 12.3.1    compute_v2()
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "cbps/rows/row.hpp"
+#include "cbps/system/boxed_problem.hpp"
+
+namespace cbps {
+
+struct System {
+  double dt = 0.0;                  ///< time step, s
+  std::vector<int> block_of_body;   ///< body index → column block (6 columns), -1 if static
+  std::vector<int> body_of_block;   ///< column block → body index
+  std::vector<std::string> labels;  ///< one per row
+  std::vector<std::uint64_t> ids;   ///< one per row, for warm starting
+
+  SpMatRow J;  ///< c×6n (6.1), row-major: row k is j_c of row k
+  SpMat Minv;  ///< 6n×6n block diagonal (6.1.2)
+  VecX v1;     ///< 6n, velocities at the start of the step (6.1.1)
+  VecX fext;   ///< 6n, external forces and torques (6.1.3)
+  /// c (6.1.4), the bias of A lambda = b: each row's velocity bias with its push term under
+  /// PushMode::Original (5.2.3, 5.3), without it under PushMode::Improved (8.1's velocity system).
+  VecX upsilon;
+  VecX cmin;                           ///< c
+  VecX cmax;                           ///< c
+  SpMat A;                             ///< c×c, J Minv Jᵀ (6.2.9)
+  VecX b;                              ///< c, upsilon/dt − J (v1/dt + Minv fext) (6.2.9)
+  VecX upsilon_push;                   ///< c, each row's push term alone (Row::upsilon_push), m/s
+  PushMode push = PushMode::Original;  ///< the push factor's form upsilon was made for (8, 8.1)
+  std::vector<int> normal_row;  ///< c, Coulomb friction: the contact row bounding it, else −1
+  VecX mu;                      ///< c, Coulomb friction coefficient of the row, else 0
+  std::vector<int> manifold;    ///< c, the row's contact manifold (4), else −1 (block PGS)
+
+  int rows() const { return static_cast<int>(J.rows()); }
+  int blocks() const { return static_cast<int>(body_of_block.size()); }
+  /// The boxed problem of 6.2 this system poses (with J, Minv and the manifold blocks), or the
+  /// same with another right-hand side (the position system of 8.1). A view: keep the System.
+  BoxedProblem problem() const { return problem(b); }
+  BoxedProblem problem(const VecX& rhs) const {
+    return BoxedProblem{A, rhs, cmin, cmax, &J, &Minv, &manifold};
+  }
+  /// The Coulomb friction rows (5.4), whose bounds ±mu lambda_n the solve sets.
+  CoulombRows coulomb() const { return CoulombRows{normal_row, mu}; }
+};
+
+/// Column blocks for the movable bodies only: static bodies get none (5.3).
+void map_bodies(const std::vector<Body>& bodies, System& sys);
+
+/// J (6.1): row k holds the two 6-blocks of row k's j_c in the columns of its bodies (nonzero
+/// entries only). Fills J in place, reusing its storage.
+void assemble_J(const std::vector<Row>& rows,
+                const std::vector<int>& block_of_body,
+                int blocks,
+                SpMatRow& J);
+SpMatRow assemble_J(const std::vector<Row>& rows,
+                    const std::vector<int>& block_of_body,
+                    int blocks);
+
+/// Minv = blockdiag(m_i⁻¹ E₃, I_i⁻¹) (6.1.2), movable bodies only (nonzero entries only).
+/// Fills Minv in place, reusing its storage.
+void assemble_Minv(const std::vector<Body>& bodies,
+                   const std::vector<int>& body_of_block,
+                   SpMat& Minv);
+SpMat assemble_Minv(const std::vector<Body>& bodies, const std::vector<int>& body_of_block);
+
+/// v = [v_i; omega_i] stacked over movable bodies (6.1.1).
+VecX stack_velocities(const std::vector<Body>& bodies, const std::vector<int>& body_of_block);
+
+/// fext = [f_i + m_i g; tau_i] stacked over movable bodies (6.1.3); g in m/s².
+VecX stack_forces(const std::vector<Body>& bodies,
+                  const std::vector<int>& body_of_block,
+                  const Vec3& gravity);
+
+/// A = J Minv Jᵀ (6.2.9): c×c, symmetric positive semidefinite. Always exactly this: constraint-
+/// force mixing is a solver setting (SolverOptions::cfm), never folded into A.
+SpMat compute_A(const SpMatRow& J, const SpMat& Minv);
+
+/// b = upsilon/dt − J (v1/dt + Minv fext) (6.2.9).
+VecX compute_b(const VecX& upsilon,
+               const SpMatRow& J,
+               const VecX& v1,
+               const SpMat& Minv,
+               const VecX& fext,
+               double dt);
+
+/// v2 = v1 + dt Minv (Jᵀ lambda + fext) (12.3.1).
+VecX compute_v2(const VecX& v1,
+                const SpMat& Minv,
+                const SpMatRow& J,
+                const VecX& lambda,
+                const VecX& fext,
+                double dt);
+
+/// v2 of a system (12.3.1).
+VecX compute_v2(const System& sys, const VecX& lambda);
+
+/// Builds the whole system of one step from the bodies and the rows (6.1, 6.2), into `sys`,
+/// reusing the storage it already has (a simulation keeps one System across steps, so large
+/// scenes do not fetch fresh memory from the kernel every step). `push` says whether the rows'
+/// push terms go into upsilon (Original) or wait for the position system (Improved, 8.1).
+void assemble_system(const std::vector<Body>& bodies,
+                     const std::vector<Row>& rows,
+                     const Vec3& gravity,
+                     double dt,
+                     PushMode push,
+                     System& sys);
+System assemble_system(const std::vector<Body>& bodies,
+                       const std::vector<Row>& rows,
+                       const Vec3& gravity,
+                       double dt,
+                       PushMode push);
+
+}  // namespace cbps

@@ -1,0 +1,142 @@
+// Stored problems (stored_problem.hpp): `cbps matrices` folders and Siconos files.
+#include "cbps/io/stored_problem.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cbps/error.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "cbps/io/siconos.hpp"
+#include "cbps/scene/builtin.hpp"
+
+namespace cbps {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The one number of a one-line text file such as dt.txt or cfm.txt.
+double read_number_file(const std::string& path, const char* what) {
+  std::ifstream in(path);
+  std::string text;
+  in >> text;
+  double x = 0.0;
+  if (!parse_number(text, x) || !std::isfinite(x))
+    throw InputError(path + ": line 1: '" + text + "' is not " + what);
+  return x;
+}
+
+/// cmin ≤ cmax, neither NaN, cmin < +inf and cmax > −inf (a bound no lambda can meet), b finite.
+void check_bounds(const VecX& b,
+                  const VecX& cmin,
+                  const VecX& cmax,
+                  const std::string& cmin_file,
+                  const std::string& cmax_file,
+                  const std::string& b_file) {
+  const auto fail =
+      [](const std::string& file, const char* name, Eigen::Index k, double x, const char* why) {
+        std::ostringstream msg;
+        msg << file << ": " << name << "[" << k << "] = " << number_text(x) << ": " << why;
+        throw InputError(msg.str());
+      };
+  for (Eigen::Index k = 0; k < b.size(); ++k) {
+    if (std::isnan(cmin(k)) || cmin(k) == kInf)
+      fail(cmin_file, "cmin", k, cmin(k), "a lower bound must be a number or -inf");
+    if (std::isnan(cmax(k)) || cmax(k) == -kInf)
+      fail(cmax_file, "cmax", k, cmax(k), "an upper bound must be a number or +inf");
+    if (cmin(k) > cmax(k)) fail(cmin_file, "cmin", k, cmin(k), "above cmax, no lambda fits");
+    if (!std::isfinite(b(k))) fail(b_file, "b", k, b(k), "not finite");
+  }
+}
+
+StoredProblem read_folder(const std::string& dir) {
+  const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
+  StoredProblem p;
+  p.folder = true;
+  p.A = read_matrix_market_sparse(file("A.mtx"));
+  p.b = read_matrix_market_vector(file("b.mtx"));
+  p.cmin = read_matrix_market_vector(file("cmin.mtx"));
+  p.cmax = read_matrix_market_vector(file("cmax.mtx"));
+  const long c = p.A.rows();
+  if (p.A.cols() != c)
+    throw InputError(file("A.mtx") + ": A is " + std::to_string(c) + " x " +
+                     std::to_string(p.A.cols()) + ", not square");
+  for (const auto& [name, v] : {std::pair<const char*, const VecX*>{"b.mtx", &p.b},
+                                {"cmin.mtx", &p.cmin},
+                                {"cmax.mtx", &p.cmax}}) {
+    if (v->size() != c)
+      throw InputError(file(name) + ": has " + std::to_string(v->size()) + " rows, A has " +
+                       std::to_string(c));
+  }
+  check_bounds(p.b, p.cmin, p.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"));
+  std::error_code ec;
+  if (fs::exists(file("cfm.txt"), ec)) {
+    p.cfm = read_number_file(file("cfm.txt"), "a constraint-force mixing eps >= 0 in kg^-1");
+    if (p.cfm < 0.0)
+      throw InputError(file("cfm.txt") + ": line 1: eps = " + number_text(p.cfm) +
+                       " kg^-1 is negative");
+  }
+  return p;
+}
+
+StoredProblem read_dat(const std::string& path, SiconosKind kind) {
+  const StoredLcp s = read_siconos(path, kind);
+  StoredProblem p;
+  p.A = s.M.sparseView(0.0, 0.0);
+  p.b = -s.q;
+  p.cmin = s.lb;
+  p.cmax = s.ub;
+  check_bounds(p.b, p.cmin, p.cmax, path + " (lb)", path + " (ub)", path + " (q)");
+  return p;
+}
+
+/// The system's own matrices, when the folder has all of them (6.1).
+void read_bodies(const std::string& dir, StoredProblem& p) {
+  const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
+  for (const char* name : {"J.mtx", "Minv.mtx", "v1.mtx", "fext.mtx", "dt.txt"}) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file(name), ec)) return;
+  }
+  const double dt = read_number_file(file("dt.txt"), "a positive time step in s");
+  if (!(dt > 0.0))
+    throw InputError(file("dt.txt") + ": line 1: " + number_text(dt) +
+                     " is not a positive time step");
+  p.J = read_matrix_market_sparse(file("J.mtx"));
+  p.Minv = read_matrix_market_sparse(file("Minv.mtx"));
+  p.v1 = read_matrix_market_vector(file("v1.mtx"));
+  p.fext = read_matrix_market_vector(file("fext.mtx"));
+  p.dt = dt;
+  const long n6 = p.J.cols();
+  if (p.J.rows() != p.rows() || p.Minv.rows() != n6 || p.Minv.cols() != n6 || p.v1.size() != n6 ||
+      p.fext.size() != n6)
+    throw InputError(dir + ": J, Minv, v1 and fext do not fit each other or A (J is " +
+                     std::to_string(p.J.rows()) + " x " + std::to_string(n6) + ")");
+}
+
+}  // namespace
+
+StoredProblem read_problem(const std::string& path, SiconosKind kind) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return read_dat(path, kind);
+  StoredProblem p = read_folder(path);
+  read_bodies(path, p);
+  return p;
+}
+
+void require_symmetric(const StoredProblem& p, const std::string& what) {
+  const SpMat difference = p.A - SpMat(p.A.transpose());
+  double asymmetry = 0.0, largest = 1.0;
+  for (Eigen::Index k = 0; k < difference.nonZeros(); ++k)
+    asymmetry = std::max(asymmetry, std::abs(difference.valuePtr()[k]));
+  for (Eigen::Index k = 0; k < p.A.nonZeros(); ++k)
+    largest = std::max(largest, std::abs(p.A.valuePtr()[k]));
+  if (asymmetry > 1e-12 * largest)
+    throw InputError(what +
+                     ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - "
+                     "A^T| = " +
+                     number_text(asymmetry) + "; `cbps lcp --solver lemke` solves any square A");
+}
+
+}  // namespace cbps

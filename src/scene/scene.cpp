@@ -1,0 +1,74 @@
+// Unit rescaling of a scene (paper 9, dimensional analysis).
+#include "cbps/scene/scene.hpp"
+
+namespace cbps {
+
+Scene rescale_units(const Scene& scene, double L, double M, double T) {
+  Scene s = scene;
+  s.world.gravity *= L / (T * T);  // m/s²
+  s.world.dt *= T;                 // s
+  s.duration *= T;
+  s.world.restitution_threshold *= L / T;  // m/s
+  s.world.contact_margin *= L;             // m
+  s.world.divergence_speed *= L / T;       // m/s
+  s.world.divergence_spin /= T;            // rad/s
+  for (Body& body : s.bodies) {
+    body.shape.radius *= L;
+    body.shape.half_extents *= L;
+    body.x *= L;
+    body.m *= M;
+    body.I_body *= M * L * L;  // kg m²
+    body.I_body_inv /= M * L * L;
+    body.p *= M * L / T;              // N s = kg m/s
+    body.l *= M * L * L / T;          // N m s = kg m²/s
+    body.f *= M * L / (T * T);        // N
+    body.tau *= M * L * L / (T * T);  // N m
+  }
+  for (DistanceConstraint& dc : s.distances) {
+    dc.anchor_a *= L;
+    dc.anchor_b *= L;
+    dc.l *= L;
+  }
+  s.solver.tolerance *= M * L / (T * T);  // residual in N
+  s.solver.delta_tolerance *= M * L / (T * T);
+  s.solver.cfm /= M;  // kg⁻¹, as A
+  return s;
+}
+
+RowSettings World::rows() const {
+  RowSettings s;
+  s.beta = beta;
+  s.dt = dt;
+  s.mu = mu;
+  s.friction = friction;
+  s.gravity = gravity;
+  s.restitution = restitution;
+  s.restitution_threshold = restitution_threshold;
+  return s;
+}
+
+SolverOptions SolverSettings::options() const {
+  SolverOptions o;
+  o.method = method;
+  o.max_iterations = iterations;
+  o.tolerance = tolerance;
+  o.delta_tolerance = delta_tolerance;
+  o.relaxation = relaxation;
+  o.split_islands = split_islands;
+  o.order = order;
+  o.seed = seed;
+  o.cfm = cfm;
+  return o;
+}
+
+bool Scene::has_contact_pairs() const {
+  int colliding = 0, movable = 0;
+  for (const Body& body : bodies) {
+    if (!body.collides) continue;
+    ++colliding;
+    if (!body.is_static) ++movable;
+  }
+  return movable >= 1 && colliding >= 2;
+}
+
+}  // namespace cbps

@@ -1,0 +1,145 @@
+// Coulomb friction bounds ±mu lambda_n (5.4) around any method: a fixed point of boxed problems.
+#include "cbps/solvers/coulomb.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace cbps {
+
+namespace {
+
+/// Moves each Coulomb row's bounds to cmin = −mu lambda_n, cmax = mu lambda_n (5.4); the other
+/// rows keep theirs. Returns the largest change of a bound, N.
+double move_bounds(const CoulombRows& coulomb, const VecX& lambda, VecX& cmin, VecX& cmax) {
+  double change = 0.0;
+  for (Eigen::Index k = 0; k < cmin.size(); ++k) {
+    const int n = coulomb.normal_row[static_cast<std::size_t>(k)];
+    if (n < 0) continue;
+    const double bound = coulomb.mu(k) * std::max(0.0, lambda(n));
+    change = std::max(change, std::abs(bound - cmax(k)));
+    cmin(k) = -bound;
+    cmax(k) = bound;
+  }
+  return change;
+}
+
+/// The fixed point for the direct path: solve the boxed problem, move the bounds, again.
+SolverSummary direct_fixed_point(const BoxedProblem& problem,
+                                 const CoulombRows& coulomb,
+                                 VecX& lambda,
+                                 const SolverOptions& options) {
+  VecX cmin = problem.cmin, cmax = problem.cmax;
+  const BoxedProblem bounded{
+      problem.A, problem.b, cmin, cmax, problem.J, problem.Minv, problem.blocks};
+  const VecX& b = problem.b;
+  const double scale = std::max(1.0, b.size() > 0 ? b.lpNorm<Eigen::Infinity>() : 0.0);
+  SolverSummary total;
+  int rounds = 0;
+  double change = kInf;
+  while (rounds < 100) {
+    change = move_bounds(coulomb, lambda, cmin, cmax);
+    if (rounds > 0 && change <= 1e-12 * scale) break;
+    const SolverSummary s = solve(bounded, lambda, options);
+    ++rounds;
+    total.iterations += s.iterations;
+    total.factorizations += s.factorizations;
+    total.pivots += s.pivots;
+    total.islands = s.islands;
+    total.singular = total.singular || s.singular;
+    total.termination = s.termination;
+    if (!s.ok()) break;
+  }
+  if (change > 1e-12 * scale && total.termination == Termination::Direct)
+    total.termination = Termination::NotConverged;
+  total.residual = natural_map_residual(bounded, lambda);  // A + eps E when cfm > 0
+  std::ostringstream msg;
+  msg << "direct with Coulomb bounds: fixed point in " << rounds << " rounds (last bound change "
+      << change << " N), " << total.factorizations << " factorizations, residual " << total.residual
+      << " N";
+  total.message = msg.str();
+  return total;
+}
+
+/// The iterative methods: the bounds follow lambda before every sweep.
+SolverSummary sweep_with_moving_bounds(const BoxedProblem& problem,
+                                       const CoulombRows& coulomb,
+                                       VecX& lambda,
+                                       const SolverOptions& options) {
+  VecX cmin = problem.cmin, cmax = problem.cmax;
+  const BoxedProblem bounded{
+      problem.A, problem.b, cmin, cmax, problem.J, problem.Minv, problem.blocks};
+  SolverOptions one = options;
+  one.max_iterations = 1;
+  one.split_islands = false;
+  SolverSummary total;
+  total.termination = Termination::MaxIterations;
+  while (total.iterations < options.max_iterations) {
+    move_bounds(coulomb, lambda, cmin, cmax);
+    one.seed = options.seed * 1000003u + static_cast<std::uint64_t>(total.iterations);
+    const SolverSummary s = solve(bounded, lambda, one);
+    total.iterations += s.iterations;
+    total.residual = s.residual;
+    total.delta = s.delta;
+    if (s.termination != Termination::MaxIterations) {
+      total.termination = s.termination;
+      break;
+    }
+  }
+  std::ostringstream msg;
+  msg << to_string(total.termination) << " after " << total.iterations
+      << " sweeps with Coulomb bounds, residual " << total.residual << " N";
+  total.message = msg.str();
+  return total;
+}
+
+}  // namespace
+
+void coulomb_bounds(const BoxedProblem& problem,
+                    const CoulombRows& coulomb,
+                    const VecX& lambda,
+                    VecX& cmin,
+                    VecX& cmax) {
+  cmin = problem.cmin;
+  cmax = problem.cmax;
+  move_bounds(coulomb, lambda, cmin, cmax);
+}
+
+double coulomb_residual(const BoxedProblem& problem,
+                        const CoulombRows& coulomb,
+                        const VecX& lambda,
+                        double cfm) {
+  VecX cmin, cmax;
+  coulomb_bounds(problem, coulomb, lambda, cmin, cmax);
+  return natural_map_residual(BoxedProblem{problem.A, problem.b, cmin, cmax}, lambda, cfm);
+}
+
+SolverSummary solve_coulomb(const BoxedProblem& problem,
+                            const CoulombRows& coulomb,
+                            VecX& lambda,
+                            const SolverOptions& options) {
+  if (!coulomb.any()) return solve(problem, lambda, options);
+  if (lambda.size() != problem.rows()) lambda = VecX::Zero(problem.rows());
+  // Constraint-force mixing: A + eps E formed once here, not by solve() in every round; the
+  // matrix-free sweep puts eps on its own diagonal.
+  if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
+    const SpMat regularised = with_cfm(problem.A, options.cfm);
+    SolverOptions plain = options;
+    plain.cfm = 0.0;
+    return solve_coulomb(BoxedProblem{regularised,
+                                      problem.b,
+                                      problem.cmin,
+                                      problem.cmax,
+                                      problem.J,
+                                      problem.Minv,
+                                      problem.blocks},
+                         coulomb,
+                         lambda,
+                         plain);
+  }
+  if (options.method == Method::Direct)
+    return direct_fixed_point(problem, coulomb, lambda, options);
+  return sweep_with_moving_bounds(problem, coulomb, lambda, options);
+}
+
+}  // namespace cbps

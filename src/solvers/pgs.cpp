@@ -1,0 +1,107 @@
+// Projected Gauss-Seidel (paper 7.1.1), PSOR, symmetric Gauss-Seidel and projected Jacobi over
+// the explicit A.
+#include "cbps/solvers/pgs.hpp"
+
+#include <algorithm>
+#include <numeric>
+
+#include "sweep.hpp"
+
+namespace cbps {
+
+using detail::relax;
+using detail::row_target;
+
+namespace {
+
+/// 7.1.1 over the rows row_at(0), row_at(1), …, row_at(count − 1).
+template <class RowAt>
+double sweep_rows(
+    const BoxedProblem& p, VecX& lambda, double relaxation, Eigen::Index count, RowAt row_at) {
+  double delta = 0.0;
+  double target = 0.0;
+  for (Eigen::Index n = 0; n < count; ++n) {
+    const Eigen::Index k = row_at(n);
+    if (!row_target(p.A, p.b, lambda, k, target)) continue;
+    const double next =
+        clamp(relax(lambda(k), target, relaxation), p.cmin(k), p.cmax(k));  // (7.1.1)
+    const double change = std::abs(next - lambda(k));
+    if (!(change <= delta)) delta = change;  // also propagates NaN
+    lambda(k) = next;
+  }
+  return delta;
+}
+
+}  // namespace
+
+double pgs_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation) {
+  return sweep_rows(
+      problem, lambda, relaxation, problem.A.outerSize(), [](Eigen::Index n) { return n; });
+}
+
+double pgs_sweep(const BoxedProblem& problem,
+                 VecX& lambda,
+                 double relaxation,
+                 const std::vector<int>& rows) {
+  return sweep_rows(
+      problem, lambda, relaxation, static_cast<Eigen::Index>(rows.size()), [&](Eigen::Index n) {
+        return Eigen::Index(rows[std::size_t(n)]);
+      });
+}
+
+void sweep_order(RowOrder order, int rows, std::mt19937_64& rng, std::vector<int>& out) {
+  out.resize(static_cast<std::size_t>(rows));
+  std::iota(out.begin(), out.end(), 0);
+  if (order == RowOrder::Reverse) std::reverse(out.begin(), out.end());
+  if (order == RowOrder::Random) std::shuffle(out.begin(), out.end(), rng);
+}
+
+double jacobi_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation, VecX& scratch) {
+  scratch = lambda;  // the previous sweep's values
+  double delta = 0.0;
+  double target = 0.0;
+  for (Eigen::Index k = 0; k < problem.A.outerSize(); ++k) {
+    if (!row_target(problem.A, problem.b, scratch, k, target)) continue;
+    lambda(k) = clamp(relax(scratch(k), target, relaxation), problem.cmin(k), problem.cmax(k));
+    const double change = std::abs(lambda(k) - scratch(k));
+    if (!(change <= delta)) delta = change;
+  }
+  return delta;
+}
+
+SolverSummary solve_pgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  if (options.order == RowOrder::Natural) {
+    return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
+      return pgs_sweep(problem, l, options.relaxation);
+    });
+  }
+  const int c = static_cast<int>(problem.rows());
+  std::mt19937_64 rng(options.seed);
+  std::vector<int> rows;
+  if (options.order == RowOrder::Reverse) sweep_order(options.order, c, rng, rows);
+  return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
+    if (options.order == RowOrder::Random) sweep_order(options.order, c, rng, rows);
+    return pgs_sweep(problem, l, options.relaxation, rows);
+  });
+}
+
+SolverSummary solve_sgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  const Eigen::Index c = problem.A.outerSize();
+  return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
+    const double forward = pgs_sweep(problem, l, options.relaxation);
+    const double backward =
+        sweep_rows(problem, l, options.relaxation, c, [c](Eigen::Index n) { return c - 1 - n; });
+    return std::max(forward, backward);
+  });
+}
+
+SolverSummary solve_jacobi(const BoxedProblem& problem,
+                           VecX& lambda,
+                           const SolverOptions& options) {
+  VecX scratch;
+  return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
+    return jacobi_sweep(problem, l, options.relaxation, scratch);
+  });
+}
+
+}  // namespace cbps

@@ -1,0 +1,184 @@
+// solve(): any method on the boxed problem, with constraint-force mixing and islands; the name
+// table of the methods.
+#include "cbps/solvers/solver.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+#include <stdexcept>
+
+#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/islands.hpp"
+#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/pgs_block.hpp"
+#include "cbps/solvers/pgs_matrix_free.hpp"
+
+namespace cbps {
+
+namespace {
+
+struct MethodName {
+  Method method;
+  std::string_view name;
+};
+constexpr MethodName kMethodNames[] = {{Method::Pgs, "pgs"},
+                                       {Method::BlockPgs, "block-pgs"},
+                                       {Method::Sgs, "sgs"},
+                                       {Method::Jacobi, "jacobi"},
+                                       {Method::MatrixFree, "matrix-free"},
+                                       {Method::Direct, "direct"}};
+
+}  // namespace
+
+std::string_view to_string(Method method) {
+  for (const MethodName& entry : kMethodNames)
+    if (entry.method == method) return entry.name;
+  return "?";
+}
+
+bool method_from_string(std::string_view name, Method& method) {
+  for (const MethodName& entry : kMethodNames) {
+    if (entry.name != name) continue;
+    method = entry.method;
+    return true;
+  }
+  return false;
+}
+
+Method method_of(std::string_view name) {
+  Method method = Method::Pgs;
+  if (!method_from_string(name, method))
+    throw std::invalid_argument("unknown method '" + std::string(name) +
+                                "' (valid: " + method_names() + ")");
+  return method;
+}
+
+std::string method_names() {
+  std::string names;
+  for (const MethodName& entry : kMethodNames) {
+    if (!names.empty()) names += ", ";
+    names += entry.name;
+  }
+  return names;
+}
+
+std::string to_string(RowOrder order) {
+  switch (order) {
+    case RowOrder::Natural:
+      return "natural";
+    case RowOrder::Reverse:
+      return "reverse";
+    case RowOrder::Random:
+      return "random";
+  }
+  return "?";
+}
+
+std::string to_string(Termination t) {
+  switch (t) {
+    case Termination::ResidualTolerance:
+      return "residual tolerance reached";
+    case Termination::DeltaTolerance:
+      return "change tolerance reached";
+    case Termination::MaxIterations:
+      return "iteration limit";
+    case Termination::Direct:
+      return "direct solve";
+    case Termination::NotConverged:
+      return "direct solve stopped short of its tolerance";
+    case Termination::NonFinite:
+      return "non-finite values";
+    case Termination::Stopped:
+      return "stopped by the caller";
+  }
+  return "?";
+}
+
+namespace {
+
+/// One method on the whole problem, as it is (no CFM, no islands).
+SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  switch (options.method) {
+    case Method::Pgs:
+      return solve_pgs(problem, lambda, options);
+    case Method::BlockPgs:
+      return solve_block_pgs(problem, lambda, options);
+    case Method::Sgs:
+      return solve_sgs(problem, lambda, options);
+    case Method::Jacobi:
+      return solve_jacobi(problem, lambda, options);
+    case Method::MatrixFree:
+      return solve_matrix_free(problem, lambda, options);
+    case Method::Direct:
+      return solve_direct(problem, lambda, options);
+  }
+  throw std::invalid_argument("solve: unknown method");
+}
+
+/// An iterative method on each island of A apart, each to its own tolerance.
+SolverSummary solve_islands(const std::vector<std::vector<int>>& islands,
+                            const BoxedProblem& problem,
+                            VecX& lambda,
+                            const SolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  if (lambda.size() != problem.rows()) lambda = VecX::Zero(problem.rows());
+  SolverSummary total;
+  total.termination = Termination::ResidualTolerance;
+  total.islands = static_cast<int>(islands.size());
+  SolverOptions each = options;
+  each.describe = false;  // one message for all islands, below
+  for_each_island(islands, problem, lambda, [&](const BoxedProblem& island, VecX& lambda_I) {
+    const SolverSummary s = solve_whole(island, lambda_I, each);
+    total.iterations = std::max(total.iterations, s.iterations);
+    total.delta = std::max(total.delta, s.delta);
+    if (!(s.residual <= total.residual)) total.residual = s.residual;  // NaN propagates
+    // The worst termination: NonFinite > MaxIterations > DeltaTolerance > ResidualTolerance.
+    if (s.termination == Termination::NonFinite ||
+        (total.termination != Termination::NonFinite &&
+         s.termination == Termination::MaxIterations) ||
+        (total.termination == Termination::ResidualTolerance &&
+         s.termination == Termination::DeltaTolerance)) {
+      total.termination = s.termination;
+    }
+  });
+  total.wall_time_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream msg;
+  msg << to_string(total.termination) << " (worst of " << total.islands
+      << " islands solved apart), at most " << total.iterations << " sweeps, residual "
+      << total.residual << " N";
+  total.message = msg.str();
+  return total;
+}
+
+}  // namespace
+
+SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
+    // Every method with an explicit A solves A + eps E, formed here; the matrix-free sweep puts
+    // eps on its own diagonal.
+    const SpMat regularised = with_cfm(problem.A, options.cfm);
+    SolverOptions plain = options;
+    plain.cfm = 0.0;
+    return solve(BoxedProblem{regularised,
+                              problem.b,
+                              problem.cmin,
+                              problem.cmax,
+                              problem.J,
+                              problem.Minv,
+                              problem.blocks},
+                 lambda,
+                 plain);
+  }
+  // The direct path splits by itself (options.direct.split_islands); the matrix-free rows
+  // never meet, so islands would change nothing there.
+  if (!options.split_islands || !is_iterative(options.method) ||
+      options.method == Method::MatrixFree) {
+    return solve_whole(problem, lambda, options);
+  }
+  const auto islands = find_islands(problem.A);
+  if (islands.size() <= 1) return solve_whole(problem, lambda, options);
+  return solve_islands(islands, problem, lambda, options);
+}
+
+}  // namespace cbps

@@ -1,0 +1,107 @@
+// Private to solvers/: the pieces of 7.1.1 every sweeping method shares, and their sweep loop.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "cbps/solvers/solver.hpp"
+
+namespace cbps::detail {
+
+/// Row k of 7.1.1 before clamping: (b_k − Σ_{i≠k} A_ki x_i) / A_kk, with x the values the
+/// sweep reads (the current lambda for Gauss-Seidel, the previous sweep's for Jacobi).
+/// Returns false for a row with A_kk = 0 (j_c = 0 acts on nothing; its lambda stays).
+inline bool row_target(
+    const SpMat& A, const VecX& b, const VecX& x, Eigen::Index k, double& target) {
+  // A is symmetric: column k holds A_ik = A_ki.
+  double sum = b(k);
+  double A_kk = 0.0;
+  for (SpMat::InnerIterator it(A, k); it; ++it) {
+    if (it.row() == k) {
+      A_kk = it.value();
+    } else {
+      sum -= it.value() * x(it.row());
+    }
+  }
+  if (!(A_kk > 0.0)) return false;
+  target = sum / A_kk;
+  return true;
+}
+
+/// lambda_old + omega (target − lambda_old), exactly the target when omega = 1 (7.1.1).
+inline double relax(double old, double target, double relaxation) {
+  return relaxation == 1.0 ? target : old + relaxation * (target - old);
+}
+
+/// Sweeps until a tolerance, options.max_iterations, a non-finite change or after_sweep's stop;
+/// residual(lambda) is the natural-map residual (computed only when a tolerance or the last
+/// sweep needs it). Writes the summary's message when options.describe.
+template <class Sweep, class Residual>
+SolverSummary iterate_sweeps(
+    Eigen::Index rows, VecX& lambda, const SolverOptions& options, Sweep sweep, Residual residual) {
+  const auto start = std::chrono::steady_clock::now();
+  SolverSummary s;
+  if (lambda.size() != rows) lambda = VecX::Zero(rows);
+  if (rows == 0) {
+    s.termination = Termination::ResidualTolerance;
+    s.message = "no rows";
+    return s;
+  }
+  s.residual = residual(lambda);
+  if (options.tolerance > 0.0 && s.residual <= options.tolerance) {
+    s.termination = Termination::ResidualTolerance;
+  }
+  double sweep_time = 0.0;  // s, in the sweeps alone (for after_sweep)
+  while (s.termination == Termination::MaxIterations && s.iterations < options.max_iterations) {
+    if (options.after_sweep) {  // the clock only for an observer: sweeps can be 1 µs
+      const auto sweep_start = std::chrono::steady_clock::now();
+      s.delta = sweep(lambda);
+      sweep_time +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - sweep_start).count();
+    } else {
+      s.delta = sweep(lambda);
+    }
+    ++s.iterations;
+    if (options.after_sweep && !options.after_sweep(s.iterations, lambda, sweep_time)) {
+      s.termination = Termination::Stopped;
+      s.residual = residual(lambda);
+      break;
+    }
+    if (!std::isfinite(s.delta)) {
+      s.termination = Termination::NonFinite;
+      break;
+    }
+    if (options.delta_tolerance > 0.0 && s.delta <= options.delta_tolerance) {
+      s.termination = Termination::DeltaTolerance;
+    }
+    if (options.tolerance > 0.0 || s.iterations == options.max_iterations ||
+        s.termination != Termination::MaxIterations) {
+      s.residual = residual(lambda);
+      if (options.tolerance > 0.0 && s.residual <= options.tolerance) {
+        s.termination = Termination::ResidualTolerance;
+      }
+    }
+  }
+  if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!options.describe) return s;
+  std::ostringstream msg;
+  msg << to_string(s.termination) << " after " << s.iterations << " sweeps, residual " << s.residual
+      << " N, last change " << s.delta << " N";
+  s.message = msg.str();
+  return s;
+}
+
+/// iterate_sweeps with the natural-map residual of the explicit A.
+template <class Sweep>
+SolverSummary iterate_sweeps(const BoxedProblem& problem,
+                             VecX& lambda,
+                             const SolverOptions& options,
+                             Sweep sweep) {
+  return iterate_sweeps(problem.rows(), lambda, options, sweep, [&](const VecX& l) {
+    return natural_map_residual(problem, l);
+  });
+}
+
+}  // namespace cbps::detail

@@ -1,0 +1,234 @@
+// The time step (paper 3.2 with 4, 5, 6.2, 7, 8 and 12.3), stage by stage.
+#include "cbps/step/simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "cbps/rows/build_rows.hpp"
+#include "cbps/solvers/coulomb.hpp"
+#include "cbps/step/guard.hpp"
+
+namespace cbps {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// Adds the seconds from its construction to its end to `into`: one stage's wall time.
+class StageTimer {
+ public:
+  explicit StageTimer(double& into) : into_(into), start_(Clock::now()) {}
+  ~StageTimer() { into_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  double& into_;
+  Clock::time_point start_;
+};
+
+}  // namespace
+
+std::string stage_name(Stage stage, Method method, PushMode push) {
+  const std::string name(to_string(method));
+  switch (stage) {
+    case Stage::Collision:
+      return "collision (4)";
+    case Stage::DistanceRows:
+      return "distance_rows (5.2)";
+    case Stage::ContactRows:
+      return "contact_rows (5.3)";
+    case Stage::FrictionRows:
+      return "friction_rows (5.4)";
+    case Stage::Assembly:
+      return "assembly (6.1, 6.2.9)";
+    case Stage::Solve:
+      if (push == PushMode::Improved) return "velocity_system_" + name + " (8.1)";
+      return "solve_" + name + (method == Method::Direct ? " (6.2)" : " (7.1.1)");
+    case Stage::PositionSystem:
+      return "position_system_" + name + " (8.1)";
+    case Stage::Integrate:
+      return "integrate (12.3.1, 3.2)";
+  }
+  return "?";
+}
+
+Simulation::Simulation(Scene scene)
+    : scene_(std::move(scene)), collision_stage_(scene_.has_contact_pairs()) {}
+
+StepReport Simulation::step() {
+  double step_time = 0.0;
+  StepReport report;
+  {
+    const StageTimer whole(step_time);
+    name_stages();
+    const System& sys =
+        assemble(&report.times);  // Collision (4), Rows (5.2–5.4), Assembly (6.1, 6.2.9)
+    report.rows = sys.rows();
+    for (const Manifold& manifold : manifolds_) {
+      report.contacts += static_cast<int>(manifold.points.size());
+      for (const ContactPoint& point : manifold.points)
+        report.max_penetration = std::max(report.max_penetration, point.depth);
+    }
+    const bool improved = sys.push == PushMode::Improved;
+    VecX lambda, v2;
+    {
+      const StageTimer solve(report.times.solve);
+      lambda = initial_lambda(sys);               // warm start (7)
+      report.solver = solve_system(sys, lambda);  // Solve (7.1.1 / 6.2)
+    }
+    {
+      const StageTimer integrate(report.times.integrate);
+      v2 = compute_v2(sys, lambda);  // v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1)
+      check_divergence(sys,
+                       scene_.bodies,
+                       scene_.world,
+                       lambda,
+                       v2,
+                       steps_,
+                       improved ? "velocity system (8.1)" : "system (6.2)");
+    }
+    if (observer_) observer_(sys, lambda, v2);  // not timed: a cross-check is not the step
+    if (scene_.solver.cfm > 0.0 && sys.rows() > 0)
+      report.cfm_acceleration_error = scene_.solver.cfm * lambda.lpNorm<Eigen::Infinity>();
+    const VecX v_move = improved ? position_velocities(sys, lambda, report) : v2;  // (8.1)
+    {
+      const StageTimer integrate(report.times.integrate);
+      this->integrate(sys, v2, v_move);  // Integrate (3.2)
+      remember(sys, lambda);
+    }
+    ++steps_;
+    t_ = static_cast<double>(steps_) * scene_.world.dt;  // not a running sum: no drift
+    report.max_constraint_error = max_constraint_error();
+  }
+  report.wall_time_s = step_time;
+  return report;
+}
+
+void Simulation::name_stages() {
+  const Method method = scene_.solver.method;
+  const PushMode push = scene_.world.push;
+  stages_.clear();
+  const auto add = [&](Stage stage) { stages_.push_back(stage_name(stage, method, push)); };
+  if (collision_stage_) add(Stage::Collision);
+  if (!scene_.distances.empty()) add(Stage::DistanceRows);
+  if (collision_stage_) add(Stage::ContactRows);
+  if (collision_stage_ && scene_.world.mu > 0.0) add(Stage::FrictionRows);
+  add(Stage::Assembly);
+  add(Stage::Solve);
+  if (push == PushMode::Improved) add(Stage::PositionSystem);
+  add(Stage::Integrate);
+}
+
+void Simulation::detect_contacts(std::vector<Manifold>& manifolds, StageTimes* times) const {
+  manifolds.clear();
+  if (!collision_stage_) return;
+  double broad_s = 0.0, narrow_s = 0.0;
+  std::vector<std::pair<int, int>> pairs;
+  {
+    const StageTimer broad(broad_s);
+    pairs = broad_phase(scene_.bodies, scene_.world.contact_margin);  // (4, step 1)
+  }
+  {
+    const StageTimer narrow(narrow_s);
+    manifolds = narrow_phase(scene_.bodies, pairs, scene_.world.contact_margin);  // (4, step 2)
+  }
+  if (times != nullptr) {
+    times->broad_phase = broad_s;
+    times->narrow_phase = narrow_s;
+  }
+}
+
+void Simulation::build_rows(std::vector<Row>& rows,
+                            std::vector<Manifold>& manifolds,
+                            StageTimes* times) const {
+  detect_contacts(manifolds, times);
+  double rows_s = 0.0;
+  {
+    const StageTimer timer(rows_s);
+    cbps::build_rows(scene_.bodies, scene_.distances, manifolds, scene_.world.rows(), rows);
+  }
+  if (times != nullptr) times->rows = rows_s;
+}
+
+std::vector<Row> Simulation::build_rows() const {
+  std::vector<Row> rows;
+  std::vector<Manifold> manifolds;
+  build_rows(rows, manifolds);
+  return rows;
+}
+
+System Simulation::build_system() const {
+  const World& w = scene_.world;
+  return assemble_system(scene_.bodies, build_rows(), w.gravity, w.dt, w.push);
+}
+
+const System& Simulation::assemble(StageTimes* times) {
+  build_rows(rows_, manifolds_, times);
+  const World& w = scene_.world;
+  double assembly_s = 0.0;
+  {
+    const StageTimer timer(assembly_s);
+    assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_);
+  }
+  if (times != nullptr) times->assembly = assembly_s;
+  return sys_;
+}
+
+VecX Simulation::initial_lambda(const System& sys) const { return warm_lambda(sys, warm_); }
+
+VecX Simulation::warm_lambda(const System& sys, const WarmStart& warm) const {
+  VecX lambda = VecX::Zero(sys.rows());
+  if (!scene_.solver.warm_start) return lambda;
+  for (int k = 0; k < sys.rows(); ++k) {
+    const auto it = warm.find(sys.ids[static_cast<std::size_t>(k)]);
+    if (it != warm.end()) lambda(k) = it->second;
+  }
+  return lambda;
+}
+
+SolverSummary Simulation::solve_system(const System& sys,
+                                       const VecX& b,
+                                       VecX& lambda,
+                                       const SolverSettings& settings) const {
+  SolverOptions options = settings.options();
+  options.seed = settings.seed + static_cast<std::uint64_t>(steps_);  // new permutations each step
+  return solve_coulomb(sys.problem(b), sys.coulomb(), lambda, options);
+}
+
+void Simulation::integrate(const System& sys, const VecX& v2, const VecX& v_move) {
+  const double dt = scene_.world.dt;
+  for (int blk = 0; blk < sys.blocks(); ++blk) {
+    Body& body = scene_.bodies[static_cast<std::size_t>(sys.body_of_block[blk])];
+    body.set_velocity(v2.segment<3>(6 * blk), v2.segment<3>(6 * blk + 3));  // p = m v2, l = I ω2
+    advance_position(
+        body, v_move.segment<3>(6 * blk), v_move.segment<3>(6 * blk + 3), dt);  // (3.2)
+    body.f.setZero();
+    body.tau.setZero();
+  }
+}
+
+void Simulation::remember(const System& sys, const VecX& lambda) {
+  warm_.clear();
+  for (int k = 0; k < sys.rows(); ++k) warm_[sys.ids[static_cast<std::size_t>(k)]] = lambda(k);
+}
+
+double Simulation::energy() const {
+  double e = 0.0;
+  for (const Body& body : scene_.bodies) {
+    if (body.is_static) continue;
+    e += body.kinetic_energy() - body.m * scene_.world.gravity.dot(body.x);
+  }
+  return e;
+}
+
+double Simulation::max_constraint_error() const {
+  double e = 0.0;
+  for (const DistanceConstraint& dc : scene_.distances) {
+    e = std::max(e, std::abs(distance_violation(dc, scene_.bodies)));
+  }
+  return e;
+}
+
+}  // namespace cbps

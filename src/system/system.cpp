@@ -1,0 +1,211 @@
+// The whole system (paper 6.1) and the system equation (6.2).
+#include "cbps/system/system.hpp"
+
+namespace cbps {
+
+void map_bodies(const std::vector<Body>& bodies, System& sys) {
+  sys.block_of_body.assign(bodies.size(), -1);
+  sys.body_of_block.clear();
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    if (bodies[i].is_static) continue;  // static bodies get no columns (5.3)
+    sys.block_of_body[i] = static_cast<int>(sys.body_of_block.size());
+    sys.body_of_block.push_back(static_cast<int>(i));
+  }
+}
+
+SpMatRow assemble_J(const std::vector<Row>& rows,
+                    const std::vector<int>& block_of_body,
+                    int blocks) {
+  SpMatRow J;
+  assemble_J(rows, block_of_body, blocks, J);
+  return J;
+}
+
+void assemble_J(const std::vector<Row>& rows,
+                const std::vector<int>& block_of_body,
+                int blocks,
+                SpMatRow& J) {
+  // Row k's entries: the nonzeros of j_a in body a's 6 columns and of j_b in body b's, in
+  // increasing column order. Two passes over the rows: count, then fill the compressed arrays.
+  auto count = [](int body, const Row6& j) {
+    return body < 0 ? 0 : int((j.array() != 0.0).count());
+  };
+  J.resize(static_cast<Eigen::Index>(rows.size()), 6 * blocks);
+  Eigen::Index nnz = 0;
+  for (const Row& row : rows) nnz += count(row.body_a, row.j_a) + count(row.body_b, row.j_b);
+  J.resizeNonZeros(nnz);
+  int* outer = J.outerIndexPtr();
+  int* inner = J.innerIndexPtr();
+  double* value = J.valuePtr();
+  int e = 0;
+  auto put = [&](int body, const Row6& j) {
+    if (body < 0) return;
+    const int col = 6 * block_of_body[static_cast<std::size_t>(body)];
+    for (int c = 0; c < 6; ++c) {
+      if (j(c) == 0.0) continue;
+      inner[e] = col + c;
+      value[e] = j(c);
+      ++e;
+    }
+  };
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    const Row& row = rows[k];
+    outer[k] = e;
+    const bool a_first =
+        row.body_b < 0 ||
+        (row.body_a >= 0 && block_of_body[static_cast<std::size_t>(row.body_a)] <
+                                block_of_body[static_cast<std::size_t>(row.body_b)]);
+    put(a_first ? row.body_a : row.body_b, a_first ? row.j_a : row.j_b);
+    put(a_first ? row.body_b : row.body_a, a_first ? row.j_b : row.j_a);
+  }
+  outer[rows.size()] = e;
+}
+
+SpMat assemble_Minv(const std::vector<Body>& bodies, const std::vector<int>& body_of_block) {
+  SpMat Minv;
+  assemble_Minv(bodies, body_of_block, Minv);
+  return Minv;
+}
+
+void assemble_Minv(const std::vector<Body>& bodies,
+                   const std::vector<int>& body_of_block,
+                   SpMat& Minv) {
+  // Column by column: three columns holding m⁻¹, three holding a column of I⁻¹ each.
+  const auto n6 = static_cast<Eigen::Index>(6 * body_of_block.size());
+  std::vector<Mat3> Iinv(body_of_block.size());
+  Eigen::Index nnz = 0;
+  for (std::size_t blk = 0; blk < body_of_block.size(); ++blk) {
+    Iinv[blk] = bodies[static_cast<std::size_t>(body_of_block[blk])].Iinv_world();
+    nnz += 3 + (Iinv[blk].array() != 0.0).count();
+  }
+  Minv.resize(n6, n6);
+  Minv.resizeNonZeros(nnz);
+  int* outer = Minv.outerIndexPtr();
+  int* inner = Minv.innerIndexPtr();
+  double* value = Minv.valuePtr();
+  int e = 0;
+  for (std::size_t blk = 0; blk < body_of_block.size(); ++blk) {
+    const Body& body = bodies[static_cast<std::size_t>(body_of_block[blk])];
+    const int o = 6 * static_cast<int>(blk);
+    for (int c = 0; c < 3; ++c) {  // m⁻¹ E₃
+      outer[o + c] = e;
+      inner[e] = o + c;
+      value[e] = body.minv();
+      ++e;
+    }
+    for (int c = 0; c < 3; ++c) {  // I⁻¹
+      outer[o + 3 + c] = e;
+      for (int r = 0; r < 3; ++r) {
+        if (Iinv[blk](r, c) == 0.0) continue;
+        inner[e] = o + 3 + r;
+        value[e] = Iinv[blk](r, c);
+        ++e;
+      }
+    }
+  }
+  outer[n6] = e;
+}
+
+VecX stack_velocities(const std::vector<Body>& bodies, const std::vector<int>& body_of_block) {
+  VecX v(static_cast<Eigen::Index>(6 * body_of_block.size()));
+  for (std::size_t blk = 0; blk < body_of_block.size(); ++blk) {
+    const Body& body = bodies[static_cast<std::size_t>(body_of_block[blk])];
+    v.segment<3>(static_cast<Eigen::Index>(6 * blk)) = body.v();
+    v.segment<3>(static_cast<Eigen::Index>(6 * blk + 3)) = body.omega();
+  }
+  return v;
+}
+
+VecX stack_forces(const std::vector<Body>& bodies,
+                  const std::vector<int>& body_of_block,
+                  const Vec3& gravity) {
+  VecX f(static_cast<Eigen::Index>(6 * body_of_block.size()));
+  for (std::size_t blk = 0; blk < body_of_block.size(); ++blk) {
+    const Body& body = bodies[static_cast<std::size_t>(body_of_block[blk])];
+    f.segment<3>(static_cast<Eigen::Index>(6 * blk)) = body.f + body.m * gravity;
+    f.segment<3>(static_cast<Eigen::Index>(6 * blk + 3)) = body.tau;
+  }
+  return f;
+}
+
+SpMat compute_A(const SpMatRow& J, const SpMat& Minv) {
+  const SpMat MinvJt = Minv * J.transpose();
+  return J * MinvJt;  // A = J M⁻¹ Jᵀ (6.2.9)
+}
+
+VecX compute_b(const VecX& upsilon,
+               const SpMatRow& J,
+               const VecX& v1,
+               const SpMat& Minv,
+               const VecX& fext,
+               double dt) {
+  const VecX rhs = v1 / dt + Minv * fext;
+  return upsilon / dt - J * rhs;  // b = υ/Δt − J (v1/Δt + M⁻¹ f_ext) (6.2.9)
+}
+
+VecX compute_v2(const VecX& v1,
+                const SpMat& Minv,
+                const SpMatRow& J,
+                const VecX& lambda,
+                const VecX& fext,
+                double dt) {
+  const VecX f = J.transpose() * lambda + fext;  // f_c + f_ext, f_c = Jᵀ λ (6.2.1)
+  return v1 + dt * (Minv * f);                   // v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1)
+}
+
+VecX compute_v2(const System& sys, const VecX& lambda) {
+  return compute_v2(sys.v1, sys.Minv, sys.J, lambda, sys.fext, sys.dt);
+}
+
+System assemble_system(const std::vector<Body>& bodies,
+                       const std::vector<Row>& rows,
+                       const Vec3& gravity,
+                       double dt,
+                       PushMode push) {
+  System sys;
+  assemble_system(bodies, rows, gravity, dt, push, sys);
+  return sys;
+}
+
+void assemble_system(const std::vector<Body>& bodies,
+                     const std::vector<Row>& rows,
+                     const Vec3& gravity,
+                     double dt,
+                     PushMode push,
+                     System& sys) {
+  sys.dt = dt;
+  sys.push = push;
+  map_bodies(bodies, sys);
+  const auto c = static_cast<Eigen::Index>(rows.size());
+  sys.labels.resize(rows.size());
+  sys.ids.resize(rows.size());
+  sys.upsilon.resize(c);
+  sys.upsilon_push.resize(c);
+  sys.normal_row.resize(rows.size());
+  sys.manifold.resize(rows.size());
+  sys.mu.resize(c);
+  sys.cmin.resize(c);
+  sys.cmax.resize(c);
+  for (Eigen::Index k = 0; k < c; ++k) {
+    const Row& row = rows[static_cast<std::size_t>(k)];
+    sys.labels[static_cast<std::size_t>(k)] = row.label;
+    sys.ids[static_cast<std::size_t>(k)] = row.id;
+    // The one system holds the push (5.2.3, 5.3); 8.1's velocity system does not.
+    sys.upsilon(k) =
+        push == PushMode::Original ? with_push(row.upsilon, row.upsilon_push) : row.upsilon;
+    sys.upsilon_push(k) = row.upsilon_push;
+    sys.normal_row[static_cast<std::size_t>(k)] = row.normal_row;
+    sys.manifold[static_cast<std::size_t>(k)] = row.manifold;
+    sys.mu(k) = row.mu;
+    sys.cmin(k) = row.cmin;
+    sys.cmax(k) = row.cmax;
+  }
+  assemble_J(rows, sys.block_of_body, sys.blocks(), sys.J);
+  assemble_Minv(bodies, sys.body_of_block, sys.Minv);
+  sys.v1 = stack_velocities(bodies, sys.body_of_block);
+  sys.fext = stack_forces(bodies, sys.body_of_block, gravity);
+  sys.A = compute_A(sys.J, sys.Minv);
+  sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, dt);
+}
+
+}  // namespace cbps
