@@ -124,7 +124,7 @@ void check_same(const Scene& got, const Scene& want) {
     CHECK(g.b == w.b);
     CHECK(g.anchor_a == w.anchor_a);
     CHECK(g.anchor_b == w.anchor_b);
-    CHECK(g.l == w.l);
+    CHECK(g.length == w.length);
   }
 }
 
@@ -322,7 +322,7 @@ TEST_CASE("a missing length defaults to the current distance between the anchors
      "constraints": [{"a": "world", "b": "a", "anchor_a": [0, 0, 2], "anchor_b": [0.5, 0, 0]}]})",
                                   "scene.json");
   REQUIRE(scene.distances.size() == 1);
-  CHECK(scene.distances[0].l == Approx(std::sqrt(5.25)).epsilon(1e-14));
+  CHECK(scene.distances[0].length == Approx(std::sqrt(5.25)).epsilon(1e-14));
   CHECK(scene.distances[0].name == "distance0");
   CHECK(std::abs(distance_violation(scene.distances[0], scene.bodies)) < 1e-15);
 }
@@ -357,7 +357,7 @@ TEST_CASE("a static body needs no mass and may be a constraint end", "[scene_jso
   CHECK(scene.bodies[1].m == 1.0);
   CHECK(scene.distances[0].a == 1);
   CHECK(scene.distances[0].b == 0);
-  CHECK(scene.distances[0].l == 0.5);
+  CHECK(scene.distances[0].length == 0.5);
 }
 
 TEST_CASE("dt may be a fraction p/q", "[scene_json]") {

@@ -25,7 +25,7 @@ TEST_CASE("pendulum-wave lengths give ball k exactly n0+k swings per cycle (10)"
   const double theta0 = 15.0 * kPi / 180.0;
   for (int k = 0; k < 5; ++k) {
     const DistanceConstraint& dc = s.distances[static_cast<std::size_t>(k)];
-    const double T = pendulum_period(dc.l, 9.81, theta0);
+    const double T = pendulum_period(dc.length, 9.81, theta0);
     CHECK(T * (10 + k) == Approx(30.0).epsilon(1e-14));
     CHECK(dc.a == -1);
     CHECK(dc.b == k);
@@ -52,7 +52,7 @@ TEST_CASE("pendulum-wave attach=top: the string's slow mode has the designed per
     // Independent check: the generalized eigenproblem K u = ω² M u of the linearised string +
     // ball (angles φ, ψ; I = 2/5 m r²), solved numerically; its slow mode must have
     // ω² = g / L_k, L_k = g (T_k / 4K)², T_k = cycle / (n0 + k).
-    const double l = dc.l;
+    const double l = dc.length;
     Eigen::Matrix2d M;
     M << m * l * l, m * l * r, m * l * r, m * r * r + 0.4 * m * r * r;
     Eigen::Matrix2d Kmat;

@@ -293,7 +293,8 @@ Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
   settings.n = static_cast<long>(number_parameter(probe, "n"));
   settings.n0 = static_cast<long>(number_parameter(probe, "n0"));
   // Long enough to see the maximum after t = cycle of every ball: one more longest period.
-  const double T_longest = exact_period(probe.distances.front().l, settings.g, settings.theta0);
+  const double T_longest =
+      exact_period(probe.distances.front().length, settings.g, settings.theta0);
   settings.duration = o.duration > 0.0 ? o.duration : settings.cycle + T_longest;
 
   Run run;
@@ -310,7 +311,7 @@ Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
   }
   double E_swing = 0.0;  // J
   for (std::size_t k = 0; k < n; ++k) {
-    E_swing += sim.bodies()[k].m * settings.g * sim.scene().distances[k].l *
+    E_swing += sim.bodies()[k].m * settings.g * sim.scene().distances[k].length *
                (1.0 - std::cos(settings.theta0));
   }
   const double E_initial = sim.energy();
@@ -331,7 +332,7 @@ Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
   for (std::size_t k = 0; k < n; ++k) {
     Ball b;
     b.k = static_cast<int>(k);
-    b.L = sim.scene().distances[k].l;
+    b.L = sim.scene().distances[k].length;
     b.T_exact = exact_period(b.L, settings.g, settings.theta0);
     b.T_design = settings.cycle / static_cast<double>(settings.n0 + static_cast<long>(k));
     const std::vector<double> up = upward_crossings(x[k], run.dt);

@@ -11,7 +11,7 @@ Vec3 anchor_point(const std::vector<Body>& bodies, int index, const Vec3& anchor
 double distance_violation(const DistanceConstraint& dc, const std::vector<Body>& bodies) {
   const Vec3 p_ab =
       anchor_point(bodies, dc.b, dc.anchor_b) - anchor_point(bodies, dc.a, dc.anchor_a);
-  return p_ab.norm() - dc.l;  // c = |p_b − p_a| − l (5.2.2)
+  return p_ab.norm() - dc.length;  // c = |p_b − p_a| − l (5.2.2)
 }
 
 // Distance row, paper 5.2.1 and 5.2.3.
@@ -35,7 +35,7 @@ Row distance_row(const DistanceConstraint& dc,
   Row row = direction_row(bodies, dc.a, p_a, dc.b, p_b, n);
   row.label = dc.name;
   row.id = id;
-  row.upsilon_push = -beta * (dist - dc.l) / dt;  // (5.2.3)
+  row.upsilon_push = -beta * (dist - dc.length) / dt;  // (5.2.3)
   row.cmin = -kInf;
   row.cmax = kInf;
   return row;

@@ -27,7 +27,7 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   for (DistanceConstraint& dc : s.distances) {
     dc.anchor_a *= L;
     dc.anchor_b *= L;
-    dc.l *= L;
+    dc.length *= L;
   }
   s.solver.tolerance *= M * L / (T * T);  // residual in N
   s.solver.delta_tolerance *= M * L / (T * T);

@@ -518,15 +518,15 @@ DistanceConstraint read_distance(const Node& node, std::size_t k, const std::vec
   if (has(node, "anchor_a")) dc.anchor_a = vec3(child(node, "anchor_a"));
   if (has(node, "anchor_b")) dc.anchor_b = vec3(child(node, "anchor_b"));
   if (has(node, "length")) {
-    dc.l = positive(child(node, "length"));
+    dc.length = positive(child(node, "length"));
   } else {
-    dc.l =
+    dc.length =
         (anchor_point(bodies, dc.b, dc.anchor_b) - anchor_point(bodies, dc.a, dc.anchor_a)).norm();
-    if (!(dc.l > 0.0))
+    if (!(dc.length > 0.0))
       fail(node,
            "the anchor points coincide, so the default length (their distance) is 0; "
            "give \"length\"");
-    if (!std::isfinite(dc.l))
+    if (!std::isfinite(dc.length))
       fail(node, "the default length (the anchors' distance) is not finite; give \"length\"");
   }
   return dc;
@@ -884,7 +884,7 @@ std::string scene_to_json(const Scene& scene) {
     c["b"] = end_json(dc.b);
     c["anchor_a"] = vec_json(dc.anchor_a);
     c["anchor_b"] = vec_json(dc.anchor_b);
-    c["length"] = dc.l;
+    c["length"] = dc.length;
     constraints.push_back(c);
   }
   root["constraints"] = constraints;

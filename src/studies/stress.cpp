@@ -508,7 +508,8 @@ Scene braced_square(double cfm) {
     dc.name = "bar" + std::to_string(i) + std::to_string(j);
     dc.a = i;
     dc.b = j;
-    dc.l = (corners[static_cast<std::size_t>(i)] - corners[static_cast<std::size_t>(j)]).norm();
+    dc.length =
+        (corners[static_cast<std::size_t>(i)] - corners[static_cast<std::size_t>(j)]).norm();
     s.distances.push_back(dc);
   };
   bar(0, 1);
@@ -522,7 +523,7 @@ Scene braced_square(double cfm) {
   pin.a = -1;
   pin.anchor_a = Vec3(-0.3, 0.4, 0.0);  // 0.5 m from ball0, off the vertical: it swings
   pin.b = 0;
-  pin.l = 0.5;
+  pin.length = 0.5;
   s.distances.push_back(pin);
   return s;
 }
@@ -589,7 +590,7 @@ void add_degenerate_cases(std::vector<StressCase>& cases) {
            DistanceConstraint twin = s.distances.front();
            twin.name = "joint0-near";
            twin.anchor_a = Vec3(1e-7, 0.0, 0.0);
-           twin.l = (s.bodies[0].x - twin.anchor_a).norm();
+           twin.length = (s.bodies[0].x - twin.anchor_a).norm();
            s.distances.push_back(twin);
            return s;
          },
@@ -680,7 +681,7 @@ void add_inertia_cases(std::vector<StressCase>& cases) {
          string.a = -1;
          string.b = 0;
          string.anchor_b = Vec3(-0.5, 0.0, 0.0);
-         string.l = 0.1;
+         string.length = 0.1;
          s.distances.push_back(string);
          return s;
        },

@@ -74,7 +74,7 @@ Check check_distance_jacobian() {
     dc.b = 1;
     dc.anchor_a = Vec3(0.3, -0.1, 0.05);
     dc.anchor_b = Vec3(-0.2, 0.15, -0.05);
-    dc.l = 1.0;
+    dc.length = 1.0;
     const Row row = distance_row(dc, bodies, 0.0, 1.0, 0);
     const double analytic =
         row.j_a.dot(
@@ -194,7 +194,7 @@ Check check_bias_reduces_violation() {
   Scene scene = make_builtin_scene("pendulum-wave", {{"n", "1"}, {"attach", "center"}});
   scene.world.gravity.setZero();
   scene.world.beta = 0.3;
-  scene.distances[0].l *= 0.99;  // the string is now 1 % too short: c > 0
+  scene.distances[0].length *= 0.99;  // the string is now 1 % too short: c > 0
   Simulation sim(scene);
   const double before = distance_violation(scene.distances[0], sim.scene().bodies);
   sim.step();
@@ -221,7 +221,7 @@ Check check_dimensional_analysis() {
   double weight = 0.0;
   for (const Body& body : base.bodies) weight += body.m * base.world.gravity.norm();
   const double g = base.world.gravity.norm();
-  const double length = base.distances[0].l;
+  const double length = base.distances[0].length;
   double worst = 0.0;
   auto compare = [&](const VecX& x, const VecX& y, double unit, double size) {
     const double scale = std::max(x.lpNorm<Eigen::Infinity>(), size) * unit;

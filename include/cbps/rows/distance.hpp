@@ -9,7 +9,7 @@
 
 namespace cbps {
 
-/// A distance constraint (5.2): |p_b − p_a| = l with p = x + r, r = R anchor.
+/// A distance constraint (5.2): |p_b − p_a| = l with p = x + r, r = R anchor; l is `length`.
 /// Index -1 attaches that end to the world, the anchor then being a world point (m).
 struct DistanceConstraint {
   std::string name;
@@ -17,7 +17,7 @@ struct DistanceConstraint {
   int b = -1;                    ///< body index of end b, -1 = world
   Vec3 anchor_a = Vec3::Zero();  ///< body-frame point on a (m), or world point if a = -1
   Vec3 anchor_b = Vec3::Zero();  ///< body-frame point on b (m), or world point if b = -1
-  double l = 1.0;                ///< rest length, m (> 0)
+  double length = 1.0;           ///< rest length l, m (> 0)
 };
 
 /// World position of one end of a distance constraint, m.

@@ -35,7 +35,7 @@ Scene build_chain(const std::map<std::string, std::string>& values) {
     joint.name = "joint" + std::to_string(k);
     joint.a = static_cast<int>(k) - 1;  // -1: the first link hangs from the world origin
     joint.b = static_cast<int>(k);
-    joint.l = link_length;
+    joint.length = link_length;
     scene.distances.push_back(joint);
   }
   scene.parameters = p.in_force();

@@ -167,7 +167,7 @@ Scene build_newtons_cradle(const std::map<std::string, std::string>& values) {
     string.a = -1;
     string.anchor_a = pivot;
     string.b = static_cast<int>(k);
-    string.l = L;
+    string.length = L;
     scene.distances.push_back(string);
   }
   scene.parameters = p.in_force();

@@ -73,7 +73,7 @@ Scene build_pendulum_wave(const std::map<std::string, std::string>& values) {
     string.anchor_a = pivot;
     string.b = static_cast<int>(k);
     string.anchor_b = top ? Vec3(0.0, radius, 0.0) : Vec3::Zero();
-    string.l = l;
+    string.length = l;
 
     scene.bodies.push_back(ball);
     scene.distances.push_back(string);
