@@ -1,4 +1,4 @@
-// libFuzzer target for the Matrix Market readers (src/matrix_market.cpp): every input is read
+// libFuzzer target for the Matrix Market readers (src/io/matrix_market.cpp): every input is read
 // both as a sparse matrix (parse_matrix_market_sparse) and as a vector
 // (parse_matrix_market_vector). Each either returns or throws cbps::InputError; any other
 // exception, a crash, a sanitizer report, or a NaN in what was read is a finding.

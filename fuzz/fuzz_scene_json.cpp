@@ -1,4 +1,4 @@
-// libFuzzer target for the JSON scene reader, cbps::parse_scene (src/scene_json.cpp).
+// libFuzzer target for the JSON scene reader, cbps::parse_scene (src/scene/scene_json.cpp).
 // The contract: any input either reads as a Scene whose every number is finite, or throws
 // cbps::InputError. Any other exception, a crash, a sanitizer report or a non-finite value in
 // the Scene is a finding. A scene that reads is also written back (scene_to_json) and must read

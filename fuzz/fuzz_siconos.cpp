@@ -1,4 +1,4 @@
-// libFuzzer target for the Siconos .dat reader (src/siconos.cpp): every input is read both as an
+// libFuzzer target for the Siconos .dat reader (src/io/siconos.cpp): every input is read both as an
 // LCP (relay = false) and as a relay problem (relay = true). Each either returns a problem whose
 // M, q, lb and ub have the right sizes and no NaN (M, q finite; lb ≤ ub), or throws
 // cbps::InputError; any other exception, a crash or a sanitizer report is a finding.

@@ -381,7 +381,7 @@ def write_report(outdir, summary, s, balls, reached, snapshot_times, t):
                  "ball, so each pendulum is a massless rope of length l holding a rigid ball "
                  "that can turn about its top point: a double pendulum. The scene chooses l so "
                  "that the slow mode has the design period and releases the ball in that mode's "
-                 "shape (src/scenes/pendulum_wave.cpp). Checked here independently: l is "
+                 "shape (src/scene/builtin/pendulum_wave.cpp). Checked here independently: l is "
                  "measured from the first sample of the trajectory (pivot to the ball's top "
                  "point), and the linearised double pendulum (rope angle φ, ball angle ψ, "
                  "I = 2/5 m r²) gives the slow mode ω² = 2 g r / (s + sqrt(s² − 4 l ρ² r)), "

@@ -1,10 +1,9 @@
 // The improved push factor (paper 8.1): the position system. push.hpp explains the two systems.
 #include "cbps/step/push.hpp"
 
-#include <chrono>
-
 #include "cbps/step/guard.hpp"
 #include "cbps/step/simulation.hpp"
+#include "stage_timer.hpp"
 
 namespace cbps {
 
@@ -17,7 +16,7 @@ VecX position_bias(const System& sys) {
 VecX Simulation::position_velocities(const System& sys, const VecX& lambda, StepReport& report) {
   VecX lambda_position, v_position;
   {
-    const auto start = std::chrono::steady_clock::now();
+    const detail::StageTimer solve(report.times.solve);
     const VecX b_position =
         compute_b(position_bias(sys), sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
     // Start from this step's velocity λ plus last step's push increment λ_position − λ: the
@@ -25,8 +24,6 @@ VecX Simulation::position_velocities(const System& sys, const VecX& lambda, Step
     // λ_position, 10-box stack, 20 sweeps.)
     lambda_position = lambda + warm_lambda(sys, warm_position_);
     report.position_solver = solve_system(sys, b_position, lambda_position);
-    report.times.solve +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   v_position = compute_v2(sys, lambda_position);  // (12.3.1), with the position system's λ
   check_divergence(sys,

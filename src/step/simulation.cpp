@@ -8,27 +8,12 @@
 #include "cbps/rows/build_rows.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/step/guard.hpp"
+#include "stage_timer.hpp"
 
 namespace cbps {
 
-namespace {
-
 using Clock = std::chrono::steady_clock;
-
-/// Adds the seconds from its construction to its end to `into`: one stage's wall time.
-class StageTimer {
- public:
-  explicit StageTimer(double& into) : into_(into), start_(Clock::now()) {}
-  ~StageTimer() { into_ += std::chrono::duration<double>(Clock::now() - start_).count(); }
-  StageTimer(const StageTimer&) = delete;
-  StageTimer& operator=(const StageTimer&) = delete;
-
- private:
-  double& into_;
-  Clock::time_point start_;
-};
-
-}  // namespace
+using detail::StageTimer;
 
 std::string stage_name(Stage stage, Method method, PushMode push) {
   const std::string name(to_string(method));
@@ -58,52 +43,46 @@ Simulation::Simulation(Scene scene)
     : scene_(std::move(scene)), collision_stage_(scene_.has_contact_pairs()) {}
 
 StepReport Simulation::step() {
-  double step_time = 0.0;
+  const auto start = Clock::now();
   StepReport report;
+  name_stages();
+  const System& sys = assemble(&report.times);  // Collision (4), Rows (5.2–5.4), Assembly (6.1)
+  report_contacts(sys, report);
+  VecX lambda = initial_lambda(sys);  // warm start (7)
   {
-    const StageTimer whole(step_time);
-    name_stages();
-    const System& sys =
-        assemble(&report.times);  // Collision (4), Rows (5.2–5.4), Assembly (6.1, 6.2.9)
-    report.rows = sys.rows();
-    for (const Manifold& manifold : manifolds_) {
-      report.contacts += static_cast<int>(manifold.points.size());
-      for (const ContactPoint& point : manifold.points)
-        report.max_penetration = std::max(report.max_penetration, point.depth);
-    }
-    const bool improved = sys.push == PushMode::Improved;
-    VecX lambda, v2;
-    {
-      const StageTimer solve(report.times.solve);
-      lambda = initial_lambda(sys);               // warm start (7)
-      report.solver = solve_system(sys, lambda);  // Solve (7.1.1 / 6.2)
-    }
-    {
-      const StageTimer integrate(report.times.integrate);
-      v2 = compute_v2(sys, lambda);  // v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1)
-      check_divergence(sys,
-                       scene_.bodies,
-                       scene_.world,
-                       lambda,
-                       v2,
-                       steps_,
-                       improved ? "velocity system (8.1)" : "system (6.2)");
-    }
-    if (observer_) observer_(sys, lambda, v2);  // not timed: a cross-check is not the step
-    if (scene_.solver.cfm > 0.0 && sys.rows() > 0)
-      report.cfm_acceleration_error = scene_.solver.cfm * lambda.lpNorm<Eigen::Infinity>();
-    const VecX v_move = improved ? position_velocities(sys, lambda, report) : v2;  // (8.1)
-    {
-      const StageTimer integrate(report.times.integrate);
-      this->integrate(sys, v2, v_move);  // Integrate (3.2)
-      remember(sys, lambda);
-    }
-    ++steps_;
-    t_ = static_cast<double>(steps_) * scene_.world.dt;  // not a running sum: no drift
-    report.max_constraint_error = max_constraint_error();
+    const StageTimer solve(report.times.solve);
+    report.solver = solve_system(sys, lambda);  // Solve (7.1.1 / 6.2)
   }
-  report.wall_time_s = step_time;
+  const VecX v2 = compute_v2(sys, lambda);  // v2 = v1 + Δt M⁻¹ (Jᵀ λ + f_ext) (12.3.1)
+  check_divergence(sys, scene_.bodies, scene_.world, lambda, v2, steps_, system_name(sys.push));
+  if (observer_) observer_(sys, lambda, v2);  // not timed: a cross-check is not the step
+  report.cfm_acceleration_error = cfm_acceleration_error(sys, lambda);
+  const bool improved = sys.push == PushMode::Improved;
+  const VecX v_move = improved ? position_velocities(sys, lambda, report) : v2;  // (8.1)
+  integrate(sys, v2, v_move, report.times);                                      // Integrate (3.2)
+  remember(sys, lambda);                                 // for the next step's warm start (7)
+  t_ = static_cast<double>(++steps_) * scene_.world.dt;  // not a running sum: no drift
+  report.max_constraint_error = max_constraint_error();
+  report.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
   return report;
+}
+
+void Simulation::report_contacts(const System& sys, StepReport& report) const {
+  report.rows = sys.rows();
+  for (const Manifold& manifold : manifolds_) {
+    report.contacts += static_cast<int>(manifold.points.size());
+    for (const ContactPoint& point : manifold.points)
+      report.max_penetration = std::max(report.max_penetration, point.depth);
+  }
+}
+
+double Simulation::cfm_acceleration_error(const System& sys, const VecX& lambda) const {
+  if (!(scene_.solver.cfm > 0.0) || sys.rows() == 0) return 0.0;
+  return scene_.solver.cfm * lambda.lpNorm<Eigen::Infinity>();  // eps max |lambda_k|, m/s²
+}
+
+const char* Simulation::system_name(PushMode push) {
+  return push == PushMode::Improved ? "velocity system (8.1)" : "system (6.2)";
 }
 
 void Simulation::name_stages() {
@@ -197,7 +176,11 @@ SolverSummary Simulation::solve_system(const System& sys,
   return solve_coulomb(sys.problem(b), sys.coulomb(), lambda, options);
 }
 
-void Simulation::integrate(const System& sys, const VecX& v2, const VecX& v_move) {
+void Simulation::integrate(const System& sys,
+                           const VecX& v2,
+                           const VecX& v_move,
+                           StageTimes& times) {
+  const StageTimer timer(times.integrate);
   const double dt = scene_.world.dt;
   for (int blk = 0; blk < sys.blocks(); ++blk) {
     Body& body = scene_.bodies[static_cast<std::size_t>(sys.body_of_block[blk])];

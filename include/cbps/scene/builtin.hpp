@@ -34,7 +34,7 @@ const BuiltinScene* find_builtin_scene(const std::string& name);
 /// parameter for an unknown parameter (listing the valid ones) or a value that is not valid.
 Scene make_builtin_scene(const std::string& name, const std::map<std::string, std::string>& values);
 
-/// Body builders shared by the built-in scenes and the stress catalogue (src/stress.cpp).
+/// Body builders shared by the built-in scenes and the stress catalogue (src/studies/stress.cpp).
 /// A static ground plane through `point` with outward normal `normal` (unit).
 Body ground_body(const std::string& name, const Vec3& point, const Vec3& normal);
 /// A movable solid box of uniform density: half extents in m, mass in kg, centre x in m.

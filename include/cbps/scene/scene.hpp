@@ -1,5 +1,5 @@
 // A scene: bodies, constraints, world settings and solver settings. JSON scene files
-// (scene_json.hpp) and the built-in parametric scenes (scenes.hpp) both produce this struct,
+// (scene_json.hpp) and the built-in parametric scenes (builtin.hpp) both produce this struct,
 // so the solver never sees where a scene came from.
 #pragma once
 

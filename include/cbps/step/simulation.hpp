@@ -137,7 +137,13 @@ class Simulation {
   /// the velocities that move the bodies this step (step/push.cpp).
   VecX position_velocities(const System& sys, const VecX& lambda, StepReport& report);
   /// Momenta from v2 with this step's inertia, then positions moved by v_move (3.2).
-  void integrate(const System& sys, const VecX& v2, const VecX& v_move);
+  void integrate(const System& sys, const VecX& v2, const VecX& v_move, StageTimes& times);
+  /// The step's rows, contact points and deepest penetration, into the report.
+  void report_contacts(const System& sys, StepReport& report) const;
+  /// StepReport::cfm_acceleration_error: eps max |lambda_k|, m/s² (0 without CFM).
+  double cfm_acceleration_error(const System& sys, const VecX& lambda) const;
+  /// How the divergence guard names the system solved for v2.
+  static const char* system_name(PushMode push);
   /// lambda by row id, for the next step's warm start (7).
   void remember(const System& sys, const VecX& lambda);
   VecX warm_lambda(const System& sys, const WarmStart& warm) const;

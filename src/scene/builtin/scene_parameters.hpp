@@ -1,4 +1,4 @@
-// Reading a built-in scene's NAME=VALUE parameters (internal to src/scenes).
+// Reading a built-in scene's NAME=VALUE parameters (internal to src/scene/builtin).
 #pragma once
 
 #include <map>
