@@ -25,14 +25,14 @@ double move_bounds(const CoulombRows& coulomb, const VecX& lambda, VecX& cmin, V
 }
 
 /// The fixed point for the direct path: solve the boxed problem, move the bounds, again.
-SolverSummary direct_fixed_point(const BoxedProblem& problem,
+/// `bounded` refers to cmin and cmax, which start as the caller's bounds and move.
+SolverSummary direct_fixed_point(const BoxedProblem& bounded,
                                  const CoulombRows& coulomb,
+                                 VecX& cmin,
+                                 VecX& cmax,
                                  VecX& lambda,
                                  const SolverOptions& options) {
-  VecX cmin = problem.cmin, cmax = problem.cmax;
-  const BoxedProblem bounded{
-      problem.A, problem.b, cmin, cmax, problem.J, problem.Minv, problem.blocks};
-  const VecX& b = problem.b;
+  const VecX& b = bounded.b;
   const double scale = std::max(1.0, b.size() > 0 ? b.lpNorm<Eigen::Infinity>() : 0.0);
   SolverSummary total;
   int rounds = 0;
@@ -61,14 +61,14 @@ SolverSummary direct_fixed_point(const BoxedProblem& problem,
   return total;
 }
 
-/// The iterative methods: the bounds follow lambda before every sweep.
-SolverSummary sweep_with_moving_bounds(const BoxedProblem& problem,
+/// The iterative methods: the bounds follow lambda before every sweep (bounded, cmin, cmax as
+/// for direct_fixed_point).
+SolverSummary sweep_with_moving_bounds(const BoxedProblem& bounded,
                                        const CoulombRows& coulomb,
+                                       VecX& cmin,
+                                       VecX& cmax,
                                        VecX& lambda,
                                        const SolverOptions& options) {
-  VecX cmin = problem.cmin, cmax = problem.cmax;
-  const BoxedProblem bounded{
-      problem.A, problem.b, cmin, cmax, problem.J, problem.Minv, problem.blocks};
   SolverOptions one = options;
   one.max_iterations = 1;
   one.split_islands = false;
@@ -120,26 +120,22 @@ SolverSummary solve_coulomb(const BoxedProblem& problem,
                             const SolverOptions& options) {
   if (!coulomb.any()) return solve(problem, lambda, options);
   if (lambda.size() != problem.rows()) lambda = VecX::Zero(problem.rows());
-  // Constraint-force mixing: A + eps E formed once here, not by solve() in every round; the
-  // matrix-free sweep puts eps on its own diagonal.
-  if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
-    const SpMat regularised = with_cfm(problem.A, options.cfm);
-    SolverOptions plain = options;
-    plain.cfm = 0.0;
-    return solve_coulomb(BoxedProblem{regularised,
-                                      problem.b,
-                                      problem.cmin,
-                                      problem.cmax,
-                                      problem.J,
-                                      problem.Minv,
-                                      problem.blocks},
-                         coulomb,
-                         lambda,
-                         plain);
-  }
-  if (options.method == Method::Direct)
-    return direct_fixed_point(problem, coulomb, lambda, options);
-  return sweep_with_moving_bounds(problem, coulomb, lambda, options);
+  // Constraint-force mixing: A + eps E formed once here, not by solve() in every round.
+  return with_cfm_applied(problem, options, [&](const BoxedProblem& p, const SolverOptions& o) {
+    SolverSummary s;
+    // The bounds move; the rest of the problem is the caller's.
+    VecX cmin = p.cmin, cmax = p.cmax;
+    BoxedProblem bounded{p.A, p.b, cmin, cmax};
+    bounded.J = p.J;
+    bounded.Minv = p.Minv;
+    bounded.blocks = p.blocks;
+    if (o.method == Method::Direct) {
+      s = direct_fixed_point(bounded, coulomb, cmin, cmax, lambda, o);
+    } else {
+      s = sweep_with_moving_bounds(bounded, coulomb, cmin, cmax, lambda, o);
+    }
+    return s;
+  });
 }
 
 }  // namespace cbps

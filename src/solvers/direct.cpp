@@ -46,11 +46,10 @@ class IslandSolver {
         cmax_(problem.cmax),
         options_(options),
         stats_(stats) {
-    const SpMat& A = A_;
-    const Eigen::Index m = A.rows();
+    const Eigen::Index m = A_.rows();
     for (Eigen::Index j = 0; j < m; ++j) {
       double row_sum = 0.0;
-      for (SpMat::InnerIterator it(A, j); it; ++it) {
+      for (SpMat::InnerIterator it(A_, j); it; ++it) {
         row_sum += std::abs(it.value());
         if (it.row() == j) max_diagonal_ = std::max(max_diagonal_, it.value());
       }

@@ -153,22 +153,28 @@ SolverSummary solve_islands(const std::vector<std::vector<int>>& islands,
 
 }  // namespace
 
+SolverSummary with_cfm_applied(
+    const BoxedProblem& problem,
+    const SolverOptions& options,
+    const std::function<SolverSummary(const BoxedProblem&, const SolverOptions&)>& run) {
+  if (options.cfm == 0.0 || options.method == Method::MatrixFree) return run(problem, options);
+  const SpMat mixed = with_cfm(problem.A, options.cfm);
+  BoxedProblem regularised{mixed, problem.b, problem.cmin, problem.cmax};
+  regularised.J = problem.J;
+  regularised.Minv = problem.Minv;
+  regularised.blocks = problem.blocks;
+  SolverOptions plain = options;
+  plain.cfm = 0.0;
+  return run(regularised, plain);
+}
+
 SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
   if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
-    // Every method with an explicit A solves A + eps E, formed here; the matrix-free sweep puts
-    // eps on its own diagonal.
-    const SpMat regularised = with_cfm(problem.A, options.cfm);
-    SolverOptions plain = options;
-    plain.cfm = 0.0;
-    return solve(BoxedProblem{regularised,
-                              problem.b,
-                              problem.cmin,
-                              problem.cmax,
-                              problem.J,
-                              problem.Minv,
-                              problem.blocks},
-                 lambda,
-                 plain);
+    // Every method with an explicit A solves A + eps E; the matrix-free sweep puts eps on its
+    // own diagonal.
+    return with_cfm_applied(problem, options, [&](const BoxedProblem& p, const SolverOptions& o) {
+      return solve(p, lambda, o);
+    });
   }
   // The direct path splits by itself (options.direct.split_islands); the matrix-free rows
   // never meet, so islands would change nothing there.

@@ -116,6 +116,14 @@ struct SolverSummary {
   bool ok() const { return termination != Termination::NonFinite; }
 };
 
+/// Constraint-force mixing, applied once for a whole solve: calls run(problem, options) with A
+/// replaced by A + eps E (formed here, once) and options.cfm = 0, or with both as they are when
+/// cfm = 0 or the method is matrix-free (its sweep puts eps on its own diagonal).
+SolverSummary with_cfm_applied(
+    const BoxedProblem& problem,
+    const SolverOptions& options,
+    const std::function<SolverSummary(const BoxedProblem&, const SolverOptions&)>& run);
+
 /// Solves the problem by options.method from the guess in lambda (resized to zeros if its size
 /// is wrong). With options.cfm > 0 every method works on A + eps E (the matrix-free sweep on its
 /// own diagonal). With options.split_islands the iterative methods run on each island of A
