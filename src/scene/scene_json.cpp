@@ -35,8 +35,9 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // allowed | |q| − 1 | in a
 constexpr double kUnitRounding = 4.0 * std::numeric_limits<double>::epsilon();
 constexpr double kSymmetryTolerance = 1e-12;  // allowed |I_ij − I_ji| / max |I_kl|
 const std::vector<std::string> kShapeTypes{"sphere", "box", "plane"};
-const std::vector<std::string> kPushModes{"original", "improved"};   // PushMode order
-const std::vector<std::string> kFrictionModels{"paper", "coulomb"};  // FrictionModel order
+const std::vector<std::string> kPushModes{"original", "improved"};          // PushMode order
+const std::vector<std::string> kRowOrders{"natural", "reverse", "random"};  // RowOrder order
+const std::vector<std::string> kFrictionModels{"paper", "coulomb"};         // FrictionModel order
 const std::vector<std::string> kConstraintTypes{"distance"};
 
 std::string join(const std::vector<std::string>& words) {
@@ -252,6 +253,8 @@ SolverSettings read_solver(const Node& node) {
                 "tolerance",
                 "delta_tolerance",
                 "relaxation",
+                "order",
+                "seed",
                 "warm_start",
                 "split_islands",
                 "cfm"});
@@ -269,9 +272,12 @@ SolverSettings read_solver(const Node& node) {
   if (has(node, "relaxation")) {
     const Node omega = child(node, "relaxation");
     solver.relaxation = number(omega);
-    if (!(solver.relaxation > 0.0 && solver.relaxation < 2.0))
-      fail(omega, "must be in (0, 2)" + got(omega));
+    if (!relaxation_in_range(solver.method, solver.relaxation))
+      fail(omega, std::string("must be in ") + relaxation_range(solver.method) + got(omega));
   }
+  if (has(node, "order"))
+    solver.order = static_cast<RowOrder>(choice(child(node, "order"), kRowOrders, "row order"));
+  if (has(node, "seed")) solver.seed = static_cast<std::uint64_t>(integer(child(node, "seed"), 0));
   if (has(node, "warm_start")) solver.warm_start = boolean(child(node, "warm_start"));
   if (has(node, "split_islands")) solver.split_islands = boolean(child(node, "split_islands"));
   if (has(node, "cfm")) solver.cfm = nonnegative(child(node, "cfm"));
@@ -855,6 +861,8 @@ std::string scene_to_json(const Scene& scene) {
   solver["tolerance"] = scene.solver.tolerance;
   solver["delta_tolerance"] = scene.solver.delta_tolerance;
   solver["relaxation"] = scene.solver.relaxation;
+  solver["order"] = kRowOrders.at(static_cast<std::size_t>(scene.solver.order));
+  solver["seed"] = scene.solver.seed;
   solver["warm_start"] = scene.solver.warm_start;
   solver["split_islands"] = scene.solver.split_islands;
   solver["cfm"] = scene.solver.cfm;

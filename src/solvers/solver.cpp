@@ -62,6 +62,15 @@ std::string method_names() {
   return names;
 }
 
+bool relaxation_in_range(Method method, double omega) {
+  if (method == Method::Jacobi) return omega > 0.0 && omega <= 1.0;
+  return omega > 0.0 && omega < 2.0;
+}
+
+const char* relaxation_range(Method method) {
+  return method == Method::Jacobi ? "(0, 1]" : "(0, 2)";
+}
+
 std::string to_string(RowOrder order) {
   switch (order) {
     case RowOrder::Natural:

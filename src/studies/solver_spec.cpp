@@ -37,8 +37,6 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   spec.text = text;
   const std::string& name = parts.front();
   bool omega_allowed = true;
-  double omega_max = 2.0;
-  bool omega_inclusive = false;
   bool omega_required = false;
   if (name == "pgs" || name == "matrix-free" || name == "block-pgs" || name == "direct") {
     method_from_string(name, spec.method);
@@ -50,8 +48,6 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
     spec.method = Method::Sgs;
   } else if (name == "jacobi") {
     spec.method = Method::Jacobi;
-    omega_max = 1.0;
-    omega_inclusive = true;
   } else {
     fail(
         "unknown solver (valid: pgs, psor:OMEGA, sgs[:OMEGA], jacobi[:OMEGA], block-pgs, "
@@ -65,10 +61,8 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
       double omega = 0.0;
       if (!omega_allowed) fail("'" + name + "' takes no relaxation factor");
       if (have_omega) fail("more than one relaxation factor");
-      if (!parse_number(p, omega) || !(omega > 0.0) ||
-          !(omega_inclusive ? omega <= omega_max : omega < omega_max)) {
-        fail("relaxation factor '" + p + "' must be a number in (0, " +
-             (omega_max == 1.0 ? "1]" : "2)"));
+      if (!parse_number(p, omega) || !relaxation_in_range(spec.method, omega)) {
+        fail("relaxation factor '" + p + "' must be a number in " + relaxation_range(spec.method));
       }
       spec.relaxation = omega;
       have_omega = true;

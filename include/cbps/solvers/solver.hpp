@@ -45,6 +45,13 @@ std::string method_names();
 /// True for the methods that sweep (all but Direct): they run to a sweep limit.
 inline bool is_iterative(Method method) { return method != Method::Direct; }
 
+/// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
+/// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check
+/// scene files and the --solver grammar share.
+bool relaxation_in_range(Method method, double omega);
+/// That range as text, "(0, 1]" or "(0, 2)".
+const char* relaxation_range(Method method);
+
 /// The order in which a Gauss-Seidel sweep visits the rows (7.1.1 uses the natural order).
 enum class RowOrder {
   Natural,  ///< 0, 1, …, c−1
