@@ -137,16 +137,16 @@ struct RowStatus {
   bool satisfied = true;  ///< the sign or zero condition of w holds within the tolerance
 };
 
-RowStatus row_status(double lambda, double lo, double hi, double w, double tol) {
+RowStatus row_status(double lambda, double cmin, double cmax, double w, double tol) {
   RowStatus s;
-  const double tol_lo = std::max(tol, 1e-12 * std::abs(lo));
-  const double tol_hi = std::max(tol, 1e-12 * std::abs(hi));
-  if (std::isfinite(lo) && std::isfinite(hi) && hi - lo <= tol_lo) {
+  const double tol_min = std::max(tol, 1e-12 * std::abs(cmin));
+  const double tol_max = std::max(tol, 1e-12 * std::abs(cmax));
+  if (std::isfinite(cmin) && std::isfinite(cmax) && cmax - cmin <= tol_min) {
     s.where = "at cmin = cmax";  // a fixed lambda (Coulomb friction with no normal force): any w
-  } else if (std::isfinite(lo) && lambda - lo <= tol_lo) {
+  } else if (std::isfinite(cmin) && lambda - cmin <= tol_min) {
     s.where = "at cmin";
     s.satisfied = w >= -tol;
-  } else if (std::isfinite(hi) && hi - lambda <= tol_hi) {
+  } else if (std::isfinite(cmax) && cmax - lambda <= tol_max) {
     s.where = "at cmax";
     s.satisfied = w <= tol;
   } else {
