@@ -11,7 +11,7 @@
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace cbps;

@@ -11,7 +11,7 @@
 #include "cbps/studies/conditioning.hpp"
 #include "cbps/studies/euler_reference.hpp"
 #include "cbps/studies/stress.hpp"
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
 using cbps::test::run_cli;

@@ -1,5 +1,5 @@
-// Running the cbps executable from a test: exit code and captured output, scratch folders.
-// Shared by the command-line tests (test_cli*.cpp).
+// What several test files share: running the cbps executable (exit code and captured output),
+// scratch folders.
 #pragma once
 
 #include <sys/wait.h>

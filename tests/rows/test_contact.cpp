@@ -14,7 +14,7 @@
 #include "cbps/rows/contact.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
 
