@@ -1,29 +1,23 @@
-// The solver variants people compare PGS (7.1.1) with: relaxation (PSOR), symmetric sweeps,
-// row orders, damped Jacobi, and the matrix-free form (sequential impulses), which must give
-// the explicit-A iterates to round-off: the two formulations are one method.
+// solve() over the methods and the variants people compare PGS (7.1.1) with: relaxation (PSOR),
+// symmetric sweeps, row orders, damped Jacobi, matrix-free, block PGS; and constraint-force mixing,
+// which every method solves the same way.
+#include <algorithm>
 #include <catch2/catch.hpp>
-#include <random>
 #include <string>
-#include <vector>
 
-#include "cbps/cbps.hpp"
-#include "cbps/error.hpp"
+#include "cbps/rows/distance.hpp"
 #include "cbps/scene/builtin.hpp"
+#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/system.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
+using test::system_of;
 
 namespace {
-
-/// The system of a built-in scene after `steps` steps (contacts formed, chains loaded).
-System system_of(const std::string& name,
-                 const std::map<std::string, std::string>& values,
-                 int steps) {
-  Simulation sim(make_builtin_scene(name, values));
-  for (int s = 0; s < steps; ++s) sim.step();
-  return sim.build_system();
-}
 
 /// The direct path's lambda (6.2) and its v2, the unique reference.
 VecX exact_lambda(const System& sys) {
@@ -35,50 +29,6 @@ VecX exact_lambda(const System& sys) {
 }
 
 }  // namespace
-
-TEST_CASE("matrix-free PGS gives explicit-A PGS's iterates to round-off (7.1.1)",
-          "[solver][variants][eq7.1.1]") {
-  // Contacts with friction (paper bounds and Coulomb), a chain with an end-mass ratio, each in
-  // natural and reverse order and with over-relaxation: 40 sweeps from lambda = 0, compared
-  // after every sweep.
-  struct Case {
-    std::string name;
-    std::map<std::string, std::string> values;
-    int steps;
-  };
-  const Case c = GENERATE(values<Case>({
-      {"chain", {{"n", "40"}, {"mass_ratio", "100"}}, 5},
-      {"stack", {{"n", "4"}}, 3},
-      {"pyramid", {{"base", "4"}}, 2},
-      {"v-corner", {{"mu", "0.5"}}, 2},
-  }));
-  const RowOrder order = GENERATE(RowOrder::Natural, RowOrder::Reverse);
-  const double omega = GENERATE(1.0, 1.3);
-  CAPTURE(c.name, to_string(order), omega);
-  const System sys = system_of(c.name, c.values, c.steps);
-  REQUIRE(sys.rows() > 0);
-  std::mt19937_64 rng(0);
-  std::vector<int> rows;
-  sweep_order(order, sys.rows(), rng, rows);
-  const MatrixFreePgs matrix_free(sys.J, sys.Minv);
-  VecX explicit_lambda = VecX::Zero(sys.rows()), free_lambda = explicit_lambda;
-  VecX u = matrix_free.impulse(free_lambda);
-  double worst = 0.0;
-  for (int sweep = 0; sweep < 40; ++sweep) {
-    pgs_sweep(sys.problem(), explicit_lambda, omega, rows);
-    matrix_free.sweep(sys.b, sys.cmin, sys.cmax, free_lambda, u, omega, rows);
-    const double scale = std::max(1.0, explicit_lambda.lpNorm<Eigen::Infinity>());
-    worst = std::max(worst, (explicit_lambda - free_lambda).lpNorm<Eigen::Infinity>() / scale);
-  }
-  INFO("largest difference over 40 sweeps, relative to max |lambda|: " << worst);
-  // Each sweep rounds A lambda two ways: a few ulps per row, carried through 40 sweeps.
-  CHECK(worst < 1e-12);
-  CHECK((u - matrix_free.impulse(free_lambda)).lpNorm<Eigen::Infinity>() <
-        1e-9 * std::max(1.0, u.lpNorm<Eigen::Infinity>()));  // u = W lambda kept
-  // The same residual with or without A.
-  CHECK(matrix_free.residual(sys.b, sys.cmin, sys.cmax, free_lambda, u) ==
-        Approx(natural_map_residual(sys.problem(), free_lambda)).epsilon(1e-8).margin(1e-12));
-}
 
 TEST_CASE("every variant converges to the direct path's answer (7.1.1, 6.2)",
           "[solver][variants]") {
@@ -127,90 +77,39 @@ TEST_CASE("every variant converges to the direct path's answer (7.1.1, 6.2)",
   }
 }
 
-TEST_CASE("symmetric Gauss-Seidel is a forward sweep then a backward sweep", "[solver][variants]") {
-  const System sys = system_of("pyramid", {{"base", "3"}}, 2);
-  std::vector<int> backward(static_cast<std::size_t>(sys.rows()));
-  for (int k = 0; k < sys.rows(); ++k) backward[std::size_t(k)] = sys.rows() - 1 - k;
-  VecX by_hand = VecX::Zero(sys.rows()), sgs = by_hand;
-  SolverOptions options;
-  options.max_iterations = 5;
-  options.relaxation = 1.2;
-  solve_sgs(sys.problem(), sgs, options);
-  for (int k = 0; k < 5; ++k) {
-    pgs_sweep(sys.problem(), by_hand, 1.2);
-    pgs_sweep(sys.problem(), by_hand, 1.2, backward);
-  }
-  CHECK((sgs - by_hand).lpNorm<Eigen::Infinity>() == 0.0);  // the same operations
-}
-
-TEST_CASE("random row order: the seed fixes the iterates, another seed changes them",
-          "[solver][variants]") {
-  const System sys = system_of("stack", {{"n", "3"}}, 3);
-  const auto run = [&](std::uint64_t seed) {
-    SolverOptions options;
-    options.order = RowOrder::Random;
-    options.seed = seed;
-    options.max_iterations = 7;
-    VecX lambda = VecX::Zero(sys.rows());
-    solve_pgs(sys.problem(), lambda, options);
-    return lambda;
-  };
-  CHECK((run(1) - run(1)).lpNorm<Eigen::Infinity>() == 0.0);
-  CHECK((run(1) - run(2)).lpNorm<Eigen::Infinity>() > 1e-6);
-}
-
-TEST_CASE("damping makes projected Jacobi converge where plain Jacobi diverges",
-          "[solver][variants]") {
-  // A = (1 − a) I + a 11ᵀ with a = 0.9 (3×3, definite): Jacobi's iteration matrix −a (11ᵀ − I)
-  // has the eigenvalue −2a = −1.8, so plain Jacobi diverges; damped by omega its eigenvalues
-  // are 1 − omega (1 + 2a) and 1 − omega (1 − a): omega = 0.3 gives 0.16 and 0.97, < 1.
-  MatX dense = MatX::Constant(3, 3, 0.9);
-  dense.diagonal().setOnes();
-  const SpMat A = dense.sparseView();
-  const VecX b = VecX::Ones(3);
-  const VecX lo = VecX::Constant(3, -kInf), hi = VecX::Constant(3, kInf);
-  SolverOptions options;
-  options.max_iterations = 2000;
-  options.tolerance = 1e-12;
-  VecX plain = VecX::Zero(3), damped = VecX::Zero(3);
-  options.relaxation = 1.0;
-  const SolverSummary p = solve_jacobi(BoxedProblem{A, b, lo, hi}, plain, options);
-  options.relaxation = 0.3;
-  const SolverSummary d = solve_jacobi(BoxedProblem{A, b, lo, hi}, damped, options);
-  CHECK(p.termination != Termination::ResidualTolerance);
-  CHECK(d.termination == Termination::ResidualTolerance);
-  const VecX exact = dense.ldlt().solve(b);  // 1 / (1 + 2a) each
-  CHECK((damped - exact).lpNorm<Eigen::Infinity>() < 1e-11);
-}
-
-TEST_CASE("solver specs: names, relaxation factors, orders and warm starts", "[solver][cli]") {
-  const SolverSpec psor = parse_solver_spec("psor:1.3");
-  CHECK(psor.method == Method::Pgs);
-  CHECK(psor.relaxation == 1.3);
-  const SolverSpec random = parse_solver_spec("pgs:order=random:warm=off");
-  CHECK(random.order == RowOrder::Random);
-  CHECK_FALSE(random.warm_start);
-  CHECK(parse_solver_spec("jacobi:1").relaxation == 1.0);
-  CHECK(parse_solver_spec("matrix-free:order=reverse").order == RowOrder::Reverse);
-  const auto list = parse_solver_list("pgs,psor:1.3,direct");
-  REQUIRE(list.size() == 3);
-  CHECK(list[2].method == Method::Direct);
-  const auto error_of = [](const std::string& text) {
-    try {
-      parse_solver_spec(text, "--solver");
-    } catch (const InputError& e) {
-      return std::string(e.what());
+TEST_CASE("cfm: the same row twice shares lambda, off A lambda = b by eps lambda",
+          "[stress][cfm]") {
+  // One pendulum row a, given twice: A = [[a + eps, a], [a, a + eps]], b = (b0, b0), so
+  // lambda_1 = lambda_2 = b0 / (2 a + eps): unique, where without eps only the sum is.
+  Scene s = make_builtin_scene("chain", {{"n", "1"}, {"link_length", "1"}});
+  s.bodies[0].set_velocity(Vec3(0.5, 0.0, 0.0), Vec3::Zero());  // along the string: b0 ≠ 0
+  const System single = Simulation(s).build_system();
+  const double a = single.A.coeff(0, 0);
+  const double b0 = single.b(0);
+  REQUIRE(std::abs(b0) > 1.0);
+  DistanceConstraint twin = s.distances.front();
+  s.distances.push_back(twin);
+  const double eps = 1e-3;
+  const double share = b0 / (2 * a + eps);
+  s.solver.cfm = eps;
+  for (const char* method : {"pgs", "matrix-free", "direct"}) {
+    INFO(method);
+    s.solver.method = method_of(method);
+    Simulation sim(s);
+    const System& sys = sim.assemble();
+    // A stays J Minv Jᵀ: eps is the solver's, not the system's.
+    CHECK(sys.A.coeff(0, 0) == Approx(a).epsilon(1e-14));
+    CHECK(sys.A.coeff(0, 1) == Approx(a).epsilon(1e-14));
+    VecX lambda = VecX::Zero(2);
+    sim.solve_system(sys, lambda);
+    // Gauss-Seidel evens the split out only at 1 − eps/a a sweep; its last row holds exactly,
+    // a S + eps lambda_2 = b0, so the sum S is off by at most eps |lambda_2| / a.
+    CHECK(lambda.sum() == Approx(2 * share).epsilon(2 * eps / a));
+    if (std::string(method) == "direct") {
+      CHECK(lambda(0) == Approx(share).epsilon(1e-10));
+      CHECK(lambda(1) == Approx(share).epsilon(1e-10));
     }
-    return std::string("no error");
-  };
-  CHECK(error_of("cg").find("--solver 'cg': unknown solver") != std::string::npos);
-  CHECK(error_of("psor").find("psor needs its factor") != std::string::npos);
-  CHECK(error_of("psor:2").find("in (0, 2)") != std::string::npos);
-  CHECK(error_of("jacobi:1.5").find("in (0, 1]") != std::string::npos);
-  CHECK(error_of("pgs:1.3").find("takes no relaxation factor") != std::string::npos);
-  CHECK(error_of("sgs:order=random").find("order= applies to") != std::string::npos);
-  CHECK(error_of("pgs:order=spiral").find("valid: natural, reverse, random") != std::string::npos);
-  CHECK(error_of("pgs:warm=maybe").find("valid: on, off") != std::string::npos);
-  CHECK(error_of("pgs:colour=red").find("unknown option 'colour'") != std::string::npos);
-  CHECK_THROWS_AS(parse_solver_list("pgs,,direct"), InputError);
+    const double reported = sim.step().cfm_acceleration_error;
+    CHECK(reported == Approx(eps * lambda.cwiseAbs().maxCoeff()).epsilon(1e-9));
+  }
 }
