@@ -32,7 +32,7 @@ TEST_CASE("paper friction rows are bounded by mu m |g.n| / points of the pair (5
     std::vector<Manifold> manifolds;
     sim.build_rows(rows, manifolds);
     REQUIRE(manifolds.size() == 2);
-    for (const Manifold& m : manifolds) CHECK(m.points.size() == 4);
+    for (const Manifold& manifold : manifolds) CHECK(manifold.points.size() == 4);
     REQUIRE(rows.size() == 2 * 4 * 3);  // each point: a contact row and two friction rows
     // ground–box: only the box moves, 0.5 · 1 kg · 9.81 m/s² / 4; box–box: (1 + 3) kg.
     const double ground_bound = 0.5 * 1.0 * kG / 4.0;

@@ -136,8 +136,9 @@ TEST_CASE("v-corner: the ball starts touching both planes for any pair of angles
       const std::vector<Manifold> contacts =
           detect_contacts(scene.bodies, scene.world.contact_margin);
       bool touching = contacts.size() == 2;
-      for (const Manifold& m : contacts) {
-        touching = touching && m.points.size() == 1 && std::abs(m.points[0].depth) < 1e-12;
+      for (const Manifold& manifold : contacts) {
+        touching =
+            touching && manifold.points.size() == 1 && std::abs(manifold.points[0].depth) < 1e-12;
       }
       if (!touching) ++missing;
     }
