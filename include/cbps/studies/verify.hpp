@@ -1,5 +1,5 @@
 // Numerical checks of the paper's derivations, one per equation. `cbps verify` prints them and
-// the Catch2 suite asserts each (tests/test_verify.cpp).
+// the Catch2 suite asserts each (tests/studies/test_verify.cpp).
 #pragma once
 
 #include <string>

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "cbps/types.hpp"
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
 using namespace cbps::test;

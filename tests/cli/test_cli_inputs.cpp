@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace cbps::test;

@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace cbps::test;

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 using cbps::test::run_cli;
 using cbps::test::scratch_dir;

@@ -646,14 +646,15 @@ TEST_CASE("collision: broad phase on 1000 boxes in 100 resting columns equals th
   const std::vector<Manifold> contacts = detect_contacts(bodies);
   REQUIRE(contacts.size() == 1000);
   for (std::size_t k = 0; k < contacts.size(); ++k) {
-    const Manifold& m = contacts[k];
-    CHECK(m.a < m.b);
-    if (k > 0) CHECK(std::pair{contacts[k - 1].a, contacts[k - 1].b} < std::pair{m.a, m.b});
+    const Manifold& manifold = contacts[k];
+    CHECK(manifold.a < manifold.b);
+    if (k > 0)
+      CHECK(std::pair{contacts[k - 1].a, contacts[k - 1].b} < std::pair{manifold.a, manifold.b});
     // Box on box (b above a) or box on the plane (the plane, index 1000, is b: n points down).
-    const Vec3 up = m.b == 1000 ? Vec3(0, -1, 0) : Vec3(0, 1, 0);
-    CHECK((m.n - up).norm() < kTol);
-    CHECK(m.points.size() == 4);
-    for (const ContactPoint& c : m.points) CHECK(c.depth == 0.0);
+    const Vec3 up = manifold.b == 1000 ? Vec3(0, -1, 0) : Vec3(0, 1, 0);
+    CHECK((manifold.n - up).norm() < kTol);
+    CHECK(manifold.points.size() == 4);
+    for (const ContactPoint& c : manifold.points) CHECK(c.depth == 0.0);
   }
 }
 
@@ -744,13 +745,13 @@ TEST_CASE("collision: jittered resting columns give 4-point face contacts within
   }
   const std::vector<Manifold> contacts = detect_contacts(bodies, 1e-3);
   REQUIRE(contacts.size() == 50);
-  for (const Manifold& m : contacts) {
-    INFO("pair " << m.a << ", " << m.b);
-    CHECK(m.n.dot(Vec3::UnitY()) > 1.0 - 1e-7);
-    REQUIRE(m.points.size() == 4);
-    for (const ContactPoint& c : m.points) {
+  for (const Manifold& manifold : contacts) {
+    INFO("pair " << manifold.a << ", " << manifold.b);
+    CHECK(manifold.n.dot(Vec3::UnitY()) > 1.0 - 1e-7);
+    REQUIRE(manifold.points.size() == 4);
+    for (const ContactPoint& c : manifold.points) {
       CHECK(std::abs(c.depth) < 2e-4);
-      if (m.a != 0) CHECK((c.feature >> 24) == 1u);  // a face contact (box on box)
+      if (manifold.a != 0) CHECK((c.feature >> 24) == 1u);  // a face contact (box on box)
     }
   }
 }

@@ -1,25 +1,28 @@
-// Projected Gauss-Seidel and Jacobi (7.1.1) against exact answers.
+// Projected Gauss-Seidel and Jacobi (7.1.1) against exact answers, and the forms of the sweep:
+// symmetric, in a random row order, damped.
+#include <Eigen/Cholesky>
 #include <catch2/catch.hpp>
+#include <cstdint>
+#include <limits>
 #include <random>
+#include <vector>
 
-#include "cbps/cbps.hpp"
 #include "cbps/scene/builtin.hpp"
+#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
+#include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/system.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
-
-namespace {
-/// A random SPD matrix B Bᵀ + n I, dense entries, fixed seed.
-SpMat random_spd(int n, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> n01;
-  MatX B(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) B(i, j) = n01(rng);
-  const MatX A = B * B.transpose() + n * MatX::Identity(n, n);
-  return A.sparseView();
-}
-}  // namespace
+using test::construct;
+using test::Constructed;
+using test::random_spd;
+using test::scale_of;
+using test::solve_exact;
+using test::system_of;
 
 TEST_CASE("PGS with infinite bounds converges to the Cholesky solution (7.1.1, 6.2.9)",
           "[solver][eq7.1.1]") {
@@ -119,16 +122,6 @@ TEST_CASE("Jacobi converges on a diagonally dominant system and reports its swee
   CHECK((lambda - exact).lpNorm<Eigen::Infinity>() < 1e-13);
 }
 
-TEST_CASE("the natural-map residual is zero at a solution and positive elsewhere", "[solver]") {
-  const SpMat A = random_spd(5, 9);
-  const VecX b = VecX::LinSpaced(5, -1.0, 1.0);
-  const VecX lo = VecX::Constant(5, -kInf);
-  const VecX hi = VecX::Constant(5, kInf);
-  const VecX x = MatX(A).ldlt().solve(b);
-  CHECK(natural_map_residual(BoxedProblem{A, b, lo, hi}, x) < 1e-14);
-  CHECK(natural_map_residual(BoxedProblem{A, b, lo, hi}, VecX::Zero(5)) == Approx(1.0));  // |b|∞
-}
-
 TEST_CASE("the iteration limit, the change tolerance and non-finite values end a solve",
           "[solver]") {
   const SpMat A = random_spd(6, 3);
@@ -152,25 +145,75 @@ TEST_CASE("the iteration limit, the change tolerance and non-finite values end a
         Termination::NonFinite);
 }
 
-TEST_CASE("warm starting from last step's lambda by row id saves sweeps on a hanging chain",
-          "[solver][simulation]") {
-  Scene scene = make_builtin_scene("chain", {{"n", "20"}});
-  // Hang it straight down and let it settle so consecutive steps have nearly equal lambda.
-  for (std::size_t k = 0; k < scene.bodies.size(); ++k) {
-    scene.bodies[k].x = Vec3(0.0, -0.1 * static_cast<double>(k + 1), 0.0);
+TEST_CASE("PGS converges to the direct lambda on positive definite boxed problems",
+          "[direct][solver][eq7.1.1]") {
+  std::mt19937 rng(15);
+  for (int trial = 0; trial < 30; ++trial) {
+    const Constructed p = construct(10, 13, rng);
+    const VecX exact = solve_exact(p);
+    VecX pgs = VecX::Zero(10);
+    SolverOptions options;
+    options.max_iterations = 200000;
+    options.tolerance = 1e-12;
+    const SolverSummary s = solve_pgs(BoxedProblem{p.A, p.b, p.lo, p.hi}, pgs, options);
+    CAPTURE(trial, s.message);
+    REQUIRE(s.termination == Termination::ResidualTolerance);
+    CHECK((pgs - exact).lpNorm<Eigen::Infinity>() <= 1e-8 * scale_of(p.A, p.b));
   }
-  scene.solver.tolerance = 1e-8;
-  scene.solver.iterations = 100000;
-  Scene cold_scene = scene;
-  cold_scene.solver.warm_start = false;
-  Simulation warm(scene);
-  Simulation cold(cold_scene);
-  long warm_sweeps = 0;
-  long cold_sweeps = 0;
-  for (int s = 0; s < 20; ++s) {
-    warm_sweeps += warm.step().solver.iterations;
-    cold_sweeps += cold.step().solver.iterations;
+}
+
+TEST_CASE("symmetric Gauss-Seidel is a forward sweep then a backward sweep", "[solver][variants]") {
+  const System sys = system_of("pyramid", {{"base", "3"}}, 2);
+  std::vector<int> backward(static_cast<std::size_t>(sys.rows()));
+  for (int k = 0; k < sys.rows(); ++k) backward[std::size_t(k)] = sys.rows() - 1 - k;
+  VecX by_hand = VecX::Zero(sys.rows()), sgs = by_hand;
+  SolverOptions options;
+  options.max_iterations = 5;
+  options.relaxation = 1.2;
+  solve_sgs(sys.problem(), sgs, options);
+  for (int k = 0; k < 5; ++k) {
+    pgs_sweep(sys.problem(), by_hand, 1.2);
+    pgs_sweep(sys.problem(), by_hand, 1.2, backward);
   }
-  INFO("sweeps over 20 steps: warm " << warm_sweeps << ", cold " << cold_sweeps);
-  CHECK(warm_sweeps * 2 < cold_sweeps);
+  CHECK((sgs - by_hand).lpNorm<Eigen::Infinity>() == 0.0);  // the same operations
+}
+
+TEST_CASE("random row order: the seed fixes the iterates, another seed changes them",
+          "[solver][variants]") {
+  const System sys = system_of("stack", {{"n", "3"}}, 3);
+  const auto run = [&](std::uint64_t seed) {
+    SolverOptions options;
+    options.order = RowOrder::Random;
+    options.seed = seed;
+    options.max_iterations = 7;
+    VecX lambda = VecX::Zero(sys.rows());
+    solve_pgs(sys.problem(), lambda, options);
+    return lambda;
+  };
+  CHECK((run(1) - run(1)).lpNorm<Eigen::Infinity>() == 0.0);
+  CHECK((run(1) - run(2)).lpNorm<Eigen::Infinity>() > 1e-6);
+}
+
+TEST_CASE("damping makes projected Jacobi converge where plain Jacobi diverges",
+          "[solver][variants]") {
+  // A = (1 − a) I + a 11ᵀ with a = 0.9 (3×3, definite): Jacobi's iteration matrix −a (11ᵀ − I)
+  // has the eigenvalue −2a = −1.8, so plain Jacobi diverges; damped by omega its eigenvalues
+  // are 1 − omega (1 + 2a) and 1 − omega (1 − a): omega = 0.3 gives 0.16 and 0.97, < 1.
+  MatX dense = MatX::Constant(3, 3, 0.9);
+  dense.diagonal().setOnes();
+  const SpMat A = dense.sparseView();
+  const VecX b = VecX::Ones(3);
+  const VecX lo = VecX::Constant(3, -kInf), hi = VecX::Constant(3, kInf);
+  SolverOptions options;
+  options.max_iterations = 2000;
+  options.tolerance = 1e-12;
+  VecX plain = VecX::Zero(3), damped = VecX::Zero(3);
+  options.relaxation = 1.0;
+  const SolverSummary p = solve_jacobi(BoxedProblem{A, b, lo, hi}, plain, options);
+  options.relaxation = 0.3;
+  const SolverSummary d = solve_jacobi(BoxedProblem{A, b, lo, hi}, damped, options);
+  CHECK(p.termination != Termination::ResidualTolerance);
+  CHECK(d.termination == Termination::ResidualTolerance);
+  const VecX exact = dense.ldlt().solve(b);  // 1 / (1 + 2a) each
+  CHECK((damped - exact).lpNorm<Eigen::Infinity>() < 1e-11);
 }

@@ -1,6 +1,6 @@
 // The exact path (solve_direct): boxed LCPs whose solution is known by construction, the
-// optimality conditions of the equivalent QP, singular and inconsistent systems, islands, and
-// agreement with PGS, CHOLMOD and boxed Lemke on what is unique (6.2).
+// optimality conditions of the equivalent QP, singular and inconsistent systems, islands, its
+// tolerance, and agreement with PGS, CHOLMOD and boxed Lemke on what is unique (6.2).
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -8,118 +8,32 @@
 #include <random>
 #include <vector>
 
-#include "cbps/cbps.hpp"
 #include "cbps/error.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/scene/builtin.hpp"
+#include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
+#include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/system.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
+using test::construct;
+using test::Constructed;
+using test::scale_of;
+using test::solve_exact;
 namespace fs = std::filesystem;
 
 namespace {
-
-/// A boxed problem with a solution chosen first: lambda_star, and w_star = A lambda_star − b with
-/// the sign each row's place demands (6.2).
-struct Constructed {
-  SpMat A;
-  MatX J;  ///< A = J Jᵀ: rows of J are the constraints, columns the degrees of freedom
-  VecX b, lo, hi, lambda_star, w_star;
-};
-
-/// k rows over d degrees of freedom, A = J Jᵀ: positive definite if d ≥ k (almost surely),
-/// semidefinite with rank d if d < k, as a box on four contacts (12 rows, 6 DOF). Rows are a
-/// mix of the paper's kinds: bilateral (free), contact [0, ∞) at rest or pushing, friction
-/// [−c, c] sticking or sliding, fixed (cmin = cmax).
-Constructed construct(int k, int d, std::mt19937& rng) {
-  std::normal_distribution<double> n01;
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Constructed p;
-  p.J = MatX(k, d);
-  for (int i = 0; i < k; ++i)
-    for (int j = 0; j < d; ++j) p.J(i, j) = u(rng) < 0.5 ? n01(rng) : 0.0;
-  for (int i = 0; i < k; ++i) p.J(i, i % d) += 1.0;  // no empty row
-  const MatX A = p.J * p.J.transpose();
-  p.A = A.sparseView();
-  p.lo.resize(k);
-  p.hi.resize(k);
-  p.lambda_star.resize(k);
-  p.w_star = VecX::Zero(k);
-  for (int i = 0; i < k; ++i) {
-    const double c = 0.5 + u(rng);
-    switch (static_cast<int>(6 * u(rng))) {
-      case 0:  // bilateral row (distance): free, w = 0
-        p.lo(i) = -kInf;
-        p.hi(i) = kInf;
-        p.lambda_star(i) = 2 * u(rng) - 1;
-        break;
-      case 1:  // contact, separating: lambda = 0, w > 0
-        p.lo(i) = 0;
-        p.hi(i) = kInf;
-        p.lambda_star(i) = 0;
-        p.w_star(i) = 0.1 + u(rng);
-        break;
-      case 2:  // contact, pushing: lambda > 0, w = 0
-        p.lo(i) = 0;
-        p.hi(i) = kInf;
-        p.lambda_star(i) = 0.1 + u(rng);
-        break;
-      case 3:  // friction at its bound, sliding
-        p.lo(i) = -c;
-        p.hi(i) = c;
-        p.lambda_star(i) = u(rng) < 0.5 ? -c : c;
-        p.w_star(i) = p.lambda_star(i) < 0 ? 0.1 + u(rng) : -0.1 - u(rng);
-        break;
-      case 4:  // fixed row: lambda = cmin = cmax, w anything
-        p.lo(i) = p.hi(i) = c;
-        p.lambda_star(i) = c;
-        p.w_star(i) = 2 * u(rng) - 1;
-        break;
-      default:  // friction sticking: strictly inside
-        p.lo(i) = -c;
-        p.hi(i) = c;
-        p.lambda_star(i) = c * (1.6 * u(rng) - 0.8);
-    }
-  }
-  // A semidefinite: a nonzero w on a free row must be orthogonal to nothing, but b = A λ* − w*
-  // is any vector, so every constructed problem has λ* as a solution.
-  p.b = A * p.lambda_star - p.w_star;
-  return p;
-}
 
 double objective(const SpMat& A, const VecX& b, const VecX& x) {
   return 0.5 * x.dot(A * x) - b.dot(x);  // ½ λᵀ A λ − bᵀ λ (6.2)
 }
 
-/// max(1, ‖b‖∞, max |A_ij|), the scale residuals are measured against (lcp.hpp).
-double scale_of(const SpMat& A, const VecX& b) { return lcp_scale(MatX(A), -b); }
-
-VecX solve_exact(const Constructed& p, SolverSummary* summary = nullptr) {
-  VecX lambda = VecX::Zero(p.b.size());
-  const SolverSummary s = solve_direct(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda);
-  if (summary != nullptr) *summary = s;
-  return lambda;
-}
-
 }  // namespace
-
-TEST_CASE("islands are the connected blocks of A, found in order of their first row", "[direct]") {
-  // Rows {0, 3, 5}, {1, 4} and {2}: a permuted block diagonal.
-  std::vector<Triplet> t;
-  for (const auto& [i, j] : std::vector<std::pair<int, int>>{{0, 3}, {3, 5}, {1, 4}}) {
-    t.emplace_back(i, j, 1.0);
-    t.emplace_back(j, i, 1.0);
-  }
-  for (int i = 0; i < 6; ++i) t.emplace_back(i, i, 4.0);
-  SpMat A(6, 6);
-  A.setFromTriplets(t.begin(), t.end());
-  const auto islands = find_islands(A);
-  REQUIRE(islands.size() == 3);
-  CHECK(islands[0] == std::vector<int>{0, 3, 5});
-  CHECK(islands[1] == std::vector<int>{1, 4});
-  CHECK(islands[2] == std::vector<int>{2});
-}
 
 TEST_CASE("the direct path equals CHOLMOD on an equality system with one factorization",
           "[direct][eq6.2.9]") {
@@ -297,23 +211,6 @@ TEST_CASE("a row given twice: Cholesky refuses, the direct path solves it, v2 is
   }
 }
 
-TEST_CASE("PGS converges to the direct lambda on positive definite boxed problems",
-          "[direct][solver][eq7.1.1]") {
-  std::mt19937 rng(15);
-  for (int trial = 0; trial < 30; ++trial) {
-    const Constructed p = construct(10, 13, rng);
-    const VecX exact = solve_exact(p);
-    VecX pgs = VecX::Zero(10);
-    SolverOptions options;
-    options.max_iterations = 200000;
-    options.tolerance = 1e-12;
-    const SolverSummary s = solve_pgs(BoxedProblem{p.A, p.b, p.lo, p.hi}, pgs, options);
-    CAPTURE(trial, s.message);
-    REQUIRE(s.termination == Termination::ResidualTolerance);
-    CHECK((pgs - exact).lpNorm<Eigen::Infinity>() <= 1e-8 * scale_of(p.A, p.b));
-  }
-}
-
 TEST_CASE("inconsistent equality rows are reported as not converged, never as solved", "[direct]") {
   // Rows 0 and 1 are the same constraint asking for different things: no lambda solves both.
   MatX Ad(3, 3);
@@ -363,74 +260,24 @@ TEST_CASE("every symmetric Siconos relay problem: direct and boxed Lemke agree o
   CHECK(compared >= 5);
 }
 
-// ---------------------------------------------------------------------------------------------
-// Block PGS (block_pgs_sweep): 7.1.1 over blocks of rows, each solved by boxed Lemke.
-
-TEST_CASE("block PGS with blocks of one row is PGS (7.1.1), iterate for iterate", "[direct][pgs]") {
-  std::mt19937 rng(11);
-  const Constructed p = construct(30, 40, rng);
-  const std::vector<int> singles(30, -1);
-  VecX a = VecX::Zero(30), b = VecX::Zero(30);
-  for (int sweep = 0; sweep < 25; ++sweep) {
-    pgs_sweep(BoxedProblem{p.A, p.b, p.lo, p.hi}, a);
-    block_pgs_sweep(BoxedProblem{p.A, p.b, p.lo, p.hi, nullptr, nullptr, &singles}, b);
-    REQUIRE((a - b).lpNorm<Eigen::Infinity>() == 0.0);  // the same arithmetic, in the same order
-  }
-}
-
-TEST_CASE("block PGS finds the constructed solution; one block of every row is Lemke's answer",
-          "[direct][pgs]") {
-  std::mt19937 rng(12);
-  for (int trial = 0; trial < 50; ++trial) {
-    CAPTURE(trial);
-    const Constructed p = construct(24, 30, rng);  // positive definite: lambda* is unique
-    const double scale = scale_of(p.A, p.b);
-    std::vector<int> blocks(24);
-    for (int i = 0; i < 24; ++i) blocks[static_cast<std::size_t>(i)] = i / 4;  // 6 blocks of 4
-    SolverOptions options;
-    options.method = Method::BlockPgs;
-    options.max_iterations = 2000;
-    options.tolerance = 1e-10 * scale;
-    options.block_regularization = 0.0;
-    VecX lambda = VecX::Zero(24);
-    const SolverSummary s =
-        solve(BoxedProblem{p.A, p.b, p.lo, p.hi, nullptr, nullptr, &blocks}, lambda, options);
-    CAPTURE(s.message);
-    CHECK(s.termination == Termination::ResidualTolerance);
-    CHECK((lambda - p.lambda_star).lpNorm<Eigen::Infinity>() <= 1e-6);
-    CHECK(s.message.find("row by row") == std::string::npos);  // Lemke solved every block
-
-    const std::vector<int> one(24, 0);
-    VecX whole = VecX::Zero(24);
-    block_pgs_sweep(BoxedProblem{p.A, p.b, p.lo, p.hi, nullptr, nullptr, &one}, whole, 1.0, 0.0);
-    CHECK(natural_map_residual(BoxedProblem{p.A, p.b, p.lo, p.hi}, whole) <= 1e-9 * scale);
-  }
-}
-
-TEST_CASE("block PGS on a resting stack reaches the direct path's v2 (7.1.1, 6.2)",
-          "[direct][pgs][contact]") {
-  // 5 boxes: 5 manifolds of 4 points, 12 rows each, every block of rank 6. From lambda = 0,
-  // 400 block sweeps against row-by-row PGS with as many sweeps; the direct path is the
-  // reference for the unique v2 (6.2).
-  Scene scene = make_builtin_scene("stack", {{"n", "5"}});
-  const Simulation sim(scene);
-  const System sys = sim.build_system();
-  REQUIRE(sys.rows() == 60);
-  VecX exact = VecX::Zero(sys.rows());
-  REQUIRE(solve_direct(sys.problem(), exact).termination == Termination::Direct);
-  const VecX v2 = compute_v2(sys.v1, sys.Minv, sys.J, exact, sys.fext, sys.dt);
-  const auto error_after = [&](Method method) {
-    SolverOptions options;
-    options.method = method;
-    options.max_iterations = 400;
-    VecX lambda = VecX::Zero(sys.rows());
-    solve(sys.problem(), lambda, options);  // the problem's blocks: one per contact manifold
-    return (compute_v2(sys, lambda) - v2).lpNorm<Eigen::Infinity>();
-  };
-  const double block = error_after(Method::BlockPgs);
-  const double rows = error_after(Method::Pgs);
-  INFO("max |v2 - v2_direct| after 400 sweeps: block PGS " << block << " m/s, PGS " << rows
-                                                           << " m/s");
-  CHECK(block < 1e-6);
-  CHECK(block < 0.01 * rows);
+TEST_CASE("the solver tolerance reaches the direct path", "[exports][direct][tolerance]") {
+  // A pyramid's one island is singular: the direct path's proximal loop takes many steps to
+  // the rounding floor and stops early at a loose tolerance, which it must then meet.
+  Scene scene = make_builtin_scene("pyramid", {{"base", "6"}});
+  Simulation sim(scene);
+  for (int k = 0; k < 30; ++k) sim.step();
+  const System& sys = sim.assemble();
+  SolverSettings tight = scene.solver;
+  tight.method = Method::Direct;
+  tight.tolerance = 0.0;
+  SolverSettings loose = tight;
+  loose.tolerance = 1e-3;
+  VecX lambda_tight = VecX::Zero(sys.rows()), lambda_loose = VecX::Zero(sys.rows());
+  const SolverSummary t = sim.solve_system(sys, sys.b, lambda_tight, tight);
+  const SolverSummary l = sim.solve_system(sys, sys.b, lambda_loose, loose);
+  CHECK(t.residual < 1e-9);
+  CHECK(l.residual <= 1e-3);
+  CHECK(l.residual > 10 * t.residual);
+  CHECK(l.iterations < t.iterations);
+  CHECK(l.termination == Termination::Direct);
 }

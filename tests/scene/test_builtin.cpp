@@ -1,8 +1,12 @@
-// Built-in scenes: the pendulum-wave length rule, the chain, and parameter errors.
+// Built-in scenes: the pendulum-wave length rule, the chain, the v-corner's starting contacts, and
+// parameter errors.
 #include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
+#include <vector>
 
+#include "cbps/collision/collision.hpp"
 #include "cbps/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
@@ -112,4 +116,33 @@ TEST_CASE("a simple pendulum keeps its length and energy over one period (5.2, 3
   INFO("max |c| " << worst << " m, energy " << e0 << " -> " << sim.energy() << " J");
   CHECK(worst < 1e-4);
   CHECK(std::abs(sim.energy() - e0) < 0.02 * std::abs(e0));
+}
+
+TEST_CASE("v-corner: the ball starts touching both planes for any pair of angles (12.2, 4)",
+          "[contact][eq12.2][eq4]") {
+  // The scene solves a·c = r and b·c = r for the centre, so both depths are 0 up to rounding
+  // (about ±1e-17 m). The scene's contact margin (1 mm) keeps a depth of −1e-17 m a contact; at
+  // margin 0 it is none (41 of these 64 pairs then start with one contact and the ball falls
+  // for a step), so the margin is read from the scene and must be positive.
+  int missing = 0;
+  int pairs = 0;
+  for (int left = 10; left <= 80; left += 10) {
+    for (int right = 10; right <= 80; right += 10) {
+      const Scene scene = make_builtin_scene(
+          "v-corner",
+          {{"angle_left_deg", std::to_string(left)}, {"angle_right_deg", std::to_string(right)}});
+      REQUIRE(scene.world.contact_margin > 0.0);
+      ++pairs;
+      const std::vector<Manifold> contacts =
+          detect_contacts(scene.bodies, scene.world.contact_margin);
+      bool touching = contacts.size() == 2;
+      for (const Manifold& manifold : contacts) {
+        touching =
+            touching && manifold.points.size() == 1 && std::abs(manifold.points[0].depth) < 1e-12;
+      }
+      if (!touching) ++missing;
+    }
+  }
+  INFO(missing << " of " << pairs << " angle pairs do not start with two contacts of depth 0");
+  CHECK(missing == 0);
 }

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,7 +1,7 @@
 // What `cbps matrices`, `cbps explain` and `cbps lcp` show is the problem the step solved
 // (issue "Trust", item 2): A is J Minv Jᵀ exactly, constraint-force mixing travels apart
-// (cfm.txt), Coulomb friction rows carry the bounds the step's lambda satisfies, and the solver
-// tolerance reaches the direct path.
+// (cfm.txt), and Coulomb friction rows carry the bounds the step's lambda satisfies. (The solver
+// tolerance reaching the direct path is tested in solvers/test_direct.cpp.)
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -9,9 +9,7 @@
 #include <string>
 
 #include "cbps/io/matrix_market.hpp"
-#include "cbps/scene/builtin.hpp"
-#include "cbps/step/simulation.hpp"
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace cbps;
@@ -173,26 +171,4 @@ TEST_CASE("matrices with cfm: A.mtx is J Minv J^T, eps apart in cfm.txt, lcp sol
   for (std::size_t r = 0; r < rows.size(); ++r)
     CHECK(rows[r][r].get<double>() ==
           Approx(JMJ(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(r))).epsilon(1e-12));
-}
-
-TEST_CASE("the solver tolerance reaches the direct path", "[exports][direct][tolerance]") {
-  // A pyramid's one island is singular: the direct path's proximal loop takes many steps to
-  // the rounding floor and stops early at a loose tolerance, which it must then meet.
-  Scene scene = make_builtin_scene("pyramid", {{"base", "6"}});
-  Simulation sim(scene);
-  for (int k = 0; k < 30; ++k) sim.step();
-  const System& sys = sim.assemble();
-  SolverSettings tight = scene.solver;
-  tight.method = Method::Direct;
-  tight.tolerance = 0.0;
-  SolverSettings loose = tight;
-  loose.tolerance = 1e-3;
-  VecX lambda_tight = VecX::Zero(sys.rows()), lambda_loose = VecX::Zero(sys.rows());
-  const SolverSummary t = sim.solve_system(sys, sys.b, lambda_tight, tight);
-  const SolverSummary l = sim.solve_system(sys, sys.b, lambda_loose, loose);
-  CHECK(t.residual < 1e-9);
-  CHECK(l.residual <= 1e-3);
-  CHECK(l.residual > 10 * t.residual);
-  CHECK(l.iterations < t.iterations);
-  CHECK(l.termination == Termination::Direct);
 }

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "cli_fixture.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,0 +1,96 @@
+// `cbps run` beyond its files (test_cli.cpp): a divergence keeps the steps before it and exits 1,
+// scene files set the divergence limits and cfm, cfm's effect is reported, and the same inputs
+// give byte-identical outputs.
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "fixture.hpp"
+
+using cbps::test::run_cli;
+using cbps::test::scratch_dir;
+using cbps::test::slurp;
+
+TEST_CASE("cbps run keeps the steps before a divergence and exits 1", "[stress][divergence][cli]") {
+  const auto dir = scratch_dir("diverge");
+  const auto r = run_cli("run stack --solver jacobi --out " + (dir / "out").string());
+  CHECK(r.code == 1);
+  CHECK(r.err.find("diverged: step 0") != std::string::npos);
+  const auto summary = nlohmann::json::parse(slurp(dir / "out" / "summary.json"));
+  CHECK(summary["status"] == "diverged");
+  CHECK(summary["divergence"]["step"] == 0);
+  CHECK(summary["divergence"]["row"].get<int>() >= 0);
+  CHECK(summary["steps"] == 0);
+  // trajectory.csv holds the initial state of all 11 bodies: the header and 11 lines.
+  const std::string trajectory = slurp(dir / "out" / "trajectory.csv");
+  CHECK(std::count(trajectory.begin(), trajectory.end(), '\n') == 12);
+}
+
+TEST_CASE("cbps run reports the effect of cfm", "[stress][cfm][cli]") {
+  const auto r = run_cli("run chain --steps 10 --cfm 1e-4 --json --quiet");
+  REQUIRE(r.code == 0);
+  const auto summary = nlohmann::json::parse(r.out);
+  CHECK(summary["solver"]["cfm"] == 1e-4);
+  CHECK(summary["regularization"]["max_acceleration_error"].get<double>() > 0.0);
+  CHECK(summary["regularization"]["max_velocity_error"].get<double>() ==
+        Approx(summary["regularization"]["max_acceleration_error"].get<double>() / 240.0));
+  CHECK(run_cli("run chain --steps 10 --cfm -1").code != 0);
+}
+
+TEST_CASE("the same inputs give byte-identical outputs", "[stress][determinism][cli]") {
+  const auto dir = scratch_dir("determinism");
+  for (const char* args : {"run stack --param n=4 --steps 60 --solver pgs:order=random --seed 7",
+                           "run stack --param n=4 --steps 60 --solver direct",
+                           "run chain --steps 200 --solver block-pgs"}) {
+    INFO(args);
+    const std::string common = std::string(args) + " --no-timing --quiet --out ";
+    REQUIRE(run_cli(common + (dir / "a").string()).code == 0);
+    REQUIRE(run_cli(common + (dir / "b").string()).code == 0);
+    for (const char* file : {"summary.json", "trajectory.csv", "steps.csv"}) {
+      INFO(file);
+      const std::string a = slurp(dir / "a" / file);
+      CHECK_FALSE(a.empty());
+      CHECK(a == slurp(dir / "b" / file));
+    }
+    CHECK(slurp(dir / "a" / "summary.json").find("wall_time") == std::string::npos);
+  }
+}
+
+TEST_CASE("scene files set the divergence limits and cfm; bad values name their path",
+          "[stress][divergence][cli]") {
+  const auto dir = scratch_dir("diverge_json");
+  const auto scene = [&](const std::string& world, const std::string& solver) {
+    const auto path = dir / "scene.json";
+    cbps::test::write_file(
+        path,
+        R"({"world": {"dt": 0.01)" + world + R"(}, "solver": {"method": "pgs")" + solver +
+            R"(}, "bodies": [{"name": "ball", "mass": 2, "shape": {"type": "sphere", "radius": 0.1}}]})");
+    return path.string();
+  };
+  // Free fall: v = 9.81 (k + 1) 0.01 m/s passes 1 m/s at step 10; steps 0..9 are kept.
+  const auto r = run_cli("run " + scene(R"(, "divergence_speed": 1)", "") + " --steps 50 --out " +
+                         (dir / "out").string());
+  CHECK(r.code == 1);
+  CHECK(r.err.find("step 10 ") != std::string::npos);
+  CHECK(r.err.find("body 0 (ball)") != std::string::npos);
+  const auto summary = nlohmann::json::parse(slurp(dir / "out" / "summary.json"));
+  CHECK(summary["divergence"]["step"] == 10);
+  CHECK(summary["divergence"]["body"] == 0);
+  CHECK(summary["steps"] == 10);
+  CHECK(summary["steps_requested"] == 50);
+  const std::string steps = slurp(dir / "out" / "steps.csv");
+  CHECK(std::count(steps.begin(), steps.end(), '\n') == 11);  // header + steps 0..9
+  const std::string trajectory = slurp(dir / "out" / "trajectory.csv");
+  CHECK(std::count(trajectory.begin(), trajectory.end(), '\n') == 12);  // header, t = 0..0.1
+
+  const auto bad_cfm = run_cli("run " + scene("", R"(, "cfm": -1)") + " --steps 1");
+  CHECK(bad_cfm.code == 2);
+  CHECK(bad_cfm.err.find("/solver/cfm") != std::string::npos);
+  const auto bad_limit = run_cli("run " + scene(R"(, "divergence_spin": 0)", "") + " --steps 1");
+  CHECK(bad_limit.code == 2);
+  CHECK(bad_limit.err.find("/world/divergence_spin") != std::string::npos);
+  const auto ok = run_cli("run " + scene("", R"(, "cfm": 1e-6)") + " --steps 3 --json");
+  REQUIRE(ok.code == 0);
+  CHECK(nlohmann::json::parse(ok.out)["solver"]["cfm"] == 1e-6);
+}
