@@ -517,3 +517,38 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
   REQUIRE_THROWS_AS(parse_scene(bad.text, "scene.json"), InputError);
   REQUIRE_THROWS_WITH(parse_scene(bad.text, "scene.json"), Catch::Contains(bad.message));
 }
+
+TEST_CASE("the solver's row order and seed are read and written; relaxation ranges per method",
+          "[scene_json]") {
+  const Scene scene =
+      parse_scene(R"({"solver": {"method": "pgs", "order": "random", "seed": 42}, "bodies": []})",
+                  "scene.json");
+  CHECK(scene.solver.order == RowOrder::Random);
+  CHECK(scene.solver.seed == 42u);
+  const Scene back = parse_scene(scene_to_json(scene), "scene.json");
+  CHECK(back.solver.order == RowOrder::Random);
+  CHECK(back.solver.seed == 42u);
+  // Defaults: the natural order, seed 0 (7.1.1).
+  const Scene plain = parse_scene(R"({"bodies": []})", "scene.json");
+  CHECK(plain.solver.order == RowOrder::Natural);
+  CHECK(plain.solver.seed == 0u);
+
+  const auto error_of = [](const std::string& text) {
+    try {
+      parse_scene(text, "scene.json");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(
+      error_of(R"({"solver": {"order": "sideways"}, "bodies": []})") ==
+      R"(scene.json: /solver/order: unknown row order "sideways" (valid: natural, reverse, random))");
+  CHECK(error_of(R"({"solver": {"seed": -1}, "bodies": []})") ==
+        "scene.json: /solver/seed: must be >= 0 (got -1)");
+  // The --solver grammar's ranges: Jacobi's damping in (0, 1], SOR's omega in (0, 2).
+  CHECK(error_of(R"({"solver": {"method": "jacobi", "relaxation": 1.5}, "bodies": []})") ==
+        "scene.json: /solver/relaxation: must be in (0, 1] (got 1.5)");
+  CHECK(error_of(R"({"solver": {"method": "pgs", "relaxation": 1.5}, "bodies": []})") ==
+        "no error");
+}
