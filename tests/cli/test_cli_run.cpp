@@ -57,7 +57,7 @@ TEST_CASE("the same inputs give byte-identical outputs", "[stress][determinism][
   }
 }
 
-TEST_CASE("scene files set the divergence limits and cfm; bad values name their path",
+TEST_CASE("scene files set the divergence limits and cfm, bad values name their path",
           "[stress][divergence][cli]") {
   const auto dir = scratch_dir("diverge_json");
   const auto scene = [&](const std::string& world, const std::string& solver) {

@@ -51,7 +51,7 @@ TEST_CASE("box-on-plane.json rests with the same 12 rows every step (contact mar
   CHECK(sweeps < 1000);  // with margin 0 the rows flickered and it took 4,220 sweeps
 }
 
-TEST_CASE("Newton's cradle: the last ball rises to the release height; with gap 0 it does not",
+TEST_CASE("Newton's cradle: the last ball rises to the release height, with gap 0 it does not",
           "[defaults][contact][restitution]") {
   const double L = 0.5, theta0 = 30.0 * 3.14159265358979323846 / 180.0;
   const double h0 = L * (1.0 - std::cos(theta0));  // release height above rest, 6.70 cm

@@ -365,7 +365,7 @@ TEST_CASE("dt may be a fraction p/q", "[scene_json]") {
   CHECK(scene.world.dt == 1.0 / 240.0);
 }
 
-TEST_CASE("a scene file's name defaults to its file stem; a missing file is an InputError",
+TEST_CASE("a scene file's name defaults to its file stem, a missing file is an InputError",
           "[scene_json]") {
   const std::filesystem::path path =
       std::filesystem::temp_directory_path() / "cbps-test-unnamed-scene.json";
@@ -518,7 +518,7 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
   REQUIRE_THROWS_WITH(parse_scene(bad.text, "scene.json"), Catch::Contains(bad.message));
 }
 
-TEST_CASE("the solver's row order and seed are read and written; relaxation ranges per method",
+TEST_CASE("the solver's row order and seed are read and written, relaxation ranges per method",
           "[scene_json]") {
   const Scene scene =
       parse_scene(R"({"solver": {"method": "pgs", "order": "random", "seed": 42}, "bodies": []})",

@@ -14,7 +14,7 @@ using test::contact_scene;
 using test::kG;
 
 TEST_CASE(
-    "Coulomb friction rows point to their contact row; the direct solve keeps |lambda_t| "
+    "Coulomb friction rows point to their contact row, the direct solve keeps |lambda_t| "
     "<= mu lambda_n and slows a sliding box by mu g (5.4)",
     "[contact][eq5.4][eq6.2]") {
   // The slide scene at step 0: a 1 kg box at v0 = 2 m/s along x on the ground, mu = 0.3.

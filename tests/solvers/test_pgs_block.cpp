@@ -31,7 +31,7 @@ TEST_CASE("block PGS with blocks of one row is PGS (7.1.1), iterate for iterate"
   }
 }
 
-TEST_CASE("block PGS finds the constructed solution; one block of every row is Lemke's answer",
+TEST_CASE("block PGS finds the constructed solution, one block of every row is Lemke's answer",
           "[direct][pgs]") {
   std::mt19937 rng(12);
   for (int trial = 0; trial < 50; ++trial) {

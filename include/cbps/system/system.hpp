@@ -51,7 +51,8 @@ struct System {
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }
   /// The boxed problem of 6.2 this system poses (with J, Minv and the manifold blocks), or the
-  /// same with another right-hand side (the position system of 8.1). A view: keep the System.
+  /// same with another right-hand side (the position system of 8.1). A view: the System and
+  /// rhs must outlive it (never pass a temporary rhs).
   BoxedProblem problem() const { return problem(b); }
   BoxedProblem problem(const VecX& rhs) const {
     return BoxedProblem{A, rhs, cmin, cmax, &J, &Minv, &manifold};
