@@ -46,7 +46,7 @@ void check_finite(const cbps::Scene& scene) {
     require(finite(b.v()) && finite(b.omega()), "a body's velocity is not finite");
   }
   for (const cbps::DistanceConstraint& d : scene.distances)
-    require(finite(d.anchor_a) && finite(d.anchor_b) && finite(d.l),
+    require(finite(d.anchor_a) && finite(d.anchor_b) && finite(d.length),
             "a distance constraint is not finite");
 }
 
