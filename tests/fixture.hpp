@@ -179,9 +179,14 @@ inline Constructed construct(int k, int d, std::mt19937& rng) {
 /// max(1, ‖b‖∞, max |A_ij|), the scale residuals are measured against (lcp.hpp).
 inline double scale_of(const SpMat& A, const VecX& b) { return lcp_scale(MatX(A), -b); }
 
-inline VecX solve_exact(const Constructed& p, SolverSummary* summary = nullptr) {
+/// The constructed problem solved by an exact path (direct or active-set) from lambda = 0.
+inline VecX solve_exact(const Constructed& p,
+                        SolverSummary* summary = nullptr,
+                        Method method = Method::Direct) {
   VecX lambda = VecX::Zero(p.b.size());
-  const SolverSummary s = solve_direct(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda);
+  SolverOptions options;
+  options.method = method;
+  const SolverSummary s = solve(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda, options);
   if (summary != nullptr) *summary = s;
   return lambda;
 }

@@ -13,7 +13,8 @@
 //   7.1.1                PGS, PSOR, SGS, Jacobi                   solvers/pgs.hpp
 //                        block PGS                                solvers/pgs_block.hpp
 //                        matrix-free PGS                          solvers/pgs_matrix_free.hpp
-//   6.2                  the exact path (CHOLMOD)                 solvers/direct.hpp
+//   6.2                  the exact path (interior point, CHOLMOD) solvers/direct.hpp
+//                        the previous exact path (active set)     solvers/active_set.hpp
 //                        Lemke's method (dense reference)         solvers/lemke.hpp
 //                        islands of A                             solvers/islands.hpp
 //   5.4                  Coulomb bounds ±mu lambda_n              solvers/coulomb.hpp
@@ -40,6 +41,7 @@
 #include "cbps/scene/scene.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/active_set.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "cbps/solvers/lemke.hpp"

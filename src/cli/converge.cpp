@@ -231,7 +231,9 @@ Run run_direct(const Study& s, const SolverSpec& spec) {
   run.spec = spec;
   VecX lambda = VecX::Zero(s.stored.rows());
   const auto start = Clock::now();
-  const SolverSummary d = solve_direct(s.solved(), lambda);
+  SolverOptions options;
+  options.method = spec.method;
+  const SolverSummary d = solve(s.solved(), lambda, options);
   const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
   run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
   run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);
@@ -284,7 +286,7 @@ int converge_command(const ConvergeOptions& o) {
 
   std::vector<Run> runs;
   for (const SolverSpec& spec : specs) {
-    runs.push_back(spec.method == Method::Direct ? run_direct(s, spec) : run_iterative(s, spec, o));
+    runs.push_back(!is_iterative(spec.method) ? run_direct(s, spec) : run_iterative(s, spec, o));
     if (!o.quiet) {
       const Sample& last = runs.back().samples.back();
       std::fprintf(stderr,
@@ -302,7 +304,7 @@ int converge_command(const ConvergeOptions& o) {
   std::vector<std::string> solved_by_guess;
   double guess_residual = 0.0;
   for (const Run& run : runs) {
-    if (run.spec.method == Method::Direct) continue;
+    if (!is_iterative(run.spec.method)) continue;
     const double r0 = run.samples.front().residual;
     guess_residual = std::max(guess_residual, r0);
     if (r0 <= o.tolerance) solved_by_guess.push_back(run.spec.text);

@@ -89,14 +89,16 @@ std::string format_number(double x) {
   return buf;
 }
 
-Outcome run_direct(const StoredProblem& p, double tolerance) {
-  // The direct path is for the paper's A = J Minv Jᵀ: symmetric positive semidefinite.
-  require_symmetric(p, "--solver direct");
+Outcome run_direct(const StoredProblem& p, Method method, double tolerance) {
+  // The exact paths are for the paper's A = J Minv Jᵀ: symmetric positive semidefinite.
+  require_symmetric(p, "--solver " + std::string(to_string(method)));
   VecX lambda = VecX::Zero(p.rows());
   SolverOptions options;
-  options.method = Method::Direct;
+  options.method = method;
   options.tolerance = tolerance;
-  const SolverSummary s = solve_direct(p.problem(), lambda, options);
+  BoxedProblem problem = p.problem();
+  problem.cfm = p.cfm;  // lcp_command put it into A
+  const SolverSummary s = solve(problem, lambda, options);
   std::ostringstream msg;
   msg << s.message << "; " << s.wall_time_s << " s";
   return {lambda, s.iterations, false, msg.str()};
@@ -115,17 +117,20 @@ int lcp_command(const LcpOptions& o) {
   // Siconos file too large for dense Lemke), Lemke for Siconos files.
   std::string solver = o.solver;
   if (solver.empty()) solver = (!folder && p.rows() <= kMaxLemkeRows) ? "lemke" : "direct";
-  if (solver != "lemke" && solver != "pgs" && solver != "jacobi" && solver != "direct")
-    throw InputError("--solver " + solver + ": unknown; use lemke, pgs, jacobi or direct");
+  if (solver != "lemke" && solver != "pgs" && solver != "jacobi" && solver != "direct" &&
+      solver != "active-set")
+    throw InputError("--solver " + solver +
+                     ": unknown; use lemke, pgs, jacobi, direct or active-set");
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
 
   LcpOptions run = o;
   run.solver = solver;
   const auto start = std::chrono::steady_clock::now();
-  const Outcome r = solver == "lemke"    ? run_lemke(p)
-                    : solver == "direct" ? run_direct(p, o.tolerance)
-                                         : run_iterative(p, run);
+  const Outcome r = solver == "lemke"        ? run_lemke(p)
+                    : solver == "direct"     ? run_direct(p, Method::Direct, o.tolerance)
+                    : solver == "active-set" ? run_direct(p, Method::ActiveSet, o.tolerance)
+                                             : run_iterative(p, run);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -196,14 +201,16 @@ void register_lcp(CLI::App& app, Action& run) {
   cmd->add_option("--solver",
                   o->solver,
                   "lemke (dense, any square A; the default for Siconos files up to 3000 rows), "
-                  "pgs, jacobi, or direct (sparse active set on CHOLMOD, symmetric positive "
-                  "semidefinite A; the default for cbps matrices folders)");
+                  "pgs, jacobi, direct (interior point in body space with a crossover, "
+                  "symmetric positive semidefinite A; the default for cbps matrices folders) or "
+                  "active-set (the previous exact path: active set on CHOLMOD)");
   cmd->add_option("--iterations", o->iterations, "pgs/jacobi: sweeps (default 10000)")
       ->check(positive());
-  cmd->add_option("--tolerance",
-                  o->tolerance,
-                  "pgs/jacobi/direct: stop at this natural-map residual, N (default 1e-10; "
-                  "the direct path never below its rounding floor; not used by lemke)")
+  cmd->add_option(
+         "--tolerance",
+         o->tolerance,
+         "pgs/jacobi/direct/active-set: stop at this natural-map residual, N (default 1e-10; "
+         "the direct path never below its rounding floor; not used by lemke)")
       ->check(non_negative());
   cmd->add_option("--siconos",
                   o->siconos,

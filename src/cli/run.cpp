@@ -401,7 +401,7 @@ void register_run(CLI::App& app, Action& run) {
   cmd->add_flag("--json", o->json, "print the summary as JSON on stdout");
   cmd->add_flag("--check",
                 o->check,
-                "cross-check every step against the direct path (active set on CHOLMOD); adds "
+                "cross-check every step against the direct path (interior point with crossover); adds "
                 "cross_check");
   cmd->add_option("--check-tolerance",
                   o->check_tolerance,

@@ -27,6 +27,8 @@ class CholmodFactor {
   /// x = H⁻¹ rhs with the current factor.
   void solve(const VecX& rhs, VecX& x) const;
   bool valid() const;
+  /// Nonzeros of the factor L as CHOLMOD's analysis counted them (0 before any analysis).
+  long nonzeros() const;
   Eigen::Index size() const { return n_; }
 
  private:

@@ -129,7 +129,7 @@ SolverSummary solve_coulomb(const BoxedProblem& problem,
     bounded.J = p.J;
     bounded.Minv = p.Minv;
     bounded.blocks = p.blocks;
-    if (o.method == Method::Direct) {
+    if (!is_iterative(o.method)) {
       s = direct_fixed_point(bounded, coulomb, cmin, cmax, lambda, o);
     } else {
       s = sweep_with_moving_bounds(bounded, coulomb, cmin, cmax, lambda, o);

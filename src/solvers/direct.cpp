@@ -1,362 +1,336 @@
-// The exact path for the boxed problem of 6.2: proximal-point outer loop, a primal active-set
-// method on the free rows, CHOLMOD's sparse Cholesky for each free block, islands apart.
-// The method, its parameters and its sources are described at solve_direct() in direct.hpp.
+// The exact path for the boxed problem of 6.2: a primal-dual interior-point method (Mehrotra's
+// predictor-corrector) with its Newton systems factored in body space, then a crossover to the
+// exact active set. The method, its parameters and its sources are described at solve_direct()
+// in direct.hpp.
 #include "cbps/solvers/direct.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numeric>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
-#include "cbps/solvers/islands.hpp"
-#include "cbps/solvers/pgs.hpp"
-#include "cholmod_factor.hpp"
+#include "cbps/solvers/active_set.hpp"
+#include "newton_system.hpp"
 
 namespace cbps {
 
 namespace {
 
 constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2.0;
-/// A free block whose reciprocal condition estimate is below this is treated as singular.
-constexpr double kSingularRcond = kDefiniteRcond;
-/// Outer iterations without a new best residual before the direct path gives up.
-constexpr int kStallLimit = 10;
-/// The factor by which ε falls when the proximal steps converge slowly (and rises back).
-constexpr double kEpsilonStep = 10.0;
+/// The fraction of the way to the boundary an interior step goes (Mehrotra's damping).
+constexpr double kStepToBoundary = 0.995;
+/// The crossover's first proximal ε, a fraction of max A_kk: small, because the interior point's
+/// partition is close (its proximal steps contract the error by about ε/(σ + ε)).
+constexpr double kCrossoverEpsilon = 1e-6;
 
-/// Where a row sits in the active-set partition.
-enum class Place : unsigned char {
-  Free,   ///< cmin < lambda < cmax, w = 0 (solved for)
-  Lower,  ///< lambda = cmin, w ≥ 0
-  Upper,  ///< lambda = cmax, w ≤ 0
-  Fixed   ///< cmin = cmax: lambda is that value, w free; never exchanged
-};
+/// Where a row sits in the crossover's partition.
+enum class Place : unsigned char { Free, Lower, Upper, Fixed };
 
-/// One island's boxed problem and the state of its solve.
-class IslandSolver {
+/// The whole solve: the interior iterations, then the crossover.
+class InteriorSolver {
  public:
-  IslandSolver(const BoxedProblem& problem, const SolverOptions& options, SolverSummary& stats)
-      : problem_(problem),
-        A_(problem.A),
-        b_(problem.b),
-        cmin_(problem.cmin),
-        cmax_(problem.cmax),
-        options_(options),
-        stats_(stats) {
-    const Eigen::Index m = A_.rows();
-    for (Eigen::Index j = 0; j < m; ++j) {
-      double row_sum = 0.0;
-      for (SpMat::InnerIterator it(A_, j); it; ++it) {
-        row_sum += std::abs(it.value());
-        if (it.row() == j) max_diagonal_ = std::max(max_diagonal_, it.value());
-      }
-      max_row_sum_ = std::max(max_row_sum_, row_sum);
-      bounded_ = bounded_ || std::isfinite(cmin_(j)) || std::isfinite(cmax_(j));
+  InteriorSolver(const BoxedProblem& problem, const SolverOptions& options, SolverSummary& stats)
+      : p_(problem), A_(problem.A), b_(problem.b), options_(options), stats_(stats) {
+    const Eigen::Index c = A_.rows();
+    lower_.assign(std::size_t(c), 0);
+    upper_.assign(std::size_t(c), 0);
+    fixed_.assign(std::size_t(c), 0);
+    a_ = A_.diagonal();
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const std::size_t K = std::size_t(k);
+      fixed_[K] = problem.cmin(k) == problem.cmax(k);
+      lower_[K] = !fixed_[K] && std::isfinite(problem.cmin(k));
+      upper_[K] = !fixed_[K] && std::isfinite(problem.cmax(k));
+      bounds_ += lower_[K] + upper_[K];
+      max_diagonal_ = std::max(max_diagonal_, a_(k));
     }
-    local_.assign(static_cast<std::size_t>(m), -1);
+    if (!(max_diagonal_ > 0.0)) max_diagonal_ = 1.0;
+    for (Eigen::Index k = 0; k < c; ++k)
+      if (!(a_(k) > 0.0)) a_(k) = max_diagonal_;  // for the crossover's λ − w/A_kk only
+    newton_ = make_newton_system(problem);
+    stats_.space = newton_->space();
   }
 
-  /// Solves from the guess in lambda; true when the residual reached the tolerance.
-  bool solve(VecX& lambda) {
-    const Eigen::Index m = A_.rows();
-    for (Eigen::Index i = 0; i < m; ++i) {
-      if (!std::isfinite(lambda(i))) lambda(i) = 0.0;
-      lambda(i) = clamp(lambda(i), cmin_(i), cmax_(i));
-    }
-    if (bounded_) {
-      for (int s = 0; s < options_.direct.start_sweeps; ++s) pgs_sweep(problem_, lambda);
-    }
-    place_.assign(static_cast<std::size_t>(m), Place::Free);
-    for (Eigen::Index i = 0; i < m; ++i) place_[std::size_t(i)] = initial_place(i, lambda(i));
+  int bounds() const { return bounds_; }
 
-    double r = natural_map_residual(problem_, lambda);
-    if (r <= tolerance(lambda)) return true;
-    double best_r = r;
-    VecX best = lambda;
-    double eps = 0.0;  // plain active set first: exact when the free blocks are definite
-    int stall = 0;
-    bool may_reduce = true;  // until an ε once made the active-set search fail
-    std::vector<Place> previous = place_;
-    for (int k = 0; k < options_.direct.max_outer_iterations; ++k) {
-      ++stats_.iterations;
-      VecX x = lambda;
-      const Pivoting result = pivot(eps, lambda, x);
-      if (result == Pivoting::Singular) {
-        if (eps > 0.0) break;  // A + εI not definite: A is not positive semidefinite
-        eps = options_.direct.epsilon * max_diagonal_;
-        stats_.singular = true;
-        continue;
-      }
-      if (result == Pivoting::Failed) {
-        // Too many pivots: a larger ε makes the subproblem better conditioned and the
-        // pivoting shorter; ε then stays.
-        if (eps == 0.0 || eps >= max_diagonal_) break;
-        eps *= kEpsilonStep;
-        may_reduce = false;
-        place_ = previous;
-        continue;
-      }
-      const bool settled = place_ == previous;
-      previous = place_;
-      lambda = x;
-      const double r_new = natural_map_residual(problem_, lambda);
-      if (!std::isfinite(r_new)) break;
-      if (r_new < best_r) {
-        best_r = r_new;
-        best = lambda;
-        stall = 0;
-      } else {
-        ++stall;
-      }
-      if (r_new <= tolerance(lambda)) return true;
-      // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
-      // block: once the active set holds, a smaller ε converges faster.
-      const double eps_floor = options_.direct.epsilon_floor * max_diagonal_;
-      if (may_reduce && eps > eps_floor && settled && r_new > 0.5 * r) {
-        eps = std::max(eps / kEpsilonStep, eps_floor);
-      }
-      if (stall >= kStallLimit) break;
-      r = r_new;
+  /// The interior iterations, then the crossover; true when lambda reaches the tolerance.
+  bool solve(VecX& lambda) {
+    interior(lambda);
+    if (solved_) return true;
+    // The crossover starts from the interior point's partition: bound rows at their bounds.
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      const Place place = place_[std::size_t(k)];
+      if (place == Place::Lower || place == Place::Fixed) lambda(k) = p_.cmin(k);
+      if (place == Place::Upper) lambda(k) = p_.cmax(k);
     }
-    lambda = best;
-    return false;
+    const SolverSummary x = finish_active_set(p_, lambda, options_, *newton_, kCrossoverEpsilon);
+    stats_.crossover = x.iterations;
+    stats_.pivots += x.pivots;
+    stats_.factorizations += x.factorizations;
+    stats_.factor_nnz = std::max(stats_.factor_nnz, x.factor_nnz);
+    return x.termination == Termination::Direct;
+  }
+
+  double tolerance(const VecX& lambda) const {
+    return std::max(options_.tolerance, residual_floor(p_, lambda));
   }
 
  private:
-  enum class Pivoting { Solved, Singular, Failed };
-
-  Place initial_place(Eigen::Index i, double value) const {
-    if (cmin_(i) == cmax_(i)) return Place::Fixed;
-    if (value <= cmin_(i)) return Place::Lower;
-    if (value >= cmax_(i)) return Place::Upper;
-    return Place::Free;
+  bool newton_solve(const VecX& d, const std::vector<char>& dropped, const VecX& r, VecX& x) {
+    return newton_->solve(A_, d, dropped, r, x);
   }
 
-  /// The user's tolerance or, where it is lower, the rounding floor of the natural-map residual
-  /// at lambda (no solve can go below that).
-  double tolerance(const VecX& lambda) const {
-    const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
-    const double bn = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
-    return std::max(options_.tolerance, 64.0 * kUnitRoundoff * (max_row_sum_ * l + bn));
-  }
-
-  /// Factor of (A + εI)(F, F) for the free rows F, reused while F and ε stay.
-  bool factor_free_block(const std::vector<int>& F, double eps) {
-    if (factor_.valid() && F == factor_rows_ && eps == factor_eps_) return true;
-    const bool whole = static_cast<Eigen::Index>(F.size()) == A_.rows();
-    bool ok = false;
-    if (F == factor_rows_ && factor_eps_ >= 0.0) {
-      ok = factor_.refactor(whole ? A_ : block_, eps);
-    } else {
-      if (!whole) block_ = principal_submatrix(A_, F, local_);
-      ok = factor_.factor(whole ? A_ : block_, eps);
-      factor_rows_ = F;
-    }
-    factor_eps_ = eps;
+  bool factor(const VecX& d, const std::vector<char>& dropped) {
     ++stats_.factorizations;
-    if (!ok) {
-      factor_rows_.clear();
-      factor_eps_ = -1.0;
-    }
-    return ok && (eps > 0.0 || factor_.rcond() >= kSingularRcond);
+    const bool ok = newton_->factor(d, dropped);
+    stats_.factor_nnz = std::max(stats_.factor_nnz, newton_->factor_nonzeros());
+    return ok;
   }
 
-  /// The subproblem min ½ xᵀ(A + εI)x − gᵀx over the box, g = b + ε center, by a primal
-  /// active-set method from the partition place_ and the guess x (clamped into the box):
-  ///   1. with the bound rows at their bounds, the Newton step of the free rows F,
-  ///        p_F = (A + εI)_FF⁻¹ (g − (A + εI) x)_F   (the minimiser on that face, in correction
-  ///      form: iterative refinement as a side effect);
-  ///   2. the longest step α ≤ 1 along p that stays in the box; rows that block are fixed at
-  ///      the bound they reach;
-  ///   3. after a full step, the bound rows whose gradient y = (A + εI)x − g has the wrong sign
-  ///      (y < 0 at cmin, y > 0 at cmax) are freed: all of them, or after a step that made no
-  ///      progress only the worst one.
-  /// The objective falls at every step (the step is a descent direction and α ≤ 1 does not
-  /// overshoot the minimiser on the face), so the method cannot cycle.
-  Pivoting pivot(double eps, const VecX& center, VecX& x) {
-    const Eigen::Index m = A_.rows();
-    const double tol = tolerance(center);
-    VecX g = b_ + eps * center;
-    std::vector<int> F;
-    VecX rhs, p;
-    bool release_one = false;
-    for (Eigen::Index i = 0; i < m; ++i) {
-      const Place place = place_[std::size_t(i)];
-      if (place == Place::Lower || place == Place::Fixed) x(i) = cmin_(i);
-      if (place == Place::Upper) x(i) = cmax_(i);
-      if (place == Place::Free) x(i) = clamp(x(i), cmin_(i), cmax_(i));
+  /// Mehrotra's predictor-corrector on min ½ λᵀAλ − bᵀλ over the box, from the box's centre.
+  void interior(VecX& lambda) {
+    const Eigen::Index c = A_.rows();
+    const VecX& lo = p_.cmin;
+    const VecX& hi = p_.cmax;
+    const double b_norm = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
+    const double lambda_scale = b_norm > 0.0 ? b_norm / max_diagonal_ : 1.0;  // N
+    const double w_scale = b_norm > 0.0 ? b_norm : max_diagonal_;             // m/s²
+    const double rho = options_.direct.proximal * max_diagonal_;
+    VecX s = VecX::Zero(c), t = VecX::Zero(c), z = VecX::Zero(c), y = VecX::Zero(c);
+    lambda.resize(c);
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const std::size_t K = std::size_t(k);
+      if (fixed_[K]) {
+        lambda(k) = lo(k);
+      } else if (lower_[K] && upper_[K]) {
+        lambda(k) = 0.5 * (lo(k) + hi(k));
+      } else if (lower_[K]) {
+        lambda(k) = lo(k) + lambda_scale;
+      } else if (upper_[K]) {
+        lambda(k) = hi(k) - lambda_scale;
+      } else {
+        lambda(k) = 0.0;
+      }
+      if (lower_[K]) s(k) = lambda(k) - lo(k);
+      if (upper_[K]) t(k) = hi(k) - lambda(k);
     }
-    const long limit = 100 + 5 * static_cast<long>(m);
-    for (long round = 0; round < limit; ++round) {
-      F.clear();
-      for (Eigen::Index i = 0; i < m; ++i) {
-        if (place_[std::size_t(i)] == Place::Free) F.push_back(static_cast<int>(i));
-      }
-      double alpha = 1.0;
-      if (!F.empty()) {
-        if (!factor_free_block(F, eps)) return Pivoting::Singular;
-        const VecX Hx = A_ * x + eps * x;
-        rhs.resize(static_cast<Eigen::Index>(F.size()));
-        for (std::size_t k = 0; k < F.size(); ++k) rhs(Eigen::Index(k)) = g(F[k]) - Hx(F[k]);
-        factor_.solve(rhs, p);
-        if (!p.allFinite()) return Pivoting::Failed;
-        for (std::size_t k = 0; k < F.size(); ++k) {  // the ratio test
-          const int i = F[k];
-          const double pi = p(Eigen::Index(k));
-          if (x(i) + pi < cmin_(i)) alpha = std::min(alpha, (cmin_(i) - x(i)) / pi);
-          if (x(i) + pi > cmax_(i)) alpha = std::min(alpha, (cmax_(i) - x(i)) / pi);
-        }
-        alpha = std::max(alpha, 0.0);
-        for (std::size_t k = 0; k < F.size(); ++k) {
-          const int i = F[k];
-          const double xi = x(i) + alpha * p(Eigen::Index(k));
-          if (alpha < 1.0 && xi <= cmin_(i)) {
-            place_[std::size_t(i)] = Place::Lower;  // blocked: fixed at the bound it reached
-            x(i) = cmin_(i);
-            ++stats_.pivots;
-          } else if (alpha < 1.0 && xi >= cmax_(i)) {
-            place_[std::size_t(i)] = Place::Upper;
-            x(i) = cmax_(i);
-            ++stats_.pivots;
-          } else {
-            x(i) = clamp(xi, cmin_(i), cmax_(i));
-          }
-        }
-      }
-      if (alpha < 1.0) {
-        release_one = release_one || alpha == 0.0;
-        continue;
-      }
-      // A full step: x minimises the objective on this face. Free the wrong-signed bound rows.
-      const VecX y = A_ * x + eps * x - g;
-      Eigen::Index worst = -1;
-      double worst_violation = tol;
-      int released = 0;
-      for (Eigen::Index i = 0; i < m; ++i) {
-        Place& place = place_[std::size_t(i)];
-        const double violation = place == Place::Lower ? -y(i) : place == Place::Upper ? y(i) : 0.0;
-        if (!(violation > tol)) continue;
-        if (violation > worst_violation) {
-          worst_violation = violation;
-          worst = i;
-        }
-        if (!release_one) {
-          place = Place::Free;
-          ++released;
-          ++stats_.pivots;
-        }
-      }
-      if (release_one && worst >= 0) {
-        place_[std::size_t(worst)] = Place::Free;
-        ++released;
-        ++stats_.pivots;
-      }
-      if (released == 0) return Pivoting::Solved;
-      release_one = false;
+    VecX w = A_ * lambda - b_;
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const std::size_t K = std::size_t(k);
+      if (lower_[K]) z(k) = std::max(w(k), 0.0) + w_scale;
+      if (upper_[K]) y(k) = std::max(-w(k), 0.0) + w_scale;
     }
-    return Pivoting::Failed;
+    std::vector<char> dropped(fixed_.begin(), fixed_.end());
+    const double mu_stop = options_.direct.interior_mu * scale_of(p_) * std::max(1.0, lambda_scale);
+    // Stationarity only to the square root of that: the proximal term ρ and rounding hold it
+    // near 1e-11 · scale on singular A, and the crossover settles the rest.
+    const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
+    VecX d(c), r_d(c), rhs(c), dl_aff, dl, dz(c), dy(c), dz_aff(c), dy_aff(c);
+    for (int it = 0; it < options_.direct.max_interior; ++it) {
+      w = A_ * lambda - b_;
+      double mu = 0.0;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        r_d(k) = fixed_[std::size_t(k)] ? 0.0 : w(k) - z(k) + y(k);
+        mu += s(k) * z(k) + t(k) * y(k);
+      }
+      mu /= std::max(bounds_, 1);
+      const double r_norm = r_d.size() > 0 ? r_d.lpNorm<Eigen::Infinity>() : 0.0;
+      if (!std::isfinite(mu) || !std::isfinite(r_norm)) break;
+      // An interior point that already meets the tolerance needs no crossover.
+      if (natural_map_residual(w, lambda, lo, hi) <= tolerance(lambda)) {
+        solved_ = true;
+        break;
+      }
+      if (mu <= mu_stop && r_norm <= r_stop) break;
+      ++stats_.iterations;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        d(k) = rho;
+        if (lower_[std::size_t(k)]) d(k) += z(k) / s(k);
+        if (upper_[std::size_t(k)]) d(k) += y(k) / t(k);
+      }
+      if (!factor(d, dropped)) break;
+      // Predictor (σ = 0).
+      rhs = -r_d - z + y;
+      if (!newton_solve(d, dropped, rhs, dl_aff)) break;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        dz_aff(k) = lower_[std::size_t(k)] ? -z(k) - z(k) / s(k) * dl_aff(k) : 0.0;
+        dy_aff(k) = upper_[std::size_t(k)] ? -y(k) + y(k) / t(k) * dl_aff(k) : 0.0;
+      }
+      const double a_aff = step_length(s, t, z, y, dl_aff, dz_aff, dy_aff, 1.0);
+      double mu_aff = 0.0;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        if (lower_[std::size_t(k)])
+          mu_aff += (s(k) + a_aff * dl_aff(k)) * (z(k) + a_aff * dz_aff(k));
+        if (upper_[std::size_t(k)])
+          mu_aff += (t(k) - a_aff * dl_aff(k)) * (y(k) + a_aff * dy_aff(k));
+      }
+      mu_aff /= std::max(bounds_, 1);
+      const double sigma = std::pow(std::clamp(mu_aff / mu, 0.0, 1.0), 3);
+      // Corrector: centring σμ and Mehrotra's second-order term.
+      for (Eigen::Index k = 0; k < c; ++k) {
+        rhs(k) = -r_d(k);
+        if (lower_[std::size_t(k)]) {
+          const double cl = sigma * mu - s(k) * z(k) - dl_aff(k) * dz_aff(k);
+          rhs(k) += cl / s(k);
+          dz(k) = cl;  // completed below
+        }
+        if (upper_[std::size_t(k)]) {
+          const double cu = sigma * mu - t(k) * y(k) + dl_aff(k) * dy_aff(k);
+          rhs(k) -= cu / t(k);
+          dy(k) = cu;
+        }
+      }
+      if (!newton_solve(d, dropped, rhs, dl)) break;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        dz(k) = lower_[std::size_t(k)] ? (dz(k) - z(k) * dl(k)) / s(k) : 0.0;
+        dy(k) = upper_[std::size_t(k)] ? (dy(k) + y(k) * dl(k)) / t(k) : 0.0;
+      }
+      const double alpha = step_length(s, t, z, y, dl, dz, dy, kStepToBoundary);
+      for (Eigen::Index k = 0; k < c; ++k) {
+        if (fixed_[std::size_t(k)]) continue;
+        lambda(k) += alpha * dl(k);
+        if (lower_[std::size_t(k)]) {
+          s(k) += alpha * dl(k);
+          z(k) += alpha * dz(k);
+        }
+        if (upper_[std::size_t(k)]) {
+          t(k) -= alpha * dl(k);
+          y(k) += alpha * dy(k);
+        }
+      }
+    }
+    // The partition the interior point suggests: a row is at its bound when its multiplier
+    // outweighs its slack (z > A_kk s, units m/s² against kg⁻¹ N).
+    place_.assign(std::size_t(c), Place::Free);
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const std::size_t K = std::size_t(k);
+      if (fixed_[K])
+        place_[K] = Place::Fixed;
+      else if (lower_[K] && z(k) > a_(k) * s(k))
+        place_[K] = Place::Lower;
+      else if (upper_[K] && y(k) > a_(k) * t(k))
+        place_[K] = Place::Upper;
+    }
   }
 
-  const BoxedProblem& problem_;
+  /// The longest step ≤ 1 (times `fraction` of the way to the boundary) keeping s, t, z, y ≥ 0.
+  double step_length(const VecX& s,
+                     const VecX& t,
+                     const VecX& z,
+                     const VecX& y,
+                     const VecX& dl,
+                     const VecX& dz,
+                     const VecX& dy,
+                     double fraction) const {
+    double alpha = 1.0 / fraction;
+    for (Eigen::Index k = 0; k < s.size(); ++k) {
+      if (lower_[std::size_t(k)]) {
+        if (dl(k) < 0.0) alpha = std::min(alpha, -s(k) / dl(k));
+        if (dz(k) < 0.0) alpha = std::min(alpha, -z(k) / dz(k));
+      }
+      if (upper_[std::size_t(k)]) {
+        if (dl(k) > 0.0) alpha = std::min(alpha, t(k) / dl(k));
+        if (dy(k) < 0.0) alpha = std::min(alpha, -y(k) / dy(k));
+      }
+    }
+    return std::min(1.0, fraction * alpha);
+  }
+
+  const BoxedProblem& p_;
   const SpMat& A_;
   const VecX& b_;
-  const VecX& cmin_;
-  const VecX& cmax_;
   const SolverOptions& options_;
   SolverSummary& stats_;
+  std::vector<char> lower_, upper_, fixed_;
+  VecX a_;  ///< A_kk (max A_kk where that is 0)
+  int bounds_ = 0;
   double max_diagonal_ = 0.0;
-  double max_row_sum_ = 0.0;
-  bool bounded_ = false;
+  std::unique_ptr<NewtonSystem> newton_;
   std::vector<Place> place_;
-  std::vector<int> local_;
-  CholmodFactor factor_;
-  std::vector<int> factor_rows_;  ///< the free rows factor_ was made for
-  double factor_eps_ = -1.0;      ///< and its ε (−1: none)
-  SpMat block_;                   ///< A(F, F) of factor_rows_, kept for refactor()
+  bool solved_ = false;  ///< the interior point met the tolerance
 };
 
 }  // namespace
 
+double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
+  const SpMat& A = problem.A;
+  double max_row_sum = 0.0;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {  // A symmetric: column sums = row sums
+    double sum = 0.0;
+    for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
+    max_row_sum = std::max(max_row_sum, sum);
+  }
+  const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
+  const double bn = problem.b.size() > 0 ? problem.b.lpNorm<Eigen::Infinity>() : 0.0;
+  return 64.0 * kUnitRoundoff * (max_row_sum * l + bn);
+}
+
 SolverSummary solve_direct(const BoxedProblem& problem,
                            VecX& lambda,
                            const SolverOptions& options) {
-  const SpMat& A = problem.A;
-  const VecX& b = problem.b;
-  const VecX& cmin = problem.cmin;
-  const VecX& cmax = problem.cmax;
   const auto start = std::chrono::steady_clock::now();
-  const Eigen::Index n = A.rows();
-  if (A.cols() != n || b.size() != n || cmin.size() != n || cmax.size() != n) {
+  const Eigen::Index n = problem.A.rows();
+  if (problem.A.cols() != n || problem.b.size() != n || problem.cmin.size() != n ||
+      problem.cmax.size() != n) {
     throw std::invalid_argument("solve_direct: A, b, cmin and cmax sizes differ");
   }
   if (lambda.size() != n) lambda = VecX::Zero(n);
   SolverSummary s;
   s.termination = Termination::Direct;
   const bool finite =
-      b.allFinite() && Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).allFinite();
+      problem.b.allFinite() &&
+      Eigen::Map<const VecX>(problem.A.valuePtr(), problem.A.nonZeros()).allFinite();
+  const auto finish = [&](const std::string& what) {
+    s.residual = natural_map_residual(problem, lambda);
+    if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
+    s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::ostringstream msg;
+    msg << what << ", residual " << s.residual << " N";
+    s.message = msg.str();
+    return s;
+  };
   if (!finite) {
     s.termination = Termination::NonFinite;
     s.residual = std::numeric_limits<double>::quiet_NaN();
     s.message = "direct: A or b has non-finite entries";
     return s;
   }
-  std::vector<std::vector<int>> islands;
-  if (options.direct.split_islands) {
-    islands = find_islands(A);
-  } else if (n > 0) {
-    islands.emplace_back(static_cast<std::size_t>(n));
-    std::iota(islands.back().begin(), islands.back().end(), 0);
+  // The guess may already be the answer (a warm start on a resting scene).
+  VecX guess = lambda;
+  for (Eigen::Index k = 0; k < n; ++k)
+    guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
+  const double floor_tol = std::max(options.tolerance, residual_floor(problem, guess));
+  if (natural_map_residual(problem, guess) <= floor_tol) {
+    lambda = guess;
+    s.islands = 1;
+    return finish("direct: the guess already solves it");
   }
-  s.islands = static_cast<int>(islands.size());
-  int unsolved = 0;
-  for_each_island(
-      islands, problem, lambda, [&](const BoxedProblem& island_problem, VecX& lambda_I) {
-        const SpMat& A_I = island_problem.A;
-        const double A_11 = A_I.rows() == 1 ? A_I.coeff(0, 0) : 0.0;
-        if (A_11 > 0.0) {  // one row: lambda = clamp(b / A_11), exactly
-          lambda_I(0) =
-              clamp(island_problem.b(0) / A_11, island_problem.cmin(0), island_problem.cmax(0));
-          return;
-        }
-        const bool warm = !lambda_I.isZero(0.0);
-        IslandSolver island(island_problem, options, s);
-        if (island.solve(lambda_I)) return;
-        if (warm) {
-          // Stopped short from the caller's guess: once more from lambda = 0 (the 5 PGS sweeps
-          // of step 1 pick the first active set); keep whichever residual is smaller.
-          VecX cold = VecX::Zero(lambda_I.size());
-          ++s.restarts;
-          if (island.solve(cold)) {
-            lambda_I = cold;
-            return;
-          }
-          if (natural_map_residual(island_problem, cold) <
-              natural_map_residual(island_problem, lambda_I)) {
-            lambda_I = cold;
-          }
-        }
-        ++unsolved;
-      });
-  s.residual = natural_map_residual(problem, lambda);
-  if (!std::isfinite(s.residual)) {
-    s.termination = Termination::NonFinite;
-  } else if (unsolved > 0) {
-    s.termination = Termination::NotConverged;
+  SolverSummary inner;
+  InteriorSolver solver(problem, options, inner);
+  if (solver.bounds() == 0) {
+    // No bounded row: one linear solve (the active-set path's all-unbounded case).
+    s = solve_active_set(problem, lambda, options);
+    s.message = "direct (no bounded rows): " + s.message;
+    s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return s;
   }
-  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::ostringstream msg;
-  msg << "direct (active set on CHOLMOD, proximal where singular): " << s.islands << " island"
-      << (s.islands == 1 ? "" : "s") << ", " << s.iterations << " outer iterations, "
-      << s.factorizations << " factorizations, " << s.pivots << " pivots, residual " << s.residual
-      << " N";
-  if (s.singular) msg << "; singular blocks regularised";
-  if (s.restarts > 0) msg << "; " << s.restarts << " island(s) restarted from lambda = 0";
-  if (unsolved > 0) msg << "; " << unsolved << " island(s) stopped short of the tolerance";
-  s.message = msg.str();
-  return s;
+  VecX x = lambda;
+  const bool solved = solver.solve(x);
+  s = inner;
+  s.islands = 1;
+  s.termination = solved ? Termination::Direct : Termination::NotConverged;
+  lambda = x;
+  std::ostringstream what;
+  what << "direct (interior point, " << s.space << " space"
+       << (s.space == "body" ? " M + Jt D^-1 J" : " A + D") << ", factor nnz " << s.factor_nnz
+       << "): " << s.iterations << " interior iterations, crossover " << s.crossover
+       << " proximal steps and " << s.pivots << " pivots, " << s.factorizations
+       << " factorizations";
+  if (!solved) what << "; stopped short of the tolerance";
+  return finish(what.str());
 }
 
 }  // namespace cbps

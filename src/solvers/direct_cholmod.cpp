@@ -71,6 +71,10 @@ double CholmodFactor::rcond() const {
 
 bool CholmodFactor::valid() const { return impl_->ok; }
 
+long CholmodFactor::nonzeros() const {
+  return impl_->L == nullptr ? 0L : static_cast<long>(impl_->common.lnz);
+}
+
 void CholmodFactor::solve(const VecX& rhs, VecX& x) const {
   if (!impl_->ok) throw ComputationError("CHOLMOD: solve without a valid factor");
   x.resize(rhs.size());

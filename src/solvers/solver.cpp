@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cbps/solvers/active_set.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "cbps/solvers/pgs.hpp"
@@ -26,7 +27,8 @@ constexpr MethodName kMethodNames[] = {{Method::Pgs, "pgs"},
                                        {Method::Sgs, "sgs"},
                                        {Method::Jacobi, "jacobi"},
                                        {Method::MatrixFree, "matrix-free"},
-                                       {Method::Direct, "direct"}};
+                                       {Method::Direct, "direct"},
+                                       {Method::ActiveSet, "active-set"}};
 
 }  // namespace
 
@@ -120,6 +122,8 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_matrix_free(problem, lambda, options);
     case Method::Direct:
       return solve_direct(problem, lambda, options);
+    case Method::ActiveSet:
+      return solve_active_set(problem, lambda, options);
   }
   throw std::invalid_argument("solve: unknown method");
 }
@@ -172,6 +176,7 @@ SolverSummary with_cfm_applied(
   regularised.J = problem.J;
   regularised.Minv = problem.Minv;
   regularised.blocks = problem.blocks;
+  regularised.cfm = problem.cfm + options.cfm;
   SolverOptions plain = options;
   plain.cfm = 0.0;
   return run(regularised, plain);

@@ -30,7 +30,7 @@ std::string stage_name(Stage stage, Method method, PushMode push) {
       return "assembly (6.1, 6.2.9)";
     case Stage::Solve:
       if (push == PushMode::Improved) return "velocity_system_" + name + " (8.1)";
-      return "solve_" + name + (method == Method::Direct ? " (6.2)" : " (7.1.1)");
+      return "solve_" + name + (!is_iterative(method) ? " (6.2)" : " (7.1.1)");
     case Stage::PositionSystem:
       return "position_system_" + name + " (8.1)";
     case Stage::Integrate:

@@ -4,7 +4,8 @@
 //   pgs.hpp              7.1.1: PGS, PSOR, symmetric Gauss-Seidel, projected Jacobi
 //   pgs_block.hpp        block PGS (contact manifolds solved as blocks by Lemke)
 //   pgs_matrix_free.hpp  7.1.1 without A (sequential impulses)
-//   direct.hpp           the exact path: active set on CHOLMOD inside a proximal-point loop
+//   direct.hpp           the exact path: interior point in body space, crossover to the active set
+//   active_set.hpp       the previous exact path: active set on CHOLMOD inside proximal points
 //   lemke.hpp            Lemke's method, a dense pivoting reference
 //   islands.hpp          independent blocks of A, solved apart
 //   coulomb.hpp          friction bounds ±mu lambda_n (5.4) around any method: a fixed point
@@ -28,22 +29,30 @@ enum class Method {
   Sgs,         ///< "sgs": symmetric Gauss-Seidel, a forward and a backward sweep
   Jacobi,      ///< "jacobi": projected Jacobi
   MatrixFree,  ///< "matrix-free": 7.1.1 on J and Minv without A (pgs_matrix_free.hpp)
-  Direct       ///< "direct": the exact path (direct.hpp)
+  Direct,      ///< "direct": the exact path (direct.hpp)
+  ActiveSet    ///< "active-set": the previous exact path (active_set.hpp), for comparison
 };
 
 /// Every method, in the order of the enum.
-inline constexpr Method kMethods[] = {
-    Method::Pgs, Method::BlockPgs, Method::Sgs, Method::Jacobi, Method::MatrixFree, Method::Direct};
+inline constexpr Method kMethods[] = {Method::Pgs,
+                                      Method::BlockPgs,
+                                      Method::Sgs,
+                                      Method::Jacobi,
+                                      Method::MatrixFree,
+                                      Method::Direct,
+                                      Method::ActiveSet};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
 bool method_from_string(std::string_view name, Method& method);
 /// The method of a name known to be one (code, tests); std::invalid_argument otherwise.
 Method method_of(std::string_view name);
-/// "pgs, block-pgs, sgs, jacobi, matrix-free, direct", for messages and help.
+/// "pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set", for messages and help.
 std::string method_names();
-/// True for the methods that sweep (all but Direct): they run to a sweep limit.
-inline bool is_iterative(Method method) { return method != Method::Direct; }
+/// True for the methods that sweep (all but the exact paths): they run to a sweep limit.
+inline bool is_iterative(Method method) {
+  return method != Method::Direct && method != Method::ActiveSet;
+}
 
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check
@@ -80,13 +89,18 @@ struct SolverOptions {
   /// Block PGS: delta / max_j A_jj of the block, added to the diagonal of each block of
   /// several rows before it is solved (see block_pgs_sweep).
   double block_regularization = 1e-7;
-  /// The direct path's own settings (direct.hpp describes the method).
+  /// The exact paths' own settings (direct.hpp and active_set.hpp describe the methods).
   struct Direct {
-    int max_outer_iterations = 500;  ///< proximal-point steps per island
-    double epsilon = 1e-4;           ///< proximal ε as a fraction of the island's max A_jj
-    double epsilon_floor = 1e-10;    ///< smallest ε (same units) once the active set settles
-    int start_sweeps = 5;            ///< PGS sweeps (7.1.1) that choose the first active set
-    bool split_islands = true;       ///< solve independent blocks of A apart (exact either way)
+    int max_interior = 200;      ///< interior-point iterations (direct)
+    double interior_mu = 1e-13;  ///< stop the interior iterations at μ ≤ this · scale_of (direct)
+    double proximal = 1e-10;     ///< the interior Newton systems' ρ, a fraction of max A_kk
+    int max_crossover = 40;      ///< crossover partitions before the active set finishes (direct)
+    int max_outer_iterations = 500;  ///< proximal-point steps per island (active-set)
+    double epsilon = 1e-4;  ///< proximal ε as a fraction of the island's max A_jj (active-set)
+    double epsilon_floor = 1e-10;  ///< smallest ε (same units) once the active set settles
+    int start_sweeps = 5;          ///< PGS sweeps (7.1.1) that choose the first active set
+    bool split_islands =
+        true;  ///< active-set: solve independent blocks of A apart (exact either way)
   } direct;
   /// Iterative solvers call this after every sweep with the sweep count, lambda and the seconds
   /// spent in sweeps so far (the call itself is not timed); false ends the solve
@@ -109,14 +123,17 @@ enum class Termination {
 std::string to_string(Termination t);
 
 struct SolverSummary {
-  int iterations = 0;      ///< sweeps done; for the direct path its outer (proximal) iterations
+  int iterations = 0;  ///< sweeps done; direct: interior iterations; active-set: outer iterations
   double residual = 0.0;   ///< natural-map residual at the end, N
   double delta = 0.0;      ///< max |Δlambda| of the last sweep, N
-  int factorizations = 0;  ///< sparse Cholesky factorizations (direct path)
-  int pivots = 0;          ///< active-set exchanges (direct path)
-  int restarts = 0;        ///< direct path: islands solved again from 0 after a guess stalled
-  int islands = 0;         ///< independent blocks of A solved apart (direct path)
-  bool singular = false;   ///< the direct path found a singular block and regularised it
+  int factorizations = 0;  ///< sparse Cholesky factorizations (exact paths)
+  int pivots = 0;          ///< active-set exchanges (exact paths)
+  int restarts = 0;        ///< active-set: islands solved again from 0 after a guess stalled
+  int islands = 0;         ///< independent blocks of A solved apart (exact paths)
+  bool singular = false;   ///< the active-set path found a singular block and regularised it
+  int crossover = 0;       ///< direct: partitions tried by the crossover
+  long factor_nnz = 0;     ///< direct: nonzeros of its Cholesky factor
+  std::string space;       ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
   double wall_time_s = 0.0;
   Termination termination = Termination::MaxIterations;
   std::string message;  ///< one line with the numbers

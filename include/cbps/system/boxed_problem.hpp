@@ -33,6 +33,9 @@ struct BoxedProblem {
   const SpMatRow* J = nullptr;               ///< c×6n with A = J Minv Jᵀ, or null
   const SpMat* Minv = nullptr;               ///< 6n×6n, or null
   const std::vector<int>* blocks = nullptr;  ///< c block ids (−1: a row alone), or null
+  /// Constraint-force mixing already in A: A = J Minv Jᵀ + cfm E when J and Minv are given
+  /// (solve() sets it when it forms A + eps E), kg⁻¹.
+  double cfm = 0.0;
 
   Eigen::Index rows() const { return b.size(); }
   bool has_factors() const { return J != nullptr && Minv != nullptr; }

@@ -1,0 +1,215 @@
+// The Newton matrices of the exact path (newton_system.hpp): body space by the Woodbury
+// identity, row space on A + diag(d), both on CHOLMOD through cholmod_factor.hpp.
+#include "newton_system.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+
+#include "cholmod_factor.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// Iterative-refinement passes after each solve.
+constexpr int kRefinements = 2;
+
+/// Body space: (J Minv Jᵀ + diag D)⁻¹ r = D⁻¹ (r − J u), u = (M + Jᵀ D⁻¹ J)⁻¹ Jᵀ D⁻¹ r
+/// (Woodbury), D = d + cfm; D⁻¹ = 0 on dropped rows. H = M + Jᵀ D⁻¹ J keeps one pattern (its
+/// lower triangle), assembled here from precomputed positions, so CHOLMOD analyses it once.
+class BodySpace final : public NewtonSystem {
+ public:
+  /// nullptr when Minv is not block diagonal with positive definite 6×6 blocks.
+  static std::unique_ptr<NewtonSystem> make(const BoxedProblem& problem) {
+    const SpMat& Minv = *problem.Minv;
+    const Eigen::Index n6 = Minv.rows();
+    if (n6 % 6 != 0 || Minv.cols() != n6 || problem.J->cols() != n6) return nullptr;
+    const Eigen::Index blocks = n6 / 6;
+    std::vector<Eigen::Matrix<double, 6, 6>> M(static_cast<std::size_t>(blocks),
+                                               Eigen::Matrix<double, 6, 6>::Zero());
+    for (Eigen::Index j = 0; j < n6; ++j) {
+      for (SpMat::InnerIterator it(Minv, j); it; ++it) {
+        if (it.row() / 6 != j / 6) {
+          if (it.value() != 0.0) return nullptr;  // not block diagonal
+          continue;
+        }
+        M[std::size_t(j / 6)](it.row() % 6, j % 6) = it.value();
+      }
+    }
+    for (auto& block : M) {  // M = Minv⁻¹, block by block
+      const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(block);
+      if (llt.info() != Eigen::Success || !block.isApprox(block.transpose(), 1e-12)) return nullptr;
+      block = llt.solve(Eigen::Matrix<double, 6, 6>::Identity());
+      block = (0.5 * (block + block.transpose())).eval();
+    }
+    return std::unique_ptr<BodySpace>(new BodySpace(problem, std::move(M)));
+  }
+
+  bool factor(const VecX& d, const std::vector<char>& dropped) override {
+    omega_.resize(d.size());
+    for (Eigen::Index k = 0; k < d.size(); ++k)
+      omega_(k) = dropped[std::size_t(k)] ? 0.0 : 1.0 / (d(k) + cfm_);
+    double* value = H_.valuePtr();
+    std::fill(value, value + H_.nonZeros(), 0.0);
+    for (std::size_t B = 0; B < M_.size(); ++B) {
+      const int* pos = &m_position_[21 * B];
+      int p = 0;
+      for (int j = 0; j < 6; ++j)
+        for (int i = j; i < 6; ++i) value[pos[p++]] += M_[B](i, j);
+    }
+    const SpMatRow& J = *J_;
+    for (Eigen::Index k = 0; k < J.rows(); ++k) {
+      const double w = omega_(k);
+      if (w == 0.0) continue;
+      const int begin = J.outerIndexPtr()[k], end = J.outerIndexPtr()[k + 1];
+      const double* Jv = J.valuePtr();
+      const int* pos = &j_position_[std::size_t(j_start_[std::size_t(k)])];
+      for (int a = begin; a < end; ++a) {
+        const double wa = w * Jv[a];
+        for (int c = a; c < end; ++c) value[*pos++] += wa * Jv[c];
+      }
+    }
+    const bool ok = analysed_ ? factor_.refactor(H_, 0.0) : factor_.factor(H_, 0.0);
+    analysed_ = true;
+    return ok;
+  }
+
+  void apply(const VecX& r, VecX& x) const override {
+    const VecX wr = omega_.cwiseProduct(r);
+    const VecX g = J_->transpose() * wr;
+    VecX u;
+    factor_.solve(g, u);
+    x = omega_.cwiseProduct(r - *J_ * u);
+  }
+
+  long factor_nonzeros() const override { return factor_.nonzeros(); }
+  const char* space() const override { return "body"; }
+
+ private:
+  BodySpace(const BoxedProblem& problem, std::vector<Eigen::Matrix<double, 6, 6>> M)
+      : J_(problem.J), cfm_(problem.cfm), M_(std::move(M)) {
+    // The lower triangle's pattern: every M block, and every pair of columns a row of J joins.
+    const SpMatRow& J = *J_;
+    const Eigen::Index n6 = J.cols();
+    std::vector<Eigen::Triplet<double>> entries;
+    for (Eigen::Index B = 0; B < n6 / 6; ++B)
+      for (int j = 0; j < 6; ++j)
+        for (int i = j; i < 6; ++i) entries.emplace_back(6 * B + i, 6 * B + j, 1.0);
+    for (Eigen::Index k = 0; k < J.rows(); ++k) {
+      for (SpMatRow::InnerIterator a(J, k); a; ++a)
+        for (SpMatRow::InnerIterator c = a; c; ++c)
+          entries.emplace_back(std::max(a.col(), c.col()), std::min(a.col(), c.col()), 1.0);
+    }
+    H_.resize(n6, n6);
+    H_.setFromTriplets(entries.begin(), entries.end());
+    H_.makeCompressed();
+    const auto position = [&](Eigen::Index row, Eigen::Index col) {
+      const int* inner = H_.innerIndexPtr();
+      const int* first = inner + H_.outerIndexPtr()[col];
+      const int* last = inner + H_.outerIndexPtr()[col + 1];
+      return static_cast<int>(std::lower_bound(first, last, static_cast<int>(row)) - inner);
+    };
+    m_position_.reserve(21 * M_.size());
+    for (Eigen::Index B = 0; B < n6 / 6; ++B)
+      for (int j = 0; j < 6; ++j)
+        for (int i = j; i < 6; ++i) m_position_.push_back(position(6 * B + i, 6 * B + j));
+    j_start_.reserve(static_cast<std::size_t>(J.rows()));
+    for (Eigen::Index k = 0; k < J.rows(); ++k) {
+      j_start_.push_back(static_cast<long>(j_position_.size()));
+      for (SpMatRow::InnerIterator a(J, k); a; ++a)
+        for (SpMatRow::InnerIterator c = a; c; ++c)
+          j_position_.push_back(position(std::max(a.col(), c.col()), std::min(a.col(), c.col())));
+    }
+  }
+
+  const SpMatRow* J_;
+  double cfm_;
+  std::vector<Eigen::Matrix<double, 6, 6>> M_;
+  SpMat H_;                      ///< lower triangle of M + Jᵀ D⁻¹ J
+  std::vector<int> m_position_;  ///< where each M block's lower entries sit in H_'s values
+  std::vector<long> j_start_;    ///< row k's pairs start here in j_position_
+  std::vector<int> j_position_;  ///< where each pair (a ≤ c) of row k's entries sits in H_
+  VecX omega_;                   ///< D⁻¹, 0 on dropped rows
+  CholmodFactor factor_;
+  bool analysed_ = false;
+};
+
+/// Row space: CHOLMOD on A + diag(d), dropped rows given a diagonal so large that they
+/// decouple (x_k set to 0 after the solve): one pattern, one analysis.
+class RowSpace final : public NewtonSystem {
+ public:
+  explicit RowSpace(const SpMat& A) : A_(A) {
+    K_ = A;
+    SpMat I(A.rows(), A.cols());
+    I.setIdentity();
+    K_ = K_ + I;  // the diagonal in the pattern, whatever A holds there
+    K_.makeCompressed();
+    diagonal_.resize(static_cast<std::size_t>(A.rows()));
+    double max_diagonal = 0.0;
+    for (Eigen::Index j = 0; j < K_.cols(); ++j) {
+      for (SpMat::InnerIterator it(K_, j); it; ++it)
+        if (it.row() == j) diagonal_[std::size_t(j)] = &it.valueRef();
+    }
+    a_diagonal_ = A.diagonal();
+    for (Eigen::Index k = 0; k < A.rows(); ++k)
+      max_diagonal = std::max(max_diagonal, a_diagonal_(k));
+    big_ = 1e30 * std::max(1.0, max_diagonal);
+  }
+
+  bool factor(const VecX& d, const std::vector<char>& dropped) override {
+    dropped_ = &dropped;
+    for (Eigen::Index k = 0; k < d.size(); ++k)
+      *diagonal_[std::size_t(k)] = a_diagonal_(k) + (dropped[std::size_t(k)] ? big_ : d(k));
+    const bool ok = analysed_ ? factor_.refactor(K_, 0.0) : factor_.factor(K_, 0.0);
+    analysed_ = true;
+    return ok;
+  }
+
+  void apply(const VecX& r, VecX& x) const override {
+    factor_.solve(r, x);
+    for (Eigen::Index k = 0; k < x.size(); ++k)
+      if ((*dropped_)[std::size_t(k)]) x(k) = 0.0;
+  }
+
+  long factor_nonzeros() const override { return factor_.nonzeros(); }
+  const char* space() const override { return "row"; }
+
+ private:
+  const SpMat& A_;
+  SpMat K_;
+  std::vector<double*> diagonal_;
+  VecX a_diagonal_;
+  double big_ = 0.0;
+  const std::vector<char>* dropped_ = nullptr;
+  CholmodFactor factor_;
+  bool analysed_ = false;
+};
+
+}  // namespace
+
+bool NewtonSystem::solve(
+    const SpMat& A, const VecX& d, const std::vector<char>& dropped, const VecX& r, VecX& x) const {
+  apply(r, x);
+  VecX res, dx;
+  for (int pass = 0; pass < kRefinements; ++pass) {
+    res = r - A * x - d.cwiseProduct(x);
+    for (Eigen::Index k = 0; k < res.size(); ++k)
+      if (dropped[std::size_t(k)]) res(k) = 0.0;
+    apply(res, dx);
+    x += dx;
+  }
+  return x.allFinite();
+}
+
+std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem) {
+  if (!problem.has_factors()) return nullptr;
+  return BodySpace::make(problem);
+}
+
+std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem) {
+  std::unique_ptr<NewtonSystem> system = make_body_space(problem);
+  if (!system) system = std::make_unique<RowSpace>(problem.A);
+  return system;
+}
+
+}  // namespace cbps

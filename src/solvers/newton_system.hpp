@@ -1,0 +1,52 @@
+// The Newton matrices of the exact path, A + diag(d) on the rows kept (rows dropped have
+// x_k = 0), factored by CHOLMOD in body space (M + Jᵀ D⁻¹ J) when J and Minv are known, in row
+// space otherwise. Private to the library: direct.cpp and active_set.cpp use it.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "cbps/solvers/solver.hpp"
+
+namespace cbps {
+
+/// A + diag(d) of the rows kept (d_k > 0); the rows dropped (fixed rows, rows at a bound) are
+/// out of the system, x_k = 0. factor() once per d and dropped rows, then solve() any number of
+/// times. The pattern of what is factored never changes, so CHOLMOD analyses it once.
+class NewtonSystem {
+ public:
+  virtual ~NewtonSystem() = default;
+  /// Factors with the diagonal d (kept rows) and the dropped rows; false when CHOLMOD fails.
+  virtual bool factor(const VecX& d, const std::vector<char>& dropped) = 0;
+  /// x ≈ (A + diag d)⁻¹ r on the kept rows, 0 on the dropped ones (one application).
+  virtual void apply(const VecX& r, VecX& x) const = 0;
+  /// Nonzeros of the Cholesky factor (CHOLMOD's count).
+  virtual long factor_nonzeros() const = 0;
+  /// "body" or "row".
+  virtual const char* space() const = 0;
+  /// apply() followed by two passes of iterative refinement against A + diag(d) (A the
+  /// problem's, with any CFM in it); false if the result is not finite.
+  bool solve(const SpMat& A,
+             const VecX& d,
+             const std::vector<char>& dropped,
+             const VecX& r,
+             VecX& x) const;
+};
+
+/// Body space when the problem has J and Minv and Minv is block diagonal with positive definite
+/// 6×6 blocks; null otherwise.
+std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem);
+/// Body space where it can, row space otherwise.
+std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem);
+
+/// The active-set path of active_set.hpp on the whole problem at once, its free blocks
+/// (A + εI)(F, F) solved by `newton` with the other rows dropped, ε starting at eps_start ·
+/// max A_kk (> 0), from lambda as it is (no PGS sweeps: rows at a bound start there):
+/// the exact path's crossover. Termination::Direct or NotConverged; counts in the summary.
+SolverSummary finish_active_set(const BoxedProblem& problem,
+                                VecX& lambda,
+                                const SolverOptions& options,
+                                NewtonSystem& newton,
+                                double eps_start);
+
+}  // namespace cbps
