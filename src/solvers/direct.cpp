@@ -54,8 +54,6 @@ class InteriorSolver {
     stats_.space = newton_->space();
   }
 
-  int bounds() const { return bounds_; }
-
   /// The interior iterations, then the crossover; true when lambda reaches the tolerance.
   bool solve(VecX& lambda) {
     interior(lambda);
@@ -302,21 +300,27 @@ SolverSummary solve_direct(const BoxedProblem& problem,
   VecX guess = lambda;
   for (Eigen::Index k = 0; k < n; ++k)
     guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
-  const double floor_tol = std::max(options.tolerance, residual_floor(problem, guess));
-  if (natural_map_residual(problem, guess) <= floor_tol) {
+  if (!guess.isZero(0.0) &&
+      natural_map_residual(problem, guess) <=
+          std::max(options.tolerance, residual_floor(problem, guess))) {
     lambda = guess;
     s.islands = 1;
     return finish("direct: the guess already solves it");
   }
-  SolverSummary inner;
-  InteriorSolver solver(problem, options, inner);
-  if (solver.bounds() == 0) {
+  bool bounded = false;
+  for (Eigen::Index k = 0; k < n && !bounded; ++k) {
+    bounded = problem.cmin(k) != problem.cmax(k) &&
+              (std::isfinite(problem.cmin(k)) || std::isfinite(problem.cmax(k)));
+  }
+  if (!bounded) {
     // No bounded row: one linear solve (the active-set path's all-unbounded case).
     s = solve_active_set(problem, lambda, options);
     s.message = "direct (no bounded rows): " + s.message;
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
   }
+  SolverSummary inner;
+  InteriorSolver solver(problem, options, inner);
   VecX x = lambda;
   const bool solved = solver.solve(x);
   s = inner;
