@@ -80,7 +80,10 @@ class IslandSolver {
     for (Eigen::Index i = 0; i < m; ++i) place_[std::size_t(i)] = initial_place(i, lambda(i));
 
     double r = natural_map_residual(problem_, lambda);
-    if (r <= tolerance(lambda)) return true;
+    // A finish from an interior point takes at least one step on its partition: on a definite
+    // free block that step is exact to round-off.
+    if (r <= tolerance(lambda) && newton_ == nullptr && eps_start_ == 0.0 && !finishing_)
+      return true;
     double best_r = r;
     VecX best = lambda;
     // Plain active set first (exact when the free blocks are definite); the body-space solve
@@ -309,8 +312,13 @@ class IslandSolver {
   SpMat block_;                   ///< A(F, F) of factor_rows_, kept for refactor()
   NewtonSystem* newton_;          ///< the body-space solve, or null (CHOLMOD on A(F, F))
   double eps_start_;              ///< ε to start from, a fraction of max A_kk
-  std::vector<char> dropped_;     ///< the rows not in factor_rows_ (newton_)
-  VecX d_;                        ///< ε on every row (newton_)
+
+ public:
+  bool finishing_ = false;  ///< finish_active_set on A(F, F): at least one step before stopping
+
+ private:
+  std::vector<char> dropped_;  ///< the rows not in factor_rows_ (newton_)
+  VecX d_;                     ///< ε on every row (newton_)
 };
 
 }  // namespace
@@ -397,12 +405,13 @@ SolverSummary solve_active_set(const BoxedProblem& problem,
 SolverSummary finish_active_set(const BoxedProblem& problem,
                                 VecX& lambda,
                                 const SolverOptions& options,
-                                NewtonSystem& newton,
+                                NewtonSystem* newton,
                                 double eps_start) {
   SolverSummary s;
   SolverOptions o = options;
   o.direct.start_sweeps = 0;
-  IslandSolver island(problem, o, s, &newton, eps_start);
+  IslandSolver island(problem, o, s, newton, newton != nullptr ? eps_start : 0.0);
+  island.finishing_ = newton == nullptr;
   s.termination = island.solve(lambda) ? Termination::Direct : Termination::NotConverged;
   return s;
 }

@@ -25,6 +25,10 @@ constexpr double kStepToBoundary = 0.995;
 /// The crossover's first proximal ε, a fraction of max A_kk: small, because the interior point's
 /// partition is close (its proximal steps contract the error by about ε/(σ + ε)).
 constexpr double kCrossoverEpsilon = 1e-6;
+/// Problems up to this many rows go to the active-set path whole.
+constexpr Eigen::Index kActiveSetRows = 500;
+/// Problems up to this many rows finish on CHOLMOD factors of A's free block (row space).
+constexpr Eigen::Index kRowSpaceFinish = 2000;
 
 /// Where a row sits in the crossover's partition.
 enum class Place : unsigned char { Free, Lower, Upper, Fixed };
@@ -57,14 +61,19 @@ class InteriorSolver {
   /// The interior iterations, then the crossover; true when lambda reaches the tolerance.
   bool solve(VecX& lambda) {
     interior(lambda);
-    if (solved_) return true;
+    const bool small = A_.rows() <= kRowSpaceFinish;
+    if (solved_ && !small) return true;
     // The crossover starts from the interior point's partition: bound rows at their bounds.
     for (Eigen::Index k = 0; k < lambda.size(); ++k) {
       const Place place = place_[std::size_t(k)];
       if (place == Place::Lower || place == Place::Fixed) lambda(k) = p_.cmin(k);
       if (place == Place::Upper) lambda(k) = p_.cmax(k);
     }
-    const SolverSummary x = finish_active_set(p_, lambda, options_, *newton_, kCrossoverEpsilon);
+    // Small problems finish on A(F, F) itself, from ε = 0: where the free block is definite
+    // that is exact to round-off; large ones in body space.
+    crossover_in_rows_ = small;
+    const SolverSummary x =
+        finish_active_set(p_, lambda, options_, small ? nullptr : newton_.get(), kCrossoverEpsilon);
     stats_.crossover = x.iterations;
     stats_.pivots += x.pivots;
     stats_.factorizations += x.factorizations;
@@ -248,7 +257,11 @@ class InteriorSolver {
   double max_diagonal_ = 0.0;
   std::unique_ptr<NewtonSystem> newton_;
   std::vector<Place> place_;
-  bool solved_ = false;  ///< the interior point met the tolerance
+  bool solved_ = false;             ///< the interior point met the tolerance
+  bool crossover_in_rows_ = false;  ///< the crossover factored A(F, F) (small problems)
+
+ public:
+  bool crossover_in_rows() const { return crossover_in_rows_; }
 };
 
 }  // namespace
@@ -296,28 +309,29 @@ SolverSummary solve_direct(const BoxedProblem& problem,
     s.message = "direct: A or b has non-finite entries";
     return s;
   }
-  // The guess may already be the answer (a warm start on a resting scene).
-  VecX guess = lambda;
-  for (Eigen::Index k = 0; k < n; ++k)
-    guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
-  if (!guess.isZero(0.0) &&
-      natural_map_residual(problem, guess) <=
-          std::max(options.tolerance, residual_floor(problem, guess))) {
-    lambda = guess;
-    s.islands = 1;
-    return finish("direct: the guess already solves it");
-  }
   bool bounded = false;
   for (Eigen::Index k = 0; k < n && !bounded; ++k) {
     bounded = problem.cmin(k) != problem.cmax(k) &&
               (std::isfinite(problem.cmin(k)) || std::isfinite(problem.cmax(k)));
   }
-  if (!bounded) {
-    // No bounded row: one linear solve (the active-set path's all-unbounded case).
+  if (!bounded || n <= kActiveSetRows) {
+    // No bounded row: one linear solve (the active-set path's all-unbounded case). Few rows:
+    // the active-set path, exact to round-off where the free blocks are definite.
     s = solve_active_set(problem, lambda, options);
-    s.message = "direct (no bounded rows): " + s.message;
+    s.message =
+        (bounded ? "direct (few rows, active set): " : "direct (no bounded rows): ") + s.message;
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
+  }
+  // The guess may already be the answer (a warm start on a resting scene).
+  VecX guess = lambda;
+  for (Eigen::Index k = 0; k < n; ++k)
+    guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
+  if (!guess.isZero(0.0) && natural_map_residual(problem, guess) <=
+                                std::max(options.tolerance, residual_floor(problem, guess))) {
+    lambda = guess;
+    s.islands = 1;
+    return finish("direct: the guess already solves it");
   }
   SolverSummary inner;
   InteriorSolver solver(problem, options, inner);
@@ -330,7 +344,8 @@ SolverSummary solve_direct(const BoxedProblem& problem,
   std::ostringstream what;
   what << "direct (interior point, " << s.space << " space"
        << (s.space == "body" ? " M + Jt D^-1 J" : " A + D") << ", factor nnz " << s.factor_nnz
-       << "): " << s.iterations << " interior iterations, crossover " << s.crossover
+       << "): " << s.iterations << " interior iterations, crossover ("
+       << (solver.crossover_in_rows() ? "on A(F, F)" : "in body space") << ") " << s.crossover
        << " proximal steps and " << s.pivots << " pivots, " << s.factorizations
        << " factorizations";
   if (!solved) what << "; stopped short of the tolerance";

@@ -39,14 +39,16 @@ std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem);
 /// Body space where it can, row space otherwise.
 std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem);
 
-/// The active-set path of active_set.hpp on the whole problem at once, its free blocks
-/// (A + εI)(F, F) solved by `newton` with the other rows dropped, ε starting at eps_start ·
-/// max A_kk (> 0), from lambda as it is (no PGS sweeps: rows at a bound start there):
-/// the exact path's crossover. Termination::Direct or NotConverged; counts in the summary.
+/// The active-set path of active_set.hpp on the whole problem at once from lambda as it is (no
+/// PGS sweeps: rows at a bound start there): the exact path's crossover. With `newton`, its free
+/// blocks (A + εI)(F, F) are solved by it with the other rows dropped, ε starting at eps_start ·
+/// max A_kk (> 0); without, by CHOLMOD on A(F, F) from ε = 0 (exact in finitely many steps
+/// where the free block is definite). Termination::Direct or NotConverged; counts in the
+/// summary.
 SolverSummary finish_active_set(const BoxedProblem& problem,
                                 VecX& lambda,
                                 const SolverOptions& options,
-                                NewtonSystem& newton,
+                                NewtonSystem* newton,
                                 double eps_start);
 
 }  // namespace cbps
