@@ -399,10 +399,11 @@ void register_run(CLI::App& app, Action& run) {
   cmd->add_option("--record-every", o->record_every, "record the trajectory every K steps")
       ->check(positive());
   cmd->add_flag("--json", o->json, "print the summary as JSON on stdout");
-  cmd->add_flag("--check",
-                o->check,
-                "cross-check every step against the direct path (interior point with crossover); adds "
-                "cross_check");
+  cmd->add_flag(
+      "--check",
+      o->check,
+      "cross-check every step against the direct path (interior point with crossover); adds "
+      "cross_check");
   cmd->add_option("--check-tolerance",
                   o->check_tolerance,
                   "with --check: exit 1, naming the first step, when a step's max |v2 - "

@@ -138,7 +138,7 @@ class BodySpace final : public NewtonSystem {
 /// decouple (x_k set to 0 after the solve): one pattern, one analysis.
 class RowSpace final : public NewtonSystem {
  public:
-  explicit RowSpace(const SpMat& A) : A_(A) {
+  explicit RowSpace(const SpMat& A) {
     K_ = A;
     SpMat I(A.rows(), A.cols());
     I.setIdentity();
@@ -175,7 +175,6 @@ class RowSpace final : public NewtonSystem {
   const char* space() const override { return "row"; }
 
  private:
-  const SpMat& A_;
   SpMat K_;
   std::vector<double*> diagonal_;
   VecX a_diagonal_;
