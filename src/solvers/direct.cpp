@@ -25,8 +25,6 @@ constexpr double kStepToBoundary = 0.995;
 /// The crossover's first proximal ε, a fraction of max A_kk: small, because the interior point's
 /// partition is close (its proximal steps contract the error by about ε/(σ + ε)).
 constexpr double kCrossoverEpsilon = 1e-6;
-/// Problems up to this many rows go to the active-set path whole.
-constexpr Eigen::Index kActiveSetRows = 500;
 /// Problems up to this many rows finish on CHOLMOD factors of A's free block (row space).
 constexpr Eigen::Index kRowSpaceFinish = 2000;
 
@@ -314,7 +312,7 @@ SolverSummary solve_direct(const BoxedProblem& problem,
     bounded = problem.cmin(k) != problem.cmax(k) &&
               (std::isfinite(problem.cmin(k)) || std::isfinite(problem.cmax(k)));
   }
-  if (!bounded || n <= kActiveSetRows) {
+  if (!bounded || n < options.direct.interior_from_rows) {
     // No bounded row: one linear solve (the active-set path's all-unbounded case). Few rows:
     // the active-set path, exact to round-off where the free blocks are definite.
     s = solve_active_set(problem, lambda, options);

@@ -11,39 +11,40 @@ namespace cbps {
 /// The exact path for the boxed problem of 6.2 (cmin ≤ lambda ≤ cmax, w = A lambda − b,
 /// complementarity), A symmetric positive semidefinite, sparse: the minimiser of the bound-
 /// constrained QP min ½ λᵀAλ − bᵀλ over the box (its optimality conditions are 6.2's).
-///   1. Rows with cmin = cmax are fixed at that value. A problem with no bounded row is one
-///      linear solve (solve_active_set: one CHOLMOD factorization of A and refinement).
+///   1. A problem with no bounded row, or with fewer rows than options.direct.interior_from_rows,
+///      goes to the active-set path whole (solve_active_set: one CHOLMOD factorization for an
+///      equality system; exact to round-off where the free blocks are definite). A guess that
+///      already meets the tolerance is returned as it is. Rows with cmin = cmax are fixed.
 ///   2. A primal-dual interior-point method with Mehrotra's predictor-corrector (Mehrotra, SIAM
-///      J. Optim. 2(4) 1992; for QPs as in Gertz & Wright, OOQP, ACM TOMS 29(1) 2003): slack
-///      s = λ − cmin and multiplier z ≥ 0 on every finite lower bound, t = cmax − λ and y ≥ 0 on
-///      every finite upper bound, w = z − y. Each iteration solves twice with the Newton matrix
-///      A + Σ, Σ = z/s + y/t, plus a proximal term ρ = options.direct.proximal · max A_kk on
-///      every row (a primal regularisation, Friedlander & Orban, Math. Prog. Comp. 4 2012),
-///      which keeps unbounded rows (Σ = 0) and singular A well posed.
+///      J. Optim. 2(4) 1992; for QPs as in Gertz & Wright, OOQP, ACM TOMS 29(1) 2003), from the
+///      box's centre: slack s = λ − cmin and multiplier z ≥ 0 on every finite lower bound,
+///      t = cmax − λ and y ≥ 0 on every finite upper bound, w = z − y. Each iteration solves
+///      twice with the Newton matrix A + Σ, Σ = z/s + y/t, plus a proximal term
+///      ρ = options.direct.proximal · max A_kk on every row (a primal regularisation, Friedlander
+///      & Orban, Math. Prog. Comp. 4 2012), which keeps unbounded rows (Σ = 0) and singular A
+///      well posed.
 ///        body space (problem.J and Minv given, Minv's 6×6 blocks positive definite): by the
 ///        Woodbury identity (A + D)⁻¹ r = D⁻¹ (r − J u), u = (M + Jᵀ D⁻¹ J)⁻¹ Jᵀ D⁻¹ r,
 ///        D = Σ + ρ + problem.cfm, M = Minv⁻¹: a 6n × 6n positive definite matrix whose
 ///        pattern never changes, so one CHOLMOD analysis serves the whole solve;
 ///        row space (otherwise): CHOLMOD on A + D, again one analysis.
-///      Each solve is refined twice against A + D (iterative refinement). It stops when the
-///      duality measure μ = (sᵀz + tᵀy)/(bounds) ≤ options.direct.interior_mu · scale_of
-///      and the stationarity residual is as small, or after options.direct.max_interior
-///      iterations.
-///   3. Crossover: the active set is read from the interior point (row k at cmin when
-///      z_k > A_kk s_k, at cmax when y_k > A_kk t_k, free otherwise), then primal-dual
-///      active-set steps (Hintermüller, Ito & Kunisch, SIAM J. Optim. 13(3) 2002): the bound
-///      rows at their bounds, the free rows F solved from A_FF λ_F = b_F − A_FB λ_B (consistent
-///      but singular: proximal-point steps Δλ_F = −(A_FF + εI)⁻¹ w_F, each in the same body-
-///      space pattern with D⁻¹ = 0 on bound rows), then the rows re-partitioned by the sign of
-///      λ_k − w_k / A_kk against the box, until the natural-map residual ≤ the tolerance.
-///   4. If the crossover does not get there in options.direct.max_crossover partitions, the
-///      active-set path (solve_active_set) finishes from the best λ found.
+///      Each solve is refined twice (iterative refinement). The iterations stop when the
+///      natural-map residual of λ meets the tolerance, or when the duality measure
+///      μ = (sᵀz + tᵀy)/(bounds) ≤ options.direct.interior_mu · scale_of · max(1, ‖b‖∞/max A_kk)
+///      and the stationarity residual ≤ √interior_mu · scale_of, or after
+///      options.direct.max_interior iterations.
+///   3. Crossover: a row starts at its bound when its multiplier outweighs its slack
+///      (z_k > A_kk s_k, y_k > A_kk t_k), and the active-set path's method (proximal points
+///      around a monotone primal active set, active_set.hpp) finishes from that partition with
+///      no PGS sweeps: on the free blocks of A itself from ε = 0 up to 2,000 rows, in body space
+///      (the same pattern, bound rows dropped: D⁻¹ = 0) from ε = 1e-6 · max A_kk above.
 /// Tolerance: the natural-map residual ≤ max(options.tolerance, residual_floor). Returns
 /// Termination::Direct when reached, NotConverged otherwise (inconsistent equality rows, an
 /// infeasible box), with the best λ found; NonFinite for non-finite A or b. The summary's
-/// iterations are the interior iterations; it reports the crossover partitions, the
-/// factorizations, the largest factor's nonzeros and the space (body or row). With CFM, solve()
-/// hands A + eps E here with problem.cfm = eps, so the body space factors D = Σ + ρ + eps.
+/// iterations are the interior iterations; crossover counts the active-set path's outer
+/// (proximal) steps; it reports the factorizations, the largest factor's nonzeros and the space
+/// (body or row). With CFM, solve() hands A + eps E here with problem.cfm = eps, so the body
+/// space factors D = Σ + ρ + eps.
 SolverSummary solve_direct(const BoxedProblem& problem,
                            VecX& lambda,
                            const SolverOptions& options = {});

@@ -91,10 +91,12 @@ struct SolverOptions {
   double block_regularization = 1e-7;
   /// The exact paths' own settings (direct.hpp and active_set.hpp describe the methods).
   struct Direct {
-    int max_interior = 200;      ///< interior-point iterations (direct)
+    int max_interior = 200;  ///< interior-point iterations (direct)
+    /// direct: problems with fewer rows than this (or no bounded row) go to the active-set path
+    /// whole, which is exact to round-off on them; 0: the interior point always.
+    int interior_from_rows = 500;
     double interior_mu = 1e-13;  ///< stop the interior iterations at μ ≤ this · scale_of (direct)
     double proximal = 1e-10;     ///< the interior Newton systems' ρ, a fraction of max A_kk
-    int max_crossover = 40;      ///< crossover partitions before the active set finishes (direct)
     int max_outer_iterations = 500;  ///< proximal-point steps per island (active-set)
     double epsilon = 1e-4;  ///< proximal ε as a fraction of the island's max A_jj (active-set)
     double epsilon_floor = 1e-10;  ///< smallest ε (same units) once the active set settles
@@ -131,7 +133,7 @@ struct SolverSummary {
   int restarts = 0;        ///< active-set: islands solved again from 0 after a guess stalled
   int islands = 0;         ///< independent blocks of A solved apart (exact paths)
   bool singular = false;   ///< the active-set path found a singular block and regularised it
-  int crossover = 0;       ///< direct: partitions tried by the crossover
+  int crossover = 0;       ///< direct: the crossover's proximal (outer) steps
   long factor_nnz = 0;     ///< direct: nonzeros of its Cholesky factor
   std::string space;       ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
   double wall_time_s = 0.0;
