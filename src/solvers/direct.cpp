@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "cbps/solvers/active_set.hpp"
+#include "cbps/solvers/islands.hpp"
 #include "newton_system.hpp"
 
 namespace cbps {
@@ -67,12 +68,37 @@ class InteriorSolver {
       if (place == Place::Lower || place == Place::Fixed) lambda(k) = p_.cmin(k);
       if (place == Place::Upper) lambda(k) = p_.cmax(k);
     }
-    // Small problems finish on A(F, F) itself, from ε = 0: where the free block is definite
-    // that is exact to round-off; large ones in body space.
-    crossover_in_rows_ = small;
-    const SolverSummary x =
-        finish_active_set(p_, lambda, options_, small ? nullptr : newton_.get(), kCrossoverEpsilon);
-    stats_.crossover = x.iterations;
+    // Islands of up to kRowSpaceFinish rows finish apart on A(F, F) itself, from ε = 0: where
+    // the free block is definite that is exact to round-off, and each factor is the island's
+    // own. Larger islands then finish together in body space.
+    const std::vector<std::vector<int>> islands =
+        small ? std::vector<std::vector<int>>{} : find_islands(A_);
+    bool large = small;
+    bool all_solved = true;
+    if (small) {
+      crossover_in_rows_ = true;
+      all_solved = finish(p_, lambda, nullptr);
+    } else {
+      for_each_island(islands, p_, lambda, [&](const BoxedProblem& island, VecX& lambda_I) {
+        if (island.rows() > kRowSpaceFinish) {
+          large = true;
+          return;
+        }
+        crossover_in_rows_ = true;
+        all_solved = finish(island, lambda_I, nullptr) && all_solved;
+      });
+      if (large) {
+        crossover_in_body_ = true;
+        all_solved = finish(p_, lambda, newton_.get());
+      }
+    }
+    return all_solved;
+  }
+
+  /// The active-set path's finish on `problem` from lambda (newton: body space, else A(F, F)).
+  bool finish(const BoxedProblem& problem, VecX& lambda, NewtonSystem* newton) {
+    const SolverSummary x = finish_active_set(problem, lambda, options_, newton, kCrossoverEpsilon);
+    stats_.crossover += x.iterations;
     stats_.pivots += x.pivots;
     stats_.factorizations += x.factorizations;
     stats_.factor_nnz = std::max(stats_.factor_nnz, x.factor_nnz);
@@ -256,10 +282,15 @@ class InteriorSolver {
   std::unique_ptr<NewtonSystem> newton_;
   std::vector<Place> place_;
   bool solved_ = false;             ///< the interior point met the tolerance
-  bool crossover_in_rows_ = false;  ///< the crossover factored A(F, F) (small problems)
+  bool crossover_in_rows_ = false;  ///< the crossover factored A(F, F) (small islands)
+  bool crossover_in_body_ = false;  ///< the crossover factored in body space (large islands)
 
  public:
-  bool crossover_in_rows() const { return crossover_in_rows_; }
+  /// Where the crossover factored: "on A(F, F)", "in body space" or both.
+  std::string crossover_space() const {
+    if (crossover_in_rows_ && crossover_in_body_) return "on A(F, F) and in body space";
+    return crossover_in_body_ ? "in body space" : "on A(F, F)";
+  }
 };
 
 }  // namespace
@@ -342,10 +373,9 @@ SolverSummary solve_direct(const BoxedProblem& problem,
   std::ostringstream what;
   what << "direct (interior point, " << s.space << " space"
        << (s.space == "body" ? " M + Jt D^-1 J" : " A + D") << ", factor nnz " << s.factor_nnz
-       << "): " << s.iterations << " interior iterations, crossover ("
-       << (solver.crossover_in_rows() ? "on A(F, F)" : "in body space") << ") " << s.crossover
-       << " proximal steps and " << s.pivots << " pivots, " << s.factorizations
-       << " factorizations";
+       << "): " << s.iterations << " interior iterations, crossover (" << solver.crossover_space()
+       << ") " << s.crossover << " proximal steps and " << s.pivots << " pivots, "
+       << s.factorizations << " factorizations";
   if (!solved) what << "; stopped short of the tolerance";
   return finish(what.str());
 }

@@ -96,7 +96,7 @@ struct SolverOptions {
     /// whole, which is exact to round-off on them; 0: the interior point always.
     int interior_from_rows = 500;
     double interior_mu = 1e-13;  ///< stop the interior iterations at μ ≤ this · scale_of (direct)
-    double proximal = 1e-10;     ///< the interior Newton systems' ρ, a fraction of max A_kk
+    double proximal = 1e-12;     ///< the interior Newton systems' ρ, a fraction of max A_kk
     int max_outer_iterations = 500;  ///< proximal-point steps per island (active-set)
     double epsilon = 1e-4;  ///< proximal ε as a fraction of the island's max A_jj (active-set)
     double epsilon_floor = 1e-10;  ///< smallest ε (same units) once the active set settles
