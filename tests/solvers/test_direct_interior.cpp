@@ -1,0 +1,180 @@
+// The exact path's interior-point method (solve_direct with options.direct.interior_from_rows = 0,
+// so that small problems take it too): its answers checked against the optimality conditions of
+// the QP min ½ λᵀAλ − bᵀλ over the box (6.2) row by row, against Lemke's method and the
+// active-set path (independent methods), body space (M + Jᵀ D⁻¹ J) against row space (A + D),
+// with CFM, fixed rows, and bad input.
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "cbps/solvers/active_set.hpp"
+#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/system.hpp"
+#include "fixture.hpp"
+
+using namespace cbps;
+using test::construct;
+using test::Constructed;
+
+namespace {
+
+/// The natural-map residual the interior path must reach on these problems, relative to
+/// scale_of(problem): 1e-10. It stops at its rounding floor 64 u (‖A‖∞ ‖λ‖∞ + ‖b‖∞)
+/// (direct.hpp), which is 2.6e-12 to 9.8e-12 · scale on the pyramids and stacks here (measured:
+/// 2.7e-11 N on the 5-column stack, 9.6e-11 N on the base-10 pyramid, scale ≈ 10), so 1e-10
+/// leaves a factor of 10 above the largest floor while an answer visibly off fails. The same
+/// number bounds the KKT conditions row by row (λ in N and w in m/s² weighed alike, as the
+/// natural map weighs them).
+constexpr double kResidual = 1e-10;
+
+/// Two exact answers of a degenerate (A singular) problem: w = A λ − b, the force Jᵀ λ and v2 are
+/// unique, λ is not. Two answers each with residual r agree in them only to about r / σ₊ (σ₊ the
+/// smallest nonzero eigenvalue of A), and where the active set is degenerate (a contact with
+/// λ = 0 and w = 0 at once) only to about √(r ‖A‖ ‖λ‖): from (λ₁ − λ₂)ᵀ A (λ₁ − λ₂) =
+/// (λ₁ − λ₂)ᵀ (w₁ − w₂), which is 0 at exact answers and O(r ‖λ‖) at inexact ones. With r at the
+/// rounding floor (≈ 1e-11 · scale) that is up to ≈ 3e-6 · scale in the worst case; the interior
+/// and active-set paths were measured 1e-8 relative apart on the base-10 pyramid (the issue), and
+/// here at most 8.2e-11 m/s² apart in w (body against row space on the base-6 pyramid) and
+/// 1.8e-13 · scale from Lemke. 1e-7 · scale: ten times the largest seen on a real scene, far
+/// below anything a step would show.
+constexpr double kDegenerateAgreement = 1e-7;
+
+double objective(const SpMat& A, const VecX& b, const VecX& x) {
+  return 0.5 * x.dot(A * x) - b.dot(x);  // ½ λᵀ A λ − bᵀ λ (6.2)
+}
+
+/// The options that send every problem with a bounded row to the interior-point method.
+SolverOptions interior() {
+  SolverOptions options;
+  options.method = Method::Direct;
+  options.direct.interior_from_rows = 0;
+  return options;
+}
+
+/// A built-in contact scene stepped `steps` times by PGS (the scene's own settings), and the
+/// system of the state reached. Kept for the whole run: several test cases take the same step,
+/// and stepping the pyramids is most of this file's time.
+const System& stepped(const std::string& name,
+                      const std::map<std::string, std::string>& values,
+                      int steps) {
+  static std::map<std::string, System> cache;
+  std::string key = name + " @" + std::to_string(steps);
+  for (const auto& [parameter, value] : values) key += " " + parameter + "=" + value;
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    Simulation sim(test::contact_scene(name, values, "pgs"));
+    for (int s = 0; s < steps; ++s) sim.step();
+    it = cache.emplace(key, sim.build_system()).first;
+  }
+  return it->second;
+}
+
+/// The worst violation of the optimality conditions of 6.2, row by row, with w = A λ − b
+/// computed here: λ must lie in the box (exactly: the crossover puts bound rows on their
+/// bounds); a row within `tol` (N) of cmin needs w ≥ −tol, within tol of cmax w ≤ tol, and a
+/// row strictly inside |w| ≤ tol (m/s², the same number: the natural map weighs N and m/s²
+/// alike). A row within tol of both bounds (fixed, or a narrow box) has w free.
+struct Kkt {
+  double outside_box = 0.0;  ///< max distance of λ outside [cmin, cmax], N
+  double w_violation = 0.0;  ///< max violation of the sign or zero condition on w, m/s²
+  Eigen::Index worst_row = -1;
+};
+
+Kkt kkt(const BoxedProblem& p, const VecX& lambda, double tol) {
+  const VecX w = p.A * lambda - p.b;
+  Kkt k;
+  for (Eigen::Index i = 0; i < lambda.size(); ++i) {
+    k.outside_box = std::max({k.outside_box, p.cmin(i) - lambda(i), lambda(i) - p.cmax(i), 0.0});
+    const bool at_lower = lambda(i) - p.cmin(i) <= tol;
+    const bool at_upper = p.cmax(i) - lambda(i) <= tol;
+    double v = 0.0;
+    if (at_lower && !at_upper) v = std::max(-w(i), 0.0);
+    if (at_upper && !at_lower) v = std::max(w(i), 0.0);
+    if (!at_lower && !at_upper) v = std::abs(w(i));
+    if (v > k.w_violation) {
+      k.w_violation = v;
+      k.worst_row = i;
+    }
+  }
+  return k;
+}
+
+/// No feasible point near or far has a lower objective (the QP is convex: local = global).
+/// Returns the largest decrease found (≤ 0 at a minimiser, up to rounding).
+double largest_decrease(const BoxedProblem& p, const VecX& lambda, std::mt19937& rng) {
+  std::normal_distribution<double> n01;
+  const double f = objective(p.A, p.b, lambda);
+  double decrease = -std::numeric_limits<double>::infinity();
+  for (const double step : {1e-6, 1e-4, 1e-2, 1.0}) {
+    for (int sample = 0; sample < 20; ++sample) {
+      VecX mu(lambda.size());
+      for (Eigen::Index i = 0; i < lambda.size(); ++i)
+        mu(i) = clamp(lambda(i) + step * n01(rng), p.cmin(i), p.cmax(i));
+      decrease = std::max(decrease, f - objective(p.A, p.b, mu));
+    }
+  }
+  return decrease;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// 1. Pyramids and stacks against the optimality conditions.
+
+TEST_CASE("interior path: pyramids and a multi-column stack meet the QP optimality conditions",
+          "[direct][interior]") {
+  struct Case {
+    std::string name;
+    std::map<std::string, std::string> values;
+    int steps;
+  };
+  const Case c = GENERATE(values<Case>({
+      {"pyramid", {{"base", "6"}}, 30},
+      {"pyramid", {{"base", "10"}}, 30},
+      {"stack", {{"n", "10"}, {"columns", "5"}}, 1},
+  }));
+  const System& sys = stepped(c.name, c.values, c.steps);
+  const BoxedProblem problem = sys.problem();
+  const double scale = scale_of(problem);
+  INFO(c.name << " after " << c.steps << " steps: " << sys.rows() << " rows, scale " << scale);
+  REQUIRE(sys.rows() > 0);
+
+  VecX lambda;
+  const SolverSummary s = solve_direct(problem, lambda, interior());
+  INFO(s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.space == "body");
+  CHECK(s.iterations > 0);  // the interior point ran, not the active-set path
+  const double tol = kResidual * scale;
+  INFO("residual " << s.residual << " N, rounding floor " << residual_floor(problem, lambda)
+                   << " N, bound " << tol << " N");
+  CHECK(natural_map_residual(problem, lambda) <= tol);
+  CHECK(s.residual <= tol);
+
+  const Kkt k = kkt(problem, lambda, tol);
+  INFO("worst row " << k.worst_row << ": w violation " << k.w_violation << ", outside the box "
+                    << k.outside_box);
+  CHECK(k.outside_box == 0.0);
+  CHECK(k.w_violation <= tol);
+
+  // The objective: no random feasible point is lower. Slack, as in test_direct.cpp: 1e-9 of
+  // |f| (1.0e3 to 2.8e3 here), far above what the residual allows a perturbation Δ to gain
+  // (about kResidual · scale · ‖Δ‖₁, ≤ 1e-9 · ‖Δ‖∞ · rows) and far below what a wrong row costs.
+  std::mt19937 rng(21);
+  const double f = objective(sys.A, sys.b, lambda);
+  const double decrease = largest_decrease(problem, lambda, rng);
+  INFO("objective " << f << ", largest decrease found " << decrease);
+  CHECK(decrease <= 1e-9 * std::max(1.0, std::abs(f)));
+}
