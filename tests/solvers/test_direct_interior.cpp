@@ -178,3 +178,159 @@ TEST_CASE("interior path: pyramids and a multi-column stack meet the QP optimali
   INFO("objective " << f << ", largest decrease found " << decrease);
   CHECK(decrease <= 1e-9 * std::max(1.0, std::abs(f)));
 }
+
+// ---------------------------------------------------------------------------------------------
+// 2. Against Lemke's method on small problems.
+
+namespace {
+
+/// max |x|, 0 for an empty vector.
+double inf_norm(const VecX& x) { return x.size() > 0 ? x.lpNorm<Eigen::Infinity>() : 0.0; }
+
+/// A constructed problem (fixture.hpp) with its J padded to whole bodies (6 columns each) and
+/// Minv = I, so that A = J Minv Jᵀ and the problem can be solved in body space.
+struct WithFactors {
+  SpMatRow J;
+  SpMat Minv;
+  explicit WithFactors(const Constructed& p) {
+    const Eigen::Index d = p.J.cols();
+    const Eigen::Index columns = 6 * ((d + 5) / 6);
+    MatX padded = MatX::Zero(p.J.rows(), columns);
+    padded.leftCols(d) = p.J;
+    J = padded.sparseView();
+    Minv = MatX::Identity(columns, columns).sparseView();
+  }
+  BoxedProblem problem(const Constructed& p) const {
+    BoxedProblem boxed{p.A, p.b, p.lo, p.hi};
+    boxed.J = &J;
+    boxed.Minv = &Minv;
+    return boxed;
+  }
+};
+
+/// The rounding of w = A λ − b, N: 32 ε (‖A‖∞ ‖λ‖∞ + ‖b‖∞), the floor below which no residual
+/// can be told from 0 (direct.hpp's residual_floor is 64 u = 32 ε of the same).
+double rounding(const SpMat& A, const VecX& b, const VecX& lambda) {
+  double row_sum = 0.0;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    double sum = 0.0;
+    for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
+    row_sum = std::max(row_sum, sum);
+  }
+  return 32.0 * std::numeric_limits<double>::epsilon() * (row_sum * inf_norm(lambda) + inf_norm(b));
+}
+
+/// How far apart two answers λ₁, λ₂ of a problem with A positive definite can be, given their
+/// natural-map residuals r₁, r₂ (∞-norm): the natural map's error bound ‖λ − λ*‖₂ ≤ (L + 1)/μ ‖r‖₂,
+/// L and μ the largest and smallest eigenvalues of A (from the projection's variational
+/// inequality and A's monotonicity, μ ‖λ − λ*‖² ≤ (L + 1) ‖r‖ ‖λ − λ*‖), with ‖r‖₂ ≤ √c ‖r‖∞
+/// and each residual at least the rounding of w. Computed from A's spectrum, not chosen.
+double definite_bound(const SpMat& A, double r1, double r2) {
+  const VecX ev =
+      Eigen::SelfAdjointEigenSolver<MatX>(MatX(A), Eigen::EigenvaluesOnly).eigenvalues();
+  const double mu = ev.minCoeff();
+  const double L = ev.maxCoeff();
+  REQUIRE(mu > 0.0);
+  return (L + 1.0) / mu * std::sqrt(double(A.rows())) * (r1 + r2);
+}
+
+/// True when some row is bounded and not fixed: the interior path takes the problem.
+bool has_bounded_row(const VecX& lo, const VecX& hi) {
+  for (Eigen::Index k = 0; k < lo.size(); ++k)
+    if (lo(k) != hi(k) && (std::isfinite(lo(k)) || std::isfinite(hi(k)))) return true;
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("interior path: constructed problems agree with boxed Lemke in row and body space",
+          "[direct][interior][lcp]") {
+  std::mt19937 rng(22);
+  int interior_solves = 0;
+  for (int trial = 0; trial < 80; ++trial) {
+    const int k = 1 + trial % 16;
+    const bool definite = trial % 2 == 0;
+    const int d = definite ? k + 3 : std::max(1, k / 2);  // d < k: A singular, rank d
+    const Constructed p = construct(k, d, rng);
+    const WithFactors factors(p);
+    const double scale = test::scale_of(p.A, p.b);
+    const LcpResult lemke = solve_boxed_lemke(MatX(p.A), -p.b, p.lo, p.hi);
+    CAPTURE(trial, k, d, lemke.message);
+    REQUIRE(lemke.solved());
+    const VecX w_lemke = p.A * lemke.z - p.b;
+    // The interior point runs when some row is bounded and λ = 0 clamped into the box does not
+    // already solve the problem (direct.hpp, 1.: no bounded row goes to the active-set path, a
+    // guess that solves it is returned as it is).
+    VecX guess(k);
+    for (int i = 0; i < k; ++i) guess(i) = clamp(0.0, p.lo(i), p.hi(i));
+    const bool interior_runs = has_bounded_row(p.lo, p.hi) &&
+                               natural_map_residual(BoxedProblem{p.A, p.b, p.lo, p.hi}, guess) > 0;
+    for (const bool body : {false, true}) {
+      const BoxedProblem problem = body ? factors.problem(p) : BoxedProblem{p.A, p.b, p.lo, p.hi};
+      VecX lambda;
+      const SolverSummary s = solve_direct(problem, lambda, interior());
+      CAPTURE(body, s.message);
+      REQUIRE(s.termination == Termination::Direct);
+      CHECK(s.space == (interior_runs ? (body ? "body" : "row") : ""));
+      interior_solves += interior_runs ? 1 : 0;
+      CHECK(natural_map_residual(problem, lambda) <= kResidual * scale);
+      // w is unique (6.2); on singular A to kDegenerateAgreement (two answers of a degenerate
+      // problem), on definite A through λ below.
+      const VecX w = p.A * lambda - p.b;
+      CHECK(inf_norm(w - w_lemke) <= kDegenerateAgreement * scale);
+      if (definite) {
+        const double r_direct =
+            std::max(natural_map_residual(problem, lambda), rounding(p.A, p.b, lambda));
+        const double r_lemke = std::max(lemke.residual, rounding(p.A, p.b, lemke.z));
+        const double bound = definite_bound(p.A, r_direct, r_lemke);
+        CAPTURE(bound);
+        CHECK(inf_norm(lambda - lemke.z) <= bound);
+      }
+    }
+  }
+  CHECK(interior_solves > 100);  // most of them reached the interior-point method
+}
+
+TEST_CASE("interior path: small contact scenes agree with boxed Lemke in row and body space",
+          "[direct][interior][lcp]") {
+  struct Case {
+    std::string name;
+    std::map<std::string, std::string> values;
+    int steps;
+    bool definite;
+  };
+  // One box on the ground (12 rows on 6 degrees of freedom: singular), two boxes (24 rows), and
+  // the v-corner's sphere in a V (2 contact rows: definite).
+  const Case c = GENERATE(values<Case>({
+      {"stack", {{"n", "1"}}, 10, false},
+      {"stack", {{"n", "2"}}, 10, false},
+      {"v-corner", {}, 5, true},
+  }));
+  const System& sys = stepped(c.name, c.values, c.steps);
+  const double scale = scale_of(sys.problem());
+  INFO(c.name << " after " << c.steps << " steps: " << sys.rows() << " rows");
+  REQUIRE(sys.rows() > 0);
+  const LcpResult lemke = solve_boxed_lemke(MatX(sys.A), -sys.b, sys.cmin, sys.cmax);
+  INFO(lemke.message);
+  REQUIRE(lemke.solved());
+  const VecX w_lemke = sys.A * lemke.z - sys.b;
+  for (const bool body : {false, true}) {
+    const BoxedProblem problem =
+        body ? sys.problem() : BoxedProblem{sys.A, sys.b, sys.cmin, sys.cmax};
+    VecX lambda;
+    const SolverSummary s = solve_direct(problem, lambda, interior());
+    CAPTURE(body, s.message);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(s.space == (body ? "body" : "row"));
+    CHECK(natural_map_residual(problem, lambda) <= kResidual * scale);
+    CHECK(inf_norm(sys.A * lambda - sys.b - w_lemke) <= kDegenerateAgreement * scale);
+    if (c.definite) {
+      const double bound = definite_bound(
+          sys.A,
+          std::max(natural_map_residual(problem, lambda), rounding(sys.A, sys.b, lambda)),
+          std::max(lemke.residual, rounding(sys.A, sys.b, lemke.z)));
+      CAPTURE(bound);
+      CHECK(inf_norm(lambda - lemke.z) <= bound);
+    }
+  }
+}
