@@ -334,3 +334,119 @@ TEST_CASE("interior path: small contact scenes agree with boxed Lemke in row and
     }
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 3. Against the active-set path (solve_active_set), where that succeeds.
+
+namespace {
+
+/// The 20-link chain of test_every_solver_agrees (A definite, 20 distance rows) with every row
+/// boxed to [−c, c], c half the largest unbounded |λ|: joints that give when pulled harder than c.
+/// Some rows sit at a bound, so the interior path takes it, and λ is unique.
+struct BoundedChain {
+  System sys = test::system_of("chain", {{"n", "20"}, {"mass_ratio", "10"}}, 10);
+  VecX lo, hi;
+  BoundedChain() {
+    VecX free;
+    solve_cholesky(sys.A, sys.b, free);
+    const double c = 0.5 * inf_norm(free);
+    lo = VecX::Constant(sys.rows(), -c);
+    hi = VecX::Constant(sys.rows(), c);
+  }
+  BoxedProblem problem() const {  // body space: J and Minv come along
+    BoxedProblem p{sys.A, sys.b, lo, hi};
+    p.J = &sys.J;
+    p.Minv = &sys.Minv;
+    return p;
+  }
+  BoxedProblem rows() const { return BoxedProblem{sys.A, sys.b, lo, hi}; }
+};
+
+/// The force Jᵀ λ on the bodies, N and N m: unique where λ is not (A = J Minv Jᵀ, Minv definite).
+VecX force(const System& sys, const VecX& lambda) { return sys.J.transpose() * lambda; }
+
+}  // namespace
+
+TEST_CASE("interior path: contact scenes agree with the active-set path on w, Jᵀλ and v2",
+          "[direct][interior]") {
+  struct Case {
+    std::string name;
+    std::map<std::string, std::string> values;
+    int steps;
+  };
+  const Case c = GENERATE(values<Case>({
+      {"stack", {{"n", "10"}}, 30},
+      {"pyramid", {{"base", "6"}}, 30},
+  }));
+  const System& sys = stepped(c.name, c.values, c.steps);
+  const BoxedProblem problem = sys.problem();
+  const double scale = scale_of(problem);
+  INFO(c.name << " after " << c.steps << " steps: " << sys.rows() << " rows, scale " << scale);
+
+  VecX active;
+  const SolverSummary sa = solve_active_set(problem, active);
+  INFO("active set: " << sa.message);
+  REQUIRE(sa.termination == Termination::Direct);
+  VecX lambda;
+  const SolverSummary s = solve_direct(problem, lambda, interior());
+  INFO("interior: " << s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.space == "body");
+
+  const double dw = inf_norm((sys.A * lambda - sys.b) - (sys.A * active - sys.b));
+  const VecX f = force(sys, active);
+  const double df = inf_norm(force(sys, lambda) - f);
+  const double dv = inf_norm(compute_v2(sys, lambda) - compute_v2(sys, active));
+  INFO("|Δw| " << dw << " m/s², |ΔJᵀλ| " << df << " N (|Jᵀλ| " << inf_norm(f) << "), |Δv2| " << dv
+               << " m/s");
+  CHECK(dw <= kDegenerateAgreement * scale);
+  // Jᵀλ is as unique as w (A Δλ = 0 ⇔ Jᵀ Δλ = 0, Minv definite): the same relative bound on
+  // its own size (measured: at most 1.4e-10 N of |Jᵀλ| ≈ 10 N in this file).
+  CHECK(df <= kDegenerateAgreement * std::max(1.0, inf_norm(f)));
+  // v2 = v1 + Δt Minv (Jᵀλ + fext) (12.3.1): Δv2 = Δt Minv ΔJᵀλ.
+  const double minv = MatX(sys.Minv).cwiseAbs().rowwise().sum().maxCoeff();  // ‖Minv‖∞
+  CHECK(dv <= sys.dt * minv * kDegenerateAgreement * std::max(1.0, inf_norm(f)));
+}
+
+TEST_CASE("interior path: where A is definite lambda equals the active-set path's",
+          "[direct][interior]") {
+  SECTION("the 20-link chain with boxed joints") {
+    const BoundedChain chain;
+    const BoxedProblem problem = chain.problem();
+    VecX active, lambda;
+    const SolverSummary sa = solve_active_set(problem, active);
+    const SolverSummary s = solve_direct(problem, lambda, interior());
+    INFO("active set: " << sa.message << "\ninterior: " << s.message);
+    REQUIRE(sa.termination == Termination::Direct);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(s.space == "body");
+    int at_bound = 0;
+    for (Eigen::Index k = 0; k < lambda.size(); ++k)
+      at_bound += lambda(k) == chain.lo(k) || lambda(k) == chain.hi(k);
+    CHECK(at_bound > 0);  // the boxes bind: not the unbounded solve
+    const double bound = definite_bound(
+        chain.sys.A,
+        std::max(natural_map_residual(problem, lambda), rounding(chain.sys.A, chain.sys.b, lambda)),
+        std::max(natural_map_residual(problem, active),
+                 rounding(chain.sys.A, chain.sys.b, active)));
+    INFO("|Δλ| " << inf_norm(lambda - active) << " N, bound " << bound << " N");
+    CHECK(inf_norm(lambda - active) <= bound);
+  }
+  SECTION("the v-corner's sphere") {
+    const System& sys = stepped("v-corner", {}, 5);
+    const BoxedProblem problem = sys.problem();
+    VecX active, lambda;
+    const SolverSummary sa = solve_active_set(problem, active);
+    const SolverSummary s = solve_direct(problem, lambda, interior());
+    INFO("active set: " << sa.message << "\ninterior: " << s.message);
+    REQUIRE(sa.termination == Termination::Direct);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(s.space == "body");
+    const double bound = definite_bound(
+        sys.A,
+        std::max(natural_map_residual(problem, lambda), rounding(sys.A, sys.b, lambda)),
+        std::max(natural_map_residual(problem, active), rounding(sys.A, sys.b, active)));
+    INFO("|Δλ| " << inf_norm(lambda - active) << " N, bound " << bound << " N");
+    CHECK(inf_norm(lambda - active) <= bound);
+  }
+}
