@@ -450,3 +450,62 @@ TEST_CASE("interior path: where A is definite lambda equals the active-set path'
     CHECK(inf_norm(lambda - active) <= bound);
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 4. Body space and row space: the same answer.
+
+TEST_CASE("interior path: body space and row space give the same answer on the same step",
+          "[direct][interior]") {
+  SECTION("a pyramid and a stack: w, Jᵀλ and v2") {
+    struct Case {
+      std::string name;
+      std::map<std::string, std::string> values;
+      int steps;
+    };
+    const Case c = GENERATE(values<Case>({
+        {"stack", {{"n", "10"}}, 30},
+        {"pyramid", {{"base", "6"}}, 30},
+    }));
+    const System& sys = stepped(c.name, c.values, c.steps);
+    const double scale = scale_of(sys.problem());
+    INFO(c.name << " after " << c.steps << " steps: " << sys.rows() << " rows");
+    VecX body, row;
+    const SolverSummary sb = solve_direct(sys.problem(), body, interior());
+    const SolverSummary sr =
+        solve_direct(BoxedProblem{sys.A, sys.b, sys.cmin, sys.cmax}, row, interior());
+    INFO("body: " << sb.message << "\nrow: " << sr.message);
+    CHECK(sb.termination == Termination::Direct);
+    CHECK(sr.termination == Termination::Direct);
+    CHECK(sb.space == "body");
+    CHECK(sr.space == "row");
+    const VecX f = force(sys, row);
+    const double dw = inf_norm(sys.A * (body - row));
+    const double df = inf_norm(force(sys, body) - f);
+    const double dv = inf_norm(compute_v2(sys, body) - compute_v2(sys, row));
+    INFO("|Δw| " << dw << " m/s², |ΔJᵀλ| " << df << " N, |Δv2| " << dv << " m/s");
+    // Two exact answers of a degenerate problem: kDegenerateAgreement, as against the active set.
+    CHECK(dw <= kDegenerateAgreement * scale);
+    CHECK(df <= kDegenerateAgreement * std::max(1.0, inf_norm(f)));
+    const double minv = MatX(sys.Minv).cwiseAbs().rowwise().sum().maxCoeff();
+    CHECK(dv <= sys.dt * minv * kDegenerateAgreement * std::max(1.0, inf_norm(f)));
+  }
+  SECTION("the chain with boxed joints: lambda (A definite)") {
+    const BoundedChain chain;
+    VecX body, row;
+    const SolverSummary sb = solve_direct(chain.problem(), body, interior());
+    const SolverSummary sr = solve_direct(chain.rows(), row, interior());
+    INFO("body: " << sb.message << "\nrow: " << sr.message);
+    CHECK(sb.termination == Termination::Direct);
+    CHECK(sr.termination == Termination::Direct);
+    CHECK(sb.space == "body");
+    CHECK(sr.space == "row");
+    const SpMat& A = chain.sys.A;
+    const VecX& b = chain.sys.b;
+    const double bound =
+        definite_bound(A,
+                       std::max(natural_map_residual(chain.rows(), body), rounding(A, b, body)),
+                       std::max(natural_map_residual(chain.rows(), row), rounding(A, b, row)));
+    INFO("|Δλ| " << inf_norm(body - row) << " N, bound " << bound << " N");
+    CHECK(inf_norm(body - row) <= bound);
+  }
+}
