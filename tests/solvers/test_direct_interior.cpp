@@ -509,3 +509,25 @@ TEST_CASE("interior path: body space and row space give the same answer on the s
     CHECK(inf_norm(body - row) <= bound);
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 5. Constraint-force mixing.
+
+TEST_CASE("interior path with CFM: the answer solves the problem of A + eps E, in body space",
+          "[direct][interior][cfm]") {
+  const System& sys = stepped("pyramid", {{"base", "6"}}, 30);
+  const BoxedProblem problem = sys.problem();
+  const double scale = scale_of(problem);
+  SolverOptions options = interior();
+  options.cfm = 1e-6;  // kg⁻¹
+  VecX lambda;
+  const SolverSummary s = solve(problem, lambda, options);
+  INFO(sys.rows() << " rows: " << s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.space == "body");
+  CHECK(s.iterations > 0);
+  const double with = natural_map_residual(problem, lambda, options.cfm);
+  const double without = natural_map_residual(problem, lambda);
+  INFO("residual of A + eps E " << with << " N, of A " << without << " N");
+  CHECK(with <= kResidual * scale);
+}
