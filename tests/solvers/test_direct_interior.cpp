@@ -644,3 +644,74 @@ TEST_CASE("an infeasible box (cmin > cmax) is not reported solved by the direct 
     CHECK(lambda.allFinite());
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// 7. Fixed rows.
+
+TEST_CASE("interior path: fixed rows (cmin = cmax) keep exactly their value",
+          "[direct][interior]") {
+  SECTION("friction rows fixed at 0 and a contact row fixed at a load, on a pyramid step") {
+    const System& sys = stepped("pyramid", {{"base", "6"}}, 30);
+    VecX lo = sys.cmin, hi = sys.cmax;
+    std::vector<Eigen::Index> fixed;
+    int frictions = 0;
+    for (Eigen::Index k = 0; k < sys.rows(); ++k) {
+      const std::string& label = sys.labels[std::size_t(k)];
+      if (label.rfind("friction ", 0) == 0 && frictions++ % 3 == 0) {
+        lo(k) = hi(k) = 0.0;  // every third friction row: no friction
+        fixed.push_back(k);
+      }
+    }
+    for (Eigen::Index k = 0; k < sys.rows(); ++k) {
+      if (sys.labels[std::size_t(k)].rfind("contact ", 0) == 0) {
+        lo(k) = hi(k) = 2.5;  // the first contact row: a given load, N
+        fixed.push_back(k);
+        break;
+      }
+    }
+    REQUIRE(fixed.size() > 5);
+    BoxedProblem problem{sys.A, sys.b, lo, hi};
+    problem.J = &sys.J;
+    problem.Minv = &sys.Minv;
+    const double scale = scale_of(problem);
+    for (const bool body : {false, true}) {
+      const BoxedProblem p = body ? problem : BoxedProblem{sys.A, sys.b, lo, hi};
+      VecX lambda;
+      const SolverSummary s = solve_direct(p, lambda, interior());
+      CAPTURE(body, s.message);
+      CHECK(s.termination == Termination::Direct);
+      CHECK(s.space == (body ? "body" : "row"));
+      CHECK(natural_map_residual(p, lambda) <= kResidual * scale);
+      for (const Eigen::Index k : fixed) {
+        CAPTURE(k, sys.labels[std::size_t(k)]);
+        CHECK(lambda(k) == lo(k));
+      }
+      const Kkt kk = kkt(p, lambda, kResidual * scale);
+      CHECK(kk.outside_box == 0.0);
+      CHECK(kk.w_violation <= kResidual * scale);
+    }
+  }
+  SECTION("constructed problems with fixed rows, in row and body space") {
+    std::mt19937 rng(23);
+    int fixed_rows = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+      const int k = 4 + trial % 12;
+      const Constructed p = construct(k, trial % 2 == 0 ? k + 3 : k / 2, rng);
+      const WithFactors factors(p);
+      for (const bool body : {false, true}) {
+        const BoxedProblem problem = body ? factors.problem(p) : BoxedProblem{p.A, p.b, p.lo, p.hi};
+        VecX lambda;
+        const SolverSummary s = solve_direct(problem, lambda, interior());
+        CAPTURE(trial, k, body, s.message);
+        CHECK(s.termination == Termination::Direct);
+        for (int i = 0; i < k; ++i) {
+          if (p.lo(i) != p.hi(i)) continue;
+          ++fixed_rows;
+          CAPTURE(i);
+          CHECK(lambda(i) == p.lo(i));
+        }
+      }
+    }
+    CHECK(fixed_rows > 20);
+  }
+}
