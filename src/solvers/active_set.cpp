@@ -337,6 +337,10 @@ SolverSummary solve_active_set(const BoxedProblem& problem,
   }
   if (lambda.size() != n) lambda = VecX::Zero(n);
   SolverSummary s;
+  if (!check_box(problem, s)) {
+    s.message = "active set: " + s.message;
+    return s;
+  }
   s.termination = Termination::Direct;
   const bool finite =
       b.allFinite() && Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).allFinite();

@@ -319,6 +319,10 @@ SolverSummary solve_direct(const BoxedProblem& problem,
   }
   if (lambda.size() != n) lambda = VecX::Zero(n);
   SolverSummary s;
+  if (!check_box(problem, s)) {
+    s.message = "direct: " + s.message;
+    return s;
+  }
   s.termination = Termination::Direct;
   const bool finite =
       problem.b.allFinite() &&
@@ -376,7 +380,20 @@ SolverSummary solve_direct(const BoxedProblem& problem,
        << "): " << s.iterations << " interior iterations, crossover (" << solver.crossover_space()
        << ") " << s.crossover << " proximal steps and " << s.pivots << " pivots, "
        << s.factorizations << " factorizations";
-  if (!solved) what << "; stopped short of the tolerance";
+  // The rounding floor grows with ‖λ‖∞, so a λ driven off by inconsistent equality rows would
+  // meet it: past 1e8 × λ's natural scale (|b_k| / A_kk, the finite bounds) it is no answer.
+  double natural = 1.0;
+  const VecX diagonal = problem.A.diagonal();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    if (diagonal(k) > 0.0) natural = std::max(natural, std::abs(problem.b(k)) / diagonal(k));
+    if (std::isfinite(problem.cmin(k))) natural = std::max(natural, std::abs(problem.cmin(k)));
+    if (std::isfinite(problem.cmax(k))) natural = std::max(natural, std::abs(problem.cmax(k)));
+  }
+  if (s.termination == Termination::Direct && lambda.lpNorm<Eigen::Infinity>() > 1e8 * natural) {
+    s.termination = Termination::NotConverged;
+    what << "; lambda grew past 1e8 times its scale (inconsistent equality rows?)";
+  }
+  if (s.termination != Termination::Direct) what << "; stopped short of the tolerance";
   return finish(what.str());
 }
 

@@ -4,6 +4,9 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
 
 #include "cholmod_factor.hpp"
 
@@ -198,6 +201,37 @@ bool NewtonSystem::solve(
     x += dx;
   }
   return x.allFinite();
+}
+
+bool check_box(const BoxedProblem& problem, SolverSummary& s) {
+  Eigen::Index bad = -1;
+  double gap = 0.0;
+  bool nan = false;
+  for (Eigen::Index k = 0; k < problem.rows(); ++k) {
+    const double lo = problem.cmin(k), hi = problem.cmax(k);
+    if (std::isnan(lo) || std::isnan(hi)) {
+      if (!nan) bad = k;
+      nan = true;
+    } else if (lo > hi && !nan) {
+      if (bad < 0) bad = k;
+      gap = std::max(gap, lo - hi);
+    }
+  }
+  if (bad < 0) return true;
+  std::ostringstream msg;
+  msg << "row " << bad << ": ";
+  if (nan) {
+    s.termination = Termination::NonFinite;
+    s.residual = std::numeric_limits<double>::quiet_NaN();
+    msg << "cmin or cmax is NaN";
+  } else {
+    s.termination = Termination::NotConverged;
+    s.residual = gap;
+    msg << "cmin " << problem.cmin(bad) << " > cmax " << problem.cmax(bad)
+        << ": no lambda is feasible (residual: the largest cmin - cmax, N)";
+  }
+  s.message = msg.str();
+  return false;
 }
 
 std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem) {

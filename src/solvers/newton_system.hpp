@@ -39,6 +39,12 @@ std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem);
 /// Body space where it can, row space otherwise.
 std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem);
 
+/// False, with s filled (NonFinite for a NaN bound, NotConverged for cmin > cmax; residual the
+/// largest cmin − cmax, N; a message naming the row), when the box of some row is no box; true
+/// otherwise. Both exact paths check this first: clamp() would take cmax for an empty box and
+/// call it solved.
+bool check_box(const BoxedProblem& problem, SolverSummary& s);
+
 /// The active-set path of active_set.hpp on the whole problem at once from lambda as it is (no
 /// PGS sweeps: rows at a bound start there): the exact path's crossover. With `newton`, its free
 /// blocks (A + εI)(F, F) are solved by it with the other rows dropped, ε starting at eps_start ·

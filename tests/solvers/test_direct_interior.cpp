@@ -635,10 +635,8 @@ TEST_CASE("an infeasible box (cmin > cmax) is not reported solved by the direct 
                  << ", lambda " << lambda.transpose() << ", exception: " << error);
   CHECK(elapsed < 1.0);
   if (error.empty()) {
-    // FAILS (solver, direct.hpp promises NotConverged for an infeasible box): with b = 0 ("the
-    // guess already solves it") and on the active-set path (interior_from_rows 500) the solve
-    // returns Termination::Direct, residual 0, λ₁ = cmax = −1 < cmin = 1: the natural map's
-    // clamp(x, lo, hi) = min(max(x, lo), hi) is hi whenever lo > hi, so λ₁ = cmax has residual 0.
+    // clamp(x, lo, hi) = min(max(x, lo), hi) is hi whenever lo > hi, so λ₁ = cmax would have a
+    // natural-map residual of 0: both exact paths must check the box first (check_box).
     CHECK(s.termination == Termination::NotConverged);
     CHECK(std::isfinite(s.residual));
     CHECK(lambda.allFinite());
