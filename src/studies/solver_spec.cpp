@@ -38,7 +38,8 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   const std::string& name = parts.front();
   bool omega_allowed = true;
   bool omega_required = false;
-  if (name == "pgs" || name == "matrix-free" || name == "block-pgs" || name == "direct") {
+  if (name == "pgs" || name == "matrix-free" || name == "block-pgs" || name == "direct" ||
+      name == "active-set") {
     method_from_string(name, spec.method);
     omega_allowed = false;
   } else if (name == "psor") {
@@ -51,7 +52,7 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   } else {
     fail(
         "unknown solver (valid: pgs, psor:OMEGA, sgs[:OMEGA], jacobi[:OMEGA], block-pgs, "
-        "matrix-free, direct)");
+        "matrix-free, direct, active-set)");
   }
   bool have_omega = false;
   for (std::size_t k = 1; k < parts.size(); ++k) {

@@ -21,6 +21,7 @@ TEST_CASE("solver specs: names, relaxation factors, orders and warm starts", "[s
   const auto list = parse_solver_list("pgs,psor:1.3,direct");
   REQUIRE(list.size() == 3);
   CHECK(list[2].method == Method::Direct);
+  CHECK(parse_solver_spec("active-set").method == Method::ActiveSet);  // the previous exact path
   const auto error_of = [](const std::string& text) {
     try {
       parse_solver_spec(text, "--solver");
