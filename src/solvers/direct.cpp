@@ -26,6 +26,11 @@ constexpr double kStepToBoundary = 0.995;
 /// The crossover's first proximal ε, a fraction of max A_kk: small, because the interior point's
 /// partition is close (its proximal steps contract the error by about ε/(σ + ε)).
 constexpr double kCrossoverEpsilon = 1e-6;
+/// Rows within this fraction of λ's scale (‖b‖∞ / max A_kk) of a bound start the crossover at
+/// it: the active set frees wrong-signed rows all at once but blocks rows one at a time, so a
+/// partition that errs towards the bound needs far fewer factorizations (pyramid base 20:
+/// 301 instead of 1,026).
+constexpr double kNearBound = 1e-4;
 /// Problems up to this many rows finish on CHOLMOD factors of A's free block (row space).
 constexpr Eigen::Index kRowSpaceFinish = 2000;
 
@@ -234,15 +239,16 @@ class InteriorSolver {
       }
     }
     // The partition the interior point suggests: a row is at its bound when its multiplier
-    // outweighs its slack (z > A_kk s, units m/s² against kg⁻¹ N).
+    // outweighs its slack (z > A_kk s, units m/s² against kg⁻¹ N) or its slack is near 0.
+    const double near = kNearBound * lambda_scale;
     place_.assign(std::size_t(c), Place::Free);
     for (Eigen::Index k = 0; k < c; ++k) {
       const std::size_t K = std::size_t(k);
       if (fixed_[K])
         place_[K] = Place::Fixed;
-      else if (lower_[K] && z(k) > a_(k) * s(k))
+      else if (lower_[K] && (z(k) > a_(k) * s(k) || s(k) <= near))
         place_[K] = Place::Lower;
-      else if (upper_[K] && y(k) > a_(k) * t(k))
+      else if (upper_[K] && (y(k) > a_(k) * t(k) || t(k) <= near))
         place_[K] = Place::Upper;
     }
   }

@@ -34,11 +34,12 @@ namespace cbps {
 ///      and the stationarity residual ≤ √interior_mu · scale_of, or after
 ///      options.direct.max_interior iterations.
 ///   3. Crossover: a row starts at its bound when its multiplier outweighs its slack
-///      (z_k > A_kk s_k, y_k > A_kk t_k), and the active-set path's method (proximal points
-///      around a monotone primal active set, active_set.hpp) finishes from that partition with
-///      no PGS sweeps: islands (islands.hpp) of up to 2,000 rows apart, on their own free blocks
-///      of A from ε = 0; larger islands then together in body space (the same pattern, bound
-///      rows dropped: D⁻¹ = 0) from ε = 1e-6 · max A_kk.
+///      (z_k > A_kk s_k, y_k > A_kk t_k) or its slack is below 1e-4 ‖b‖∞ / max A_kk, and the
+///      active-set path's method (proximal points around a monotone primal active set,
+///      active_set.hpp) finishes from that partition with no PGS sweeps: islands (islands.hpp) of
+///      up to 2,000 rows apart, on their own free blocks of A from ε = 0; larger islands then
+///      together in body space (the same pattern, bound rows dropped: D⁻¹ = 0) from ε = 1e-6 · max
+///      A_kk.
 /// Tolerance: the natural-map residual ≤ max(options.tolerance, residual_floor). Returns
 /// Termination::Direct when reached, NotConverged otherwise (inconsistent equality rows, an
 /// infeasible box), with the best λ found; NonFinite for non-finite A or b. The summary's
