@@ -327,29 +327,12 @@ SolverSummary solve_active_set(const BoxedProblem& problem,
                                VecX& lambda,
                                const SolverOptions& options) {
   const SpMat& A = problem.A;
-  const VecX& b = problem.b;
-  const VecX& cmin = problem.cmin;
-  const VecX& cmax = problem.cmax;
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index n = A.rows();
-  if (A.cols() != n || b.size() != n || cmin.size() != n || cmax.size() != n) {
-    throw std::invalid_argument("solve_active_set: A, b, cmin and cmax sizes differ");
-  }
-  if (lambda.size() != n) lambda = VecX::Zero(n);
   SolverSummary s;
-  if (!check_box(problem, s)) {
-    s.message = "active set: " + s.message;
-    return s;
-  }
+  if (!check_input(problem, "active set", s)) return s;
+  if (lambda.size() != n) lambda = VecX::Zero(n);
   s.termination = Termination::Direct;
-  const bool finite =
-      b.allFinite() && Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).allFinite();
-  if (!finite) {
-    s.termination = Termination::NonFinite;
-    s.residual = std::numeric_limits<double>::quiet_NaN();
-    s.message = "direct: A or b has non-finite entries";
-    return s;
-  }
   std::vector<std::vector<int>> islands;
   if (options.direct.split_islands) {
     islands = find_islands(A);

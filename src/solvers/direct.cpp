@@ -319,20 +319,10 @@ SolverSummary solve_direct(const BoxedProblem& problem,
                            const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index n = problem.A.rows();
-  if (problem.A.cols() != n || problem.b.size() != n || problem.cmin.size() != n ||
-      problem.cmax.size() != n) {
-    throw std::invalid_argument("solve_direct: A, b, cmin and cmax sizes differ");
-  }
-  if (lambda.size() != n) lambda = VecX::Zero(n);
   SolverSummary s;
-  if (!check_box(problem, s)) {
-    s.message = "direct: " + s.message;
-    return s;
-  }
+  if (!check_input(problem, "direct", s)) return s;
+  if (lambda.size() != n) lambda = VecX::Zero(n);
   s.termination = Termination::Direct;
-  const bool finite =
-      problem.b.allFinite() &&
-      Eigen::Map<const VecX>(problem.A.valuePtr(), problem.A.nonZeros()).allFinite();
   const auto finish = [&](const std::string& what) {
     s.residual = natural_map_residual(problem, lambda);
     if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
@@ -342,12 +332,6 @@ SolverSummary solve_direct(const BoxedProblem& problem,
     s.message = msg.str();
     return s;
   };
-  if (!finite) {
-    s.termination = Termination::NonFinite;
-    s.residual = std::numeric_limits<double>::quiet_NaN();
-    s.message = "direct: A or b has non-finite entries";
-    return s;
-  }
   bool bounded = false;
   for (Eigen::Index k = 0; k < n && !bounded; ++k) {
     bounded = problem.cmin(k) != problem.cmax(k) &&

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "cholmod_factor.hpp"
 
@@ -203,33 +205,40 @@ bool NewtonSystem::solve(
   return x.allFinite();
 }
 
-bool check_box(const BoxedProblem& problem, SolverSummary& s) {
-  Eigen::Index bad = -1;
+bool check_input(const BoxedProblem& problem, const char* who, SolverSummary& s) {
+  const SpMat& A = problem.A;
+  const Eigen::Index n = A.rows();
+  if (A.cols() != n || problem.b.size() != n || problem.cmin.size() != n ||
+      problem.cmax.size() != n) {
+    throw std::invalid_argument(std::string(who) + ": A, b, cmin and cmax sizes differ");
+  }
+  std::ostringstream msg;
+  msg << who << ": ";
+  const auto non_finite = [&](const std::string& what) {
+    s.termination = Termination::NonFinite;
+    s.residual = std::numeric_limits<double>::quiet_NaN();
+    msg << what;
+    s.message = msg.str();
+    return false;
+  };
+  if (!problem.b.allFinite() || !Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).allFinite())
+    return non_finite("A or b has non-finite entries");
+  Eigen::Index empty = -1;
   double gap = 0.0;
-  bool nan = false;
-  for (Eigen::Index k = 0; k < problem.rows(); ++k) {
+  for (Eigen::Index k = 0; k < n; ++k) {
     const double lo = problem.cmin(k), hi = problem.cmax(k);
-    if (std::isnan(lo) || std::isnan(hi)) {
-      if (!nan) bad = k;
-      nan = true;
-    } else if (lo > hi && !nan) {
-      if (bad < 0) bad = k;
+    if (std::isnan(lo) || std::isnan(hi))
+      return non_finite("row " + std::to_string(k) + ": cmin or cmax is NaN");
+    if (lo > hi) {
+      if (empty < 0) empty = k;
       gap = std::max(gap, lo - hi);
     }
   }
-  if (bad < 0) return true;
-  std::ostringstream msg;
-  msg << "row " << bad << ": ";
-  if (nan) {
-    s.termination = Termination::NonFinite;
-    s.residual = std::numeric_limits<double>::quiet_NaN();
-    msg << "cmin or cmax is NaN";
-  } else {
-    s.termination = Termination::NotConverged;
-    s.residual = gap;
-    msg << "cmin " << problem.cmin(bad) << " > cmax " << problem.cmax(bad)
-        << ": no lambda is feasible (residual: the largest cmin - cmax, N)";
-  }
+  if (empty < 0) return true;
+  s.termination = Termination::NotConverged;
+  s.residual = gap;
+  msg << "row " << empty << ": cmin " << problem.cmin(empty) << " > cmax " << problem.cmax(empty)
+      << ": no lambda is feasible (residual: the largest cmin - cmax, N)";
   s.message = msg.str();
   return false;
 }

@@ -39,11 +39,12 @@ std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem);
 /// Body space where it can, row space otherwise.
 std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem);
 
-/// False, with s filled (NonFinite for a NaN bound, NotConverged for cmin > cmax; residual the
-/// largest cmin − cmax, N; a message naming the row), when the box of some row is no box; true
-/// otherwise. Both exact paths check this first: clamp() would take cmax for an empty box and
-/// call it solved.
-bool check_box(const BoxedProblem& problem, SolverSummary& s);
+/// What both exact paths check first. Throws std::invalid_argument when A, b, cmin and cmax
+/// differ in size. False, with s filled, when A or b has a non-finite entry or a bound is NaN
+/// (NonFinite), or some row's box is empty, cmin > cmax (NotConverged, residual the largest
+/// cmin − cmax, N, the message naming the row: clamp() would take cmax and call it solved);
+/// the message starts with `who`. True otherwise.
+bool check_input(const BoxedProblem& problem, const char* who, SolverSummary& s);
 
 /// The active-set path of active_set.hpp on the whole problem at once from lambda as it is (no
 /// PGS sweeps: rows at a bound start there): the exact path's crossover. With `newton`, its free

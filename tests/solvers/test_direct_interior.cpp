@@ -362,6 +362,18 @@ struct BoundedChain {
   BoxedProblem rows() const { return BoxedProblem{sys.A, sys.b, lo, hi}; }
 };
 
+/// A built-in scene after some steps.
+struct SceneStep {
+  std::string name;
+  std::map<std::string, std::string> values;
+  int steps;
+};
+/// The 10-box stack and the base-6 pyramid after 30 steps: small enough for the active-set path.
+const std::initializer_list<SceneStep> kSmallContactSteps = {
+    {"stack", {{"n", "10"}}, 30},
+    {"pyramid", {{"base", "6"}}, 30},
+};
+
 /// The force Jᵀ λ on the bodies, N and N m: unique where λ is not (A = J Minv Jᵀ, Minv definite).
 VecX force(const System& sys, const VecX& lambda) { return sys.J.transpose() * lambda; }
 
@@ -369,15 +381,7 @@ VecX force(const System& sys, const VecX& lambda) { return sys.J.transpose() * l
 
 TEST_CASE("interior path: contact scenes agree with the active-set path on w, Jᵀλ and v2",
           "[direct][interior]") {
-  struct Case {
-    std::string name;
-    std::map<std::string, std::string> values;
-    int steps;
-  };
-  const Case c = GENERATE(values<Case>({
-      {"stack", {{"n", "10"}}, 30},
-      {"pyramid", {{"base", "6"}}, 30},
-  }));
+  const SceneStep c = GENERATE(values<SceneStep>(kSmallContactSteps));
   const System& sys = stepped(c.name, c.values, c.steps);
   const BoxedProblem problem = sys.problem();
   const double scale = scale_of(problem);
@@ -457,15 +461,7 @@ TEST_CASE("interior path: where A is definite lambda equals the active-set path'
 TEST_CASE("interior path: body space and row space give the same answer on the same step",
           "[direct][interior]") {
   SECTION("a pyramid and a stack: w, Jᵀλ and v2") {
-    struct Case {
-      std::string name;
-      std::map<std::string, std::string> values;
-      int steps;
-    };
-    const Case c = GENERATE(values<Case>({
-        {"stack", {{"n", "10"}}, 30},
-        {"pyramid", {{"base", "6"}}, 30},
-    }));
+    const SceneStep c = GENERATE(values<SceneStep>(kSmallContactSteps));
     const System& sys = stepped(c.name, c.values, c.steps);
     const double scale = scale_of(sys.problem());
     INFO(c.name << " after " << c.steps << " steps: " << sys.rows() << " rows");
