@@ -397,10 +397,8 @@ void add_size_cases(std::vector<StressCase>& cases) {
          return builtin("pyramid", {{"base", "30"}});
        },
        10,
-       {"pgs", "block-pgs"},
-       {{"direct",
-         "one island of ~5,000 rows: the direct path needed 161 s for one step of base 20 "
-         "(cbps converge on the pyramid, docs/convergence.md)"}},
+       kContactSolvers,
+       {},
        rest_of_last(0.01, 0.01)});
 }
 
