@@ -26,6 +26,8 @@ namespace {
 constexpr double kSingularRcond = kDefiniteRcond;
 /// Outer iterations without a new best residual before the direct path gives up.
 constexpr int kStallLimit = 10;
+/// Iterative-refinement passes of a body-space solve before a full step.
+constexpr int kRefinements = 2;
 /// The factor by which ε falls when the proximal steps converge slowly (and rises back).
 constexpr double kEpsilonStep = 10.0;
 
@@ -160,7 +162,6 @@ class IslandSolver {
       dropped_.assign(std::size_t(A_.rows()), 1);
       for (const int i : F) dropped_[std::size_t(i)] = 0;
       d_ = VecX::Constant(A_.rows(), eps);
-      ++stats_.factorizations;
       const bool ok = newton_->factor(d_, dropped_);
       stats_.factor_nnz = std::max(stats_.factor_nnz, newton_->factor_nonzeros());
       factor_rows_ = ok ? F : std::vector<int>{};
@@ -220,26 +221,40 @@ class IslandSolver {
       double alpha = 1.0;
       if (!F.empty()) {
         if (!factor_free_block(F, eps)) return Pivoting::Singular;
-        const VecX Hx = A_ * x + eps * x;
+        const VecX Hx = times_A(x) + eps * x;
         rhs.resize(static_cast<Eigen::Index>(F.size()));
         for (std::size_t k = 0; k < F.size(); ++k) rhs(Eigen::Index(k)) = g(F[k]) - Hx(F[k]);
-        solve_free_block(F, rhs, p);
+        // In body space a blocked step only needs a direction, so no refinement (the next
+        // round's right-hand side corrects it); a full step is refined before it is taken.
+        const auto ratio_test = [&] {
+          double a = 1.0;
+          for (std::size_t k = 0; k < F.size(); ++k) {
+            const int i = F[k];
+            const double pi = p(Eigen::Index(k));
+            if (x(i) + pi < cmin_(i)) a = std::min(a, (cmin_(i) - x(i)) / pi);
+            if (x(i) + pi > cmax_(i)) a = std::min(a, (cmax_(i) - x(i)) / pi);
+          }
+          return std::max(a, 0.0);
+        };
+        solve_free_block(F, rhs, p, 0);
         if (!p.allFinite()) return Pivoting::Failed;
-        for (std::size_t k = 0; k < F.size(); ++k) {  // the ratio test
-          const int i = F[k];
-          const double pi = p(Eigen::Index(k));
-          if (x(i) + pi < cmin_(i)) alpha = std::min(alpha, (cmin_(i) - x(i)) / pi);
-          if (x(i) + pi > cmax_(i)) alpha = std::min(alpha, (cmax_(i) - x(i)) / pi);
+        alpha = ratio_test();
+        if (alpha == 1.0 && newton_ != nullptr) {
+          solve_free_block(F, rhs, p, kRefinements);
+          if (!p.allFinite()) return Pivoting::Failed;
+          alpha = ratio_test();
         }
-        alpha = std::max(alpha, 0.0);
         for (std::size_t k = 0; k < F.size(); ++k) {
           const int i = F[k];
-          const double xi = x(i) + alpha * p(Eigen::Index(k));
-          if (alpha < 1.0 && xi <= cmin_(i)) {
+          const double pi = p(Eigen::Index(k));
+          const double xi = x(i) + alpha * pi;
+          // Only rows moving out of the box block: after a step of 0, a row just freed at its
+          // bound whose step points inwards stays free.
+          if (alpha < 1.0 && pi < 0.0 && xi <= cmin_(i)) {
             place_[std::size_t(i)] = Place::Lower;  // blocked: fixed at the bound it reached
             x(i) = cmin_(i);
             ++stats_.pivots;
-          } else if (alpha < 1.0 && xi >= cmax_(i)) {
+          } else if (alpha < 1.0 && pi > 0.0 && xi >= cmax_(i)) {
             place_[std::size_t(i)] = Place::Upper;
             x(i) = cmax_(i);
             ++stats_.pivots;
@@ -253,7 +268,7 @@ class IslandSolver {
         continue;
       }
       // A full step: x minimises the objective on this face. Free the wrong-signed bound rows.
-      const VecX y = A_ * x + eps * x - g;
+      const VecX y = times_A(x) + eps * x - g;
       Eigen::Index worst = -1;
       double worst_violation = tol;
       int released = 0;
@@ -282,15 +297,23 @@ class IslandSolver {
     return Pivoting::Failed;
   }
 
+  /// A x, in body space through J and Minv.
+  VecX times_A(const VecX& x) const {
+    if (newton_ == nullptr) return A_ * x;
+    VecX y;
+    newton_->times_A(x, y);
+    return y;
+  }
+
   /// p = (A + εI)(F, F)⁻¹ rhs with the current factor.
-  void solve_free_block(const std::vector<int>& F, const VecX& rhs, VecX& p) {
+  void solve_free_block(const std::vector<int>& F, const VecX& rhs, VecX& p, int refinements) {
     if (newton_ == nullptr) {
       factor_.solve(rhs, p);
       return;
     }
     VecX r = VecX::Zero(A_.rows()), x;
     for (std::size_t k = 0; k < F.size(); ++k) r(F[k]) = rhs(Eigen::Index(k));
-    newton_->solve(A_, d_, dropped_, r, x);
+    newton_->solve(d_, dropped_, r, x, refinements);
     p.resize(rhs.size());
     for (std::size_t k = 0; k < F.size(); ++k) p(Eigen::Index(k)) = x(F[k]);
   }

@@ -66,7 +66,10 @@ class InteriorSolver {
   bool solve(VecX& lambda) {
     interior(lambda);
     const bool small = A_.rows() <= kRowSpaceFinish;
-    if (solved_ && !small) return true;
+    if (solved_ && !small) {
+      stats_.factorizations += newton_->factorizations();
+      return true;
+    }
     // The crossover starts from the interior point's partition: bound rows at their bounds.
     for (Eigen::Index k = 0; k < lambda.size(); ++k) {
       const Place place = place_[std::size_t(k)];
@@ -97,6 +100,8 @@ class InteriorSolver {
         all_solved = finish(p_, lambda, newton_.get());
       }
     }
+    stats_.factorizations += newton_->factorizations();
+    stats_.updates = newton_->updates();
     return all_solved;
   }
 
@@ -116,11 +121,10 @@ class InteriorSolver {
 
  private:
   bool newton_solve(const VecX& d, const std::vector<char>& dropped, const VecX& r, VecX& x) {
-    return newton_->solve(A_, d, dropped, r, x);
+    return newton_->solve(d, dropped, r, x, 0);
   }
 
   bool factor(const VecX& d, const std::vector<char>& dropped) {
-    ++stats_.factorizations;
     const bool ok = newton_->factor(d, dropped);
     stats_.factor_nnz = std::max(stats_.factor_nnz, newton_->factor_nonzeros());
     return ok;
@@ -153,7 +157,9 @@ class InteriorSolver {
       if (lower_[K]) s(k) = lambda(k) - lo(k);
       if (upper_[K]) t(k) = hi(k) - lambda(k);
     }
-    VecX w = A_ * lambda - b_;
+    VecX w;
+    newton_->times_A(lambda, w);
+    w -= b_;
     for (Eigen::Index k = 0; k < c; ++k) {
       const std::size_t K = std::size_t(k);
       if (lower_[K]) z(k) = std::max(w(k), 0.0) + w_scale;
@@ -166,7 +172,8 @@ class InteriorSolver {
     const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
     VecX d(c), r_d(c), rhs(c), dl_aff, dl, dz(c), dy(c), dz_aff(c), dy_aff(c);
     for (int it = 0; it < options_.direct.max_interior; ++it) {
-      w = A_ * lambda - b_;
+      newton_->times_A(lambda, w);
+      w -= b_;
       double mu = 0.0;
       for (Eigen::Index k = 0; k < c; ++k) {
         r_d(k) = fixed_[std::size_t(k)] ? 0.0 : w(k) - z(k) + y(k);
@@ -370,6 +377,7 @@ SolverSummary solve_direct(const BoxedProblem& problem,
        << "): " << s.iterations << " interior iterations, crossover (" << solver.crossover_space()
        << ") " << s.crossover << " proximal steps and " << s.pivots << " pivots, "
        << s.factorizations << " factorizations";
+  if (s.updates > 0) what << " and " << s.updates << " rows updated in a factor";
   // The rounding floor grows with ‖λ‖∞, so a λ driven off by inconsistent equality rows would
   // meet it: past 1e8 × λ's natural scale (|b_k| / A_kk, the finite bounds) it is no answer.
   double natural = 1.0;

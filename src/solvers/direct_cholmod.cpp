@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "cbps/error.hpp"
 #include "cbps/solvers/direct.hpp"
@@ -47,6 +48,7 @@ bool CholmodFactor::factor(const SpMat& A, double eps) {
   impl_->ok = false;
   n_ = A.rows();
   cholmod_sparse view = lower_view(A);
+  impl_->common.supernodal = simplicial_ ? CHOLMOD_SIMPLICIAL : CHOLMOD_AUTO;
   impl_->L = cholmod_analyze(&view, &impl_->common);
   if (impl_->L == nullptr) throw ComputationError("CHOLMOD: analysis failed (out of memory?)");
   return refactor(A, eps);
@@ -61,6 +63,32 @@ bool CholmodFactor::refactor(const SpMat& A, double eps) {
     throw ComputationError("CHOLMOD: out of memory in the factorization");
   }
   impl_->ok = impl_->common.status == CHOLMOD_OK && impl_->L->minor == impl_->L->n;
+  return impl_->ok;
+}
+
+bool CholmodFactor::update(const SpMat& C, bool up) {
+  if (!impl_->ok || C.cols() == 0) return impl_->ok;
+  cholmod_factor* L = impl_->L;
+  // CHOLMOD updates P H Pᵀ = L D Lᵀ: C's rows go to their places in P's order, sorted.
+  const auto* perm = static_cast<const int*>(L->Perm);
+  std::vector<int> inverse(static_cast<std::size_t>(n_));
+  for (Eigen::Index k = 0; k < n_; ++k) inverse[std::size_t(perm[k])] = static_cast<int>(k);
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(std::size_t(C.nonZeros()));
+  for (Eigen::Index j = 0; j < C.outerSize(); ++j)
+    for (SpMat::InnerIterator it(C, j); it; ++it)
+      entries.emplace_back(inverse[std::size_t(it.row())], j, it.value());
+  SpMat permuted(C.rows(), C.cols());
+  permuted.setFromTriplets(entries.begin(), entries.end());
+  permuted.makeCompressed();
+  cholmod_sparse view = Eigen::viewAsCholmod(permuted);
+  view.stype = 0;  // unsymmetric: C itself, every entry
+  impl_->common.status = CHOLMOD_OK;
+  const int done = cholmod_updown(up ? 1 : 0, &view, L, &impl_->common);
+  if (impl_->common.status == CHOLMOD_OUT_OF_MEMORY) {
+    throw ComputationError("CHOLMOD: out of memory in an update");
+  }
+  impl_->ok = done != 0 && impl_->common.status == CHOLMOD_OK && L->minor == L->n;
   return impl_->ok;
 }
 

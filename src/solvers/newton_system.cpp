@@ -16,8 +16,12 @@ namespace cbps {
 
 namespace {
 
-/// Iterative-refinement passes after each solve.
-constexpr int kRefinements = 2;
+/// Body space updates its factor (instead of factoring anew) when at most
+/// max(kUpdateRows, rows / kUpdateFraction) rows join or leave, and factors anew once
+/// kUpdateRefresh times that many have changed since the last factorization (round-off).
+constexpr long kUpdateRows = 64;
+constexpr long kUpdateFraction = 50;
+constexpr long kUpdateRefresh = 4;
 
 /// Body space: (J Minv Jᵀ + diag D)⁻¹ r = D⁻¹ (r − J u), u = (M + Jᵀ D⁻¹ J)⁻¹ Jᵀ D⁻¹ r
 /// (Woodbury), D = d + cfm; D⁻¹ = 0 on dropped rows. H = M + Jᵀ D⁻¹ J keeps one pattern (its
@@ -47,13 +51,27 @@ class BodySpace final : public NewtonSystem {
       block = llt.solve(Eigen::Matrix<double, 6, 6>::Identity());
       block = (0.5 * (block + block.transpose())).eval();
     }
-    return std::unique_ptr<BodySpace>(new BodySpace(problem, std::move(M)));
+    std::unique_ptr<BodySpace> body(new BodySpace(problem, std::move(M)));
+    // A = J Minv Jᵀ + cfm I is the contract of BoxedProblem; a stored folder whose A says
+    // otherwise is solved in row space, on its A.
+    const Eigen::Index c = problem.A.rows();
+    VecX x(c), Ax, JMJx;
+    for (Eigen::Index k = 0; k < c; ++k) x(k) = std::sin(1.0 + double(k));
+    body->times_A(x, JMJx);
+    Ax = problem.A * x;
+    const SpMat absA = problem.A.cwiseAbs();
+    const VecX bound = absA * x.cwiseAbs();
+    for (Eigen::Index k = 0; k < c; ++k)
+      if (!(std::abs(Ax(k) - JMJx(k)) <= 1e-12 * bound.maxCoeff() + 1e-300)) return nullptr;
+    return body;
   }
 
   bool factor(const VecX& d, const std::vector<char>& dropped) override {
-    omega_.resize(d.size());
+    VecX omega(d.size());
     for (Eigen::Index k = 0; k < d.size(); ++k)
-      omega_(k) = dropped[std::size_t(k)] ? 0.0 : 1.0 / (d(k) + cfm_);
+      omega(k) = dropped[std::size_t(k)] ? 0.0 : 1.0 / (d(k) + cfm_);
+    if (factored_ && update(omega)) return true;
+    omega_ = std::move(omega);
     double* value = H_.valuePtr();
     std::fill(value, value + H_.nonZeros(), 0.0);
     for (std::size_t B = 0; B < M_.size(); ++B) {
@@ -74,10 +92,15 @@ class BodySpace final : public NewtonSystem {
         for (int c = a; c < end; ++c) value[*pos++] += wa * Jv[c];
       }
     }
-    const bool ok = analysed_ ? factor_.refactor(H_, 0.0) : factor_.factor(H_, 0.0);
+    ++factorizations_;
+    factored_ = analysed_ ? factor_.refactor(H_, 0.0) : factor_.factor(H_, 0.0);
     analysed_ = true;
-    return ok;
+    updated_rows_ = 0;
+    return factored_;
   }
+
+  int factorizations() const override { return factorizations_; }
+  long updates() const override { return updates_; }
 
   void apply(const VecX& r, VecX& x) const override {
     const VecX wr = omega_.cwiseProduct(r);
@@ -87,12 +110,61 @@ class BodySpace final : public NewtonSystem {
     x = omega_.cwiseProduct(r - *J_ * u);
   }
 
+  void times_A(const VecX& x, VecX& y) const override {
+    const VecX f = J_->transpose() * x;
+    const VecX v = *Minv_ * f;
+    y = *J_ * v;
+    if (cfm_ != 0.0) y += cfm_ * x;
+  }
+
   long factor_nonzeros() const override { return factor_.nonzeros(); }
   const char* space() const override { return "body"; }
 
  private:
+  /// H for the new weights from the current factor, when they differ from the old only in rows
+  /// kept or dropped (ω 0 ↔ ω_k) and there are few of those: H ± ω_k J_kᵀ J_k as rank-one
+  /// updates and downdates. False when a factorization is the better way (or an update
+  /// failed: then the caller factors anew).
+  bool update(const VecX& omega) {
+    std::vector<Eigen::Index> added, removed;
+    for (Eigen::Index k = 0; k < omega.size(); ++k) {
+      if (omega(k) == omega_(k)) continue;
+      if (omega_(k) == 0.0)
+        added.push_back(k);
+      else if (omega(k) == 0.0)
+        removed.push_back(k);
+      else
+        return false;  // a weight changed: a new H
+    }
+    const long changed = static_cast<long>(added.size() + removed.size());
+    if (changed == 0) return true;
+    const long limit = std::max(kUpdateRows, static_cast<long>(omega.size()) / kUpdateFraction);
+    if (changed > limit || updated_rows_ + changed > kUpdateRefresh * limit) return false;
+    const auto columns = [&](const std::vector<Eigen::Index>& rows, const VecX& weight) {
+      std::vector<Eigen::Triplet<double>> entries;
+      for (std::size_t q = 0; q < rows.size(); ++q) {
+        const Eigen::Index k = rows[q];
+        const double root = std::sqrt(weight(k));
+        for (SpMatRow::InnerIterator it(*J_, k); it; ++it)
+          entries.emplace_back(it.col(), static_cast<Eigen::Index>(q), root * it.value());
+      }
+      SpMat C(J_->cols(), static_cast<Eigen::Index>(rows.size()));
+      C.setFromTriplets(entries.begin(), entries.end());
+      return C;
+    };
+    // Updates first: H stays definite through the downdates that follow.
+    if (!added.empty() && !factor_.update(columns(added, omega), true)) return factored_ = false;
+    if (!removed.empty() && !factor_.update(columns(removed, omega_), false))
+      return factored_ = false;
+    omega_ = omega;
+    updates_ += changed;
+    updated_rows_ += changed;
+    return true;
+  }
+
   BodySpace(const BoxedProblem& problem, std::vector<Eigen::Matrix<double, 6, 6>> M)
-      : J_(problem.J), cfm_(problem.cfm), M_(std::move(M)) {
+      : J_(problem.J), Minv_(problem.Minv), cfm_(problem.cfm), M_(std::move(M)) {
+    factor_.set_simplicial(true);
     // The lower triangle's pattern: every M block, and every pair of columns a row of J joins.
     const SpMatRow& J = *J_;
     const Eigen::Index n6 = J.cols();
@@ -128,22 +200,27 @@ class BodySpace final : public NewtonSystem {
   }
 
   const SpMatRow* J_;
+  const SpMat* Minv_;
   double cfm_;
   std::vector<Eigen::Matrix<double, 6, 6>> M_;
   SpMat H_;                      ///< lower triangle of M + Jᵀ D⁻¹ J
   std::vector<int> m_position_;  ///< where each M block's lower entries sit in H_'s values
   std::vector<long> j_start_;    ///< row k's pairs start here in j_position_
   std::vector<int> j_position_;  ///< where each pair (a ≤ c) of row k's entries sits in H_
-  VecX omega_;                   ///< D⁻¹, 0 on dropped rows
+  VecX omega_;                   ///< D⁻¹, 0 on dropped rows, of the current factor
   CholmodFactor factor_;
   bool analysed_ = false;
+  bool factored_ = false;  ///< factor_ holds H for omega_
+  int factorizations_ = 0;
+  long updates_ = 0;       ///< rows added or removed by updates, in all
+  long updated_rows_ = 0;  ///< … since the last factorization
 };
 
 /// Row space: CHOLMOD on A + diag(d), dropped rows given a diagonal so large that they
 /// decouple (x_k set to 0 after the solve): one pattern, one analysis.
 class RowSpace final : public NewtonSystem {
  public:
-  explicit RowSpace(const SpMat& A) {
+  explicit RowSpace(const SpMat& A) : A_(&A) {
     K_ = A;
     SpMat I(A.rows(), A.cols());
     I.setIdentity();
@@ -165,10 +242,13 @@ class RowSpace final : public NewtonSystem {
     dropped_ = &dropped;
     for (Eigen::Index k = 0; k < d.size(); ++k)
       *diagonal_[std::size_t(k)] = a_diagonal_(k) + (dropped[std::size_t(k)] ? big_ : d(k));
+    ++factorizations_;
     const bool ok = analysed_ ? factor_.refactor(K_, 0.0) : factor_.factor(K_, 0.0);
     analysed_ = true;
     return ok;
   }
+
+  int factorizations() const override { return factorizations_; }
 
   void apply(const VecX& r, VecX& x) const override {
     factor_.solve(r, x);
@@ -176,10 +256,13 @@ class RowSpace final : public NewtonSystem {
       if ((*dropped_)[std::size_t(k)]) x(k) = 0.0;
   }
 
+  void times_A(const VecX& x, VecX& y) const override { y = *A_ * x; }
+
   long factor_nonzeros() const override { return factor_.nonzeros(); }
   const char* space() const override { return "row"; }
 
  private:
+  const SpMat* A_;
   SpMat K_;
   std::vector<double*> diagonal_;
   VecX a_diagonal_;
@@ -187,16 +270,21 @@ class RowSpace final : public NewtonSystem {
   const std::vector<char>* dropped_ = nullptr;
   CholmodFactor factor_;
   bool analysed_ = false;
+  int factorizations_ = 0;
 };
 
 }  // namespace
 
-bool NewtonSystem::solve(
-    const SpMat& A, const VecX& d, const std::vector<char>& dropped, const VecX& r, VecX& x) const {
+bool NewtonSystem::solve(const VecX& d,
+                         const std::vector<char>& dropped,
+                         const VecX& r,
+                         VecX& x,
+                         int refinements) const {
   apply(r, x);
-  VecX res, dx;
-  for (int pass = 0; pass < kRefinements; ++pass) {
-    res = r - A * x - d.cwiseProduct(x);
+  VecX res, dx, Ax;
+  for (int pass = 0; pass < refinements; ++pass) {
+    times_A(x, Ax);
+    res = r - Ax - d.cwiseProduct(x);
     for (Eigen::Index k = 0; k < res.size(); ++k)
       if (dropped[std::size_t(k)]) res(k) = 0.0;
     apply(res, dx);

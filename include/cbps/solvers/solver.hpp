@@ -135,6 +135,7 @@ struct SolverSummary {
   bool singular = false;   ///< the active-set path found a singular block and regularised it
   int crossover = 0;       ///< direct: the crossover's proximal (outer) steps
   long factor_nnz = 0;     ///< direct: nonzeros of its Cholesky factor
+  long updates = 0;        ///< direct: rows added to or removed from a factor by updates
   std::string space;       ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
   double wall_time_s = 0.0;
   Termination termination = Termination::MaxIterations;
