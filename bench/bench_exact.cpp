@@ -214,6 +214,7 @@ nlohmann::json summary_json(const cbps::SolverSummary& s,
           {"islands", s.islands},
           {"singular", s.singular},
           {"factor_nnz", s.factor_nnz},
+          {"updates", s.updates},
           {"space", s.space},
           {"wall_time_s", s.wall_time_s},
           {"message", s.message}};

@@ -66,6 +66,7 @@ class IslandSolver {
       bounded_ = bounded_ || std::isfinite(cmin_(j)) || std::isfinite(cmax_(j));
     }
     local_.assign(static_cast<std::size_t>(m), -1);
+    row_sum_ = max_abs_row_sum(A_);
   }
 
   /// Solves from the guess in lambda; true when the residual reached the tolerance.
@@ -152,7 +153,7 @@ class IslandSolver {
   /// The user's tolerance or, where it is lower, the rounding floor of the natural-map residual
   /// at lambda (no solve can go below that).
   double tolerance(const VecX& lambda) const {
-    return std::max(options_.tolerance, residual_floor(problem_, lambda));
+    return std::max(options_.tolerance, residual_floor(row_sum_, b_, lambda));
   }
 
   /// Factor of (A + εI)(F, F) for the free rows F, reused while F and ε stay.
@@ -326,6 +327,7 @@ class IslandSolver {
   const SolverOptions& options_;
   SolverSummary& stats_;
   double max_diagonal_ = 0.0;
+  double row_sum_ = 0.0;  ///< max_i Σ_k |A_ik|, for the rounding floor
   bool bounded_ = false;
   std::vector<Place> place_;
   std::vector<int> local_;

@@ -58,6 +58,7 @@ class InteriorSolver {
     if (!(max_diagonal_ > 0.0)) max_diagonal_ = 1.0;
     for (Eigen::Index k = 0; k < c; ++k)
       if (!(a_(k) > 0.0)) a_(k) = max_diagonal_;  // for the crossover's λ − w/A_kk only
+    row_sum_ = max_abs_row_sum(A_);
     newton_ = make_newton_system(problem);
     stats_.space = newton_->space();
   }
@@ -81,7 +82,7 @@ class InteriorSolver {
     // own. Larger islands then finish together in body space.
     const std::vector<std::vector<int>> islands =
         small ? std::vector<std::vector<int>>{} : find_islands(A_);
-    bool large = small;
+    bool large = false;
     bool all_solved = true;
     if (small) {
       crossover_in_rows_ = true;
@@ -116,7 +117,7 @@ class InteriorSolver {
   }
 
   double tolerance(const VecX& lambda) const {
-    return std::max(options_.tolerance, residual_floor(p_, lambda));
+    return std::max(options_.tolerance, residual_floor(row_sum_, b_, lambda));
   }
 
  private:
@@ -292,6 +293,7 @@ class InteriorSolver {
   VecX a_;  ///< A_kk (max A_kk where that is 0)
   int bounds_ = 0;
   double max_diagonal_ = 0.0;
+  double row_sum_ = 0.0;  ///< max_i Σ_k |A_ik|, for the rounding floor
   std::unique_ptr<NewtonSystem> newton_;
   std::vector<Place> place_;
   bool solved_ = false;             ///< the interior point met the tolerance
@@ -308,17 +310,24 @@ class InteriorSolver {
 
 }  // namespace
 
-double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
-  const SpMat& A = problem.A;
+double max_abs_row_sum(const SpMat& A) {
   double max_row_sum = 0.0;
   for (Eigen::Index j = 0; j < A.outerSize(); ++j) {  // A symmetric: column sums = row sums
     double sum = 0.0;
     for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
     max_row_sum = std::max(max_row_sum, sum);
   }
+  return max_row_sum;
+}
+
+double residual_floor(double max_abs_row_sum, const VecX& b, const VecX& lambda) {
   const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
-  const double bn = problem.b.size() > 0 ? problem.b.lpNorm<Eigen::Infinity>() : 0.0;
-  return 64.0 * kUnitRoundoff * (max_row_sum * l + bn);
+  const double bn = b.size() > 0 ? b.lpNorm<Eigen::Infinity>() : 0.0;
+  return 64.0 * kUnitRoundoff * (max_abs_row_sum * l + bn);
+}
+
+double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
+  return residual_floor(max_abs_row_sum(problem.A), problem.b, lambda);
 }
 
 SolverSummary solve_direct(const BoxedProblem& problem,

@@ -54,6 +54,10 @@ SolverSummary solve_direct(const BoxedProblem& problem,
 /// The natural-map residual no solve can go below at lambda: 64 u (max_i Σ_k |A_ik| ‖λ‖∞ +
 /// ‖b‖∞), u the unit roundoff: the rounding of w = A λ − b, with room for the solves' own.
 double residual_floor(const BoxedProblem& problem, const VecX& lambda);
+/// The same with max_i Σ_k |A_ik| given (max_abs_row_sum), for solvers that ask it often.
+double residual_floor(double max_abs_row_sum, const VecX& b, const VecX& lambda);
+/// max_i Σ_k |A_ik| (kg⁻¹), A symmetric.
+double max_abs_row_sum(const SpMat& A);
 
 /// Direct solve of A lambda = b with all rows unbounded, by CHOLMOD's sparse Cholesky
 /// (supernodal or simplicial, with the fill-reducing ordering CHOLMOD chooses).
