@@ -54,15 +54,18 @@ class BodySpace final : public NewtonSystem {
     std::unique_ptr<BodySpace> body(new BodySpace(problem, std::move(M)));
     // A = J Minv Jᵀ + cfm I is the contract of BoxedProblem; a stored folder whose A says
     // otherwise is solved in row space, on its A.
-    const Eigen::Index c = problem.A.rows();
-    VecX x(c), Ax, JMJx;
-    for (Eigen::Index k = 0; k < c; ++k) x(k) = std::sin(1.0 + double(k));
+    const SpMat& A = problem.A;
+    VecX x(A.rows()), JMJx;
+    for (Eigen::Index k = 0; k < x.size(); ++k) x(k) = std::sin(1.0 + double(k));
     body->times_A(x, JMJx);
-    Ax = problem.A * x;
-    const SpMat absA = problem.A.cwiseAbs();
-    const VecX bound = absA * x.cwiseAbs();
-    for (Eigen::Index k = 0; k < c; ++k)
-      if (!(std::abs(Ax(k) - JMJx(k)) <= 1e-12 * bound.maxCoeff() + 1e-300)) return nullptr;
+    const VecX Ax = A * x;
+    double bound = 0.0;                                 // max_i Σ_k |A_ik x_k|
+    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {  // A symmetric: columns = rows
+      double sum = 0.0;
+      for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value() * x(it.row()));
+      bound = std::max(bound, sum);
+    }
+    if (A.rows() > 0 && !((Ax - JMJx).cwiseAbs().maxCoeff() <= 1e-12 * bound)) return nullptr;
     return body;
   }
 

@@ -26,9 +26,12 @@ namespace cbps {
 ///        body space (problem.J and Minv given, Minv's 6×6 blocks positive definite): by the
 ///        Woodbury identity (A + D)⁻¹ r = D⁻¹ (r − J u), u = (M + Jᵀ D⁻¹ J)⁻¹ Jᵀ D⁻¹ r,
 ///        D = Σ + ρ + problem.cfm, M = Minv⁻¹: a 6n × 6n positive definite matrix whose
-///        pattern never changes, so one CHOLMOD analysis serves the whole solve;
+///        pattern never changes, so one CHOLMOD analysis serves the whole solve (simplicial
+///        LDLᵀ); A x is formed as J (Minv (Jᵀ x)), after a check on one vector that the
+///        problem's A is J Minv Jᵀ + cfm I (else row space);
 ///        row space (otherwise): CHOLMOD on A + D, again one analysis.
-///      Each solve is refined twice (iterative refinement). The iterations stop when the
+///      The Newton directions are not refined: each iteration's residuals are computed afresh
+///      from λ, s, t, z, y, so an inexact direction costs no accuracy. The iterations stop when the
 ///      natural-map residual of λ meets the tolerance, or when the duality measure
 ///      μ = (sᵀz + tᵀy)/(bounds) ≤ options.direct.interior_mu · scale_of · max(1, ‖b‖∞/max A_kk)
 ///      and the stationarity residual ≤ √interior_mu · scale_of, or after
@@ -37,16 +40,19 @@ namespace cbps {
 ///      (z_k > A_kk s_k, y_k > A_kk t_k) or its slack is below 1e-4 ‖b‖∞ / max A_kk, and the
 ///      active-set path's method (proximal points around a monotone primal active set,
 ///      active_set.hpp) finishes from that partition with no PGS sweeps: islands (islands.hpp) of
-///      up to 2,000 rows apart, on their own free blocks of A from ε = 0; larger islands then
+///      up to 500 rows apart, on their own free blocks of A from ε = 0; larger islands then
 ///      together in body space (the same pattern, bound rows dropped: D⁻¹ = 0) from ε = 1e-6 · max
-///      A_kk.
+///      A_kk. There the factor of H is updated as rows join or leave the free set (CHOLMOD's
+///      rank-one update/downdate of H ± ω_k J_kᵀ J_k; Davis & Hager, SIAM J. Matrix Anal. Appl.
+///      20(3) 1999) rather than made anew; a step that rows block is taken unrefined (the next
+///      right-hand side g − H x corrects it), a full step after two refinement passes.
 /// Tolerance: the natural-map residual ≤ max(options.tolerance, residual_floor). Returns
 /// Termination::Direct when reached, NotConverged otherwise (inconsistent equality rows, an
 /// infeasible box), with the best λ found; NonFinite for non-finite A or b. The summary's
 /// iterations are the interior iterations; crossover counts the active-set path's outer
-/// (proximal) steps; it reports the factorizations, the largest factor's nonzeros and the space
-/// (body or row). With CFM, solve() hands A + eps E here with problem.cfm = eps, so the body
-/// space factors D = Σ + ρ + eps.
+/// (proximal) steps; it reports the factorizations, the rows updated in a factor, the largest
+/// factor's nonzeros and the space (body or row). With CFM, solve() hands A + eps E here with
+/// problem.cfm = eps, so the body space factors D = Σ + ρ + eps.
 SolverSummary solve_direct(const BoxedProblem& problem,
                            VecX& lambda,
                            const SolverOptions& options = {});
