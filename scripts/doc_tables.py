@@ -352,6 +352,7 @@ def _validation_elliptic(src):
 SYSTEM = "bench/results/system-amd-epyc-2cpu.json"
 SWEEPS = "bench/results/sweeps-amd-epyc-2cpu.json"
 DIRECT = "bench/results/direct-amd-epyc-2cpu.json"
+EXACT = "bench/results/exact-amd-epyc-2cpu.json"
 BENCH_CONTACTS = "bench/results/contacts-amd-epyc-2cpu.json"
 
 
@@ -515,6 +516,43 @@ def _bench_direct_stack(src):
             f"{thousands(p6['sweeps'])} sweeps ({dur(p6['seconds'])}, "
             f"{p6['seconds'] / s['direct_s']:.0f}× the direct path) for 1e-6 N and "
             f"{thousands(p10['sweeps'])} ({dur(p10['seconds'])}) for 1e-10 N")
+
+
+def _exact_other(r, budget_key):
+    """The active-set path's or PGS's cell: its time to the bench's tolerance, or how far it got."""
+    if r.get("status") == "skipped":
+        return "not run"
+    if r.get("status") == "over budget":
+        return f"over {r[budget_key]:.0f} s"
+    met = r["reached"] if "reached" in r else r["tolerance_met"]
+    if met:
+        return dur(r["seconds"])
+    if "sweeps" in r:
+        return f"not in {r[budget_key]:.0f} s ({sci(r['relative_residual'])})"
+    return f"{dur(r['seconds'])}, stops at {sci(r['relative_residual'])}"
+
+
+@generator("bench-exact", EXACT)
+def _bench_exact(src):
+    d = src.json(EXACT)
+    rows = []
+    for sy in need(d, "systems", where=EXACT):
+        x = need(sy, "direct", where=EXACT)
+        work = f"{x['iterations']} + {x['crossover']}" if x["space"] else "one solve"
+        facts = thousands(x["factorizations"])
+        if x.get("updates", 0) > 0:
+            facts += f" (+ {thousands(x['updates'])} rows updated)"
+        residual = sci(x["relative_residual"])
+        if not x["tolerance_met"]:
+            residual += f" (floor {sci(x['relative_residual_floor'])})"
+        rows.append([sy["name"], thousands(sy["rows"]), thousands(sy["nnz_A"]),
+                     dur(x["seconds"]), work, facts,
+                     thousands(x["factor_nnz"]) if x["factor_nnz"] else "—", residual,
+                     _exact_other(sy["active_set"], "budget_s"),
+                     _exact_other(sy["pgs"], "budget_s")])
+    return table(["system", "rows", "nnz(A)", "direct", "interior + crossover steps",
+                  "factorizations", "factor nnz", "relative residual", "active-set path",
+                  "PGS"], rows, "lrrrrrrrrr")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -874,15 +912,27 @@ def _conv_findings(src):
 
 LIMITS_STACK = "validation/results/limits/stack-check/summary.json"
 LIMITS_PYRAMID = "validation/results/limits/pyramid-direct/summary.json"
+LIMITS_PYRAMID_CHECK = "validation/results/limits/pyramid-check/summary.json"
 
 
-@generator("limits-stack-check", LIMITS_STACK)
-def _limits_stack(src):
-    c = need(src.json(LIMITS_STACK), "cross_check", where=LIMITS_STACK)
+def _cross_check(path, src):
+    c = need(src.json(path), "cross_check", where=path)
     return (f"{c['direct_stopped_short']} of {c['steps_checked']} steps stopped short of the 64 u "
             f"rule, {c['direct_unverified']} unverified, worst direct residual "
             f"{sci(c['max_direct_residual'])} N (PGS's own: {sci(c['max_pgs_residual'])} N), "
             f"max |v2 − v2_direct| {sci(c['max_velocity_difference'])} m/s")
+
+
+@generator("limits-stack-check", LIMITS_STACK)
+def _limits_stack(src):
+    return _cross_check(LIMITS_STACK, src)
+
+
+@generator("limits-pyramid-check", LIMITS_PYRAMID_CHECK)
+def _limits_pyramid_check(src):
+    s = src.json(LIMITS_PYRAMID_CHECK)
+    return (f"{s['steps']} steps in {dur(s['wall_time_s'])}: "
+            + _cross_check(LIMITS_PYRAMID_CHECK, src))
 
 
 @generator("limits-pyramid-direct", LIMITS_PYRAMID)
@@ -890,8 +940,9 @@ def _limits_pyramid(src):
     s = src.json(LIMITS_PYRAMID)
     steps = need(s, "steps", where=LIMITS_PYRAMID)
     solve = need(s, "stage_times_s", "solve", where=LIMITS_PYRAMID)
-    return (f"{dur(solve / steps)} per step in the solve stage ({s['rows']:,} rows, "
-            f"{dur(s['wall_time_s'] / steps)} per step in all)")
+    return (f"{steps} steps in {dur(s['wall_time_s'])}: {dur(solve / steps)} per step in the "
+            f"solve stage ({s['rows']:,} rows, {dur(s['wall_time_s'] / steps)} per step in all)")
+
 
 # ---------------------------------------------------------------------------------------------
 # The machinery.

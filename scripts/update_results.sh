@@ -60,7 +60,7 @@ for study in chain stack pyramid; do
 done
 copy $v/convergence/chain/convergence.png docs/convergence-chain.png
 # --target exact-path-limits
-for run in stack-check pyramid-direct; do
+for run in stack-check pyramid-direct pyramid-check; do
   copy $v/limits/$run/summary.json $v/results/limits/$run/summary.json
 done
 # --target stress-catalogue
