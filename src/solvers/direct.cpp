@@ -23,6 +23,15 @@ namespace {
 constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2.0;
 /// The fraction of the way to the boundary an interior step goes (Mehrotra's damping).
 constexpr double kStepToBoundary = 0.995;
+/// Gondzio's multiple centrality correctors (Gondzio, Comput. Optim. Appl. 6 1996): at most
+/// this many per iteration, each aiming at a step kCorrectorAspiration times longer, moving
+/// the trial products s z, t y into [kCorrectorBand σμ, σμ / kCorrectorBand], and kept when
+/// the step grows by kCorrectorGain of what was aimed at (his values: 2, 0.1, 0.1). Three
+/// correctors: base-40 pyramid 49 interior iterations instead of 63 (one: 55, two: 51).
+constexpr int kCorrectors = 3;
+constexpr double kCorrectorAspiration = 2.0;
+constexpr double kCorrectorBand = 0.1;
+constexpr double kCorrectorGain = 0.1;
 /// The crossover's first proximal ε, a fraction of max A_kk: small, because the interior point's
 /// partition is close (its proximal steps contract the error by about ε/(σ + ε)).
 constexpr double kCrossoverEpsilon = 1e-6;
@@ -175,6 +184,7 @@ class InteriorSolver {
     // near 1e-11 · scale on singular A, and the crossover settles the rest.
     const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
     VecX d(c), r_d(c), rhs(c), dl_aff, dl, dz(c), dy(c), dz_aff(c), dy_aff(c);
+    VecX dc, cdl(c), cz(c), cy(c);  // a corrector and the corrected direction
     for (int it = 0; it < options_.direct.max_interior; ++it) {
       newton_->times_A(lambda, w);
       w -= b_;
@@ -235,7 +245,37 @@ class InteriorSolver {
         dz(k) = lower_[std::size_t(k)] ? (dz(k) - z(k) * dl(k)) / s(k) : 0.0;
         dy(k) = upper_[std::size_t(k)] ? (dy(k) + y(k) * dl(k)) / t(k) : 0.0;
       }
-      const double alpha = step_length(s, t, z, y, dl, dz, dy, kStepToBoundary);
+      double alpha = step_length(s, t, z, y, dl, dz, dy, kStepToBoundary);
+      // Gondzio's centrality correctors: the factor is the cost here, a solve is cheap, so
+      // each corrector that lengthens the step saves part of an iteration.
+      for (int corrector = 0; corrector < kCorrectors && alpha < 1.0; ++corrector) {
+        const double reach = std::min(1.0, kCorrectorAspiration * alpha);
+        const double low = kCorrectorBand * sigma * mu, high = sigma * mu / kCorrectorBand;
+        const auto target = [&](double v) {  // the move of a product v towards [low, high]
+          return std::max(std::clamp(v, low, high) - v, -high);
+        };
+        for (Eigen::Index k = 0; k < c; ++k) {
+          const std::size_t K = std::size_t(k);
+          rhs(k) = 0.0;
+          cz(k) = lower_[K] ? target((s(k) + reach * dl(k)) * (z(k) + reach * dz(k))) : 0.0;
+          cy(k) = upper_[K] ? target((t(k) - reach * dl(k)) * (y(k) + reach * dy(k))) : 0.0;
+          if (lower_[K]) rhs(k) += cz(k) / s(k);
+          if (upper_[K]) rhs(k) -= cy(k) / t(k);
+        }
+        if (!newton_solve(d, dropped, rhs, dc)) break;
+        for (Eigen::Index k = 0; k < c; ++k) {
+          const std::size_t K = std::size_t(k);
+          cdl(k) = dl(k) + dc(k);
+          cz(k) = lower_[K] ? dz(k) + (cz(k) - z(k) * dc(k)) / s(k) : 0.0;
+          cy(k) = upper_[K] ? dy(k) + (cy(k) + y(k) * dc(k)) / t(k) : 0.0;
+        }
+        const double corrected = step_length(s, t, z, y, cdl, cz, cy, kStepToBoundary);
+        if (!(corrected >= alpha + kCorrectorGain * (reach - alpha))) break;
+        alpha = corrected;
+        dl.swap(cdl);
+        dz.swap(cz);
+        dy.swap(cy);
+      }
       for (Eigen::Index k = 0; k < c; ++k) {
         if (fixed_[std::size_t(k)]) continue;
         lambda(k) += alpha * dl(k);

@@ -30,7 +30,9 @@ namespace cbps {
 ///        LDLᵀ); A x is formed as J (Minv (Jᵀ x)), after a check on one vector that the
 ///        problem's A is J Minv Jᵀ + cfm I (else row space);
 ///        row space (otherwise): CHOLMOD on A + D, again one analysis.
-///      The Newton directions are not refined: each iteration's residuals are computed afresh
+///      Up to three of Gondzio's centrality correctors (Comput. Optim. Appl. 6 1996) follow
+///      the corrector, each a further solve with the same factor, kept when it lengthens the
+///      step. The Newton directions are not refined: each iteration's residuals are computed afresh
 ///      from λ, s, t, z, y, so an inexact direction costs no accuracy. The iterations stop when the
 ///      natural-map residual of λ meets the tolerance, or when the duality measure
 ///      μ = (sᵀz + tᵀy)/(bounds) ≤ options.direct.interior_mu · scale_of · max(1, ‖b‖∞/max A_kk)
