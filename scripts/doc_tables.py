@@ -541,7 +541,8 @@ def _bench_exact(src):
         work = f"{x['iterations']} + {x['crossover']}" if x["space"] else "one solve"
         facts = thousands(x["factorizations"])
         if x.get("updates", 0) > 0:
-            facts += f" (+ {thousands(x['updates'])} rows updated)"
+            n = x["updates"]
+            facts += f" (+ {thousands(n)} row{'' if n == 1 else 's'} updated)"
         residual = sci(x["relative_residual"])
         if not x["tolerance_met"]:
             residual += f" (floor {sci(x['relative_residual_floor'])})"
