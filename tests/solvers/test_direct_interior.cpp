@@ -13,6 +13,7 @@
 #include <map>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cbps/solvers/active_set.hpp"
@@ -61,6 +62,18 @@ SolverOptions interior() {
   options.method = Method::Direct;
   options.direct.interior_from_rows = 0;
   return options;
+}
+
+/// The interior path on `problem`, which must end Direct in body space (body) or row space, its
+/// residual within kResidual · scale.
+VecX solve_interior_in(const BoxedProblem& problem, bool body, double scale) {
+  VecX lambda;
+  const SolverSummary s = solve_direct(problem, lambda, interior());
+  CAPTURE(body, s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.space == (body ? "body" : "row"));
+  CHECK(natural_map_residual(problem, lambda) <= kResidual * scale);
+  return lambda;
 }
 
 /// A built-in contact scene stepped `steps` times by PGS (the scene's own settings), and the
@@ -323,12 +336,7 @@ TEST_CASE("interior path: small contact scenes agree with boxed Lemke in row and
   for (const bool body : {false, true}) {
     const BoxedProblem problem =
         body ? sys.problem() : BoxedProblem{sys.A, sys.b, sys.cmin, sys.cmax};
-    VecX lambda;
-    const SolverSummary s = solve_direct(problem, lambda, interior());
-    CAPTURE(body, s.message);
-    CHECK(s.termination == Termination::Direct);
-    CHECK(s.space == (body ? "body" : "row"));
-    CHECK(natural_map_residual(problem, lambda) <= kResidual * scale);
+    const VecX lambda = solve_interior_in(problem, body, scale);
     CHECK(inf_norm(sys.A * lambda - sys.b - w_lemke) <= kDegenerateAgreement * scale);
     if (c.definite) {
       const double bound = definite_bound(
@@ -418,46 +426,50 @@ TEST_CASE("interior path: contact scenes agree with the active-set path on w, J�
   CHECK(dv <= sys.dt * minv * kDegenerateAgreement * std::max(1.0, inf_norm(f)));
 }
 
+namespace {
+
+/// Both exact paths on `problem` (the interior path in body space), both required to succeed;
+/// returns {interior λ, active-set λ}.
+std::pair<VecX, VecX> solve_both(const BoxedProblem& problem) {
+  VecX active, lambda;
+  const SolverSummary sa = solve_active_set(problem, active);
+  const SolverSummary s = solve_direct(problem, lambda, interior());
+  INFO("active set: " << sa.message << "\ninterior: " << s.message);
+  REQUIRE(sa.termination == Termination::Direct);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.space == "body");
+  return {lambda, active};
+}
+
+/// |λ₁ − λ₂| within definite_bound of A's spectrum, each residual at least its rounding.
+void check_definite_agreement(const BoxedProblem& problem, const VecX& l1, const VecX& l2) {
+  const auto r = [&](const VecX& l) {
+    return std::max(natural_map_residual(problem, l), rounding(problem.A, problem.b, l));
+  };
+  const double bound = definite_bound(problem.A, r(l1), r(l2));
+  INFO("|Δλ| " << inf_norm(l1 - l2) << " N, bound " << bound << " N");
+  CHECK(inf_norm(l1 - l2) <= bound);
+}
+
+}  // namespace
+
 TEST_CASE("interior path: where A is definite lambda equals the active-set path's",
           "[direct][interior]") {
   SECTION("the 20-link chain with boxed joints") {
     const BoundedChain chain;
     const BoxedProblem problem = chain.problem();
-    VecX active, lambda;
-    const SolverSummary sa = solve_active_set(problem, active);
-    const SolverSummary s = solve_direct(problem, lambda, interior());
-    INFO("active set: " << sa.message << "\ninterior: " << s.message);
-    REQUIRE(sa.termination == Termination::Direct);
-    CHECK(s.termination == Termination::Direct);
-    CHECK(s.space == "body");
+    const auto [lambda, active] = solve_both(problem);
     int at_bound = 0;
     for (Eigen::Index k = 0; k < lambda.size(); ++k)
       at_bound += lambda(k) == chain.lo(k) || lambda(k) == chain.hi(k);
     CHECK(at_bound > 0);  // the boxes bind: not the unbounded solve
-    const double bound = definite_bound(
-        chain.sys.A,
-        std::max(natural_map_residual(problem, lambda), rounding(chain.sys.A, chain.sys.b, lambda)),
-        std::max(natural_map_residual(problem, active),
-                 rounding(chain.sys.A, chain.sys.b, active)));
-    INFO("|Δλ| " << inf_norm(lambda - active) << " N, bound " << bound << " N");
-    CHECK(inf_norm(lambda - active) <= bound);
+    check_definite_agreement(problem, lambda, active);
   }
   SECTION("the v-corner's sphere") {
     const System& sys = stepped("v-corner", {}, 5);
     const BoxedProblem problem = sys.problem();
-    VecX active, lambda;
-    const SolverSummary sa = solve_active_set(problem, active);
-    const SolverSummary s = solve_direct(problem, lambda, interior());
-    INFO("active set: " << sa.message << "\ninterior: " << s.message);
-    REQUIRE(sa.termination == Termination::Direct);
-    CHECK(s.termination == Termination::Direct);
-    CHECK(s.space == "body");
-    const double bound = definite_bound(
-        sys.A,
-        std::max(natural_map_residual(problem, lambda), rounding(sys.A, sys.b, lambda)),
-        std::max(natural_map_residual(problem, active), rounding(sys.A, sys.b, active)));
-    INFO("|Δλ| " << inf_norm(lambda - active) << " N, bound " << bound << " N");
-    CHECK(inf_norm(lambda - active) <= bound);
+    const auto [lambda, active] = solve_both(problem);
+    check_definite_agreement(problem, lambda, active);
   }
 }
 
@@ -676,12 +688,7 @@ TEST_CASE("interior path: fixed rows (cmin = cmax) keep exactly their value",
     const double scale = scale_of(problem);
     for (const bool body : {false, true}) {
       const BoxedProblem p = body ? problem : BoxedProblem{sys.A, sys.b, lo, hi};
-      VecX lambda;
-      const SolverSummary s = solve_direct(p, lambda, interior());
-      CAPTURE(body, s.message);
-      CHECK(s.termination == Termination::Direct);
-      CHECK(s.space == (body ? "body" : "row"));
-      CHECK(natural_map_residual(p, lambda) <= kResidual * scale);
+      const VecX lambda = solve_interior_in(p, body, scale);
       for (const Eigen::Index k : fixed) {
         CAPTURE(k, sys.labels[std::size_t(k)]);
         CHECK(lambda(k) == lo(k));
