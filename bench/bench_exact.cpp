@@ -4,8 +4,9 @@
 //               a crossover to the exact active set), from λ = 0, to the relative natural-map
 //               residual 1e-10 (options.tolerance = 1e-10 · scale_of): median wall time of
 //               --repeats runs, the residual it reaches (N, and relative to scale_of), the
-//               rounding floor at its answer (residual_floor: a path stops at max(tolerance,
-//               floor), so on large systems "direct solve" may come above 1e-10), why it stopped,
+//               rounding floor at its answer (residual_floor: above the tolerance, a path stops
+//               there once its steps no longer reduce the residual, so on large systems "direct
+//               solve" may come above 1e-10), why it stopped,
 //               interior iterations, crossover (proximal) steps, factorizations, the factor's
 //               nonzeros and the space it factored in (body or row);
 //   active-set  solve() with Method::ActiveSet, the previous exact path, once, to the same
@@ -192,8 +193,8 @@ cbps::SolverOptions exact_options(cbps::Method method, double scale) {
 }
 
 /// A summary with the residual recomputed here at the answer λ, and the rounding floor there
-/// (residual_floor: an exact path stops at max(tolerance, floor), so "direct solve" may come with
-/// a relative residual above 1e-10 where the floor is higher).
+/// (residual_floor: above the tolerance, an exact path stops there once its steps no longer reduce
+/// the residual, so "direct solve" may come with a relative residual above 1e-10).
 nlohmann::json summary_json(const cbps::SolverSummary& s,
                             const cbps::BoxedProblem& problem,
                             double scale,

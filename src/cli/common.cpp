@@ -51,8 +51,9 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
   cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")->check(positive());
   cmd->add_option("--tolerance",
                   o.tolerance,
-                  "natural-map residual to stop at, N, for every method (0: all sweeps; the "
-                  "direct path stops at its rounding floor if that is higher; default: the "
+                  "natural-map residual to stop at, N, for every method (0: all sweeps, and "
+                  "the direct path to its rounding floor; below that floor the direct path "
+                  "stops there once its steps no longer reduce the residual; default: the "
                   "scene's, 1e-10)")
       ->check(non_negative());
   cmd->add_option("--cfm",

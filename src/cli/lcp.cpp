@@ -210,7 +210,8 @@ void register_lcp(CLI::App& app, Action& run) {
          "--tolerance",
          o->tolerance,
          "pgs/jacobi/direct/active-set: stop at this natural-map residual, N (default 1e-10; "
-         "the direct path never below its rounding floor; not used by lemke)")
+         "below their rounding floor the exact paths stop there once their steps no longer "
+         "reduce the residual; not used by lemke)")
       ->check(non_negative());
   cmd->add_option("--siconos",
                   o->siconos,

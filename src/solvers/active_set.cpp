@@ -85,7 +85,8 @@ class IslandSolver {
     double r = natural_map_residual(problem_, lambda);
     // A finish from an interior point takes at least one step on its partition: on a definite
     // free block that step is exact to round-off.
-    if (r <= tolerance(lambda) && newton_ == nullptr && eps_start_ == 0.0 && !finishing_)
+    if (may_stop(r, std::numeric_limits<double>::infinity(), options_.tolerance, floor(lambda)) &&
+        newton_ == nullptr && eps_start_ == 0.0 && !finishing_)
       return true;
     double best_r = r;
     VecX best = lambda;
@@ -126,7 +127,7 @@ class IslandSolver {
       } else {
         ++stall;
       }
-      if (r_new <= tolerance(lambda)) return true;
+      if (may_stop(r_new, r, options_.tolerance, floor(lambda))) return true;
       // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
       // block: once the active set holds, a smaller ε converges faster.
       const double eps_floor = options_.direct.epsilon_floor * max_diagonal_;
@@ -137,7 +138,7 @@ class IslandSolver {
       r = r_new;
     }
     lambda = best;
-    return false;
+    return best_r <= tolerance(best);  // at the floor, though a step was still halving it
   }
 
  private:
@@ -152,9 +153,10 @@ class IslandSolver {
 
   /// The user's tolerance or, where it is lower, the rounding floor of the natural-map residual
   /// at lambda (no solve can go below that).
-  double tolerance(const VecX& lambda) const {
-    return std::max(options_.tolerance, residual_floor(row_sum_, b_, lambda));
-  }
+  double tolerance(const VecX& lambda) const { return std::max(options_.tolerance, floor(lambda)); }
+
+  /// The rounding floor of the natural-map residual at lambda, N.
+  double floor(const VecX& lambda) const { return residual_floor(row_sum_, b_, lambda); }
 
   /// Factor of (A + εI)(F, F) for the free rows F, reused while F and ε stay.
   bool factor_free_block(const std::vector<int>& F, double eps) {

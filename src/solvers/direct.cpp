@@ -128,9 +128,8 @@ class InteriorSolver {
     return x.termination == Termination::Direct;
   }
 
-  double tolerance(const VecX& lambda) const {
-    return std::max(options_.tolerance, residual_floor(row_sum_, b_, lambda));
-  }
+  /// The rounding floor of the residual at lambda, N.
+  double floor(const VecX& lambda) const { return residual_floor(row_sum_, b_, lambda); }
 
  private:
   bool newton_solve(const VecX& d, const std::vector<char>& dropped, const VecX& r, VecX& x) {
@@ -185,6 +184,7 @@ class InteriorSolver {
     const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
     VecX d(c), r_d(c), rhs(c), dl_aff, dl, dz(c), dy(c), dz_aff(c), dy_aff(c);
     VecX dc, cdl(c), cz(c), cy(c);  // a corrector and the corrected direction
+    double r_before = std::numeric_limits<double>::infinity();  // the last iteration's residual
     for (int it = 0; it < options_.direct.max_interior; ++it) {
       newton_->times_A(lambda, w);
       w -= b_;
@@ -197,10 +197,12 @@ class InteriorSolver {
       const double r_norm = r_d.size() > 0 ? r_d.lpNorm<Eigen::Infinity>() : 0.0;
       if (!std::isfinite(mu) || !std::isfinite(r_norm)) break;
       // An interior point that already meets the tolerance needs no crossover.
-      if (natural_map_residual(w, lambda, lo, hi) <= tolerance(lambda)) {
+      const double r_natural = natural_map_residual(w, lambda, lo, hi);
+      if (may_stop(r_natural, r_before, options_.tolerance, floor(lambda))) {
         solved_ = true;
         break;
       }
+      r_before = r_natural;
       if (mu <= mu_stop && r_norm <= r_stop) break;
       ++stats_.iterations;
       for (Eigen::Index k = 0; k < c; ++k) {
@@ -369,6 +371,12 @@ double residual_floor(double max_abs_row_sum, const VecX& b, const VecX& lambda)
   return 64.0 * kUnitRoundoff * (max_abs_row_sum * l + bn);
 }
 
+bool may_stop(double r, double r_before, double tolerance, double floor) {
+  if (r <= tolerance) return true;
+  if (!(r <= floor)) return false;
+  return tolerance == 0.0 || !(r < r_before);
+}
+
 double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
   return residual_floor(max_abs_row_sum(problem.A), problem.b, lambda);
 }
@@ -409,8 +417,10 @@ SolverSummary solve_direct(const BoxedProblem& problem,
   VecX guess = lambda;
   for (Eigen::Index k = 0; k < n; ++k)
     guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
-  if (!guess.isZero(0.0) && natural_map_residual(problem, guess) <=
-                                std::max(options.tolerance, residual_floor(problem, guess))) {
+  if (!guess.isZero(0.0) && may_stop(natural_map_residual(problem, guess),
+                                     std::numeric_limits<double>::infinity(),
+                                     options.tolerance,
+                                     residual_floor(problem, guess))) {
     lambda = guess;
     s.islands = 1;
     return finish("direct: the guess already solves it");

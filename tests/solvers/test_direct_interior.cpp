@@ -722,3 +722,53 @@ TEST_CASE("interior path: fixed rows (cmin = cmax) keep exactly their value",
     CHECK(fixed_rows > 20);
   }
 }
+
+TEST_CASE(
+    "a tolerance below the rounding floor is aimed at while the steps still reduce the "
+    "residual",
+    "[direct][interior][tolerance]") {
+  // may_stop's rule: at the tolerance; above the floor never; at or below the floor at once when
+  // the tolerance is 0, else once a step no longer reduces the residual.
+  CHECK(may_stop(1e-12, 1.0, 1e-11, 1e-10));
+  CHECK_FALSE(may_stop(2e-10, 3e-10, 1e-11, 1e-10));
+  CHECK_FALSE(may_stop(2e-10, 3e-10, 0.0, 1e-10));
+  CHECK(may_stop(5e-11, std::numeric_limits<double>::infinity(), 0.0, 1e-10));
+  CHECK_FALSE(may_stop(5e-11, 8e-11, 1e-11, 1e-10));
+  CHECK(may_stop(5e-11, 5e-11, 1e-11, 1e-10));
+  CHECK(may_stop(5e-11, 4e-11, 1e-11, 1e-10));
+
+  // Asked for far less than rounding allows (1e-30 N), the path ends Direct at its floor, further
+  // down than where tolerance 0 (the floor itself) lets it stop: measured 5.1e-11 against
+  // 9.4e-11 N on the base-10 pyramid (body space), 2.3e-11 against 4.1e-11 N on the base-6
+  // pyramid (A(F, F)). The stack's first stop below its floor is already as far as it gets.
+  struct Case {
+    std::string name;
+    std::map<std::string, std::string> values;
+    int steps;
+    bool further;  ///< the tolerance-0 stop is not yet where the steps stop reducing it
+  };
+  const Case c = GENERATE(values<Case>({
+      {"pyramid", {{"base", "6"}}, 30, true},
+      {"pyramid", {{"base", "10"}}, 30, true},
+      {"stack", {{"n", "10"}, {"columns", "5"}}, 1, false},
+  }));
+  const BoxedProblem problem = stepped(c.name, c.values, c.steps).problem();
+  SolverOptions at_floor = interior();
+  at_floor.tolerance = 0.0;
+  SolverOptions below = interior();
+  below.tolerance = 1e-30;
+  VecX lambda_floor, lambda_below;
+  const SolverSummary f = solve_direct(problem, lambda_floor, at_floor);
+  const SolverSummary s = solve_direct(problem, lambda_below, below);
+  INFO(c.name << ": tolerance 0: " << f.message << "; tolerance 1e-30: " << s.message);
+  CHECK(f.termination == Termination::Direct);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(f.residual <= residual_floor(problem, lambda_floor));
+  CHECK(s.residual <= residual_floor(problem, lambda_below));
+  CHECK(s.crossover >= f.crossover);
+  if (c.further) {
+    CHECK(s.residual < f.residual);
+  } else {
+    CHECK(s.residual <= f.residual);
+  }
+}

@@ -33,9 +33,10 @@ namespace cbps {
 /// All-unbounded islands skip step 1 and have nothing to release in step 2: one factorization
 /// and refinement; one-row islands are solved in closed form, clamp(b / A_kk). An island that
 /// stops short from a warm guess is solved once more from lambda = 0, keeping the better answer.
-/// It stops when the natural-map residual ≤ max(options.tolerance, the rounding floor), the
-/// floor being 64 u (max_i Σ_k |A_ik| ‖lambda‖∞ + ‖b‖∞), u the unit roundoff: the rounding of
-/// w = A lambda − b, with room for the regularised solves' own rounding. Returns
+/// It stops when the natural-map residual ≤ options.tolerance, or at or below the rounding floor
+/// 64 u (max_i Σ_k |A_ik| ‖lambda‖∞ + ‖b‖∞), u the unit roundoff (the rounding of
+/// w = A lambda − b, with room for the regularised solves' own rounding) at once with tolerance
+/// 0 and else once a step no longer reduces it (may_stop, direct.hpp). Returns
 /// Termination::Direct when the residual reaches that, NotConverged otherwise (e.g.
 /// inconsistent equality rows, an infeasible box), with the best lambda found. No CFM here:
 /// solve() adds it (the factor then is of A + eps E + ε I).

@@ -75,7 +75,8 @@ struct SolverOptions {
   Method method = Method::Pgs;
   int max_iterations = 100;  ///< sweeps (iterative methods)
   /// Stop when the natural-map residual ≤ this, N, for every method; 0: iterative methods run
-  /// every sweep, the direct path stops at its rounding floor (direct.hpp).
+  /// every sweep, the direct path stops at its rounding floor (direct.hpp); below that floor
+  /// it stops there once its steps no longer reduce the residual (may_stop).
   double tolerance = 0.0;
   double delta_tolerance = 0.0;  ///< stop when max |Δlambda| in a sweep ≤ this (N); 0 = never
   double relaxation = 1.0;       ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
