@@ -85,8 +85,8 @@ class IslandSolver {
     double r = natural_map_residual(problem_, lambda);
     // A finish from an interior point takes at least one step on its partition: on a definite
     // free block that step is exact to round-off.
-    if (may_stop(r, std::numeric_limits<double>::infinity(), options_.tolerance, floor(lambda)) &&
-        newton_ == nullptr && eps_start_ == 0.0 && !finishing_)
+    // A guess at the rounding floor is taken as it is (as solve_direct takes one).
+    if (r <= tolerance(lambda) && newton_ == nullptr && eps_start_ == 0.0 && !finishing_)
       return true;
     double best_r = r;
     VecX best = lambda;
@@ -138,7 +138,7 @@ class IslandSolver {
       r = r_new;
     }
     lambda = best;
-    return best_r <= tolerance(best);  // at the floor, though a step was still halving it
+    return best_r <= tolerance(best);  // at the floor, though the last steps still reduced it
   }
 
  private:

@@ -413,14 +413,14 @@ SolverSummary solve_direct(const BoxedProblem& problem,
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
   }
-  // The guess may already be the answer (a warm start on a resting scene).
+  // The guess may already be the answer (a warm start on a resting scene): taken as it is at the
+  // rounding floor, since solving again would only move λ by rounding (and a Coulomb fixed
+  // point, which solves again from its last answer, would never settle).
   VecX guess = lambda;
   for (Eigen::Index k = 0; k < n; ++k)
     guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
-  if (!guess.isZero(0.0) && may_stop(natural_map_residual(problem, guess),
-                                     std::numeric_limits<double>::infinity(),
-                                     options.tolerance,
-                                     residual_floor(problem, guess))) {
+  if (!guess.isZero(0.0) && natural_map_residual(problem, guess) <=
+                                std::max(options.tolerance, residual_floor(problem, guess))) {
     lambda = guess;
     s.islands = 1;
     return finish("direct: the guess already solves it");

@@ -49,7 +49,8 @@ namespace cbps {
 ///      20(3) 1999) rather than made anew; a step that rows block is taken unrefined (the next
 ///      right-hand side g − H x corrects it), a full step after two refinement passes.
 /// Tolerance: the natural-map residual ≤ options.tolerance, or ≤ residual_floor once steps stop
-/// halving it (may_stop). Returns
+/// reducing it (may_stop); a guess in lambda already within max(tolerance, floor) is taken as it
+/// is (solving again would only move λ by rounding). Returns
 /// Termination::Direct when reached, NotConverged otherwise (inconsistent equality rows, an
 /// infeasible box), with the best λ found; NonFinite for non-finite A or b. The summary's
 /// iterations are the interior iterations; crossover counts the active-set path's outer
@@ -65,7 +66,7 @@ SolverSummary solve_direct(const BoxedProblem& problem,
 double residual_floor(const BoxedProblem& problem, const VecX& lambda);
 /// Whether an exact path may stop at the residual r (N), its previous step having reached
 /// r_before (N): at the tolerance; or at or below the rounding floor (N) where the tolerance is 0
-/// (the floor asked for) or where the step no longer halved the residual (a tolerance below the
+/// (the floor asked for) or where the step no longer reduced the residual (a tolerance below the
 /// floor is aimed at while steps still make progress; what they cannot reduce is rounding).
 bool may_stop(double r, double r_before, double tolerance, double floor);
 /// The same with max_i Σ_k |A_ik| given (max_abs_row_sum), for solvers that ask it often.
