@@ -1,0 +1,114 @@
+// Accelerated projected gradient descent (Mazhar, Heyn, Negrut, Tasora, ACM TOG 2015) on the
+// boxed problem of 6.2; apgd.hpp states the iteration and its choices.
+#include "cbps/solvers/apgd.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "sweep.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// ‖A‖∞ = max_k Σ_i |A_ki|, kg⁻¹: by Gershgorin no eigenvalue of A exceeds it.
+double max_row_sum(const SpMat& A) {
+  double largest = 0.0;
+  for (Eigen::Index k = 0; k < A.outerSize(); ++k) {
+    double sum = 0.0;
+    for (SpMat::InnerIterator it(A, k); it; ++it) sum += std::abs(it.value());
+    largest = std::max(largest, sum);
+  }
+  return largest;
+}
+
+}  // namespace
+
+SolverSummary solve_apgd(const BoxedProblem& problem,
+                         VecX& lambda,
+                         const SolverOptions& options,
+                         const ApgdSettings& settings) {
+  const Eigen::Index c = problem.rows();
+  if (lambda.size() != c) lambda = VecX::Zero(c);
+  long products = 0;  // products with A
+  const auto times_A = [&](const VecX& x) {
+    ++products;
+    return VecX(problem.A * x);
+  };
+
+  // λ_k with A λ_k, y_k with A y_k (λ in N, A λ in m/s²), θ_k, and L_k (kg⁻¹).
+  VecX Ax = c > 0 ? times_A(lambda) : VecX();
+  VecX y = lambda;
+  VecX Ay = Ax;
+  double theta = 1.0;
+  double L = max_row_sum(problem.A);
+  if (!(L > 0.0) && std::isfinite(L)) L = 1.0;  // A = 0: any step length is exact
+  int restarts = 0;
+  // The best iterate so far and its natural-map residual (the starting guess counts).
+  VecX best = lambda;
+  double best_residual =
+      c > 0 ? natural_map_residual(VecX(Ax - problem.b), lambda, problem.cmin, problem.cmax) : 0.0;
+  double residual = best_residual;  // of the current iterate λ_k
+
+  VecX next(c), Anext(c), d(c);
+  const auto step = [&](VecX& l) {
+    const VecX g = Ay - problem.b;  // ∇f(y_k) = A y_k − b
+    // λ_{k+1} = clamp(y_k − g / L); backtrack while ½ dᵀA d > ½ L dᵀd (f overshoots its model).
+    for (int trial = 0;; ++trial) {
+      for (Eigen::Index k = 0; k < c; ++k)
+        next(k) = clamp(y(k) - g(k) / L, problem.cmin(k), problem.cmax(k));
+      Anext = times_A(next);
+      d = next - y;
+      const double curvature = d.dot(Anext - Ay);  // dᵀA d
+      if (!(curvature > L * d.squaredNorm()) || trial >= settings.max_backtracks) break;
+      L *= settings.grow;
+    }
+    // θ_{k+1}, β_{k+1} and the restart test gᵀ(λ_{k+1} − λ_k) > 0.
+    const double theta_next = 0.5 * (-theta * theta + theta * std::sqrt(theta * theta + 4.0));
+    double beta = theta * (1.0 - theta) / (theta * theta + theta_next);
+    theta = theta_next;
+    if (settings.restart && g.dot(next - l) > 0.0) {
+      beta = 0.0;
+      theta = 1.0;
+      ++restarts;
+    }
+    // y_{k+1} = λ_{k+1} + β (λ_{k+1} − λ_k), and A y_{k+1} by linearity (no product).
+    y = next + beta * (next - l);
+    Ay = (1.0 + beta) * Anext - beta * Ax;
+    double delta = 0.0;
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const double change = std::abs(next(k) - l(k));
+      if (std::isnan(change) || change > delta) delta = change;  // a NaN stays
+    }
+    l = next;
+    Ax = Anext;
+    residual = natural_map_residual(VecX(Ax - problem.b), l, problem.cmin, problem.cmax);
+    if (residual < best_residual) {
+      best = l;
+      best_residual = residual;
+    }
+    L *= settings.shrink;
+    return delta;
+  };
+
+  // iterate_sweeps asks for the residual only of the iterate the last step made (or the start).
+  SolverSummary s =
+      detail::iterate_sweeps(c, lambda, options, step, [&](const VecX&) { return residual; });
+  s.restarts = restarts;
+  const bool returned_best = std::isfinite(best_residual) && !(s.residual <= best_residual);
+  if (returned_best) {
+    lambda = best;
+    s.residual = best_residual;
+  }
+  if (options.describe) {
+    std::ostringstream msg;
+    msg << "apgd: " << s.message << ", " << products << " products with A, " << restarts
+        << " restarts, final L " << L << " kg^-1";
+    if (returned_best) msg << "; returned an earlier iterate, residual " << best_residual << " N";
+    s.message = msg.str();
+  }
+  return s;
+}
+
+}  // namespace cbps
