@@ -216,7 +216,8 @@ TEST_CASE("measure: iterations to 1e-6 and 1e-10 relative for PGS, NNCG and PGS-
   const int limit = 200000;
   for (const SceneStep& c : {SceneStep{"chain", {{"n", "20"}, {"mass_ratio", "10"}}, 10},
                              SceneStep{"stack", {{"n", "10"}}, 30},
-                             SceneStep{"pyramid", {{"base", "6"}}, 30}}) {
+                             SceneStep{"pyramid", {{"base", "6"}}, 30},
+                             SceneStep{"pyramid", {{"base", "4"}}, 30}}) {
     const System sys = system_of(c.name, c.values, c.steps);
     const BoxedProblem problem = sys.problem();
     for (const double relative : {1e-6, 1e-10}) {
