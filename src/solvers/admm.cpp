@@ -1,0 +1,100 @@
+// ADMM on the box QP of 6.2 with one CHOLMOD factor of A + rho E kept while rho stays. The
+// method, its parameters and its sources are described at solve_admm() in admm.hpp.
+#include "cbps/solvers/admm.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "cholmod_factor.hpp"
+#include "sweep.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// The mean of A's diagonal, kg⁻¹ (1 when it is empty or zero: rho must be positive).
+double mean_diagonal(const SpMat& A) {
+  const double mean = A.rows() > 0 ? A.diagonal().sum() / double(A.rows()) : 0.0;
+  return mean > 0.0 ? mean : 1.0;
+}
+
+}  // namespace
+
+SolverSummary solve_admm(const BoxedProblem& problem,
+                         VecX& lambda,
+                         const SolverOptions& options,
+                         const AdmmSettings& settings) {
+  const Eigen::Index c = problem.rows();
+  const SpMat& A = problem.A;
+  const VecX& b = problem.b;
+  if (lambda.size() != c) lambda = VecX::Zero(c);
+  for (Eigen::Index k = 0; k < c; ++k)
+    lambda(k) = clamp(lambda(k), problem.cmin(k), problem.cmax(k));
+
+  const double diagonal = mean_diagonal(A);
+  double rho = settings.rho * diagonal;  // kg⁻¹
+  const double rho_min = settings.rho_min * diagonal;
+  CholmodFactor factor;
+  int factorizations = 0;
+  bool factored = true;
+  if (c > 0) {
+    factored = factor.factor(A, rho);  // A + rho E (Boyd et al. §5.2)
+    ++factorizations;
+  }
+  if (!factored) {
+    SolverSummary s;
+    s.termination = Termination::NonFinite;
+    s.residual = natural_map_residual(problem, lambda);
+    s.factorizations = factorizations;
+    if (options.describe) s.message = "A + rho E is not positive definite (NaN in A?)";
+    return s;
+  }
+
+  // z is lambda itself; u the scaled dual, u = y / rho (Boyd et al. §3.1.1). The warm start's
+  // u = (b − A z) / rho = −w / rho makes a solution a fixed point of the iteration.
+  VecX u = c > 0 ? VecX((b - A * lambda) / rho) : VecX();
+  VecX x, rhs, z_old;
+  SolverSummary s = detail::iterate_sweeps(problem, lambda, options, [&](VecX& z) {
+    rhs = b + rho * (z - u);
+    factor.solve(rhs, x);  // (A + rho E) lambda_x = b + rho (z − u), N
+    if (!x.allFinite()) return std::numeric_limits<double>::quiet_NaN();  // z stays in the box
+    z_old = z;
+    const double alpha = settings.alpha;
+    double delta = 0.0;
+    double r2 = 0.0, s2 = 0.0;  // ‖lambda_r − z‖₂², ‖z − z_old‖₂² (before the factor rho)
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const double relaxed = alpha * x(k) + (1.0 - alpha) * z_old(k);  // §3.4.3
+      z(k) = clamp(relaxed + u(k), problem.cmin(k), problem.cmax(k));
+      const double primal = relaxed - z(k);  // r_k, also the step of u
+      u(k) += primal;
+      const double change = std::abs(z(k) - z_old(k));
+      if (!(change <= delta)) delta = change;  // also propagates NaN
+      r2 += primal * primal;
+      s2 += change * change;
+    }
+    if (settings.adapt_rho) {  // residual balancing (§3.4.1): ‖r‖ against ‖s‖ = rho ‖Δz‖
+      const double r = std::sqrt(r2), dual = rho * std::sqrt(s2);
+      double next = rho;
+      if (r > settings.mu * dual) next = rho * settings.tau;
+      if (dual > settings.mu * r) next = std::max(rho / settings.tau, std::min(rho, rho_min));
+      if (next != rho) {
+        u *= rho / next;  // y = rho u stays
+        rho = next;
+        ++factorizations;
+        if (!factor.refactor(A, rho)) return std::numeric_limits<double>::quiet_NaN();
+      }
+    }
+    return delta;
+  });
+  s.factorizations = factorizations;
+  if (options.describe) {
+    std::ostringstream msg;
+    msg << ", rho " << rho << " kg^-1, " << factorizations << " factorizations";
+    s.message += msg.str();
+  }
+  return s;
+}
+
+}  // namespace cbps

@@ -1,0 +1,57 @@
+// NNCG (Silcowitz-Hansen, Niebe and Erleben, The Visual Computer 2010): PGS sweeps (7.1.1) with
+// a Fletcher–Reeves momentum and restarts. The formulas are listed in nncg.hpp.
+#include "cbps/solvers/nncg.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "cbps/solvers/pgs.hpp"
+#include "sweep.hpp"
+
+namespace cbps {
+
+SolverSummary solve_nncg(const BoxedProblem& problem,
+                         VecX& lambda,
+                         const SolverOptions& options,
+                         const NncgSettings& settings) {
+  const Eigen::Index c = problem.rows();
+  VecX p = VecX::Zero(c);     // p_{k−1}, N
+  VecX swept(c);              // PGS(lambda_k), N
+  double rr_previous = -1.0;  // ‖r_{k−1}‖², N²; < 0 before the first iteration
+  int restarts = 0;
+  SolverSummary s = detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
+    swept = l;
+    pgs_sweep(problem, swept, options.relaxation);  // PGS(lambda_k)
+    const VecX r = swept - l;                       // r_k
+    const double rr = r.squaredNorm();
+    double beta = 0.0;  // Fletcher–Reeves beta_k
+    if (rr_previous > 0.0) {
+      beta = rr / rr_previous;
+      if (!(beta <= settings.restart_beta)) {  // restart; NaN ends the solve below anyway
+        beta = 0.0;
+        ++restarts;
+      }
+    } else if (rr_previous == 0.0) {
+      beta = 0.0;  // the last sweep changed nothing: lambda_k was already a fixed point
+    }
+    rr_previous = rr;
+    p = r + beta * p;  // p_k
+    double delta = 0.0;
+    for (Eigen::Index k = 0; k < c; ++k) {
+      const double next = clamp(l(k) + p(k), problem.cmin(k), problem.cmax(k));  // lambda_{k+1}
+      const double change = std::abs(next - l(k));
+      if (!(change <= delta)) delta = change;  // also propagates NaN
+      l(k) = next;
+    }
+    return delta;
+  });
+  s.restarts = restarts;
+  if (options.describe) {
+    std::ostringstream msg;
+    msg << s.message << ", " << restarts << " restarts";
+    s.message = msg.str();
+  }
+  return s;
+}
+
+}  // namespace cbps
