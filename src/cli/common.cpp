@@ -43,9 +43,10 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
   }
   cmd->add_option("--solver",
                   o.solver,
-                  "NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off] with NAME pgs, "
-                  "psor, sgs, jacobi, block-pgs, matrix-free, direct or active-set, e.g. psor:1.3 "
-                  "(default: the scene's, pgs)");
+                  "NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off][:key=value] with "
+                  "NAME one of the solvers listed below, e.g. psor:1.3 (default: the scene's, "
+                  "pgs)");
+  cmd->footer(solver_spec_help());
   cmd->add_option("--seed", o.seed, "seed of the random row order (order=random), >= 0")
       ->check(non_negative());
   cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")->check(positive());

@@ -438,9 +438,11 @@ void register_converge(CLI::App& app, Action& run) {
   cmd->add_option("--param", o->scene.params, "NAME=VALUE: a built-in scene's parameter");
   cmd->add_option("--solvers",
                   o->solvers,
-                  "comma-separated solver specs, e.g. pgs,psor:1.3,sgs,jacobi:0.7,"
-                  "pgs:order=random,block-pgs,matrix-free,direct (default: " +
+                  "comma-separated solver specs (the solvers listed below), e.g. "
+                  "pgs,psor:1.3,sgs,jacobi:0.7,pgs:order=random,block-pgs,matrix-free,"
+                  "pgs-nesterov,apgd,direct (default: " +
                       o->solvers + ")");
+  cmd->footer(solver_spec_help());
   cmd->add_option("--step",
                   o->at_step,
                   "scenes: study the system of this step (0: the first; later steps start "

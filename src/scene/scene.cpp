@@ -58,6 +58,7 @@ SolverOptions SolverSettings::options() const {
   o.order = order;
   o.seed = seed;
   o.cfm = cfm;
+  o.methods = methods;
   return o;
 }
 

@@ -70,7 +70,7 @@ SolverSummary solve_admm(const BoxedProblem& problem,
       const double primal = relaxed - z(k);  // r_k, also the step of u
       u(k) += primal;
       const double change = std::abs(z(k) - z_old(k));
-      if (!(change <= delta)) delta = change;  // also propagates NaN
+      max_keep_nan(delta, change);
       r2 += primal * primal;
       s2 += change * change;
     }

@@ -40,7 +40,7 @@ SolverSummary solve_nncg(const BoxedProblem& problem,
     for (Eigen::Index k = 0; k < c; ++k) {
       const double next = clamp(l(k) + p(k), problem.cmin(k), problem.cmax(k));  // lambda_{k+1}
       const double change = std::abs(next - l(k));
-      if (!(change <= delta)) delta = change;  // also propagates NaN
+      max_keep_nan(delta, change);
       l(k) = next;
     }
     return delta;

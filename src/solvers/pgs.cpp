@@ -26,7 +26,7 @@ double sweep_rows(
     const double next =
         clamp(relax(lambda(k), target, relaxation), p.cmin(k), p.cmax(k));  // (7.1.1)
     const double change = std::abs(next - lambda(k));
-    if (!(change <= delta)) delta = change;  // also propagates NaN
+    max_keep_nan(delta, change);
     lambda(k) = next;
   }
   return delta;
@@ -64,7 +64,7 @@ double jacobi_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation
     if (!row_target(problem.A, problem.b, scratch, k, target)) continue;
     lambda(k) = clamp(relax(scratch(k), target, relaxation), problem.cmin(k), problem.cmax(k));
     const double change = std::abs(lambda(k) - scratch(k));
-    if (!(change <= delta)) delta = change;
+    max_keep_nan(delta, change);
   }
   return delta;
 }

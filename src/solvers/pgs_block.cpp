@@ -29,7 +29,7 @@ double block_pgs_sweep(const BoxedProblem& problem,
   double target = 0.0;
   const auto update = [&](Eigen::Index k, double next) {
     const double change = std::abs(next - lambda(k));
-    if (!(change <= delta)) delta = change;  // also propagates NaN
+    max_keep_nan(delta, change);
     lambda(k) = next;
   };
   MatX M;

@@ -39,7 +39,7 @@ double MatrixFreePgs::sweep(const VecX& b,
     const double target = lambda(k) + (b(k) - Ju) / d_(k);  // 7.1.1's unclamped value
     const double next = clamp(detail::relax(lambda(k), target, relaxation), cmin(k), cmax(k));
     const double change = next - lambda(k);
-    if (!(std::abs(change) <= delta)) delta = std::abs(change);  // also propagates NaN
+    max_keep_nan(delta, std::abs(change));
     if (change != 0.0) {
       for (SpMat::InnerIterator it(W_, k); it; ++it) u(it.row()) += it.value() * change;
     }

@@ -118,7 +118,7 @@ class PgsSm {
       x_(k) = clamp(x_(k) + alpha * d_(k), p_.cmin(k), p_.cmax(k));  // clamp: round-off only
       r_(k) -= alpha * q_(k);
       const double change = std::abs(x_(k) - lambda(k));
-      if (!(change <= delta)) delta = change;  // also propagates NaN
+      max_keep_nan(delta, change);
       lambda(k) = x_(k);
     }
     const bool moved_to_bound = blocking >= 0;

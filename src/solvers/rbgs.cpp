@@ -41,10 +41,7 @@ RowColouring colour_rows(const SpMat& A) {
   return g;
 }
 
-SolverSummary solve_rbgs(const BoxedProblem& problem,
-                         VecX& lambda,
-                         const SolverOptions& options,
-                         const RbgsSettings& /*settings*/) {
+SolverSummary solve_rbgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
   const RowColouring g = colour_rows(problem.A);
   SolverSummary s = detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
     return pgs_sweep(problem, l, options.relaxation, g.order);  // 7.1.1, colour by colour

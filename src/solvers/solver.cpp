@@ -8,11 +8,17 @@
 #include <stdexcept>
 
 #include "cbps/solvers/active_set.hpp"
+#include "cbps/solvers/admm.hpp"
+#include "cbps/solvers/apgd.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/islands.hpp"
+#include "cbps/solvers/nncg.hpp"
 #include "cbps/solvers/pgs.hpp"
 #include "cbps/solvers/pgs_block.hpp"
 #include "cbps/solvers/pgs_matrix_free.hpp"
+#include "cbps/solvers/pgs_nesterov.hpp"
+#include "cbps/solvers/pgs_sm.hpp"
+#include "cbps/solvers/rbgs.hpp"
 
 namespace cbps {
 
@@ -28,7 +34,13 @@ constexpr MethodName kMethodNames[] = {{Method::Pgs, "pgs"},
                                        {Method::Jacobi, "jacobi"},
                                        {Method::MatrixFree, "matrix-free"},
                                        {Method::Direct, "direct"},
-                                       {Method::ActiveSet, "active-set"}};
+                                       {Method::ActiveSet, "active-set"},
+                                       {Method::PgsNesterov, "pgs-nesterov"},
+                                       {Method::Apgd, "apgd"},
+                                       {Method::Nncg, "nncg"},
+                                       {Method::PgsSm, "pgs-sm"},
+                                       {Method::Admm, "admm"},
+                                       {Method::Rbgs, "rbgs"}};
 
 }  // namespace
 
@@ -124,6 +136,18 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_direct(problem, lambda, options);
     case Method::ActiveSet:
       return solve_active_set(problem, lambda, options);
+    case Method::PgsNesterov:
+      return solve_pgs_nesterov(problem, lambda, options, options.methods.pgs_nesterov);
+    case Method::Apgd:
+      return solve_apgd(problem, lambda, options, options.methods.apgd);
+    case Method::Nncg:
+      return solve_nncg(problem, lambda, options, options.methods.nncg);
+    case Method::PgsSm:
+      return solve_pgs_sm(problem, lambda, options, options.methods.pgs_sm);
+    case Method::Admm:
+      return solve_admm(problem, lambda, options, options.methods.admm);
+    case Method::Rbgs:
+      return solve_rbgs(problem, lambda, options);
   }
   throw std::invalid_argument("solve: unknown method");
 }
@@ -144,7 +168,7 @@ SolverSummary solve_islands(const std::vector<std::vector<int>>& islands,
     const SolverSummary s = solve_whole(island, lambda_I, each);
     total.iterations = std::max(total.iterations, s.iterations);
     total.delta = std::max(total.delta, s.delta);
-    if (!(s.residual <= total.residual)) total.residual = s.residual;  // NaN propagates
+    max_keep_nan(total.residual, s.residual);
     // The worst termination: NonFinite > MaxIterations > DeltaTolerance > ResidualTolerance.
     if (s.termination == Termination::NonFinite ||
         (total.termination != Termination::NonFinite &&

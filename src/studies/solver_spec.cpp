@@ -1,7 +1,9 @@
 // Solver names with parameters, as the command line writes them (solver_spec.hpp).
 #include "cbps/studies/solver_spec.hpp"
 
+#include <cmath>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cbps/error.hpp"
@@ -10,6 +12,149 @@
 namespace cbps {
 
 namespace {
+
+/// A name the grammar accepts: the method it selects, what it takes, and one line for --help.
+struct SpecName {
+  std::string_view name;
+  Method method;
+  bool omega;  ///< takes :OMEGA (relaxation_in_range of the method)
+  bool order;  ///< takes order=
+  std::string_view what;
+};
+
+constexpr SpecName kSpecNames[] = {
+    {"pgs", Method::Pgs, false, true, "projected Gauss-Seidel, the paper's 7.1.1"},
+    {"psor", Method::Pgs, true, true, "PGS with relaxation, psor:OMEGA, OMEGA in (0, 2) required"},
+    {"sgs", Method::Sgs, true, false, "symmetric Gauss-Seidel, a forward and a backward sweep"},
+    {"jacobi", Method::Jacobi, true, false, "projected Jacobi; jacobi:OMEGA damps it, (0, 1]"},
+    {"block-pgs", Method::BlockPgs, false, false, "PGS with each contact manifold solved whole"},
+    {"matrix-free", Method::MatrixFree, false, true, "7.1.1 on J and Minv, without A"},
+    {"pgs-nesterov",
+     Method::PgsNesterov,
+     true,
+     true,
+     "PGS with Nesterov momentum and adaptive restart (O'Donoghue & Candes 2015); restart=on|off"},
+    {"apgd",
+     Method::Apgd,
+     false,
+     false,
+     "accelerated projected gradient descent (Mazhar et al. 2015); grow=, shrink=, "
+     "restart=on|off"},
+    {"nncg",
+     Method::Nncg,
+     false,
+     false,
+     "nonsmooth nonlinear conjugate gradient on PGS sweeps (Silcowitz, Niebe & Erleben 2010); "
+     "restart_beta="},
+    {"pgs-sm",
+     Method::PgsSm,
+     false,
+     false,
+     "PGS with subspace minimization by CG (Silcowitz, Niebe & Erleben 2010); sweeps=, cg=, "
+     "cg_tolerance="},
+    {"admm",
+     Method::Admm,
+     false,
+     false,
+     "ADMM with one factor of A + rho E (Boyd et al. 2011); rho=, alpha=, adapt=on|off, "
+     "rho_min="},
+    {"rbgs",
+     Method::Rbgs,
+     true,
+     false,
+     "red-black (graph-coloured) PGS, the parallel engines' order"},
+    {"direct", Method::Direct, false, false, "the exact path: interior point, then active set"},
+    {"active-set", Method::ActiveSet, false, false, "the previous exact path, for comparison"},
+};
+
+/// A method's own key=value: the method, the key, what it accepts (for messages) and its setter
+/// (false for a value out of range).
+struct MethodKey {
+  Method method;
+  std::string_view key;
+  std::string_view accepts;
+  bool (*set)(const std::string& value, MethodSettings& settings);
+};
+
+bool on_off(const std::string& value, bool& out) {
+  if (value != "on" && value != "off") return false;
+  out = value == "on";
+  return true;
+}
+
+/// A whole number ≥ 1 (a count of sweeps or iterations).
+bool count(const std::string& value, int& out) {
+  double x = 0.0;
+  if (!parse_number(value, x) || !(x >= 1.0) || x > 1e9 || x != std::floor(x)) return false;
+  out = static_cast<int>(x);
+  return true;
+}
+
+constexpr MethodKey kMethodKeys[] = {
+    {Method::PgsNesterov,
+     "restart",
+     "on or off",
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.pgs_nesterov.restart); }},
+    {Method::Apgd,
+     "restart",
+     "on or off",
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.apgd.restart); }},
+    {Method::Apgd,
+     "grow",
+     "a number > 1",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.apgd.grow) && s.apgd.grow > 1.0;
+     }},
+    {Method::Apgd,
+     "shrink",
+     "a number in (0, 1]",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.apgd.shrink) && s.apgd.shrink > 0.0 && s.apgd.shrink <= 1.0;
+     }},
+    {Method::Nncg,
+     "restart_beta",
+     "a number >= 0",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.nncg.restart_beta) && s.nncg.restart_beta >= 0.0;
+     }},
+    {Method::PgsSm,
+     "sweeps",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return count(v, s.pgs_sm.pgs_sweeps); }},
+    {Method::PgsSm,
+     "cg",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return count(v, s.pgs_sm.cg_iterations); }},
+    {Method::PgsSm,
+     "cg_tolerance",
+     "a number in (0, 1)",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.pgs_sm.cg_tolerance) && s.pgs_sm.cg_tolerance > 0.0 &&
+              s.pgs_sm.cg_tolerance < 1.0;
+     }},
+    {Method::Admm,
+     "rho",
+     "a number > 0",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.admm.rho) && s.admm.rho > 0.0;
+     }},
+    {Method::Admm,
+     "alpha",
+     "a number in (0, 2)",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.admm.alpha) && s.admm.alpha > 0.0 && s.admm.alpha < 2.0;
+     }},
+    {Method::Admm,
+     "adapt",
+     "on or off",
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.admm.adapt_rho); }},
+    {Method::Admm,
+     "rho_min",
+     "a number > 0",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.admm.rho_min) && s.admm.rho_min > 0.0;
+     }},
+};
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;
@@ -26,6 +171,15 @@ std::vector<std::string> split(const std::string& text, char separator) {
   return parts;
 }
 
+std::string valid_names() {
+  std::string names;
+  for (const SpecName& n : kSpecNames) {
+    if (!names.empty()) names += ", ";
+    names += std::string(n.name) + (n.name == "psor" ? ":OMEGA" : n.omega ? "[:OMEGA]" : "");
+  }
+  return names;
+}
+
 }  // namespace
 
 SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
@@ -36,31 +190,18 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   SolverSpec spec;
   spec.text = text;
   const std::string& name = parts.front();
-  bool omega_allowed = true;
-  bool omega_required = false;
-  if (name == "pgs" || name == "matrix-free" || name == "block-pgs" || name == "direct" ||
-      name == "active-set") {
-    method_from_string(name, spec.method);
-    omega_allowed = false;
-  } else if (name == "psor") {
-    spec.method = Method::Pgs;
-    omega_required = true;
-  } else if (name == "sgs") {
-    spec.method = Method::Sgs;
-  } else if (name == "jacobi") {
-    spec.method = Method::Jacobi;
-  } else {
-    fail(
-        "unknown solver (valid: pgs, psor:OMEGA, sgs[:OMEGA], jacobi[:OMEGA], block-pgs, "
-        "matrix-free, direct, active-set)");
-  }
+  const SpecName* entry = nullptr;
+  for (const SpecName& n : kSpecNames)
+    if (n.name == name) entry = &n;
+  if (entry == nullptr) fail("unknown solver (valid: " + valid_names() + ")");
+  spec.method = entry->method;
   bool have_omega = false;
   for (std::size_t k = 1; k < parts.size(); ++k) {
     const std::string& p = parts[k];
     const auto eq = p.find('=');
     if (eq == std::string::npos) {
       double omega = 0.0;
-      if (!omega_allowed) fail("'" + name + "' takes no relaxation factor");
+      if (!entry->omega) fail("'" + name + "' takes no relaxation factor");
       if (have_omega) fail("more than one relaxation factor");
       if (!parse_number(p, omega) || !relaxation_in_range(spec.method, omega)) {
         fail("relaxation factor '" + p + "' must be a number in " + relaxation_range(spec.method));
@@ -73,8 +214,7 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
     for (std::size_t j = 1; j < k; ++j)
       if (parts[j].substr(0, parts[j].find('=')) == key) fail("'" + key + "=' given twice");
     if (key == "order") {
-      if (spec.method != Method::Pgs && spec.method != Method::MatrixFree)
-        fail("order= applies to pgs, psor and matrix-free");
+      if (!entry->order) fail("order= applies to pgs, psor, pgs-nesterov and matrix-free");
       if (value == "natural") {
         spec.order = RowOrder::Natural;
       } else if (value == "reverse") {
@@ -84,14 +224,26 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
       } else {
         fail("order '" + value + "' (valid: natural, reverse, random)");
       }
-    } else if (key == "warm") {
+      continue;
+    }
+    if (key == "warm") {
       if (value != "on" && value != "off") fail("warm '" + value + "' (valid: on, off)");
       spec.warm_start = value == "on";
-    } else {
-      fail("unknown option '" + key + "' (valid: order, warm)");
+      continue;
     }
+    std::string valid = entry->order ? "order, warm" : "warm";
+    bool known = false;
+    for (const MethodKey& m : kMethodKeys) {
+      if (m.method != spec.method) continue;
+      valid += ", " + std::string(m.key);
+      if (m.key != key) continue;
+      known = true;
+      if (!m.set(value, spec.methods))
+        fail(key + " '" + value + "' must be " + std::string(m.accepts));
+    }
+    if (!known) fail("unknown option '" + key + "' for " + name + " (valid: " + valid + ")");
   }
-  if (omega_required && !have_omega) fail("psor needs its factor, e.g. psor:1.3");
+  if (name == "psor" && !have_omega) fail("psor needs its factor, e.g. psor:1.3");
   return spec;
 }
 
@@ -109,6 +261,19 @@ void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings) {
   settings.relaxation = spec.relaxation;
   settings.order = spec.order;
   settings.warm_start = spec.warm_start;
+  settings.methods = spec.methods;
+}
+
+std::string solver_spec_help() {
+  std::string help =
+      "Solvers: NAME[:OMEGA][:key=value]..., every one with warm=on|off (start from the "
+      "previous step's lambda or from 0):\n";
+  for (const SpecName& n : kSpecNames) {
+    std::string line = "  " + std::string(n.name);
+    line.resize(16, ' ');
+    help += line + std::string(n.what) + (n.order ? "; order=natural|reverse|random" : "") + "\n";
+  }
+  return help;
 }
 
 }  // namespace cbps

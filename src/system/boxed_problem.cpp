@@ -17,7 +17,7 @@ double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin,
   for (Eigen::Index k = 0; k < lambda.size(); ++k) {
     const double projected = clamp(lambda(k) - w(k), cmin(k), cmax(k));
     const double rk = std::abs(lambda(k) - projected);
-    if (!(rk <= r)) r = rk;  // also propagates NaN
+    max_keep_nan(r, rk);
   }
   return r;
 }

@@ -56,6 +56,7 @@ struct SolverSettings {
   /// that redundant or degenerate rows get a unique, bounded lambda. kg⁻¹. The answer then
   /// misses A lambda = b by eps lambda (m/s²); `cbps run` reports that. 0: off.
   double cfm = 0.0;
+  MethodSettings methods;  ///< the parameters of the methods that have their own
 
   /// The options of one solve with these settings; the seed is `seed` as it is (a simulation
   /// adds its step count, so that random orders differ from step to step).

@@ -41,16 +41,6 @@
 
 namespace cbps {
 
-/// APGD's own parameters, defaults from Mazhar et al. (2015), Algorithm 1.
-struct ApgdSettings {
-  double grow = 2.0;    ///< backtracking: L ← grow · L while the step overshoots (paper: 2)
-  double shrink = 0.9;  ///< after each accepted step L ← shrink · L (paper: 0.9)
-  bool restart = true;  ///< the paper's restart when gᵀ(λ_{k+1} − λ_k) > 0; false: never
-  /// Backtracking trials per iteration at most (not in the paper: a guard against round-off);
-  /// 2^60 times L is far past any A's largest eigenvalue from the ‖A‖∞ start.
-  int max_backtracks = 60;
-};
-
 /// APGD (above) from the guess in lambda until options.tolerance (natural-map residual, N),
 /// options.delta_tolerance (max |λ_{k+1} − λ_k|, N) or options.max_iterations; returns in lambda
 /// the iterate with the smallest natural-map residual seen (summary.residual is its residual).

@@ -23,13 +23,6 @@
 
 namespace cbps {
 
-/// NNCG's own parameter.
-struct NncgSettings {
-  /// Restart (beta = 0) when the Fletcher–Reeves ratio beta_k exceeds this: the sweep's change
-  /// grew, so the old direction no longer helps. 1 in Silcowitz-Hansen, Niebe and Erleben (2010).
-  double restart_beta = 1.0;
-};
-
 /// NNCG from the guess in lambda (warm start). One iteration = one PGS sweep (7.1.1, one pass
 /// over A, relaxation options.relaxation) plus O(c) vector work, so its iteration counts compare
 /// one to one with PGS's sweeps. Honours max_iterations, tolerance (natural-map residual, N),

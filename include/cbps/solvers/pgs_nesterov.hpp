@@ -36,13 +36,6 @@
 
 namespace cbps {
 
-/// The method's own parameters (the rest come from SolverOptions: relaxation, order, limits).
-struct PgsNesterovSettings {
-  /// Adaptive restart by the gradient test (O'Donoghue & Candès 2015, Section 3.2); false: plain
-  /// Nesterov momentum on the sweeps, never reset (for comparison).
-  bool restart = true;
-};
-
 /// PGS with Nesterov momentum (above) from the guess in lambda until options.tolerance,
 /// options.delta_tolerance (max |λ_{k+1} − λ_k|, N) or options.max_iterations; rows in
 /// options.order, relaxation options.relaxation (PSOR). summary.restarts counts the restarts

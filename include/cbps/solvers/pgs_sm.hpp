@@ -28,18 +28,6 @@
 
 namespace cbps {
 
-/// PGS-SM's own parameters. Silcowitz, Niebe and Erleben run a few PGS sweeps before each
-/// subspace phase and a bounded number of CG iterations in it; the paper's own numbers could not
-/// be read here, so these defaults were measured on the chain (20 links), the 10-box stack and
-/// the base-6 pyramid (iterations to 1e-10 relative, pgs_sweeps / cg_iterations: 5/100: 25,
-/// 9,244, not reached; 5/200: 25, 5,694, not reached in 200,000; 10/200: 30, 5,836; 5/400: 25,
-/// 4,634, 152,186; at 1e-6 5/200 was best on the stack, 910).
-struct PgsSmSettings {
-  int pgs_sweeps = 5;       ///< PGS sweeps (7.1.1) per PGS phase, ≥ 1
-  int cg_iterations = 200;  ///< CG iterations per subspace phase, ≥ 1
-  double cg_tolerance = 1e-10;  ///< stop CG at ‖r_F‖₂ ≤ this · ‖r_F‖₂ at its start (relative)
-};
-
 /// PGS-SM from the guess in lambda (warm start). One iteration = one PGS sweep (one pass over
 /// A) or one CG step (one product A(F,F) p over A's F columns, plus O(|F|) vector work), so its
 /// iteration counts compare with PGS's sweeps. Each start of CG (after a PGS phase, or after a

@@ -16,10 +16,6 @@
 
 namespace cbps {
 
-/// The method's own parameters: none. The colouring depends only on A's pattern; the greedy
-/// visit in natural row order (Saad §3.3.3) is the one used.
-struct RbgsSettings {};
-
 /// A colouring of A's rows: no two rows of one colour are coupled (A_ij ≠ 0, i ≠ j).
 struct RowColouring {
   std::vector<int> colour;  ///< c colours, 0 … colours − 1, one per row
@@ -41,9 +37,6 @@ RowColouring colour_rows(const SpMat& A);
 /// rows, the cost of a PGS sweep. Run sequentially here; the rows of one colour could be
 /// updated in parallel with the same result, bit for bit. options.order is not used (the
 /// colouring fixes the order). The message reports the number of colours.
-SolverSummary solve_rbgs(const BoxedProblem& problem,
-                         VecX& lambda,
-                         const SolverOptions& options,
-                         const RbgsSettings& settings = {});
+SolverSummary solve_rbgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
 
 }  // namespace cbps

@@ -4,6 +4,13 @@
 //   pgs.hpp              7.1.1: PGS, PSOR, symmetric Gauss-Seidel, projected Jacobi
 //   pgs_block.hpp        block PGS (contact manifolds solved as blocks by Lemke)
 //   pgs_matrix_free.hpp  7.1.1 without A (sequential impulses)
+//   pgs_nesterov.hpp     PGS with Nesterov momentum and adaptive restart
+//   apgd.hpp             accelerated projected gradient descent
+//   nncg.hpp             nonsmooth nonlinear conjugate gradient on PGS sweeps
+//   pgs_sm.hpp           PGS with subspace minimization
+//   admm.hpp             ADMM on the box QP with one factor of A + rho E
+//   rbgs.hpp             red-black (graph-coloured) PGS
+//   method_settings.hpp  the parameters of the methods that have their own
 //   direct.hpp           the exact path: interior point in body space, crossover to the active set
 //   active_set.hpp       the previous exact path: active set on CHOLMOD inside proximal points
 //   lemke.hpp            Lemke's method, a dense pivoting reference
@@ -17,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cbps/solvers/method_settings.hpp"
 #include "cbps/system/boxed_problem.hpp"
 
 namespace cbps {
@@ -24,13 +32,19 @@ namespace cbps {
 /// The methods, each one name on the command line, in scene files and in summaries
 /// (to_string / method_from_string are the one name table).
 enum class Method {
-  Pgs,         ///< "pgs": projected Gauss-Seidel (7.1.1), PSOR with relaxation ≠ 1
-  BlockPgs,    ///< "block-pgs": contact manifolds solved as blocks (pgs_block.hpp)
-  Sgs,         ///< "sgs": symmetric Gauss-Seidel, a forward and a backward sweep
-  Jacobi,      ///< "jacobi": projected Jacobi
-  MatrixFree,  ///< "matrix-free": 7.1.1 on J and Minv without A (pgs_matrix_free.hpp)
-  Direct,      ///< "direct": the exact path (direct.hpp)
-  ActiveSet    ///< "active-set": the previous exact path (active_set.hpp), for comparison
+  Pgs,          ///< "pgs": projected Gauss-Seidel (7.1.1), PSOR with relaxation ≠ 1
+  BlockPgs,     ///< "block-pgs": contact manifolds solved as blocks (pgs_block.hpp)
+  Sgs,          ///< "sgs": symmetric Gauss-Seidel, a forward and a backward sweep
+  Jacobi,       ///< "jacobi": projected Jacobi
+  MatrixFree,   ///< "matrix-free": 7.1.1 on J and Minv without A (pgs_matrix_free.hpp)
+  Direct,       ///< "direct": the exact path (direct.hpp)
+  ActiveSet,    ///< "active-set": the previous exact path (active_set.hpp), for comparison
+  PgsNesterov,  ///< "pgs-nesterov": PGS with Nesterov momentum and restart (pgs_nesterov.hpp)
+  Apgd,         ///< "apgd": accelerated projected gradient descent (apgd.hpp)
+  Nncg,         ///< "nncg": nonsmooth nonlinear conjugate gradient on PGS sweeps (nncg.hpp)
+  PgsSm,        ///< "pgs-sm": PGS with subspace minimization by CG (pgs_sm.hpp)
+  Admm,         ///< "admm": ADMM with one factor of A + rho E (admm.hpp)
+  Rbgs          ///< "rbgs": red-black (graph-coloured) PGS (rbgs.hpp)
 };
 
 /// Every method, in the order of the enum.
@@ -40,7 +54,13 @@ inline constexpr Method kMethods[] = {Method::Pgs,
                                       Method::Jacobi,
                                       Method::MatrixFree,
                                       Method::Direct,
-                                      Method::ActiveSet};
+                                      Method::ActiveSet,
+                                      Method::PgsNesterov,
+                                      Method::Apgd,
+                                      Method::Nncg,
+                                      Method::PgsSm,
+                                      Method::Admm,
+                                      Method::Rbgs};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
@@ -109,6 +129,8 @@ struct SolverOptions {
   /// spent in sweeps so far (the call itself is not timed); false ends the solve
   /// (Termination::Stopped). `cbps converge` records its samples here.
   std::function<bool(int, const VecX&, double)> after_sweep;
+  /// The parameters of the methods that have their own (method_settings.hpp).
+  MethodSettings methods;
 };
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
@@ -131,13 +153,16 @@ struct SolverSummary {
   double delta = 0.0;      ///< max |Δlambda| of the last sweep, N
   int factorizations = 0;  ///< sparse Cholesky factorizations (exact paths)
   int pivots = 0;          ///< active-set exchanges (exact paths)
-  int restarts = 0;        ///< active-set: islands solved again from 0 after a guess stalled
-  int islands = 0;         ///< independent blocks of A solved apart (exact paths)
-  bool singular = false;   ///< the active-set path found a singular block and regularised it
-  int crossover = 0;       ///< direct: the crossover's proximal (outer) steps
-  long factor_nnz = 0;     ///< direct: nonzeros of its Cholesky factor
-  long updates = 0;        ///< direct: rows added to or removed from a factor by updates
-  std::string space;       ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
+  /// active-set: islands solved again from 0 after a guess stalled; pgs-nesterov, apgd, nncg:
+  /// momentum or direction restarts; pgs-sm: products with A beyond one per iteration (one per CG
+  /// start)
+  int restarts = 0;
+  int islands = 0;        ///< independent blocks of A solved apart (exact paths)
+  bool singular = false;  ///< the active-set path found a singular block and regularised it
+  int crossover = 0;      ///< direct: the crossover's proximal (outer) steps
+  long factor_nnz = 0;    ///< direct: nonzeros of its Cholesky factor
+  long updates = 0;       ///< direct: rows added to or removed from a factor by updates
+  std::string space;      ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
   double wall_time_s = 0.0;
   Termination termination = Termination::MaxIterations;
   std::string message;  ///< one line with the numbers

@@ -1,6 +1,7 @@
 // A solver as the command line names it (`--solver`, `cbps converge --solvers`, stress cases):
-// NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off], e.g. `psor:1.3`,
-// `pgs:order=random`, `jacobi:0.7`, `sgs`, `matrix-free`, `block-pgs`, `direct`.
+// NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off][:key=value]..., e.g. `psor:1.3`,
+// `pgs:order=random`, `jacobi:0.7`, `sgs`, `matrix-free`, `block-pgs`, `direct`,
+// `apgd:restart=off`; the keys of a method's own parameters set its MethodSettings.
 #pragma once
 
 #include <string>
@@ -17,15 +18,18 @@ namespace cbps {
 ///   sgs          symmetric Gauss-Seidel (forward and backward sweep), sgs:OMEGA is SSOR
 ///   block-pgs    contact manifolds solved as blocks (block_pgs_sweep)
 ///   matrix-free  7.1.1 without A (MatrixFreePgs), the sequential-impulse form
-///   direct       the exact path (6.2)
-/// order applies to pgs, psor and matrix-free; warm=off starts from lambda = 0 instead of the
-/// previous step's lambda.
+///   pgs-nesterov PGS with Nesterov momentum and restart (restart=on|off), pgs-nesterov:OMEGA
+///   apgd         accelerated projected gradient descent (grow=, shrink=, restart=on|off)
+///   direct       the exact path (6.2); active-set the previous one
+/// order applies to pgs, psor, pgs-nesterov and matrix-free; warm=off starts from lambda = 0
+/// instead of the previous step's lambda. solver_spec_help() lists them all for --help.
 struct SolverSpec {
   std::string text;                    ///< as given
   Method method = Method::Pgs;         ///< psor is Method::Pgs with its relaxation
   double relaxation = 1.0;             ///< omega
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms
   bool warm_start = true;
+  MethodSettings methods;  ///< the keys of a method's own parameters
 };
 
 /// Parses one spec; throws InputError naming `what` (the option or JSON path) and the spec:
@@ -36,7 +40,10 @@ std::vector<SolverSpec> parse_solver_list(const std::string& text,
                                           const std::string& what = "solvers");
 
 /// Sets a scene's solver settings from a parsed spec: method, relaxation, row order, warm
-/// start; the other settings stay.
+/// start, the method's own parameters; the other settings stay.
 void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
+
+/// Every name the grammar accepts with one line on what it is and its keys, for --help.
+std::string solver_spec_help();
 
 }  // namespace cbps

@@ -14,6 +14,7 @@
 //   w        c       m/s²    6.2     A lambda − b
 #pragma once
 
+#include <cmath>
 #include <vector>
 
 #include "cbps/types.hpp"
@@ -54,6 +55,12 @@ struct CoulombRows {
 
 /// The projection onto the box [lo, hi] of 7.1.1 and of the natural map: min(max(x, lo), hi).
 double clamp(double x, double lo, double hi);
+
+/// m ← max(m, x) where a NaN, in m or in x, stays: once m is NaN no later finite x replaces it
+/// (a residual or a sweep's change must not hide a NaN row behind a later finite one).
+inline void max_keep_nan(double& m, double x) {
+  if (!(x <= m) && !std::isnan(m)) m = x;
+}
 
 /// The natural-map residual for a given w = A lambda − b (6.2):
 ///   ‖lambda − clamp(lambda − w, cmin, cmax)‖∞,
