@@ -11,6 +11,7 @@
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
+#include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -266,6 +267,8 @@ int run_command(const RunOptions& o) {
                        {"order", to_string(scene.solver.order)},
                        {"seed", scene.solver.seed},
                        {"cfm", scene.solver.cfm}};
+  for (const auto& [key, value] : method_parameters(scene.solver.method, scene.solver.methods))
+    summary["solver"]["parameters"][key] = value;
   if (scene.solver.cfm > 0.0) {
     // CFM is never silent: how far the answer is from A lambda = b because of it.
     summary["regularization"] = {{"cfm", scene.solver.cfm},

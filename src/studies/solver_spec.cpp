@@ -2,6 +2,8 @@
 #include "cbps/studies/solver_spec.hpp"
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -74,12 +76,25 @@ struct MethodKey {
   std::string_view key;
   std::string_view accepts;
   bool (*set)(const std::string& value, MethodSettings& settings);
+  std::string (*get)(const MethodSettings& settings);  ///< as the grammar writes it
 };
 
 bool on_off(const std::string& value, bool& out) {
   if (value != "on" && value != "off") return false;
   out = value == "on";
   return true;
+}
+
+/// x as the grammar reads it back (shortest round trip).
+std::string number(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.17g", x);
+  for (int digits = 1; digits <= 17; ++digits) {
+    char shorter[32];
+    std::snprintf(shorter, sizeof shorter, "%.*g", digits, x);
+    if (std::strtod(shorter, nullptr) == x) return shorter;
+  }
+  return text;
 }
 
 /// A whole number ≥ 1 (a count of sweeps or iterations).
@@ -94,66 +109,78 @@ constexpr MethodKey kMethodKeys[] = {
     {Method::PgsNesterov,
      "restart",
      "on or off",
-     [](const std::string& v, MethodSettings& s) { return on_off(v, s.pgs_nesterov.restart); }},
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.pgs_nesterov.restart); },
+     [](const MethodSettings& s) -> std::string { return s.pgs_nesterov.restart ? "on" : "off"; }},
     {Method::Apgd,
      "restart",
      "on or off",
-     [](const std::string& v, MethodSettings& s) { return on_off(v, s.apgd.restart); }},
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.apgd.restart); },
+     [](const MethodSettings& s) -> std::string { return s.apgd.restart ? "on" : "off"; }},
     {Method::Apgd,
      "grow",
      "a number > 1",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.apgd.grow) && s.apgd.grow > 1.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.apgd.grow); }},
     {Method::Apgd,
      "shrink",
      "a number in (0, 1]",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.apgd.shrink) && s.apgd.shrink > 0.0 && s.apgd.shrink <= 1.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.apgd.shrink); }},
     {Method::Nncg,
      "restart_beta",
      "a number >= 0",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.nncg.restart_beta) && s.nncg.restart_beta >= 0.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.nncg.restart_beta); }},
     {Method::PgsSm,
      "sweeps",
      "a whole number >= 1",
-     [](const std::string& v, MethodSettings& s) { return count(v, s.pgs_sm.pgs_sweeps); }},
+     [](const std::string& v, MethodSettings& s) { return count(v, s.pgs_sm.pgs_sweeps); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.pgs_sm.pgs_sweeps); }},
     {Method::PgsSm,
      "cg",
      "a whole number >= 1",
-     [](const std::string& v, MethodSettings& s) { return count(v, s.pgs_sm.cg_iterations); }},
+     [](const std::string& v, MethodSettings& s) { return count(v, s.pgs_sm.cg_iterations); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.pgs_sm.cg_iterations); }},
     {Method::PgsSm,
      "cg_tolerance",
      "a number in (0, 1)",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.pgs_sm.cg_tolerance) && s.pgs_sm.cg_tolerance > 0.0 &&
               s.pgs_sm.cg_tolerance < 1.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.pgs_sm.cg_tolerance); }},
     {Method::Admm,
      "rho",
      "a number > 0",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.admm.rho) && s.admm.rho > 0.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.admm.rho); }},
     {Method::Admm,
      "alpha",
      "a number in (0, 2)",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.admm.alpha) && s.admm.alpha > 0.0 && s.admm.alpha < 2.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.admm.alpha); }},
     {Method::Admm,
      "adapt",
      "on or off",
-     [](const std::string& v, MethodSettings& s) { return on_off(v, s.admm.adapt_rho); }},
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.admm.adapt_rho); },
+     [](const MethodSettings& s) -> std::string { return s.admm.adapt_rho ? "on" : "off"; }},
     {Method::Admm,
      "rho_min",
      "a number > 0",
      [](const std::string& v, MethodSettings& s) {
        return parse_number(v, s.admm.rho_min) && s.admm.rho_min > 0.0;
-     }},
+     },
+     [](const MethodSettings& s) -> std::string { return number(s.admm.rho_min); }},
 };
 
 std::vector<std::string> split(const std::string& text, char separator) {
@@ -262,6 +289,14 @@ void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings) {
   settings.order = spec.order;
   settings.warm_start = spec.warm_start;
   settings.methods = spec.methods;
+}
+
+std::vector<std::pair<std::string, std::string>> method_parameters(Method method,
+                                                                   const MethodSettings& settings) {
+  std::vector<std::pair<std::string, std::string>> parameters;
+  for (const MethodKey& m : kMethodKeys)
+    if (m.method == method) parameters.emplace_back(std::string(m.key), m.get(settings));
+  return parameters;
 }
 
 std::string solver_spec_help() {

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cbps/scene/scene.hpp"
@@ -42,6 +43,11 @@ std::vector<SolverSpec> parse_solver_list(const std::string& text,
 /// Sets a scene's solver settings from a parsed spec: method, relaxation, row order, warm
 /// start, the method's own parameters; the other settings stay.
 void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
+
+/// A method's own parameters as key and value text, the way the grammar writes them
+/// (`apgd`: grow 2, shrink 0.9, restart on); none for the methods without.
+std::vector<std::pair<std::string, std::string>> method_parameters(Method method,
+                                                                   const MethodSettings& settings);
 
 /// Every name the grammar accepts with one line on what it is and its keys, for --help.
 std::string solver_spec_help();
