@@ -10,21 +10,6 @@
 
 namespace cbps {
 
-namespace {
-
-/// ‖A‖∞ = max_k Σ_i |A_ki|, kg⁻¹: by Gershgorin no eigenvalue of A exceeds it.
-double max_row_sum(const SpMat& A) {
-  double largest = 0.0;
-  for (Eigen::Index k = 0; k < A.outerSize(); ++k) {
-    double sum = 0.0;
-    for (SpMat::InnerIterator it(A, k); it; ++it) sum += std::abs(it.value());
-    largest = std::max(largest, sum);
-  }
-  return largest;
-}
-
-}  // namespace
-
 SolverSummary solve_apgd(const BoxedProblem& problem,
                          VecX& lambda,
                          const SolverOptions& options,
@@ -42,7 +27,7 @@ SolverSummary solve_apgd(const BoxedProblem& problem,
   VecX y = lambda;
   VecX Ay = Ax;
   double theta = 1.0;
-  double L = max_row_sum(problem.A);
+  double L = max_abs_row_sum(problem.A);  // ‖A‖∞ ≥ A's largest eigenvalue (Gershgorin)
   if (!(L > 0.0) && std::isfinite(L)) L = 1.0;  // A = 0: any step length is exact
   int restarts = 0;
   // The best iterate so far and its natural-map residual (the starting guess counts).

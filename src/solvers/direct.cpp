@@ -355,20 +355,10 @@ class InteriorSolver {
 
 }  // namespace
 
-double max_abs_row_sum(const SpMat& A) {
-  double max_row_sum = 0.0;
-  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {  // A symmetric: column sums = row sums
-    double sum = 0.0;
-    for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
-    max_row_sum = std::max(max_row_sum, sum);
-  }
-  return max_row_sum;
-}
-
-double residual_floor(double max_abs_row_sum, const VecX& b, const VecX& lambda) {
+double residual_floor(double row_sum, const VecX& b, const VecX& lambda) {
   const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
   const double bn = b.size() > 0 ? b.lpNorm<Eigen::Infinity>() : 0.0;
-  return 64.0 * kUnitRoundoff * (max_abs_row_sum * l + bn);
+  return 64.0 * kUnitRoundoff * (row_sum * l + bn);
 }
 
 bool may_stop(double r, double r_before, double tolerance, double floor) {

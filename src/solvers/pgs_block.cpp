@@ -1,6 +1,7 @@
 // Block projected Gauss-Seidel: contact manifolds solved as blocks by Lemke's method.
 #include "cbps/solvers/pgs_block.hpp"
 
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -56,6 +57,14 @@ double block_pgs_sweep(const BoxedProblem& problem,
           q(k - first) += it.value() * lambda(it.row());
         }
       }
+    }
+    if (!M.allFinite() || !q.allFinite()) {
+      // Non-finite data (NaN or inf in A or b): the block's λ become NaN, so that the sweep
+      // reports it (NonFinite) where Lemke would refuse the block.
+      for (Eigen::Index k = first; k < end; ++k)
+        update(k, std::numeric_limits<double>::quiet_NaN());
+      first = end;
+      continue;
     }
     // A_BB of a resting face has rank 6 of 12: Lemke's pivots on it break down numerically
     // (answers off by 0.5 of the scale). With delta I added it is positive definite and every

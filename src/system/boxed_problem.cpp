@@ -43,4 +43,14 @@ double scale_of(const BoxedProblem& problem) {
   return s;
 }
 
+double max_abs_row_sum(const SpMat& A) {
+  double max_row_sum = 0.0;
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {  // A symmetric: column sums = row sums
+    double sum = 0.0;
+    for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value());
+    max_row_sum = std::max(max_row_sum, sum);
+  }
+  return max_row_sum;
+}
+
 }  // namespace cbps

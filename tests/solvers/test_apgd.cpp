@@ -50,59 +50,6 @@ TEST_CASE("APGD reaches the direct path's w and v2 (6.2, 12.3.1)",
   CHECK(v2_error <= test::kVelocityPerResidual * sys.dt * options.tolerance);
 }
 
-TEST_CASE("APGD keeps the sweep loop's contract: hook, limits, box", "[apgd][solver]") {
-  const System sys = test::system_of("pyramid", {{"base", "3"}}, 20);
-  const BoxedProblem problem = sys.problem();
-  SolverOptions options;
-  options.max_iterations = 7;
-  VecX lambda = VecX::Zero(sys.rows());
-  SolverSummary s = solve_apgd(problem, lambda, options);
-  CHECK(s.termination == Termination::MaxIterations);
-  CHECK(s.iterations == 7);
-  CHECK(s.residual == natural_map_residual(problem, lambda));
-
-  // after_sweep: once per iteration, counts 1, 2, …, every iterate in [cmin, cmax]; false at the
-  // 5th stops there.
-  std::vector<int> seen;
-  bool in_box = true;
-  options.max_iterations = 100;
-  options.after_sweep = [&](int it, const VecX& l, double seconds) {
-    seen.push_back(it);
-    in_box = in_box && seconds >= 0.0 &&
-             (l - l.cwiseMax(problem.cmin).cwiseMin(problem.cmax)).lpNorm<Eigen::Infinity>() == 0.0;
-    return it < 5;
-  };
-  lambda.setZero();
-  s = solve_apgd(problem, lambda, options);
-  CHECK(s.termination == Termination::Stopped);
-  CHECK(s.iterations == 5);
-  CHECK(seen == std::vector<int>{1, 2, 3, 4, 5});
-  CHECK(in_box);
-  options.after_sweep = nullptr;
-
-  // The change tolerance: stops once max |λ_{k+1} − λ_k| ≤ it.
-  options.max_iterations = 100000;
-  options.delta_tolerance = 1e-9;
-  lambda.setZero();
-  s = solve_apgd(problem, lambda, options);
-  CHECK(s.termination == Termination::DeltaTolerance);
-  CHECK(s.delta <= 1e-9);
-  options.delta_tolerance = 0.0;
-
-  // The residual tolerance, and a warm start at the answer: no iteration at all.
-  options.tolerance = 1e-9 * scale_of(problem);
-  lambda.setZero();
-  s = solve_apgd(problem, lambda, options);
-  CHECK(s.termination == Termination::ResidualTolerance);
-  CHECK(natural_map_residual(problem, lambda) <= options.tolerance);
-  s = solve_apgd(problem, lambda, options);
-  CHECK(s.iterations == 0);
-  CHECK(s.termination == Termination::ResidualTolerance);
-
-  options.describe = false;
-  CHECK(solve_apgd(problem, lambda, options).message.empty());
-}
-
 TEST_CASE("APGD's first step is the projected gradient step with L = the largest row sum of A",
           "[apgd][eq6.2]") {
   // From λ_0 = y_0: λ_1 = clamp(λ_0 − (A λ_0 − b) / L, cmin, cmax), L = ‖A‖∞ ≥ the largest
@@ -160,19 +107,4 @@ TEST_CASE("APGD restarts and counts it, and returns the iterate of smallest resi
   options.after_sweep = nullptr;
   lambda.setZero();
   CHECK(solve_apgd(problem, lambda, options, never).restarts == 0);
-}
-
-TEST_CASE("APGD reports NaN in b as NonFinite", "[apgd][solver]") {
-  const System sys = test::system_of("pyramid", {{"base", "3"}}, 20);
-  VecX bad_b = sys.b;
-  bad_b(3) = std::numeric_limits<double>::quiet_NaN();
-  const BoxedProblem problem{sys.A, bad_b, sys.cmin, sys.cmax};
-  SolverOptions options;
-  options.max_iterations = 1000;
-  options.tolerance = 1e-9;
-  VecX lambda = VecX::Zero(sys.rows());
-  const SolverSummary s = solve_apgd(problem, lambda, options);
-  INFO(s.message);
-  CHECK(s.termination == Termination::NonFinite);
-  CHECK(s.iterations == 1);
 }

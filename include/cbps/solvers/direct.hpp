@@ -69,10 +69,8 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda);
 /// (the floor asked for) or where the step no longer reduced the residual (a tolerance below the
 /// floor is aimed at while steps still make progress; what they cannot reduce is rounding).
 bool may_stop(double r, double r_before, double tolerance, double floor);
-/// The same with max_i Σ_k |A_ik| given (max_abs_row_sum), for solvers that ask it often.
-double residual_floor(double max_abs_row_sum, const VecX& b, const VecX& lambda);
-/// max_i Σ_k |A_ik| (kg⁻¹), A symmetric.
-double max_abs_row_sum(const SpMat& A);
+/// The same with row_sum = max_abs_row_sum(A) given, for solvers that ask it often.
+double residual_floor(double row_sum, const VecX& b, const VecX& lambda);
 
 /// Direct solve of A lambda = b with all rows unbounded, by CHOLMOD's sparse Cholesky
 /// (supernodal or simplicial, with the fill-reducing ordering CHOLMOD chooses).

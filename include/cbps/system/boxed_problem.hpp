@@ -56,6 +56,10 @@ struct CoulombRows {
 /// The projection onto the box [lo, hi] of 7.1.1 and of the natural map: min(max(x, lo), hi).
 double clamp(double x, double lo, double hi);
 
+/// ‖A‖∞ = max_i Σ_k |A_ik|, kg⁻¹, A symmetric (column sums are row sums): by Gershgorin no
+/// eigenvalue of A exceeds it.
+double max_abs_row_sum(const SpMat& A);
+
 /// m ← max(m, x) where a NaN, in m or in x, stays: once m is NaN no later finite x replaces it
 /// (a residual or a sweep's change must not hide a NaN row behind a later finite one).
 inline void max_keep_nan(double& m, double x) {
