@@ -16,31 +16,20 @@
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"
+#include "methods_fixture.hpp"
 
 using namespace cbps;
+using test::kEps;
+using test::kSweepTolerance;
+using test::kVelocityPerResidual;
+using test::Problem;
 using test::system_of;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-/// ADMM is asked to stop at kSweepTolerance · ε · scale, the sweep tolerance of
-/// test_every_solver_agrees.cpp (2^20 ε ≈ 2.3e-10 of the problem's scale).
-constexpr double kSweepTolerance = 1048576.0;  // 2^20
-
-/// v2 against the residual, as in test_every_solver_agrees.cpp: J (v2 − v2_direct) = Δt (w −
-/// w_direct), so a residual r moves v2 by about Δt r times a path factor; 2^8 there.
-constexpr double kVelocityPerResidual = 256.0;
-
 /// w against the residual: |w − w_direct|∞ / tolerance, measured 0.68 to 1.9 (the stack) on the
 /// problems below; 2^5 leaves more than ten times that.
 constexpr double kWPerResidual = 32.0;
-
-struct Problem {
-  std::string name;
-  std::map<std::string, std::string> values;
-  int steps;
-};
 
 /// The fixture's problems: the chain of test_every_solver_agrees (20 links, end mass 10 links,
 /// A definite), the 10-box stack settled after 30 steps and a base-3 pyramid after 30 steps
@@ -50,20 +39,6 @@ const std::initializer_list<Problem> kProblems = {
     {"stack", {{"n", "10"}}, 30},
     {"pyramid", {{"base", "3"}}, 30},
 };
-
-/// The direct path's lambda at tolerance 0 (its rounding floor). On the base-3 pyramid it
-/// reports NotConverged ("stopped short of its tolerance") at every step count tried (5 to 60)
-/// with a residual of 5.5e-11 N at step 30 (5.6e-12 of scale_of): a reference all the same, so
-/// its residual is what is required, 1/16 of the tolerance the methods are held to.
-VecX direct_lambda(const BoxedProblem& problem, double tolerance) {
-  SolverOptions direct;
-  direct.method = Method::Direct;
-  VecX lambda = VecX::Zero(problem.rows());
-  const SolverSummary s = solve(problem, lambda, direct);
-  INFO("reference: " << s.message);
-  REQUIRE(natural_map_residual(problem, lambda) <= tolerance / 16.0);
-  return lambda;
-}
 
 }  // namespace
 
@@ -75,17 +50,16 @@ TEST_CASE("ADMM reaches the direct path's w and v2 on a chain, a stack and a pyr
   SolverOptions options;
   options.max_iterations = 100000;
   options.tolerance = kSweepTolerance * kEps * scale_of(problem);
-  const VecX reference = direct_lambda(problem, options.tolerance);
-  const VecX w_reference = sys.A * reference - sys.b;
+  // The reference, held to 1/16 of the tolerance: on the base-3 pyramid the direct path reports
+  // NotConverged at every step count tried (5 to 60), at 5.5e-11 N (5.6e-12 of scale_of).
+  const VecX reference = test::direct_solution(sys, options.tolerance, 16.0);
   VecX lambda = VecX::Zero(sys.rows());
   const SolverSummary s = solve_admm(problem, lambda, options);
   INFO(p.name << ", " << sys.rows() << " rows: " << s.message);
   REQUIRE(s.termination == Termination::ResidualTolerance);
   CHECK(natural_map_residual(problem, lambda) <= options.tolerance);
   CHECK(((lambda - problem.cmin).minCoeff() >= 0.0 && (problem.cmax - lambda).minCoeff() >= 0.0));
-  const double w_error = (sys.A * lambda - sys.b - w_reference).lpNorm<Eigen::Infinity>();
-  const double v2_error =
-      (compute_v2(sys, lambda) - compute_v2(sys, reference)).lpNorm<Eigen::Infinity>();
+  const auto [w_error, v2_error] = test::difference(sys, lambda, reference);
   INFO("|w - w_direct| " << w_error << " m/s^2 (" << w_error / options.tolerance
                          << " tolerances), |v2 - v2_direct| " << v2_error << " m/s");
   CHECK(w_error <= kWPerResidual * options.tolerance);

@@ -7,13 +7,13 @@
 #include <limits>
 #include <vector>
 
-#include "accelerated_fixture.hpp"
 #include "cbps/solvers/apgd.hpp"
 #include "cbps/solvers/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"
+#include "methods_fixture.hpp"
 
 using namespace cbps;
 using test::Problem;
@@ -38,11 +38,9 @@ TEST_CASE("APGD reaches the direct path's w and v2 (6.2, 12.3.1)",
   // most. v2 (bound from test_every_solver_agrees.cpp): measured at most 42.5 Δt tolerances, on the
   // stack.
   const double kW = 512.0;
-  const VecX w = sys.A * lambda - sys.b;
-  const VecX w_reference = sys.A * reference - sys.b;
-  const double w_error = (w - w_reference).lpNorm<Eigen::Infinity>();
-  const double v2_error =
-      (compute_v2(sys, lambda) - compute_v2(sys, reference)).lpNorm<Eigen::Infinity>();
+  const test::Difference d = test::difference(sys, lambda, reference);
+  const double w_error = d.w;
+  const double v2_error = d.v2;
   INFO("|w - w_direct| " << w_error << " m/s^2 (" << w_error / options.tolerance
                          << " tolerances), |v2 - v2_direct| " << v2_error << " m/s ("
                          << v2_error / (sys.dt * options.tolerance) << " dt tolerances)");

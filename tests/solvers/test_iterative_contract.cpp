@@ -13,17 +13,13 @@
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"
+#include "methods_fixture.hpp"
 
 using namespace cbps;
+using test::in_box;
 using test::system_of;
 
 namespace {
-
-bool in_box(const BoxedProblem& p, const VecX& lambda) {
-  for (Eigen::Index k = 0; k < lambda.size(); ++k)
-    if (!(lambda(k) >= p.cmin(k) && lambda(k) <= p.cmax(k))) return false;
-  return true;
-}
 
 std::vector<Method> iterative_methods() {
   std::vector<Method> methods;

@@ -13,20 +13,14 @@
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"
+#include "methods_fixture.hpp"
 
 using namespace cbps;
+using test::in_box;
+using test::inf_norm;
 using test::system_of;
 
 namespace {
-
-/// A built-in scene's system after some steps.
-struct SceneStep {
-  std::string name;
-  std::map<std::string, std::string> values;
-  int steps;
-};
-
-double inf_norm(const VecX& v) { return v.lpNorm<Eigen::Infinity>(); }
 
 /// w = A lambda − b is unique where lambda is not (6.2); its distance from the direct path's is
 /// held to kWPerResidual times the residual NNCG stopped at. Measured ratio |Δw|∞ / tolerance:
@@ -42,16 +36,9 @@ constexpr double kVelocityPerResidual = 256.0;
 /// within 200,000 iterations (neither does PGS); 1e-6 it reaches on the stack in 37,424
 /// iterations (PGS 59,543) and on the base-4 pyramid in 86 (PGS 358).
 struct Case {
-  SceneStep scene;
+  test::Problem scene;
   double relative;
 };
-
-/// A stopped solve's lambda is in the box: NNCG projects every iterate.
-bool in_box(const BoxedProblem& p, const VecX& lambda) {
-  for (Eigen::Index k = 0; k < p.rows(); ++k)
-    if (!(p.cmin(k) <= lambda(k) && lambda(k) <= p.cmax(k))) return false;
-  return true;
-}
 
 }  // namespace
 
@@ -62,7 +49,7 @@ TEST_CASE("NNCG reaches the direct path's w and v2 on a chain, a stack and a pyr
       {{"stack", {{"n", "10"}}, 30}, 1e-6},
       {{"pyramid", {{"base", "4"}}, 30}, 1e-6},
   }));
-  const SceneStep& c = the.scene;
+  const test::Problem& c = the.scene;
   const System sys = system_of(c.name, c.values, c.steps);
   const BoxedProblem problem = sys.problem();
   const double scale = scale_of(problem);
@@ -82,8 +69,7 @@ TEST_CASE("NNCG reaches the direct path's w and v2 on a chain, a stack and a pyr
   const SolverSummary s = solve_nncg(problem, lambda, options);
   INFO("nncg: " << s.message);
   CHECK(s.termination == Termination::ResidualTolerance);
-  const double dw = inf_norm((sys.A * lambda - sys.b) - (sys.A * reference - sys.b));
-  const double dv = inf_norm(compute_v2(sys, lambda) - compute_v2(sys, reference));
+  const auto [dw, dv] = test::difference(sys, lambda, reference);
   INFO("|w - w_direct| " << dw << " m/s^2 (" << dw / options.tolerance << " tolerances), |v2 - "
                          << "v2_direct| " << dv << " m/s (" << dv / (sys.dt * options.tolerance)
                          << " dt tolerances)");

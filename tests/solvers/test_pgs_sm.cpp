@@ -16,39 +16,15 @@
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"
+#include "methods_fixture.hpp"
 
 using namespace cbps;
+using test::in_box;
+using test::inf_norm;
+using test::iterations_to;
 using test::system_of;
 
 namespace {
-
-/// A built-in scene's system after some steps.
-struct SceneStep {
-  std::string name;
-  std::map<std::string, std::string> values;
-  int steps;
-};
-
-/// Iterations a solver needs from lambda = 0 to a natural-map residual of relative · scale_of;
-/// -1 when it does not get there within limit iterations.
-template <class Solve>
-int iterations_to(const BoxedProblem& problem, double relative, int limit, Solve solve_with) {
-  SolverOptions options;
-  options.max_iterations = limit;
-  options.tolerance = relative * scale_of(problem);
-  options.describe = false;
-  VecX lambda = VecX::Zero(problem.rows());
-  const SolverSummary s = solve_with(problem, lambda, options);
-  return s.termination == Termination::ResidualTolerance ? s.iterations : -1;
-}
-
-double inf_norm(const VecX& v) { return v.lpNorm<Eigen::Infinity>(); }
-
-bool in_box(const BoxedProblem& p, const VecX& lambda) {
-  for (Eigen::Index k = 0; k < p.rows(); ++k)
-    if (!(p.cmin(k) <= lambda(k) && lambda(k) <= p.cmax(k))) return false;
-  return true;
-}
 
 /// PGS-SM is asked for a natural-map residual of kRelative · scale_of on every problem here: it
 /// gets there (measured: 25 iterations on the chain, 5,694 on the 10-box stack, 5,654 on the
@@ -65,7 +41,7 @@ constexpr double kVelocityPerResidual = 256.0;
 
 TEST_CASE("PGS-SM reaches the direct path's w and v2 on a chain, a stack and a pyramid (6.2)",
           "[pgs-sm][solver][direct][eq6.2][eq12.3.1]") {
-  const SceneStep c = GENERATE(values<SceneStep>({
+  const test::Problem c = GENERATE(values<test::Problem>({
       {"chain", {{"n", "20"}, {"mass_ratio", "10"}}, 10},
       {"stack", {{"n", "10"}}, 30},
       {"pyramid", {{"base", "4"}}, 30},
@@ -90,8 +66,7 @@ TEST_CASE("PGS-SM reaches the direct path's w and v2 on a chain, a stack and a p
   INFO("pgs-sm: " << s.message);
   CHECK(s.termination == Termination::ResidualTolerance);
   CHECK(in_box(problem, lambda));
-  const double dw = inf_norm((sys.A * lambda - sys.b) - (sys.A * reference - sys.b));
-  const double dv = inf_norm(compute_v2(sys, lambda) - compute_v2(sys, reference));
+  const auto [dw, dv] = test::difference(sys, lambda, reference);
   INFO("|w - w_direct| " << dw << " m/s^2 (" << dw / options.tolerance << " tolerances), |v2 - "
                          << "v2_direct| " << dv << " m/s (" << dv / (sys.dt * options.tolerance)
                          << " dt tolerances)");
@@ -145,10 +120,10 @@ TEST_CASE("PGS-SM finds a constructed active set: rows at cmin, at cmax and free
 TEST_CASE("measure: iterations to 1e-6 and 1e-10 relative for PGS, NNCG and PGS-SM",
           "[.pgs-sm-measure]") {
   const int limit = 200000;
-  for (const SceneStep& c : {SceneStep{"chain", {{"n", "20"}, {"mass_ratio", "10"}}, 10},
-                             SceneStep{"stack", {{"n", "10"}}, 30},
-                             SceneStep{"pyramid", {{"base", "6"}}, 30},
-                             SceneStep{"pyramid", {{"base", "4"}}, 30}}) {
+  for (const test::Problem& c : {test::Problem{"chain", {{"n", "20"}, {"mass_ratio", "10"}}, 10},
+                                 test::Problem{"stack", {{"n", "10"}}, 30},
+                                 test::Problem{"pyramid", {{"base", "6"}}, 30},
+                                 test::Problem{"pyramid", {{"base", "4"}}, 30}}) {
     const System sys = system_of(c.name, c.values, c.steps);
     const BoxedProblem problem = sys.problem();
     for (const double relative : {1e-6, 1e-10}) {

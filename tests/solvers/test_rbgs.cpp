@@ -14,30 +14,20 @@
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"
+#include "methods_fixture.hpp"
 
 using namespace cbps;
+using test::kEps;
+using test::kSweepTolerance;
+using test::kVelocityPerResidual;
+using test::Problem;
 using test::system_of;
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-/// Asked to stop at kSweepTolerance · ε · scale, the sweep tolerance of
-/// test_every_solver_agrees.cpp (2^20 ε ≈ 2.3e-10 of the problem's scale).
-constexpr double kSweepTolerance = 1048576.0;  // 2^20
-
-/// v2 against the residual, as in test_every_solver_agrees.cpp (2^8 there).
-constexpr double kVelocityPerResidual = 256.0;
-
 /// w against the residual: |w − w_direct|∞ / tolerance, measured 0.98 to 1.0 on the problems
 /// below; 2^5 leaves more than ten times that.
 constexpr double kWPerResidual = 32.0;
-
-struct Problem {
-  std::string name;
-  std::map<std::string, std::string> values;
-  int steps;
-};
 
 /// The problems of test_admm.cpp: a chain (tridiagonal A), the 10-box stack after 30 steps, a
 /// base-3 pyramid after 30 steps.
@@ -150,19 +140,13 @@ TEST_CASE("red-black PGS reaches the direct path's w and v2 on a chain, a stack 
   options.tolerance = kSweepTolerance * kEps * scale_of(problem);
   // The reference: the direct path at tolerance 0. On the pyramid it reports NotConverged at a
   // residual of 5.5e-11 N (see test_admm.cpp), so its residual is what is required.
-  SolverOptions direct;
-  direct.method = Method::Direct;
-  VecX reference = VecX::Zero(sys.rows());
-  solve(problem, reference, direct);
-  REQUIRE(natural_map_residual(problem, reference) <= options.tolerance / 16.0);
+  const VecX reference = test::direct_solution(sys, options.tolerance, 16.0);
   VecX lambda = VecX::Zero(sys.rows());
   const SolverSummary s = solve_rbgs(problem, lambda, options);
   INFO(p.name << ", " << sys.rows() << " rows: " << s.message);
   REQUIRE(s.termination == Termination::ResidualTolerance);
   CHECK(natural_map_residual(problem, lambda) <= options.tolerance);
-  const double w_error = (sys.A * (lambda - reference)).lpNorm<Eigen::Infinity>();
-  const double v2_error =
-      (compute_v2(sys, lambda) - compute_v2(sys, reference)).lpNorm<Eigen::Infinity>();
+  const auto [w_error, v2_error] = test::difference(sys, lambda, reference);
   INFO("|w - w_direct| " << w_error << " m/s^2 (" << w_error / options.tolerance
                          << " tolerances), |v2 - v2_direct| " << v2_error << " m/s");
   CHECK(w_error <= kWPerResidual * options.tolerance);
