@@ -43,7 +43,8 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
   }
   cmd->add_option("--solver",
                   o.solver,
-                  "NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off][:key=value] with "
+                  "NAME[:OMEGA][:order=natural|reverse|random][:contacts_first=on|off]"
+                  "[:warm=on|off|F][:warm_friction=on|off|G][:key=value] with "
                   "NAME one of the solvers listed below, e.g. psor:1.3 (default: the scene's, "
                   "pgs)");
   cmd->footer(solver_spec_help());

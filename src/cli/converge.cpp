@@ -57,10 +57,13 @@ struct ConvergeOptions {
 /// The system under study and what is known about its answer.
 struct Study {
   std::string name;
-  StoredProblem stored;     ///< A, b, cmin, cmax; J, Minv, v1, fext, dt when known; cfm
-  std::vector<int> blocks;  ///< contact manifold of each row (block PGS), −1 for others
-  SpMat A_solved;           ///< with_cfm(A, cfm): the matrix every solver works on
-  VecX warm;                ///< the previous step's lambda by row id (scenes after step 0), else 0
+  StoredProblem stored;        ///< A, b, cmin, cmax; J, Minv, v1, fext, dt when known; cfm
+  std::vector<int> blocks;     ///< contact manifold of each row (block PGS), −1 for others
+  std::vector<RowKind> kinds;  ///< each row's kind (a scene's system), empty for a stored one
+  SpMat A_solved;              ///< with_cfm(A, cfm): the matrix every solver works on
+  /// The scene's warm-start guess (7): the previous step's lambda by row id times the scene's
+  /// own factors (scenes after step 0), else 0. A spec's factors scale it again.
+  VecX warm;
   VecX lambda_star, v2_star;
   bool lambda_unique = false;  ///< A positive definite (a Cholesky factorization exists)
   bool has_bodies() const { return stored.has_bodies(); }
@@ -68,6 +71,7 @@ struct Study {
   BoxedProblem problem() const {
     BoxedProblem p = stored.problem();
     p.blocks = &blocks;
+    if (!kinds.empty()) p.kinds = &kinds;
     return p;
   }
   /// The problem with A + eps E: the one whose residual is measured.
@@ -120,6 +124,7 @@ Study study_of_scene(const ConvergeOptions& o) {
   p.cfm = scene.solver.cfm;
   s.blocks = sys.manifold;
   s.A_solved = with_cfm(p.A, p.cfm);
+  s.kinds = sys.kind;
   s.warm = sim.initial_lambda(sys);
   return s;
 }
@@ -174,9 +179,20 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   if (spec.method == Method::MatrixFree && !s.has_bodies())
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no J and Minv (a Siconos file); the matrix-free form needs them");
+  if (spec.contacts_first && s.kinds.empty())
+    throw InputError("--solvers " + spec.text + ": " + s.name +
+                     " has no row kinds (a stored problem); contacts_first needs a scene");
   Run run;
   run.spec = spec;
-  VecX lambda = spec.warm_start ? s.warm : VecX::Zero(s.stored.rows());
+  // The spec's warm-start factors on the scene's guess (7), row by row (exactly the scene's guess
+  // for warm=on, 0 for warm=off).
+  SolverSettings factors;
+  apply_solver_spec(spec, factors);
+  VecX lambda = VecX::Zero(s.stored.rows());
+  for (std::size_t k = 0; k < s.kinds.size(); ++k) {
+    const auto row = static_cast<Eigen::Index>(k);
+    lambda(row) = warm_guess(s.warm(row), factors.warm_factor(s.kinds[k]));
+  }
   run.samples.push_back(measure(s, lambda, 0, 0.0));
   run.reach(0, 0.0, run.samples.back().residual);
   // The last sweep's iterate when it was not recorded, to record it at the end.
@@ -190,6 +206,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.max_iterations = o.iterations;
   options.relaxation = spec.relaxation;
   options.order = spec.order;
+  options.contacts_first = spec.contacts_first;
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   options.describe = false;
   options.cfm = s.stored.cfm;
@@ -350,7 +367,10 @@ int converge_command(const ConvergeOptions& o) {
     j["method"] = std::string(to_string(run.spec.method));
     j["relaxation"] = run.spec.relaxation;
     j["order"] = to_string(run.spec.order);
-    j["warm_start"] = run.spec.warm_start;
+    j["warm_start"] = run.spec.warm > 0.0 || run.spec.warm_friction.value_or(run.spec.warm) > 0.0;
+    j["warm"] = run.spec.warm;
+    j["warm_friction"] = run.spec.warm_friction.value_or(run.spec.warm);
+    j["contacts_first"] = run.spec.contacts_first;
     j["stopped"] = run.stopped;
     j["guess_residual"] = json_or_null(run.samples.front().residual);
     j["samples"] = run.samples.size();

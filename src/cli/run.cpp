@@ -259,14 +259,18 @@ int run_command(const RunOptions& o) {
   summary["dt"] = scene.world.dt;
   summary["beta"] = scene.world.beta;
   summary["duration"] = sim.time();
-  summary["solver"] = {{"method", std::string(to_string(scene.solver.method))},
-                       {"iterations", scene.solver.iterations},
-                       {"tolerance", scene.solver.tolerance},
-                       {"warm_start", scene.solver.warm_start},
-                       {"relaxation", scene.solver.relaxation},
-                       {"order", to_string(scene.solver.order)},
-                       {"seed", scene.solver.seed},
-                       {"cfm", scene.solver.cfm}};
+  summary["solver"] = {
+      {"method", std::string(to_string(scene.solver.method))},
+      {"iterations", scene.solver.iterations},
+      {"tolerance", scene.solver.tolerance},
+      {"warm_start", scene.solver.warm > 0.0 || scene.solver.warm_factor(RowKind::Friction) > 0.0},
+      {"warm", scene.solver.warm},
+      {"warm_friction", scene.solver.warm_factor(RowKind::Friction)},
+      {"relaxation", scene.solver.relaxation},
+      {"order", to_string(scene.solver.order)},
+      {"contacts_first", scene.solver.contacts_first},
+      {"seed", scene.solver.seed},
+      {"cfm", scene.solver.cfm}};
   for (const auto& [key, value] : method_parameters(scene.solver.method, scene.solver.methods))
     summary["solver"]["parameters"][key] = value;
   if (scene.solver.cfm > 0.0) {

@@ -35,8 +35,9 @@ std::string pair_label(const Manifold& manifold, const std::vector<Body>& bodies
 Row contact_row(const Manifold& manifold,
                 const ContactPoint& point,
                 const std::vector<Body>& bodies) {
-  Row row = direction_row(bodies, manifold.a, point.p, manifold.b, point.p, manifold.n);  // (5.3)
-  row.cmin = 0.0;  // push only
+  Row row = direction_row(
+      RowKind::Contact, bodies, manifold.a, point.p, manifold.b, point.p, manifold.n);  // (5.3)
+  row.cmin = 0.0;                                                                       // push only
   row.cmax = kInf;
   row.label = "contact ";
   row.label.append(pair_label(manifold, bodies));

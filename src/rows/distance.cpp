@@ -32,7 +32,7 @@ Row distance_row(const DistanceConstraint& dc,
   // Coincident ends have no direction; any unit n gives a valid row (it pushes them apart).
   const Vec3 n = dist > 0.0 ? Vec3(p_ab / dist) : Vec3::UnitX();
 
-  Row row = direction_row(bodies, dc.a, p_a, dc.b, p_b, n);
+  Row row = direction_row(RowKind::Distance, bodies, dc.a, p_a, dc.b, p_b, n);
   row.label = dc.name;
   row.id = id;
   row.upsilon_push = -beta * (dist - dc.length) / dt;  // (5.2.3)

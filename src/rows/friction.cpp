@@ -29,7 +29,8 @@ Row friction_row(const Manifold& manifold,
                  const Vec3& t,
                  double bound,
                  const std::vector<Body>& bodies) {
-  Row row = direction_row(bodies, manifold.a, point.p, manifold.b, point.p, t);  // (5.4)
+  Row row = direction_row(
+      RowKind::Friction, bodies, manifold.a, point.p, manifold.b, point.p, t);  // (5.4)
   row.cmin = -bound;
   row.cmax = bound;
   row.label = "friction ";

@@ -10,13 +10,15 @@ bool has_block(const std::vector<Body>& bodies, int index) {
 }
 }  // namespace
 
-Row direction_row(const std::vector<Body>& bodies,
+Row direction_row(RowKind kind,
+                  const std::vector<Body>& bodies,
                   int a,
                   const Vec3& p_a,
                   int b,
                   const Vec3& p_b,
                   const Vec3& n) {
   Row row;
+  row.kind = kind;
   if (has_block(bodies, a)) {
     const Vec3 r_a = p_a - bodies[static_cast<std::size_t>(a)].x;
     row.body_a = a;

@@ -56,6 +56,7 @@ SolverOptions SolverSettings::options() const {
   o.relaxation = relaxation;
   o.split_islands = split_islands;
   o.order = order;
+  o.contacts_first = contacts_first;
   o.seed = seed;
   o.cfm = cfm;
   o.methods = methods;

@@ -256,6 +256,9 @@ SolverSettings read_solver(const Node& node) {
                 "order",
                 "seed",
                 "warm_start",
+                "warm",
+                "warm_friction",
+                "contacts_first",
                 "split_islands",
                 "cfm"});
   SolverSettings solver;
@@ -278,7 +281,28 @@ SolverSettings read_solver(const Node& node) {
   if (has(node, "order"))
     solver.order = static_cast<RowOrder>(choice(child(node, "order"), kRowOrders, "row order"));
   if (has(node, "seed")) solver.seed = static_cast<std::uint64_t>(integer(child(node, "seed"), 0));
-  if (has(node, "warm_start")) solver.warm_start = boolean(child(node, "warm_start"));
+  // The warm-start factors (7): /solver/warm in [0, 1], or the older /solver/warm_start
+  // (true: 1, false: 0); /solver/warm_friction for the friction rows (default: the same).
+  if (has(node, "warm_start")) {
+    const Node warm_start = child(node, "warm_start");
+    if (has(node, "warm"))
+      fail(warm_start,
+           "give /solver/warm or /solver/warm_start, not both (warm_start true is "
+           "warm 1, false is warm 0)");
+    solver.warm = boolean(warm_start) ? 1.0 : 0.0;
+  }
+  if (has(node, "warm")) solver.warm = unit_interval(child(node, "warm"));
+  if (has(node, "warm_friction"))
+    solver.warm_friction = unit_interval(child(node, "warm_friction"));
+  if (has(node, "contacts_first")) {
+    const Node first = child(node, "contacts_first");
+    solver.contacts_first = boolean(first);
+    if (solver.contacts_first && solver.method != Method::Pgs &&
+        solver.method != Method::MatrixFree)
+      fail(first,
+           "applies to the methods pgs and matrix-free (method is " +
+               in_quotes(std::string(to_string(solver.method))) + ")");
+  }
   if (has(node, "split_islands")) solver.split_islands = boolean(child(node, "split_islands"));
   if (has(node, "cfm")) solver.cfm = nonnegative(child(node, "cfm"));
   return solver;
@@ -863,7 +887,9 @@ std::string scene_to_json(const Scene& scene) {
   solver["relaxation"] = scene.solver.relaxation;
   solver["order"] = kRowOrders.at(static_cast<std::size_t>(scene.solver.order));
   solver["seed"] = scene.solver.seed;
-  solver["warm_start"] = scene.solver.warm_start;
+  solver["warm"] = scene.solver.warm;
+  if (scene.solver.warm_friction) solver["warm_friction"] = *scene.solver.warm_friction;
+  solver["contacts_first"] = scene.solver.contacts_first;
   solver["split_islands"] = scene.solver.split_islands;
   solver["cfm"] = scene.solver.cfm;
   root["solver"] = solver;

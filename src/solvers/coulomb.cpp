@@ -129,6 +129,7 @@ SolverSummary solve_coulomb(const BoxedProblem& problem,
     bounded.J = p.J;
     bounded.Minv = p.Minv;
     bounded.blocks = p.blocks;
+    bounded.kinds = p.kinds;
     if (!is_iterative(o.method)) {
       s = direct_fixed_point(bounded, coulomb, cmin, cmax, lambda, o);
     } else {

@@ -47,6 +47,7 @@ void for_each_island(const std::vector<std::vector<int>>& islands,
   const SpMat& A = problem.A;
   std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
   std::vector<int> blocks_I;
+  std::vector<RowKind> kinds_I;
   for (const auto& rows : islands) {
     if (static_cast<Eigen::Index>(rows.size()) == A.rows()) {
       solve_island(problem, lambda);
@@ -63,6 +64,11 @@ void for_each_island(const std::vector<std::vector<int>>& islands,
       for (const int row : rows)
         blocks_I.push_back((*problem.blocks)[static_cast<std::size_t>(row)]);
       island.blocks = &blocks_I;
+    }
+    if (problem.kinds != nullptr) {
+      kinds_I.clear();
+      for (const int row : rows) kinds_I.push_back((*problem.kinds)[static_cast<std::size_t>(row)]);
+      island.kinds = &kinds_I;
     }
     VecX lambda_I = gather_rows(lambda, rows);
     solve_island(island, lambda_I);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 #include "sweep.hpp"
 
@@ -56,6 +57,43 @@ void sweep_order(RowOrder order, int rows, std::mt19937_64& rng, std::vector<int
   if (order == RowOrder::Random) std::shuffle(out.begin(), out.end(), rng);
 }
 
+void sweep_order(RowOrder order,
+                 const std::vector<RowKind>& kinds,
+                 std::mt19937_64& rng,
+                 std::vector<int>& out) {
+  out.clear();
+  for (const RowKind kind : {RowKind::Distance, RowKind::Contact, RowKind::Friction}) {
+    const auto first = static_cast<std::ptrdiff_t>(out.size());
+    for (std::size_t k = 0; k < kinds.size(); ++k)
+      if (kinds[k] == kind) out.push_back(static_cast<int>(k));
+    if (order == RowOrder::Reverse) std::reverse(out.begin() + first, out.end());
+    if (order == RowOrder::Random) std::shuffle(out.begin() + first, out.end(), rng);
+  }
+}
+
+SweepOrder::SweepOrder(const BoxedProblem& problem, const SolverOptions& options)
+    : order_(options.order), rows_(static_cast<int>(problem.rows())), rng_(options.seed) {
+  if (options.contacts_first) {
+    if (problem.kinds == nullptr)
+      throw std::invalid_argument("contacts_first: the problem has no row kinds");
+    kinds_ = problem.kinds;
+  }
+  // The orders that stay the same every sweep are made once.
+  if (kinds_ != nullptr && order_ != RowOrder::Random) sweep_order(order_, *kinds_, rng_, out_);
+  if (kinds_ == nullptr && order_ == RowOrder::Reverse) sweep_order(order_, rows_, rng_, out_);
+}
+
+const std::vector<int>& SweepOrder::next() {
+  if (order_ == RowOrder::Random) {
+    if (kinds_ != nullptr) {
+      sweep_order(order_, *kinds_, rng_, out_);
+    } else {
+      sweep_order(order_, rows_, rng_, out_);
+    }
+  }
+  return out_;
+}
+
 double jacobi_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation, VecX& scratch) {
   scratch = lambda;  // the previous sweep's values
   double delta = 0.0;
@@ -70,17 +108,10 @@ double jacobi_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation
 }
 
 SolverSummary solve_pgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
-  if (options.order == RowOrder::Natural) {
-    return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
-      return pgs_sweep(problem, l, options.relaxation);
-    });
-  }
-  const int c = static_cast<int>(problem.rows());
-  std::mt19937_64 rng(options.seed);
-  std::vector<int> rows;
-  if (options.order == RowOrder::Reverse) sweep_order(options.order, c, rng, rows);
+  SweepOrder order(problem, options);
   return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) {
-    if (options.order == RowOrder::Random) sweep_order(options.order, c, rng, rows);
+    const std::vector<int>& rows = order.next();
+    if (rows.empty()) return pgs_sweep(problem, l, options.relaxation);  // 0 … c−1
     return pgs_sweep(problem, l, options.relaxation, rows);
   });
 }

@@ -62,15 +62,13 @@ SolverSummary solve_matrix_free(const BoxedProblem& problem,
   const MatrixFreePgs pgs(*problem.J, *problem.Minv, options.cfm);
   if (lambda.size() != pgs.rows()) lambda = VecX::Zero(pgs.rows());
   VecX u = pgs.impulse(lambda);  // kept equal to W lambda by every sweep
-  std::mt19937_64 rng(options.seed);
-  std::vector<int> rows;  // empty: the natural order
-  if (options.order == RowOrder::Reverse) sweep_order(options.order, pgs.rows(), rng, rows);
+  SweepOrder order(problem, options);
   SolverSummary s = detail::iterate_sweeps(
       pgs.rows(),
       lambda,
       options,
       [&](VecX& l) {
-        if (options.order == RowOrder::Random) sweep_order(options.order, pgs.rows(), rng, rows);
+        const std::vector<int>& rows = order.next();  // empty: the natural order
         return pgs.sweep(problem.b, problem.cmin, problem.cmax, l, u, options.relaxation, rows);
       },
       [&](const VecX& l) { return pgs.residual(problem.b, problem.cmin, problem.cmax, l, u); });

@@ -200,6 +200,7 @@ SolverSummary with_cfm_applied(
   regularised.J = problem.J;
   regularised.Minv = problem.Minv;
   regularised.blocks = problem.blocks;
+  regularised.kinds = problem.kinds;
   regularised.cfm = problem.cfm + options.cfm;
   SolverOptions plain = options;
   plain.cfm = 0.0;

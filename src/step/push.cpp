@@ -21,7 +21,7 @@ VecX Simulation::position_velocities(const System& sys, const VecX& lambda, Step
         compute_b(position_bias(sys), sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
     // Start from this step's velocity λ plus last step's push increment λ_position − λ: the
     // two systems differ only by the push (8.1). (4.1 cm top drift against 6.1 cm from the last
-    // λ_position, 10-box stack, 20 sweeps.)
+    // λ_position, 10-box stack, 20 sweeps.) The increment takes the rows' warm-start factors.
     lambda_position = lambda + warm_lambda(sys, warm_position_);
     report.position_solver = solve_system(sys, b_position, lambda_position);
   }

@@ -157,12 +157,16 @@ const System& Simulation::assemble(StageTimes* times) {
 
 VecX Simulation::initial_lambda(const System& sys) const { return warm_lambda(sys, warm_); }
 
-VecX Simulation::warm_lambda(const System& sys, const WarmStart& warm) const {
+VecX Simulation::last_lambda(const System& sys) const { return warm_lambda(sys, warm_, false); }
+
+VecX Simulation::warm_lambda(const System& sys, const WarmStart& warm, bool scaled) const {
   VecX lambda = VecX::Zero(sys.rows());
-  if (!scene_.solver.warm_start) return lambda;
   for (int k = 0; k < sys.rows(); ++k) {
-    const auto it = warm.find(sys.ids[static_cast<std::size_t>(k)]);
-    if (it != warm.end()) lambda(k) = it->second;
+    const auto row = static_cast<std::size_t>(k);
+    const auto it = warm.find(sys.ids[row]);
+    if (it == warm.end()) continue;
+    lambda(k) =
+        scaled ? warm_guess(it->second, scene_.solver.warm_factor(sys.kind[row])) : it->second;
   }
   return lambda;
 }

@@ -97,6 +97,15 @@ std::string number(double x) {
   return text;
 }
 
+/// A warm-start factor: on (1), off (0) or a number in [0, 1].
+bool warm_factor(const std::string& value, double& out) {
+  if (value == "on" || value == "off") {
+    out = value == "on" ? 1.0 : 0.0;
+    return true;
+  }
+  return parse_number(value, out) && out >= 0.0 && out <= 1.0;
+}
+
 /// A whole number ≥ 1 (a count of sweeps or iterations).
 bool count(const std::string& value, int& out) {
   double x = 0.0;
@@ -253,12 +262,27 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
       }
       continue;
     }
-    if (key == "warm") {
-      if (value != "on" && value != "off") fail("warm '" + value + "' (valid: on, off)");
-      spec.warm_start = value == "on";
+    if (key == "warm" || key == "warm_friction") {
+      double factor = 0.0;
+      if (!warm_factor(value, factor))
+        fail(key + " '" + value + "' (valid: on, off or a number in [0, 1])");
+      if (key == "warm") {
+        spec.warm = factor;
+      } else {
+        spec.warm_friction = factor;
+      }
       continue;
     }
-    std::string valid = entry->order ? "order, warm" : "warm";
+    const bool sorts = spec.method == Method::Pgs || spec.method == Method::MatrixFree;
+    if (key == "contacts_first") {
+      if (!sorts) fail("contacts_first= applies to pgs, psor and matrix-free");
+      if (!on_off(value, spec.contacts_first))
+        fail("contacts_first '" + value + "' (valid: on, off)");
+      continue;
+    }
+    std::string valid = entry->order ? "order, " : "";
+    if (sorts) valid += "contacts_first, ";
+    valid += "warm, warm_friction";
     bool known = false;
     for (const MethodKey& m : kMethodKeys) {
       if (m.method != spec.method) continue;
@@ -287,7 +311,9 @@ void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings) {
   settings.method = spec.method;
   settings.relaxation = spec.relaxation;
   settings.order = spec.order;
-  settings.warm_start = spec.warm_start;
+  settings.contacts_first = spec.contacts_first;
+  settings.warm = spec.warm;
+  settings.warm_friction = spec.warm_friction;
   settings.methods = spec.methods;
 }
 
@@ -301,12 +327,16 @@ std::vector<std::pair<std::string, std::string>> method_parameters(Method method
 
 std::string solver_spec_help() {
   std::string help =
-      "Solvers: NAME[:OMEGA][:key=value]..., every one with warm=on|off (start from the "
-      "previous step's lambda or from 0):\n";
+      "Solvers: NAME[:OMEGA][:key=value]..., every one with warm=on|off|F (start each row from "
+      "F times the previous step's lambda: on 1, off 0, F in [0, 1]) and warm_friction=on|off|G "
+      "(G for the friction rows, default F):\n";
   for (const SpecName& n : kSpecNames) {
     std::string line = "  " + std::string(n.name);
     line.resize(16, ' ');
-    help += line + std::string(n.what) + (n.order ? "; order=natural|reverse|random" : "") + "\n";
+    help += line + std::string(n.what) + (n.order ? "; order=natural|reverse|random" : "") +
+            (n.method == Method::Pgs || n.method == Method::MatrixFree ? "; contacts_first=on|off"
+                                                                       : "") +
+            "\n";
   }
   return help;
 }

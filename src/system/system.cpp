@@ -179,6 +179,7 @@ void assemble_system(const std::vector<Body>& bodies,
   const auto c = static_cast<Eigen::Index>(rows.size());
   sys.labels.resize(rows.size());
   sys.ids.resize(rows.size());
+  sys.kind.resize(rows.size());
   sys.upsilon.resize(c);
   sys.upsilon_push.resize(c);
   sys.normal_row.resize(rows.size());
@@ -190,6 +191,7 @@ void assemble_system(const std::vector<Body>& bodies,
     const Row& row = rows[static_cast<std::size_t>(k)];
     sys.labels[static_cast<std::size_t>(k)] = row.label;
     sys.ids[static_cast<std::size_t>(k)] = row.id;
+    sys.kind[static_cast<std::size_t>(k)] = row.kind;
     // The one system holds the push (5.2.3, 5.3); 8.1's velocity system does not.
     sys.upsilon(k) =
         push == PushMode::Original ? with_push(row.upsilon, row.upsilon_push) : row.upsilon;

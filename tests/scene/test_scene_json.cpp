@@ -27,12 +27,14 @@ Scene mixed_scene() {
   scene.world.gravity = Vec3(0.1, -9.80665, 1.0 / 3.0);
   scene.world.dt = 1.0 / 300.0;
   scene.world.beta = 0.15;
-  scene.solver.method = Method::Jacobi;
+  scene.solver.method = Method::MatrixFree;
   scene.solver.iterations = 37;
   scene.solver.tolerance = 1e-9;
   scene.solver.delta_tolerance = 1e-12;
   scene.solver.relaxation = 0.7;
-  scene.solver.warm_start = false;
+  scene.solver.warm = 0.85;
+  scene.solver.warm_friction = 0.0;
+  scene.solver.contacts_first = true;
 
   Body ball;
   ball.name = "ball";
@@ -91,7 +93,9 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.solver.tolerance == want.solver.tolerance);
   CHECK(got.solver.delta_tolerance == want.solver.delta_tolerance);
   CHECK(got.solver.relaxation == want.solver.relaxation);
-  CHECK(got.solver.warm_start == want.solver.warm_start);
+  CHECK(got.solver.warm == want.solver.warm);
+  CHECK(got.solver.warm_friction == want.solver.warm_friction);
+  CHECK(got.solver.contacts_first == want.solver.contacts_first);
   CHECK(got.solver.split_islands == want.solver.split_islands);
   REQUIRE(got.bodies.size() == want.bodies.size());
   for (std::size_t i = 0; i < want.bodies.size(); ++i) {
@@ -414,6 +418,18 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
        "scene.json: /solver/relaxation: must be in (0, 2) (got 2)"},
       {R"({"solver": {"warm_start": "yes"}, "bodies": []})",
        "scene.json: /solver/warm_start: expected true or false (got string)"},
+      {R"({"solver": {"warm": 1.5}, "bodies": []})",
+       "scene.json: /solver/warm: must be in [0, 1] (got 1.5)"},
+      {R"({"solver": {"warm": true}, "bodies": []})",
+       "scene.json: /solver/warm: expected a number (got boolean)"},
+      {R"({"solver": {"warm_friction": -0.5}, "bodies": []})",
+       "scene.json: /solver/warm_friction: must be in [0, 1] (got -0.5)"},
+      {R"({"solver": {"warm_start": true, "warm": 0.5}, "bodies": []})",
+       "scene.json: /solver/warm_start: give /solver/warm or /solver/warm_start, not both"},
+      {R"({"solver": {"contacts_first": "on"}, "bodies": []})",
+       "scene.json: /solver/contacts_first: expected true or false (got string)"},
+      {R"({"solver": {"method": "jacobi", "contacts_first": true}, "bodies": []})",
+       R"(scene.json: /solver/contacts_first: applies to the methods pgs and matrix-free (method is "jacobi"))"},
       {R"({"solver": {"split_islands": 1}, "bodies": []})",
        "scene.json: /solver/split_islands: expected true or false (got number)"},
       // Contact settings.
@@ -551,4 +567,25 @@ TEST_CASE("the solver's row order and seed are read and written, relaxation rang
         "scene.json: /solver/relaxation: must be in (0, 1] (got 1.5)");
   CHECK(error_of(R"({"solver": {"method": "pgs", "relaxation": 1.5}, "bodies": []})") ==
         "no error");
+}
+
+TEST_CASE("/solver/warm_start stays accepted as the factor 1 or 0, warm_friction defaults to warm",
+          "[scene_json][warm]") {
+  const auto solver_of = [](const std::string& solver) {
+    return parse_scene(R"({"solver": )" + solver + R"(, "bodies": []})", "scene.json").solver;
+  };
+  const SolverSettings plain = solver_of("{}");
+  CHECK(plain.warm == 1.0);  // the paper's warm start (7)
+  CHECK_FALSE(plain.warm_friction.has_value());
+  CHECK_FALSE(plain.contacts_first);
+  CHECK(solver_of(R"({"warm_start": true})").warm == 1.0);
+  CHECK(solver_of(R"({"warm_start": false})").warm == 0.0);
+  CHECK(solver_of(R"({"warm_start": false})").warm_factor(RowKind::Friction) == 0.0);
+  const SolverSettings bullet = solver_of(R"({"warm": 0.85, "warm_friction": 0})");
+  CHECK(bullet.warm_factor(RowKind::Contact) == 0.85);
+  CHECK(bullet.warm_factor(RowKind::Distance) == 0.85);
+  CHECK(bullet.warm_factor(RowKind::Friction) == 0.0);
+  CHECK(solver_of(R"({"warm": 0.5})").warm_factor(RowKind::Friction) == 0.5);
+  CHECK(solver_of(R"({"warm_start": false, "warm_friction": 1})").warm_factor(RowKind::Friction) ==
+        1.0);
 }

@@ -66,7 +66,7 @@ TEST_CASE("warm starting from last step's lambda by row id saves sweeps on a han
   scene.solver.tolerance = 1e-8;
   scene.solver.iterations = 100000;
   Scene cold_scene = scene;
-  cold_scene.solver.warm_start = false;
+  cold_scene.solver.warm = 0.0;
   Simulation warm(scene);
   Simulation cold(cold_scene);
   long warm_sweeps = 0;

@@ -15,7 +15,8 @@ TEST_CASE("solver specs: names, relaxation factors, orders and warm starts", "[s
   CHECK(psor.relaxation == 1.3);
   const SolverSpec random = parse_solver_spec("pgs:order=random:warm=off");
   CHECK(random.order == RowOrder::Random);
-  CHECK_FALSE(random.warm_start);
+  CHECK(random.warm == 0.0);
+  CHECK_FALSE(random.warm_friction.has_value());
   CHECK(parse_solver_spec("jacobi:1").relaxation == 1.0);
   CHECK(parse_solver_spec("matrix-free:order=reverse").order == RowOrder::Reverse);
   const auto list = parse_solver_list("pgs,psor:1.3,direct");
@@ -40,6 +41,59 @@ TEST_CASE("solver specs: names, relaxation factors, orders and warm starts", "[s
   CHECK(error_of("pgs:warm=maybe").find("valid: on, off") != std::string::npos);
   CHECK(error_of("pgs:colour=red").find("unknown option 'colour'") != std::string::npos);
   CHECK_THROWS_AS(parse_solver_list("pgs,,direct"), InputError);
+}
+
+TEST_CASE("solver specs: warm-start factors and contacts first", "[solver][cli][warm]") {
+  // The paper's warm start (7) by default: every row from its last lambda, F = 1.
+  const SolverSpec plain = parse_solver_spec("pgs");
+  CHECK(plain.warm == 1.0);
+  CHECK_FALSE(plain.warm_friction.has_value());
+  CHECK_FALSE(plain.contacts_first);
+  CHECK(parse_solver_spec("pgs:warm=on").warm == 1.0);
+  // Bullet's choice: 0.85 of the contact impulses, none of the friction ones.
+  const SolverSpec bullet = parse_solver_spec("pgs:order=random:warm=0.85:warm_friction=0");
+  CHECK(bullet.order == RowOrder::Random);
+  CHECK(bullet.warm == 0.85);
+  REQUIRE(bullet.warm_friction.has_value());
+  CHECK(*bullet.warm_friction == 0.0);
+  CHECK(*parse_solver_spec("sgs:warm_friction=on").warm_friction == 1.0);
+  CHECK(parse_solver_spec("direct:warm=0").warm == 0.0);
+  // Into the settings: friction rows take G, the others F; unset G is F.
+  SolverSettings settings;
+  apply_solver_spec(bullet, settings);
+  CHECK(settings.warm_factor(RowKind::Distance) == 0.85);
+  CHECK(settings.warm_factor(RowKind::Contact) == 0.85);
+  CHECK(settings.warm_factor(RowKind::Friction) == 0.0);
+  apply_solver_spec(parse_solver_spec("pgs:warm=0.5"), settings);
+  CHECK(settings.warm_factor(RowKind::Friction) == 0.5);
+  CHECK_FALSE(settings.contacts_first);
+  apply_solver_spec(parse_solver_spec("matrix-free:contacts_first=on:order=random"), settings);
+  CHECK(settings.contacts_first);
+  CHECK(settings.options().contacts_first);
+  CHECK(parse_solver_spec("psor:1.2:contacts_first=on").contacts_first);
+  const auto error_of = [](const std::string& text) {
+    try {
+      parse_solver_spec(text, "--solver");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(error_of("pgs:warm=1.5") ==
+        "--solver 'pgs:warm=1.5': warm '1.5' (valid: on, off or a number in [0, 1])");
+  CHECK(error_of("pgs:warm_friction=-0.1") ==
+        "--solver 'pgs:warm_friction=-0.1': warm_friction '-0.1' (valid: on, off or a number in "
+        "[0, 1])");
+  CHECK(error_of("pgs:warm=nan").find("valid: on, off or a number") != std::string::npos);
+  CHECK(error_of("pgs:warm=1:warm=0").find("'warm=' given twice") != std::string::npos);
+  CHECK(error_of("jacobi:contacts_first=on") ==
+        "--solver 'jacobi:contacts_first=on': contacts_first= applies to pgs, psor and "
+        "matrix-free");
+  CHECK(error_of("pgs:contacts_first=yes").find("(valid: on, off)") != std::string::npos);
+  CHECK(error_of("apgd:colour=red").find("valid: warm, warm_friction, restart, grow") !=
+        std::string::npos);
+  CHECK(error_of("pgs:colour=red").find("valid: order, contacts_first, warm, warm_friction)") !=
+        std::string::npos);
 }
 
 TEST_CASE("solver specs: each method's own parameters, their ranges, and read back as written",
@@ -79,8 +133,9 @@ TEST_CASE("solver specs: each method's own parameters, their ranges, and read ba
   CHECK(error_of("apgd:shrink=0").find("in (0, 1]") != std::string::npos);
   CHECK(error_of("pgs-sm:sweeps=2.5").find("a whole number >= 1") != std::string::npos);
   CHECK(error_of("admm:alpha=2").find("in (0, 2)") != std::string::npos);
-  CHECK(error_of("admm:restart=on").find("valid: warm, rho, alpha, adapt, rho_min") !=
-        std::string::npos);
+  CHECK(
+      error_of("admm:restart=on").find("valid: warm, warm_friction, rho, alpha, adapt, rho_min") !=
+      std::string::npos);
   CHECK(error_of("apgd:1.3").find("takes no relaxation factor") != std::string::npos);
   CHECK(error_of("pgs:grow=2").find("unknown option 'grow'") != std::string::npos);
 

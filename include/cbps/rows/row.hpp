@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cbps/body/body.hpp"
+#include "cbps/system/boxed_problem.hpp"
 
 namespace cbps {
 
@@ -18,12 +19,13 @@ enum class PushMode { Original, Improved };
 /// j_c = [j_a, j_b] ∈ R^{1×12} is kept as two 6-blocks over [v; omega] of body a and body b.
 /// A block whose body index is -1 (the world, or a static body) has no columns in J (5.3).
 struct Row {
-  std::string label;        ///< human-readable, e.g. "distance 3 (world-ball3)"
-  std::uint64_t id = 0;     ///< identity across steps, for warm starting lambda (7)
-  int body_a = -1;          ///< body index of the first block, -1 for none
-  int body_b = -1;          ///< body index of the second block, -1 for none
-  Row6 j_a = Row6::Zero();  ///< [∂ċ/∂v_a, ∂ċ/∂omega_a]: dimensionless | m
-  Row6 j_b = Row6::Zero();  ///< [∂ċ/∂v_b, ∂ċ/∂omega_b]: dimensionless | m
+  std::string label;                 ///< human-readable, e.g. "distance 3 (world-ball3)"
+  std::uint64_t id = 0;              ///< identity across steps, for warm starting lambda (7)
+  RowKind kind = RowKind::Distance;  ///< what it constrains (direction_row's caller says)
+  int body_a = -1;                   ///< body index of the first block, -1 for none
+  int body_b = -1;                   ///< body index of the second block, -1 for none
+  Row6 j_a = Row6::Zero();           ///< [∂ċ/∂v_a, ∂ċ/∂omega_a]: dimensionless | m
+  Row6 j_b = Row6::Zero();           ///< [∂ċ/∂v_b, ∂ċ/∂omega_b]: dimensionless | m
   /// Velocity bias (5.1.2) without the push term, m/s: restitution (8.2.1) and the closing
   /// of a contact gap; 0 for distance rows.
   double upsilon = 0.0;
@@ -53,8 +55,14 @@ inline double with_push(double upsilon, double upsilon_push) {
 /// The row form shared by distance (5.2.1), contact (5.3) and friction (5.4) rows: the rate of
 /// separation along the unit direction n of point p_a on body a and point p_b on body b,
 ///   j_c = [ −nᵀ, −(r_a × n)ᵀ, nᵀ, (r_b × n)ᵀ ],   r_a = p_a − x_a, r_b = p_b − x_b,
-/// with no block for an index of −1 (the world) or a static body. upsilon 0, bounds ±∞.
-Row direction_row(
-    const std::vector<Body>& bodies, int a, const Vec3& p_a, int b, const Vec3& p_b, const Vec3& n);
+/// with no block for an index of −1 (the world) or a static body. upsilon 0, bounds ±∞; `kind`
+/// is the caller's (distance_row, contact_row, friction_row).
+Row direction_row(RowKind kind,
+                  const std::vector<Body>& bodies,
+                  int a,
+                  const Vec3& p_a,
+                  int b,
+                  const Vec3& p_b,
+                  const Vec3& n);
 
 }  // namespace cbps

@@ -25,6 +25,33 @@ double pgs_sweep(const BoxedProblem& problem,
 /// The rows of a sweep in `order`: natural, reversed, or shuffled by rng (Random).
 void sweep_order(RowOrder order, int rows, std::mt19937_64& rng, std::vector<int>& out);
 
+/// The rows of a sweep grouped by kind, the contact rows before the friction rows: every
+/// distance row, then every contact normal row, then every friction row, each group in `order`
+/// (Random: each group shuffled by rng). Bullet's sequential-impulse solver sweeps this way
+/// (its joints, then all contacts, then all friction, shuffled within each pool when it
+/// randomises): the friction rows then read this sweep's normal forces.
+void sweep_order(RowOrder order,
+                 const std::vector<RowKind>& kinds,
+                 std::mt19937_64& rng,
+                 std::vector<int>& out);
+
+/// The row order of every sweep of a Gauss-Seidel solve (pgs, matrix-free): options.order, and
+/// the grouping above when options.contacts_first (std::invalid_argument if the problem has no
+/// row kinds, e.g. a stored problem). Random orders draw from options.seed.
+class SweepOrder {
+ public:
+  SweepOrder(const BoxedProblem& problem, const SolverOptions& options);
+  /// The rows of the next sweep; empty for the natural order without grouping (0 … c−1).
+  const std::vector<int>& next();
+
+ private:
+  RowOrder order_;
+  const std::vector<RowKind>* kinds_ = nullptr;  ///< grouping by kind, or null
+  int rows_ = 0;
+  std::mt19937_64 rng_;
+  std::vector<int> out_;
+};
+
 /// One projected Jacobi sweep: as pgs_sweep but every row reads the previous sweep's lambda
 /// (kept in scratch); with relaxation omega, lambda ← clamp(lambda + omega (lambda_J − lambda)).
 double jacobi_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation, VecX& scratch);

@@ -103,7 +103,12 @@ struct SolverOptions {
   bool split_islands = false;    ///< iterative methods: solve independent blocks of A apart
   bool describe = true;          ///< write SolverSummary::message (off for each island)
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, matrix-free)
-  std::uint64_t seed = 0;              ///< RowOrder::Random: the first permutation's seed
+  /// pgs and matrix-free: every sweep visits the distance rows, then all contact normal rows,
+  /// then all friction rows, each group in `order` (SweepOrder, pgs.hpp); needs the problem's
+  /// row kinds. false: the rows as the system holds them (each contact's friction rows right
+  /// after its normal row). Other methods ignore it.
+  bool contacts_first = false;
+  std::uint64_t seed = 0;  ///< RowOrder::Random: the first permutation's seed
   /// Constraint-force mixing eps, kg⁻¹: every method solves the boxed problem of A + eps E
   /// (with_cfm) instead of A; A itself stays J Minv Jᵀ. Residuals are those of A + eps E. 0: off.
   double cfm = 0.0;

@@ -92,8 +92,11 @@ class Simulation {
   /// The same, assembled into the simulation's own System, whose storage is reused from step
   /// to step; step() calls this. The reference stays valid until the next assemble() or step().
   const System& assemble(StageTimes* times = nullptr);
-  /// The warm-start guess for a system: last step's lambda by row id, else 0.
+  /// The warm-start guess for a system (7): last step's lambda by row id times the row's
+  /// warm-start factor (SolverSettings::warm, warm_friction), else 0.
   VecX initial_lambda(const System& sys) const;
+  /// Last step's lambda by row id as it was (no factor), else 0.
+  VecX last_lambda(const System& sys) const;
   /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda;
   /// `b` is sys.b, or the position system's right-hand side (8.1). Coulomb friction rows
   /// (5.4) get their bounds ±mu lambda_normal from lambda (solve_coulomb).
@@ -146,7 +149,9 @@ class Simulation {
   static const char* system_name(PushMode push);
   /// lambda by row id, for the next step's warm start (7).
   void remember(const System& sys, const VecX& lambda);
-  VecX warm_lambda(const System& sys, const WarmStart& warm) const;
+  /// The values of `warm` by row id (0 for a row it lacks), times each row's warm-start factor
+  /// when `scaled` (warm_guess).
+  VecX warm_lambda(const System& sys, const WarmStart& warm, bool scaled = true) const;
 
   Scene scene_;
   double t_ = 0.0;

@@ -1,9 +1,12 @@
 // A solver as the command line names it (`--solver`, `cbps converge --solvers`, stress cases):
-// NAME[:OMEGA][:order=natural|reverse|random][:warm=on|off][:key=value]..., e.g. `psor:1.3`,
-// `pgs:order=random`, `jacobi:0.7`, `sgs`, `matrix-free`, `block-pgs`, `direct`,
-// `apgd:restart=off`; the keys of a method's own parameters set its MethodSettings.
+// NAME[:OMEGA][:order=natural|reverse|random][:contacts_first=on|off][:warm=on|off|F]
+// [:warm_friction=on|off|G][:key=value]..., e.g. `psor:1.3`, `pgs:order=random`, `jacobi:0.7`,
+// `sgs`, `matrix-free`, `block-pgs`, `direct`, `apgd:restart=off`,
+// `pgs:order=random:warm=0.85:warm_friction=0` (Bullet's warm start); the keys of a method's own
+// parameters set its MethodSettings.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -22,15 +25,20 @@ namespace cbps {
 ///   pgs-nesterov PGS with Nesterov momentum and restart (restart=on|off), pgs-nesterov:OMEGA
 ///   apgd         accelerated projected gradient descent (grow=, shrink=, restart=on|off)
 ///   direct       the exact path (6.2); active-set the previous one
-/// order applies to pgs, psor, pgs-nesterov and matrix-free; warm=off starts from lambda = 0
-/// instead of the previous step's lambda. solver_spec_help() lists them all for --help.
+/// order applies to pgs, psor, pgs-nesterov and matrix-free; contacts_first=on (pgs, psor,
+/// matrix-free) sweeps every contact normal row before every friction row. warm=F starts each row
+/// from F times the previous step's lambda (on: 1, the default; off: 0, from lambda = 0), F in
+/// [0, 1]; warm_friction=G the friction rows from G times theirs (default: F).
+/// solver_spec_help() lists them all for --help.
 struct SolverSpec {
-  std::string text;                    ///< as given
-  Method method = Method::Pgs;         ///< psor is Method::Pgs with its relaxation
-  double relaxation = 1.0;             ///< omega
-  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms
-  bool warm_start = true;
-  MethodSettings methods;  ///< the keys of a method's own parameters
+  std::string text;                     ///< as given
+  Method method = Method::Pgs;          ///< psor is Method::Pgs with its relaxation
+  double relaxation = 1.0;              ///< omega
+  RowOrder order = RowOrder::Natural;   ///< Gauss-Seidel forms
+  bool contacts_first = false;          ///< pgs, psor, matrix-free
+  double warm = 1.0;                    ///< warm-start factor F (SolverSettings::warm)
+  std::optional<double> warm_friction;  ///< G of the friction rows, unset: F
+  MethodSettings methods;               ///< the keys of a method's own parameters
 };
 
 /// Parses one spec; throws InputError naming `what` (the option or JSON path) and the spec:
@@ -40,8 +48,8 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what = 
 std::vector<SolverSpec> parse_solver_list(const std::string& text,
                                           const std::string& what = "solvers");
 
-/// Sets a scene's solver settings from a parsed spec: method, relaxation, row order, warm
-/// start, the method's own parameters; the other settings stay.
+/// Sets a scene's solver settings from a parsed spec: method, relaxation, row order, contacts
+/// first, warm-start factors, the method's own parameters; the other settings stay.
 void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
 
 /// A method's own parameters as key and value text, the way the grammar writes them

@@ -21,6 +21,15 @@
 
 namespace cbps {
 
+/// What a row constrains, set where the row is made (rows/): the solvers may order their
+/// sweeps by it (SolverOptions::contacts_first) and a step scales its warm start by it
+/// (SolverSettings::warm, warm_friction).
+enum class RowKind {
+  Distance,  ///< a distance constraint (5.2)
+  Contact,   ///< a contact's normal row (5.3)
+  Friction   ///< a friction row along a tangent of a contact (5.4)
+};
+
 /// A view of one boxed problem: it refers to storage owned elsewhere (a System, a stored
 /// problem, an island's copy), so handing it on copies nothing. When A's factors J and Minv are
 /// known (a step's system, a `cbps matrices` folder) they come along: the matrix-free sweep
@@ -34,6 +43,9 @@ struct BoxedProblem {
   const SpMatRow* J = nullptr;               ///< c×6n with A = J Minv Jᵀ, or null
   const SpMat* Minv = nullptr;               ///< 6n×6n, or null
   const std::vector<int>* blocks = nullptr;  ///< c block ids (−1: a row alone), or null
+  /// c row kinds (a step's system), or null (a stored problem): the contacts-first sweep order
+  /// (SolverOptions::contacts_first) needs them.
+  const std::vector<RowKind>* kinds = nullptr;
   /// Constraint-force mixing already in A: A = J Minv Jᵀ + cfm E when J and Minv are given
   /// (solve() sets it when it forms A + eps E), kg⁻¹.
   double cfm = 0.0;

@@ -30,6 +30,7 @@ struct System {
   std::vector<int> body_of_block;   ///< column block → body index
   std::vector<std::string> labels;  ///< one per row
   std::vector<std::uint64_t> ids;   ///< one per row, for warm starting
+  std::vector<RowKind> kind;        ///< one per row: distance, contact or friction (Row::kind)
 
   SpMatRow J;  ///< c×6n (6.1), row-major: row k is j_c of row k
   SpMat Minv;  ///< 6n×6n block diagonal (6.1.2)
@@ -55,7 +56,7 @@ struct System {
   /// rhs must outlive it (never pass a temporary rhs).
   BoxedProblem problem() const { return problem(b); }
   BoxedProblem problem(const VecX& rhs) const {
-    return BoxedProblem{A, rhs, cmin, cmax, &J, &Minv, &manifold};
+    return BoxedProblem{A, rhs, cmin, cmax, &J, &Minv, &manifold, &kind};
   }
   /// The Coulomb friction rows (5.4), whose bounds ±mu lambda_n the solve sets.
   CoulombRows coulomb() const { return CoulombRows{normal_row, mu}; }
