@@ -130,8 +130,9 @@ int run_command(const RunOptions& o) {
                                        "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
     steps_csv = std::make_unique<Csv>(
         dir->file("steps.csv"),
-        o.no_timing ? "t,rows,iterations,residual,max_constraint_error,energy"
-                    : "t,rows,iterations,residual,max_constraint_error,energy,wall_time_s");
+        o.no_timing
+            ? "t,rows,warm_rows,iterations,residual,max_constraint_error,energy"
+            : "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,wall_time_s");
   }
 
   Simulation sim(scene);
@@ -215,6 +216,7 @@ int run_command(const RunOptions& o) {
     if (steps_csv) {
       steps_csv->num(sim.time());
       steps_csv->integer(r.rows);
+      steps_csv->integer(r.warm_rows);
       steps_csv->integer(r.solver.iterations);
       steps_csv->num(r.solver.residual);
       steps_csv->num(r.max_constraint_error);
@@ -284,6 +286,7 @@ int run_command(const RunOptions& o) {
       {"mu", scene.world.mu},
       {"friction", scene.world.friction == FrictionModel::Coulomb ? "coulomb" : "paper"},
       {"restitution", scene.world.restitution},
+      {"persistence", scene.world.contact_persistence},
       {"max_points", max_contacts}};
   summary["max_penetration"] = max_penetration;
   summary["iterations_total"] = iterations_total;

@@ -416,6 +416,7 @@ bool collide(const Body& a, const Body& b, int index_a, int index_b, Manifold& o
   }
   out.a = index_a;
   out.b = index_b;
+  for (ContactPoint& point : out.points) point.id = point.feature;
   return hit;
 }
 

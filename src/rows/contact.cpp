@@ -43,7 +43,7 @@ Row contact_row(const Manifold& manifold,
   row.label.append(pair_label(manifold, bodies));
   row.label.append(" #");
   row.label.append(std::to_string(point.feature));
-  row.id = contact_row_id(manifold.a, manifold.b, point.feature, 0);
+  row.id = contact_row_id(manifold.a, manifold.b, point.id, 0);
   return row;
 }
 
@@ -66,12 +66,12 @@ double contact_push(double depth, double beta, double dt) {
   return depth < 0.0 ? 0.0 : beta * depth / dt;  // (5.3)
 }
 
-std::uint64_t contact_row_id(int a, int b, std::uint32_t feature, int k) {
+std::uint64_t contact_row_id(int a, int b, std::uint64_t point_id, int k) {
   // Distance rows use ids 0 … (number of distances − 1); contact ids set the top bit.
   std::uint64_t h = 0xcbf29ce484222325ULL;  // FNV-1a over the four fields
   for (const std::uint64_t x : {std::uint64_t(std::uint32_t(a)),
                                 std::uint64_t(std::uint32_t(b)),
-                                std::uint64_t(feature),
+                                point_id,
                                 std::uint64_t(k)}) {
     for (int byte = 0; byte < 8; ++byte) {
       h ^= (x >> (8 * byte)) & 0xffU;

@@ -38,7 +38,7 @@ Row friction_row(const Manifold& manifold,
   row.label.append(" #");
   row.label.append(std::to_string(point.feature));
   row.label.append(k == 1 ? " t1" : " t2");
-  row.id = contact_row_id(manifold.a, manifold.b, point.feature, k);
+  row.id = contact_row_id(manifold.a, manifold.b, point.id, k);
   return row;
 }
 

@@ -222,6 +222,7 @@ World read_world(const Node& node) {
                 "restitution",
                 "restitution_threshold",
                 "contact_margin",
+                "contact_persistence",
                 "divergence_speed",
                 "divergence_spin"});
   World world;
@@ -239,6 +240,9 @@ World read_world(const Node& node) {
     world.restitution_threshold = nonnegative(child(node, "restitution_threshold"));
   world.contact_margin = has(node, "contact_margin") ? nonnegative(child(node, "contact_margin"))
                                                      : kSceneContactMargin;
+  world.contact_persistence = has(node, "contact_persistence")
+                                  ? nonnegative(child(node, "contact_persistence"))
+                                  : kSceneContactPersistence;
   if (has(node, "divergence_speed"))
     world.divergence_speed = positive(child(node, "divergence_speed"));
   if (has(node, "divergence_spin"))
@@ -875,6 +879,7 @@ std::string scene_to_json(const Scene& scene) {
   world["restitution"] = scene.world.restitution;
   world["restitution_threshold"] = scene.world.restitution_threshold;
   world["contact_margin"] = scene.world.contact_margin;
+  world["contact_persistence"] = scene.world.contact_persistence;
   world["divergence_speed"] = scene.world.divergence_speed;
   world["divergence_spin"] = scene.world.divergence_spin;
   root["world"] = world;

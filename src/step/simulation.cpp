@@ -48,6 +48,10 @@ StepReport Simulation::step() {
   name_stages();
   const System& sys = assemble(&report.times);  // Collision (4), Rows (5.2–5.4), Assembly (6.1)
   report_contacts(sys, report);
+  report.warm_rows = continued_rows(sys);
+  // Where this step's contact points sit on their bodies, for the next step's persistence.
+  ContactMemory contacts =
+      persistence() ? keep_contacts(scene_.bodies, manifolds_, contacts_.next_id) : ContactMemory{};
   VecX lambda = initial_lambda(sys);  // warm start (7)
   {
     const StageTimer solve(report.times.solve);
@@ -60,7 +64,8 @@ StepReport Simulation::step() {
   const bool improved = sys.push == PushMode::Improved;
   const VecX v_move = improved ? position_velocities(sys, lambda, report) : v2;  // (8.1)
   integrate(sys, v2, v_move, report.times);                                      // Integrate (3.2)
-  remember(sys, lambda);                                 // for the next step's warm start (7)
+  remember(sys, lambda);  // for the next step's warm start (7)
+  contacts_ = std::move(contacts);
   t_ = static_cast<double>(++steps_) * scene_.world.dt;  // not a running sum: no drift
   report.max_constraint_error = max_constraint_error();
   report.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
@@ -112,6 +117,9 @@ void Simulation::detect_contacts(std::vector<Manifold>& manifolds, StageTimes* t
   {
     const StageTimer narrow(narrow_s);
     manifolds = narrow_phase(scene_.bodies, pairs, scene_.world.contact_margin);  // (4, step 2)
+    // The points that continue last step's keep their ids (7).
+    if (persistence())
+      continue_contacts(contacts_, scene_.bodies, scene_.world.contact_persistence, manifolds);
   }
   if (times != nullptr) {
     times->broad_phase = broad_s;
@@ -153,6 +161,12 @@ const System& Simulation::assemble(StageTimes* times) {
   }
   if (times != nullptr) times->assembly = assembly_s;
   return sys_;
+}
+
+int Simulation::continued_rows(const System& sys) const {
+  return static_cast<int>(std::count_if(sys.ids.begin(), sys.ids.end(), [&](std::uint64_t id) {
+    return warm_.find(id) != warm_.end();
+  }));
 }
 
 VecX Simulation::initial_lambda(const System& sys) const { return warm_lambda(sys, warm_); }

@@ -36,6 +36,7 @@ TEST_CASE("box-on-plane.json rests with the same 12 rows every step (contact mar
           "[defaults][contact]") {
   const Scene scene = read_scene_file(scene_file("box-on-plane.json"));
   CHECK(scene.world.contact_margin == kSceneContactMargin);  // not given in the file
+  CHECK(scene.world.contact_persistence == kSceneContactPersistence);
   Simulation sim(scene);
   const Vec3 start = sim.scene().bodies[1].x;
   const auto steps = static_cast<long>(std::lround(scene.duration / scene.world.dt));

@@ -88,6 +88,7 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.restitution == want.world.restitution);
   CHECK(got.world.restitution_threshold == want.world.restitution_threshold);
   CHECK(got.world.contact_margin == want.world.contact_margin);
+  CHECK(got.world.contact_persistence == want.world.contact_persistence);
   CHECK(got.solver.method == want.solver.method);
   CHECK(got.solver.iterations == want.solver.iterations);
   CHECK(got.solver.tolerance == want.solver.tolerance);
@@ -143,6 +144,7 @@ Scene contact_scene() {
   scene.world.restitution = 0.45;
   scene.world.restitution_threshold = 1.0 / 30.0;
   scene.world.contact_margin = 0.004;
+  scene.world.contact_persistence = 0.03;
   scene.solver.split_islands = false;
 
   Body ground;

@@ -34,7 +34,8 @@ constexpr double kVelocityPerResidual = 256.0;
 /// The three fixture problems and the residual, relative to scale_of, NNCG is asked for on each.
 /// NNCG reaches 1e-10 on the chain (352 iterations) but not on the singular contact problems
 /// within 200,000 iterations (neither does PGS); 1e-6 it reaches on the stack in 37,424
-/// iterations (PGS 59,543) and on the base-4 pyramid in 86 (PGS 358).
+/// iterations (PGS 59,543) and on the base-4 pyramid in 86 (PGS 358). The scenes are stepped with
+/// contact persistence off, the states these were measured on (methods_fixture.hpp).
 struct Case {
   test::Problem scene;
   double relative;
@@ -46,8 +47,8 @@ TEST_CASE("NNCG reaches the direct path's w and v2 on a chain, a stack and a pyr
           "[nncg][solver][direct][eq6.2][eq12.3.1]") {
   const Case the = GENERATE(values<Case>({
       {{"chain", {{"n", "20"}, {"mass_ratio", "10"}}, 10}, 1e-10},
-      {{"stack", {{"n", "10"}}, 30}, 1e-6},
-      {{"pyramid", {{"base", "4"}}, 30}, 1e-6},
+      {{"stack", {{"n", "10"}, {"persistence", "0"}}, 30}, 1e-6},
+      {{"pyramid", {{"base", "4"}, {"persistence", "0"}}, 30}, 1e-6},
   }));
   const test::Problem& c = the.scene;
   const System sys = system_of(c.name, c.values, c.steps);

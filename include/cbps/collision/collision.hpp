@@ -12,7 +12,8 @@
 //          or the solver separates them slightly; the contact row (5.3) must expect d < 0 then.
 //
 // Feature ids (ContactPoint::feature) name the touching features, so they stay the same from step
-// to step while the same features touch (for warm starting lambda, 7):
+// to step while the same features touch; a point's id (ContactPoint::id, the identity its rows
+// warm-start by, 7) is its feature id unless contact persistence (persistence.hpp) continues it:
 //   sphere–sphere, plane–sphere: 0.
 //   box–sphere: the box's region of the sphere centre in the box frame: outside the box,
 //     d_x + 3 d_y + 9 d_z with d_k = 0 below −h_k, 1 within ±h_k, 2 above +h_k; centre inside the
@@ -50,6 +51,10 @@ struct ContactPoint {
   Vec3 p = Vec3::Zero();      ///< world point halfway through the overlap along n, m
   double depth = 0.0;         ///< penetration d along n, m (≥ 0; ≥ −margin with a margin)
   std::uint32_t feature = 0;  ///< the touching features (see the top of this file)
+  /// Identity across steps, for warm starting lambda (7): the contact rows' ids are made from it
+  /// (contact_row_id). collide() sets it to `feature`; contact persistence
+  /// (collision/persistence.hpp) replaces it with the id of the last step's point it continues.
+  std::uint64_t id = 0;
 };
 
 /// The contact manifold of bodies a and b (4): one normal n from a to b, 1 to 4 points.
@@ -103,7 +108,7 @@ bool collide_box_box(const Body& a, const Body& b, Manifold& out, double margin 
 /// Narrow-phase dispatch (4) for bodies a and b, indices index_a and index_b, any kinds in any
 /// order: swaps the arguments for the pair functions above when needed and flips n, so that n
 /// always points from a to b. Two static bodies, and two planes, never collide (false). Sets
-/// out.a = index_a, out.b = index_b.
+/// out.a = index_a, out.b = index_b, and each point's id to its feature.
 bool collide(
     const Body& a, const Body& b, int index_a, int index_b, Manifold& out, double margin = 0.0);
 

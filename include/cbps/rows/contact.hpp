@@ -37,8 +37,9 @@ double contact_push(double depth, double beta, double dt);
 /// The pair's body names "a-b", for the labels of its contact and friction rows.
 std::string pair_label(const Manifold& manifold, const std::vector<Body>& bodies);
 
-/// The row id of a contact (k = 0) or friction (k = 1, 2) row: the pair, the point's feature
-/// and k, hashed so that a point keeps its id from step to step (warm starting, 7).
-std::uint64_t contact_row_id(int a, int b, std::uint32_t feature, int k);
+/// The row id of a contact (k = 0) or friction (k = 1, 2) row: the pair, the point's id
+/// (ContactPoint::id) and k, hashed so that a point keeps its rows' ids from step to step
+/// (warm starting, 7).
+std::uint64_t contact_row_id(int a, int b, std::uint64_t point_id, int k);
 
 }  // namespace cbps

@@ -20,6 +20,11 @@ namespace cbps {
 /// do not flicker from step to step (box-on-plane: 12 rows every step, not 12, 6 or 9).
 inline constexpr double kSceneContactMargin = 1e-3;
 
+/// The contact persistence of JSON scene files and built-in scenes unless they say otherwise, m
+/// (World::contact_persistence): Bullet's contact breaking threshold, 0.02 m
+/// (gContactBreakingThreshold, btPersistentManifold.cpp).
+inline constexpr double kSceneContactPersistence = 0.02;
+
 struct World {
   Vec3 gravity{0.0, -9.81, 0.0};  ///< g, m/s² (y is up)
   double dt = 1.0 / 240.0;        ///< time step, s
@@ -32,6 +37,12 @@ struct World {
   /// Contacts kept up to this separation (4), m. 0 here for scenes built in code (the stress
   /// catalogue, tests); scene files and built-in scenes default to kSceneContactMargin.
   double contact_margin = 0.0;
+  /// Contact persistence, m (7, collision/persistence.hpp): a contact point found within this
+  /// distance of where a point of the same pair sat on both bodies last step continues that
+  /// point, so its rows keep their ids and their warm start. 0: off, a point is known again only
+  /// by its clipping feature id (ContactPoint::feature). 0 here for scenes built in code; scene
+  /// files and built-in scenes default to kSceneContactPersistence.
+  double contact_persistence = 0.0;
   /// A step diverges when a body's speed |v| or spin |omega| exceeds these (or any value turns
   /// non-finite): the run stops there with a DivergenceError naming step, body and row.
   double divergence_speed = 1e4;  ///< m/s

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cbps/collision/collision.hpp"
+#include "cbps/collision/persistence.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/system.hpp"
@@ -56,6 +57,9 @@ struct StageTimes {
 
 struct StepReport {
   int rows = 0;
+  /// Rows that continue a row of the last step (the same row id, Row::id), so their lambda
+  /// starts from last step's (7); the others start from 0.
+  int warm_rows = 0;
   int contacts = 0;  ///< contact points found this step (4)
   SolverSummary solver;
   SolverSummary position_solver;      ///< the position system of 8.1 (improved push only)
@@ -149,6 +153,10 @@ class Simulation {
   static const char* system_name(PushMode push);
   /// lambda by row id, for the next step's warm start (7).
   void remember(const System& sys, const VecX& lambda);
+  /// Contact persistence is on (World::contact_persistence > 0) and the scene has contacts.
+  bool persistence() const { return collision_stage_ && scene_.world.contact_persistence > 0.0; }
+  /// The rows of `sys` whose id was a row of the last step (StepReport::warm_rows).
+  int continued_rows(const System& sys) const;
   /// The values of `warm` by row id (0 for a row it lacks), times each row's warm-start factor
   /// when `scaled` (warm_guess).
   VecX warm_lambda(const System& sys, const WarmStart& warm, bool scaled = true) const;
@@ -159,6 +167,8 @@ class Simulation {
   WarmStart warm_;  ///< row id → last lambda, N
   /// row id → last λ_position − λ, N: the position system's push increment (8.1)
   WarmStart warm_position_;
+  /// Last step's contact points, for contact persistence (World::contact_persistence).
+  ContactMemory contacts_;
   Observer observer_;
   bool collision_stage_ = false;  ///< the scene has a pair that may collide
   std::vector<std::string> stages_;

@@ -21,6 +21,7 @@ void read_contact_world(const ParameterValues& p, Scene& scene) {
   scene.world.push =
       p.word("push", "original|improved") == "improved" ? PushMode::Improved : PushMode::Original;
   scene.world.contact_margin = p.number("margin", 0.0, kInf);
+  scene.world.contact_persistence = p.number("persistence", 0.0, kInf);
   scene.duration = p.positive("duration");
 }
 

@@ -37,6 +37,11 @@ std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
                  "0.001",
                  "m",
                  "contacts kept up to this separation (4)"});  // as kSceneContactMargin
+  own.push_back({"persistence",
+                 "0.02",
+                 "m",
+                 "a contact point within this of last step's continues it (its warm start, 7); 0: "
+                 "by feature id"});  // as kSceneContactPersistence
   own.push_back({"duration", duration, "s", "simulated time"});
   return own;
 }
