@@ -763,6 +763,52 @@ def _contacts_column_cost(src):
 
 
 # ---------------------------------------------------------------------------------------------
+# The stack's ingredients (validate_stack: validation/results/stack-ingredients.json).
+
+STACK = "validation/results/stack-ingredients.json"
+
+
+def _stack_runs(src, config, sweeps):
+    runs = [r for r in need(src.json(STACK), "runs", where=STACK)
+            if r["config"] == config and r["sweeps"] == sweeps]
+    if not runs:
+        raise SourceError(f"{STACK}: no run of {config!r} at {sweeps} sweeps")
+    return runs
+
+
+def _stack_cell(runs):
+    d = sorted(r["drift"] for r in runs)
+    n = len(d)
+    med = d[n // 2] if n % 2 else 0.5 * (d[n // 2 - 1] + d[n // 2])
+    if n == 1:
+        return length(med)
+    return f"{length(med)} (max {length(d[-1])})"
+
+
+@generator("stack-ingredients", STACK)
+def _stack_ingredients(src):
+    configs = []
+    for r in need(src.json(STACK), "runs", where=STACK):
+        if r["config"] not in [c[0] for c in configs]:
+            configs.append((r["config"], r["spec"], r["persistence"]))
+    rows = []
+    for name, spec, persistence in configs:
+        cold = _stack_runs(src, name, 20)
+        rows.append((name, "on" if persistence else "off", f"`{spec}`",
+                     *(_stack_cell(_stack_runs(src, name, s)) for s in (10, 20, 50)),
+                     f"{100 * max(r['cold_fraction'] for r in cold):.1f} %"))
+    return table(["configuration", "persistence", "solver spec", "10 sweeps", "20 sweeps",
+                  "50 sweeps", "rows cold (20 sweeps)"], rows, "lllrrrr")
+
+
+@generator("stack-ingredients-seeds", STACK)
+def _stack_seeds(src):
+    j = src.json(STACK)
+    return (f"{need(j, 'seeds', where=STACK)} seeds; the whole study takes "
+            f"{dur(need(j, 'wall_time_s', where=STACK))}")
+
+
+# ---------------------------------------------------------------------------------------------
 # The stress catalogue (`cbps stress --out`: validation/results/stress/summary.json).
 
 STRESS = "validation/results/stress/summary.json"

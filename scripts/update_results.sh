@@ -54,6 +54,8 @@ copy $v/beta-study/beta-0/validation.json $v/results/beta-study/beta-0.json
 # --target validation-contacts
 copy $v/contacts.json $v/results/contacts.json
 copy $v/push-factor.png docs/push-factor.png
+# --target validation-stack
+copy $v/stack-ingredients.json $v/results/stack-ingredients.json
 # --target convergence, convergence-pyramid
 for study in chain stack pyramid; do
   copy $v/convergence/$study/summary.json $v/results/convergence/$study/summary.json
