@@ -32,7 +32,8 @@ bool finite(double x) { return std::isfinite(x); }
 void check_finite(const cbps::Scene& scene) {
   const cbps::World& w = scene.world;
   require(finite(w.gravity) && finite(w.dt) && finite(w.beta) && finite(w.mu) &&
-              finite(w.restitution) && finite(w.restitution_threshold) && finite(w.contact_margin),
+              finite(w.restitution) && finite(w.restitution_threshold) &&
+              finite(w.contact_margin) && finite(w.contact_persistence),
           "a world setting is not finite");
   require(finite(scene.duration), "the duration is not finite");
   require(finite(scene.solver.tolerance) && finite(scene.solver.delta_tolerance) &&
