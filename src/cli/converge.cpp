@@ -205,6 +205,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   options.describe = false;
   options.cfm = s.stored.cfm;
+  options.methods = spec.methods;  // the method's own keys (apgd:restart=off, pgs-sm:sweeps=1)
   options.after_sweep = [&](int k, const VecX& l, double time_s) {
     const double residual = natural_map_residual(s.solved(), l);
     run.reach(k, time_s, residual);
