@@ -46,7 +46,7 @@ struct ProfileOptions {
   std::string solvers = "pgs,psor:1.3,sgs,pgs-nesterov,apgd,nncg,pgs-sm,admm,rbgs,block-pgs,direct";
   std::string out;
   bool quick = false;
-  int budget_iterations = 20000;
+  int budget_iterations = 100000;
   double time_limit = 1.0;
   bool json = false;
   bool quiet = false;
@@ -347,7 +347,7 @@ std::string summary_text(const std::vector<Entry>& entries,
   std::snprintf(line,
                 sizeof line,
                 "cbps profile: %zu problems x %zu solvers from lambda = 0; budget %d sweeps and "
-                "%g s per problem and solver; %.1f s in all\n",
+                "%g s per problem and solver; %.3g s in all\n",
                 entries.size(),
                 specs.size(),
                 o.budget_iterations,
@@ -578,7 +578,7 @@ void register_profile(CLI::App& app, Action& run) {
   cmd->add_flag("--quick", o->quick, "only the problems the library marks quick");
   cmd->add_option("--budget-iterations",
                   o->budget_iterations,
-                  "max sweeps per problem and solver (default 20000)")
+                  "max sweeps per problem and solver (default 100000)")
       ->check(positive());
   cmd->add_option("--time-limit", o->time_limit, "max time per problem and solver, s (default 1)")
       ->check(positive());
