@@ -1,6 +1,8 @@
 #include "common.hpp"
 
 #include <pthread.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +22,8 @@
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/solver_spec.hpp"
+
+extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -374,6 +378,19 @@ void install_interrupt_cleanup() {
     std::fprintf(stderr, "cbps: stopped by %s\n", signal == SIGINT ? "SIGINT" : "SIGTERM");
     std::_Exit(128 + signal);
   }).detach();
+}
+
+bool run_python_script(const std::string& script, std::vector<std::string> args) {
+  const std::string python = CBPS_PLOT_PYTHON;
+  args.insert(args.begin(), {python, std::string(CBPS_SOURCE_DIR) + "/" + script});
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return false;
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid) return false;
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
 void write_text(const std::string& path, const std::string& text) {

@@ -97,6 +97,11 @@ void set_command_line(int argc, char** argv);
 /// stderr and exits with 128 + the signal (130, 143). main calls this before anything else.
 void install_interrupt_cleanup();
 
+/// Runs one of cbps's own Python scripts, SCRIPT relative to the source tree (e.g.
+/// "scripts/plot_convergence.py"), under CBPS_PLOT_PYTHON (Debian's python3, which has
+/// matplotlib) with the arguments given; true if it exited 0.
+bool run_python_script(const std::string& script, std::vector<std::string> args);
+
 /// Writes text to a file, throwing on failure.
 void write_text(const std::string& path, const std::string& text);
 
@@ -120,5 +125,6 @@ void register_matrices(CLI::App& app, Action& run);
 void register_lcp(CLI::App& app, Action& run);
 void register_verify(CLI::App& app, Action& run);
 void register_converge(CLI::App& app, Action& run);
+void register_profile(CLI::App& app, Action& run);
 
 }  // namespace cbps::cli

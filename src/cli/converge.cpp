@@ -7,9 +7,6 @@
 // objective ½ λᵀ A λ − bᵀ λ. The direct path (6.2) is one point: its time and residual.
 // With --record-every K only every K-th sweep (and the guess and the last sweep) is written;
 // the milestones of the summary are still taken from every sweep.
-#include <spawn.h>
-#include <sys/wait.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -26,8 +23,6 @@
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
-
-extern char** environ;
 
 namespace cbps::cli {
 
@@ -210,6 +205,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   options.describe = false;
   options.cfm = s.stored.cfm;
+  options.methods = spec.methods;  // the method's own keys (apgd:restart=off, pgs-sm:sweeps=1)
   options.after_sweep = [&](int k, const VecX& l, double time_s) {
     const double residual = natural_map_residual(s.solved(), l);
     run.reach(k, time_s, residual);
@@ -272,17 +268,7 @@ nlohmann::json json_or_null(double x) {
 
 /// Runs the plot script on the CSV; true if it wrote its files.
 bool plot(const std::string& csv, const std::string& prefix, const std::string& title) {
-  const std::string python = CBPS_PLOT_PYTHON;
-  const std::string script = std::string(CBPS_SOURCE_DIR) + "/scripts/plot_convergence.py";
-  std::vector<std::string> args{python, script, csv, prefix, "--title", title};
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, python.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return false;
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid) return false;
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return run_python_script("scripts/plot_convergence.py", {csv, prefix, "--title", title});
 }
 
 int converge_command(const ConvergeOptions& o) {

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
       "  cbps lcp out/m --solver pgs\n"
       "  cbps verify\n"
       "  cbps converge chain --param n=100 --param mass_ratio=100 --step 100 --out out/conv\n"
+      "  cbps profile out/library --solvers pgs,apgd,direct --out out/profile\n"
       "Exit codes: 0 success, 1 failed computation, 2 bad input or usage.");
   app.require_subcommand(1);
   app.set_version_flag("--version", "cbps 0.1.0");
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   cbps::cli::register_lcp(app, action);
   cbps::cli::register_verify(app, action);
   cbps::cli::register_converge(app, action);
+  cbps::cli::register_profile(app, action);
   cbps::cli::register_stress(app, action);
   try {
     app.parse(argc, argv);

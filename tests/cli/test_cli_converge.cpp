@@ -206,6 +206,23 @@ TEST_CASE("cbps converge warns when the step is already solved by the initial gu
   CHECK(later.err.find("warning") == std::string::npos);
 }
 
+TEST_CASE("cbps converge hands a spec's method keys to the method", "[cli][converge]") {
+  // apgd:restart=off and pgs-sm:sweeps=1 are other methods than apgd and pgs-sm: they must not
+  // take the same sweeps (before the keys were passed on, both pairs ran the defaults alike).
+  const auto r = run_cli(
+      "converge chain --param n=10 --param mass_ratio=100 --step 20 --quiet --no-plot --json "
+      "--solvers apgd,apgd:restart=off,pgs-sm,pgs-sm:sweeps=1");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const auto summary = nlohmann::json::parse(r.out);
+  std::map<std::string, int> sweeps;
+  for (const auto& s : summary["solvers"])
+    sweeps[s["solver"].get<std::string>()] = s["iterations"].get<int>();
+  CAPTURE(sweeps["apgd"], sweeps["apgd:restart=off"], sweeps["pgs-sm"], sweeps["pgs-sm:sweeps=1"]);
+  CHECK(sweeps["apgd"] != sweeps["apgd:restart=off"]);
+  CHECK(sweeps["pgs-sm"] != sweeps["pgs-sm:sweeps=1"]);
+}
+
 TEST_CASE("plot_convergence.py draws a CSV with a diverging solver", "[cli][converge][plot]") {
   const auto dir = scratch_dir("converge_plot");
   // pgs converges, jacobi diverges to 1e300 and then inf, direct is one point.

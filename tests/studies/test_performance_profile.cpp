@@ -1,0 +1,76 @@
+// Performance profiles (Dolan & Moré, Math. Program. 91, 2002) on tables worked out by hand.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "cbps/studies/performance_profile.hpp"
+
+using namespace cbps;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace
+
+TEST_CASE("performance ratios and rho(tau) match a table worked by hand (Dolan & More eq. 1)",
+          "[profile]") {
+  // Four problems, three solvers; inf: the solver failed. By hand:
+  //   p0: best 1  -> r = (1, 2, inf)
+  //   p1: best 5  -> r = (2, 1, 4)
+  //   p2: best 3  -> r = (inf, 1, 1)
+  //   p3: every solver failed -> r = (inf, inf, inf)
+  const CostTable cost = {
+      {1.0, 2.0, kInf}, {10.0, 5.0, 20.0}, {kInf, 3.0, 3.0}, {kInf, kInf, kInf}};
+  const CostTable r = performance_ratios(cost);
+  const CostTable expected = {
+      {1.0, 2.0, kInf}, {2.0, 1.0, 4.0}, {kInf, 1.0, 1.0}, {kInf, kInf, kInf}};
+  REQUIRE(r.size() == expected.size());
+  for (std::size_t p = 0; p < r.size(); ++p)
+    for (std::size_t s = 0; s < 3; ++s) {
+      CAPTURE(p, s);
+      CHECK(r[p][s] == expected[p][s]);
+    }
+  // rho_s(tau) = |{p : r_ps <= tau}| / 4.
+  CHECK(performance_fraction(r, 0, 1.0) == 0.25);  // best on p0
+  CHECK(performance_fraction(r, 0, 2.0) == 0.5);   // p0, p1
+  CHECK(performance_fraction(r, 0, 10.0) == 0.5);
+  CHECK(performance_fraction(r, 1, 1.0) == 0.5);  // best on p1 and p2 (a tie on p2)
+  CHECK(performance_fraction(r, 1, 2.0) == 0.75);
+  CHECK(performance_fraction(r, 2, 1.0) == 0.25);  // the tie on p2
+  CHECK(performance_fraction(r, 2, 3.99) == 0.25);
+  CHECK(performance_fraction(r, 2, 4.0) == 0.5);  // p1 enters at tau = 4
+  // rho_s(inf): the fraction solved; p3 counts for nobody.
+  CHECK(performance_fraction(r, 0, kInf) == 0.5);
+  CHECK(performance_fraction(r, 1, kInf) == 0.75);
+  CHECK(performance_fraction(r, 2, kInf) == 0.5);
+}
+
+TEST_CASE("a solver that never converges has rho = 0 at every tau", "[profile]") {
+  // Solver 1 fails everywhere (inf, and NaN as a failure too); solver 0 is then best everywhere.
+  const CostTable cost = {{4.0, kInf}, {0.5, std::nan("")}, {7.0, kInf}};
+  const CostTable r = performance_ratios(cost);
+  for (const double tau : {1.0, 2.0, 10.0, 1e300, kInf}) {
+    CAPTURE(tau);
+    CHECK(performance_fraction(r, 1, tau) == 0.0);
+    CHECK(performance_fraction(r, 0, tau) == 1.0);
+  }
+}
+
+TEST_CASE("a best cost of 0 gives ratio 1 to the solvers at 0 and infinity to the rest",
+          "[profile]") {
+  // The guess already meets the tolerance: sweeps 0 for two solvers, 3 for the third.
+  const CostTable r = performance_ratios({{0.0, 0.0, 3.0}, {2.0, 1.0, 1.0}});
+  CHECK(r[0][0] == 1.0);
+  CHECK(r[0][1] == 1.0);
+  CHECK(r[0][2] == kInf);
+  CHECK(r[1][0] == 2.0);
+  CHECK(performance_fraction(r, 2, 1e6) == 0.5);
+}
+
+TEST_CASE("performance ratios refuse negative costs and ragged tables", "[profile]") {
+  CHECK_THROWS_AS(performance_ratios({{1.0, -1.0}}), std::invalid_argument);
+  CHECK_THROWS_AS(performance_ratios({{1.0, 2.0}, {1.0}}), std::invalid_argument);
+  CHECK(performance_fraction({}, 0, 2.0) == 0.0);
+}
