@@ -215,21 +215,38 @@ TEST_CASE("shock-ordered PGS reaches the direct path's w and v2 on a chain, a st
   CHECK(v2_error <= kVelocityPerResidual * sys.dt * options.tolerance);
 }
 
-TEST_CASE("shock order against plain PGS: sweeps to 1e-6 relative on a chain, stack and pyramid",
+TEST_CASE("the built-in scenes number their rows bottom-up: the shock order is PGS's there",
           "[shock][eq7.1.1]") {
-  // MEASURED
-  const Problem p = GENERATE(values<Problem>({test::kChain, test::kStack, test::kPyramid}));
+  // Measured (iterations to a natural-map residual of 1e-6 of scale_of, from lambda = 0, limit
+  // 200,000; "-": not reached):
+  //                                 pgs    shock  shock down  level_sweeps 2 (sweeps)  pgs reverse
+  //   chain (20 links, ratio 10)    2556   2556   2556        2556 (5112)              2556
+  //   stack (10 boxes, mu 0.5, 20)  50570  50570  50573       25287 (50574)            34446
+  //   pyramid (base 3, step 20)     108    108    112         142 (284)                170
+  //   pyramid (base 5, step 20)     -      -      -           -                        -
+  // To 1e-10 N only the chain gets there (5889 sweeps each); the stacks stall on b's component
+  // in A's null space (test_every_solver_agrees.cpp), every order alike. The scenes make their
+  // bodies and contacts from the ground up, so the levels' order is the rows' own and shock
+  // is PGS, sweep for sweep. With the rows numbered top-down (reversed), PGS needs 34446 and
+  // 170 (its reverse order above) and shock 34451 and 165: the order inside a level (here
+  // reversed with the rows) matters more on the stack than the direction of the levels.
+  const Problem p = GENERATE(values<Problem>({test::kChain, test::kPyramid}));
   const System sys = test::system_of(p.name, p.values, p.steps);
   const BoxedProblem problem = sys.problem();
-  const int pgs = test::iterations_to(problem, 1e-6, 200000, solve_pgs);
+  const ContactLayers g = contact_layers(sys.J);
+  std::vector<int> natural(g.order.size());
+  for (std::size_t k = 0; k < natural.size(); ++k) natural[k] = int(k);
+  CHECK(g.order == natural);
+  CHECK(g.levels == (p.name == "chain" ? 20 : 3));
+
+  const int pgs = test::iterations_to(problem, 1e-6, 20000, solve_pgs);
   const int shock = test::iterations_to(
-      problem, 1e-6, 200000, [](const BoxedProblem& q, VecX& l, const SolverOptions& o) {
+      problem, 1e-6, 20000, [](const BoxedProblem& q, VecX& l, const SolverOptions& o) {
         return solve_shock(q, l, o);
       });
   INFO(p.name << ": pgs " << pgs << " sweeps, shock " << shock << " sweeps");
   CHECK(pgs > 0);
-  CHECK(shock > 0);
-  WARN(p.name << ": pgs " << pgs << " sweeps, shock " << shock << " sweeps");
+  CHECK(shock == pgs);
 }
 
 TEST_CASE("shock order: NaN in b ends NonFinite, a problem without J is refused", "[shock]") {
