@@ -210,6 +210,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.relaxation = spec.relaxation;
   options.order = spec.order;
   options.contacts_first = spec.contacts_first;
+  options.methods = spec.methods;  // the method's own key=value parameters
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   options.describe = false;
   options.cfm = s.stored.cfm;
