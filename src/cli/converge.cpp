@@ -174,6 +174,9 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   if (spec.method == Method::MatrixFree && !s.has_bodies())
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no J and Minv (a Siconos file); the matrix-free form needs them");
+  if (spec.method == Method::Shock && !s.has_bodies())
+    throw InputError("--solvers " + spec.text + ": " + s.name +
+                     " has no J (a Siconos file); the shock order takes its layers from J");
   if (spec.contacts_first && s.kinds.empty())
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no row kinds (a stored problem); contacts_first needs a scene");
@@ -202,6 +205,7 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   options.relaxation = spec.relaxation;
   options.order = spec.order;
   options.contacts_first = spec.contacts_first;
+  options.methods = spec.methods;  // the method's own key=value parameters
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   options.describe = false;
   options.cfm = s.stored.cfm;

@@ -19,6 +19,7 @@
 #include "cbps/solvers/pgs_nesterov.hpp"
 #include "cbps/solvers/pgs_sm.hpp"
 #include "cbps/solvers/rbgs.hpp"
+#include "cbps/solvers/shock.hpp"
 
 namespace cbps {
 
@@ -40,7 +41,8 @@ constexpr MethodName kMethodNames[] = {{Method::Pgs, "pgs"},
                                        {Method::Nncg, "nncg"},
                                        {Method::PgsSm, "pgs-sm"},
                                        {Method::Admm, "admm"},
-                                       {Method::Rbgs, "rbgs"}};
+                                       {Method::Rbgs, "rbgs"},
+                                       {Method::Shock, "shock"}};
 
 }  // namespace
 
@@ -148,6 +150,8 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_admm(problem, lambda, options, options.methods.admm);
     case Method::Rbgs:
       return solve_rbgs(problem, lambda, options);
+    case Method::Shock:
+      return solve_shock(problem, lambda, options, options.methods.shock);
   }
   throw std::invalid_argument("solve: unknown method");
 }
@@ -216,9 +220,11 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
     });
   }
   // The direct path splits by itself (options.direct.split_islands); the matrix-free rows
-  // never meet, so islands would change nothing there.
+  // never meet, so islands would change nothing there. The shock order takes its layers from
+  // the whole J (an island's problem carries no J); its sweep treats islands apart anyway, only
+  // the stopping is common.
   if (!options.split_islands || !is_iterative(options.method) ||
-      options.method == Method::MatrixFree) {
+      options.method == Method::MatrixFree || options.method == Method::Shock) {
     return solve_whole(problem, lambda, options);
   }
   const auto islands = find_islands(problem.A);

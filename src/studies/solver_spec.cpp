@@ -65,6 +65,12 @@ constexpr SpecName kSpecNames[] = {
      true,
      false,
      "red-black (graph-coloured) PGS, the parallel engines' order"},
+    {"shock",
+     Method::Shock,
+     true,
+     false,
+     "PGS level by level from the ground up (Guendelman, Bridson & Fedkiw 2003); level_sweeps=, "
+     "direction=up|down"},
     {"direct", Method::Direct, false, false, "the exact path: interior point, then active set"},
     {"active-set", Method::ActiveSet, false, false, "the previous exact path, for comparison"},
 };
@@ -190,6 +196,20 @@ constexpr MethodKey kMethodKeys[] = {
        return parse_number(v, s.admm.rho_min) && s.admm.rho_min > 0.0;
      },
      [](const MethodSettings& s) -> std::string { return number(s.admm.rho_min); }},
+    {Method::Shock,
+     "level_sweeps",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return count(v, s.shock.level_sweeps); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.shock.level_sweeps); }},
+    {Method::Shock,
+     "direction",
+     "up or down",
+     [](const std::string& v, MethodSettings& s) {
+       if (v != "up" && v != "down") return false;
+       s.shock.top_down = v == "down";
+       return true;
+     },
+     [](const MethodSettings& s) -> std::string { return s.shock.top_down ? "down" : "up"; }},
 };
 
 std::vector<std::string> split(const std::string& text, char separator) {

@@ -409,7 +409,7 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
       {R"({"world": {"beta": 1.5}, "bodies": []})",
        "scene.json: /world/beta: must be in [0, 1] (got 1.5)"},
       {R"({"solver": {"method": "cg"}, "bodies": []})",
-       R"(scene.json: /solver/method: unknown method "cg" (valid: pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set, pgs-nesterov, apgd, nncg, pgs-sm, admm, rbgs)"},
+       R"(scene.json: /solver/method: unknown method "cg" (valid: pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set, pgs-nesterov, apgd, nncg, pgs-sm, admm, rbgs, shock)"},
       {R"({"solver": {"iterations": 0}, "bodies": []})",
        "scene.json: /solver/iterations: must be >= 1 (got 0)"},
       {R"({"solver": {"iterations": 2.5}, "bodies": []})",

@@ -118,6 +118,13 @@ TEST_CASE("solver specs: each method's own parameters, their ranges, and read ba
   CHECK(admm.methods.admm.rho_min == 1e-6);
   CHECK(parse_solver_spec("nncg:restart_beta=0").methods.nncg.restart_beta == 0.0);
   CHECK(parse_solver_spec("rbgs:1.5").relaxation == 1.5);
+  const SolverSpec shock = parse_solver_spec("shock:1.2:level_sweeps=3");
+  CHECK(shock.method == Method::Shock);
+  CHECK(shock.relaxation == 1.2);
+  CHECK(shock.methods.shock.level_sweeps == 3);
+  CHECK(parse_solver_spec("shock:direction=down").methods.shock.top_down);
+  CHECK_FALSE(parse_solver_spec("shock:direction=up").methods.shock.top_down);
+  CHECK(parse_solver_spec("shock").methods.shock.level_sweeps == ShockSettings{}.level_sweeps);
   // The defaults are the sources' (method_settings.hpp), untouched by a bare name.
   CHECK(parse_solver_spec("admm").methods.admm.alpha == AdmmSettings{}.alpha);
 
@@ -133,6 +140,8 @@ TEST_CASE("solver specs: each method's own parameters, their ranges, and read ba
   CHECK(error_of("apgd:shrink=0").find("in (0, 1]") != std::string::npos);
   CHECK(error_of("pgs-sm:sweeps=2.5").find("a whole number >= 1") != std::string::npos);
   CHECK(error_of("admm:alpha=2").find("in (0, 2)") != std::string::npos);
+  CHECK(error_of("shock:level_sweeps=0").find("a whole number >= 1") != std::string::npos);
+  CHECK(error_of("shock:direction=left").find("must be up or down") != std::string::npos);
   CHECK(
       error_of("admm:restart=on").find("valid: warm, warm_friction, rho, alpha, adapt, rho_min") !=
       std::string::npos);

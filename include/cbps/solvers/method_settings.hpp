@@ -72,6 +72,19 @@ struct AdmmSettings {
   double rho_min = 1e-8;
 };
 
+/// shock (shock.hpp).
+struct ShockSettings {
+  /// PGS sweeps (7.1.1) over each level's rows before the next level, ≥ 1. 1: every row once
+  /// an iteration, as Guendelman, Bridson & Fedkiw (SIGGRAPH 2003, §7) visit each level once a
+  /// pass; s > 1 solves each level more closely before moving up (a block Gauss-Seidel with the
+  /// levels as blocks, as DART's ShockPropagationSolver, which solves each block exactly).
+  int level_sweeps = 1;
+  /// false: the levels from the ground up, the sources' shock order. true: from the top down
+  /// (not in the sources; for comparison: a Gauss-Seidel sweep carries a load down a column of
+  /// boxes in one top-down sweep, one level a sweep bottom-up).
+  bool top_down = false;
+};
+
 /// Every method's own parameters.
 struct MethodSettings {
   PgsNesterovSettings pgs_nesterov;
@@ -79,6 +92,7 @@ struct MethodSettings {
   NncgSettings nncg;
   PgsSmSettings pgs_sm;
   AdmmSettings admm;
+  ShockSettings shock;
 };
 
 }  // namespace cbps

@@ -10,6 +10,7 @@
 //   pgs_sm.hpp           PGS with subspace minimization
 //   admm.hpp             ADMM on the box QP with one factor of A + rho E
 //   rbgs.hpp             red-black (graph-coloured) PGS
+//   shock.hpp            PGS in shock-propagation order: contact levels from the ground up
 //   method_settings.hpp  the parameters of the methods that have their own
 //   direct.hpp           the exact path: interior point in body space, crossover to the active set
 //   active_set.hpp       the previous exact path: active set on CHOLMOD inside proximal points
@@ -44,7 +45,8 @@ enum class Method {
   Nncg,         ///< "nncg": nonsmooth nonlinear conjugate gradient on PGS sweeps (nncg.hpp)
   PgsSm,        ///< "pgs-sm": PGS with subspace minimization by CG (pgs_sm.hpp)
   Admm,         ///< "admm": ADMM with one factor of A + rho E (admm.hpp)
-  Rbgs          ///< "rbgs": red-black (graph-coloured) PGS (rbgs.hpp)
+  Rbgs,         ///< "rbgs": red-black (graph-coloured) PGS (rbgs.hpp)
+  Shock         ///< "shock": PGS level by level from the ground up (shock.hpp)
 };
 
 /// Every method, in the order of the enum.
@@ -60,7 +62,8 @@ inline constexpr Method kMethods[] = {Method::Pgs,
                                       Method::Nncg,
                                       Method::PgsSm,
                                       Method::Admm,
-                                      Method::Rbgs};
+                                      Method::Rbgs,
+                                      Method::Shock};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
@@ -187,7 +190,8 @@ SolverSummary with_cfm_applied(
 /// own diagonal). With options.split_islands the iterative methods run on each island of A
 /// apart, each until its own tolerance; the summary then has the largest sweep count and
 /// residual of any island and the worst termination. options.tolerance reaches every method.
-/// Method::MatrixFree needs problem.J and problem.Minv (std::invalid_argument otherwise).
+/// Method::MatrixFree needs problem.J and problem.Minv, Method::Shock problem.J
+/// (std::invalid_argument otherwise); both run on the whole problem even with split_islands.
 SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
 
 }  // namespace cbps

@@ -24,6 +24,7 @@ namespace cbps {
 ///   matrix-free  7.1.1 without A (MatrixFreePgs), the sequential-impulse form
 ///   pgs-nesterov PGS with Nesterov momentum and restart (restart=on|off), pgs-nesterov:OMEGA
 ///   apgd         accelerated projected gradient descent (grow=, shrink=, restart=on|off)
+///   shock        PGS level by level from the ground up (level_sweeps=), shock:OMEGA
 ///   direct       the exact path (6.2); active-set the previous one
 /// order applies to pgs, psor, pgs-nesterov and matrix-free; contacts_first=on (pgs, psor,
 /// matrix-free) sweeps every contact normal row before every friction row. warm=F starts each row
