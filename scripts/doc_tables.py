@@ -809,6 +809,78 @@ def _stack_seeds(src):
 
 
 # ---------------------------------------------------------------------------------------------
+# Performance profiles (`cmake --build build/release --target profile`, reduced by
+# update_results.sh into validation/results/profile/summary.json).
+
+PROFILE = "validation/results/profile/summary.json"
+
+
+def _rho(src, measure, tolerance):
+    for p in need(src.json(PROFILE), "profiles", where=PROFILE):
+        if p["measure"] == measure and abs(p["tolerance"] - tolerance) <= 1e-3 * tolerance:
+            return p["rho"]
+    raise SourceError(f"{PROFILE}: no {measure} profile at {tolerance}")
+
+
+def _pct(x):
+    return f"{round(100 * x)} %"
+
+
+@generator("profile-table", PROFILE)
+def _profile_table(src):
+    j = src.json(PROFILE)
+    n = len(need(j, "problems", where=PROFILE))
+    rows = []
+    for solver in need(j, "solvers", where=PROFILE):
+        name = solver["solver"]
+        solved = [round(_rho(src, "time", t)[name]["inf"] * n) for t in (1e-3, 1e-6, 1e-10)]
+        t10 = _rho(src, "time", 1e-10)[name]
+        cells = [f"`{name}`", " / ".join(str(k) for k in solved), _pct(t10["1"]), _pct(t10["10"])]
+        if solver["exact"]:
+            cells.append("–")
+        else:
+            cells.append(_pct(_rho(src, "sweeps", 1e-10)[name]["1"]))
+        rows.append(cells)
+    return table([f"solver", f"solved of {n} (1e-3 / 1e-6 / 1e-10)", "fastest at 1e-10",
+                  "within 10× the fastest", "fewest sweeps at 1e-10"], rows, "lrrrr")
+
+
+@generator("profile-headline", PROFILE)
+def _profile_headline(src):
+    j = src.json(PROFILE)
+    n = len(need(j, "problems", where=PROFILE))
+    time10 = _rho(src, "time", 1e-10)
+    sweeps10 = _rho(src, "sweeps", 1e-10)
+    names = [s["solver"] for s in need(j, "solvers", where=PROFILE)]
+    best = max(names, key=lambda name: (time10[name]["1"], time10[name]["inf"]))
+    most = max(names, key=lambda name: (time10[name]["inf"], time10[name]["1"]))
+    iterative = [s["solver"] for s in j["solvers"] if not s["exact"]]
+    fewest = max(iterative, key=lambda name: sweeps10[name]["1"])
+
+    def solved(name):
+        return round(time10[name]["inf"] * n)
+    text = (f"At 1e-10 of the scale `{best}` is the fastest on {_pct(time10[best]['1'])} of the "
+            f"{n} problems and solves {solved(best)}; `{most}` solves {solved(most)} "
+            f"(fastest on {_pct(time10[most]['1'])}, within 10× the fastest on "
+            f"{_pct(time10[most]['10'])}); `{fewest}` needs the fewest sweeps on "
+            f"{_pct(sweeps10[fewest]['1'])}")
+    if "pgs" in names:
+        text += (f"; the paper's `pgs` solves {solved('pgs')} and is within 10× the fastest on "
+                 f"{_pct(time10['pgs']['10'])}")
+    return text
+
+
+@generator("profile-budget", PROFILE)
+def _profile_budget(src):
+    j = src.json(PROFILE)
+    return (f"{len(need(j, 'problems', where=PROFILE))} problems × "
+            f"{len(need(j, 'solvers', where=PROFILE))} solvers, budget "
+            f"{thousands(need(j, 'budget_iterations', where=PROFILE))} sweeps and "
+            f"{dur(need(j, 'time_limit_s', where=PROFILE))} per problem and solver, "
+            f"{dur(need(j, 'wall_time_s', where=PROFILE))} in all")
+
+
+# ---------------------------------------------------------------------------------------------
 # The stress catalogue (`cbps stress --out`: validation/results/stress/summary.json).
 
 STRESS = "validation/results/stress/summary.json"

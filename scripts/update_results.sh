@@ -68,6 +68,27 @@ done
 # --target stress-catalogue
 copy $v/stress/summary.json $v/results/stress/summary.json
 copy $v/stress/stress.md $v/results/stress/stress.md
+# --target profile: the profiles without the per-problem measurements and ratios (those stay in
+# the build folder's profile.json and profile.csv), and the figure
+if [[ -f "$build/validation/profile/profile.json" ]]; then
+  mkdir -p "$root/$v/results/profile"
+  "$python" - "$build/validation/profile/profile.json" "$root/$v/results/profile/summary.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1], encoding="utf-8"))
+out = {k: j[k] for k in ("format", "budget_iterations", "time_limit_s", "tolerances", "solvers",
+                         "wall_time_s", "quick")}
+out["problems"] = [{k: p.get(k) for k in ("name", "kind", "rows", "nonzeros", "rank", "condition",
+                                          "definite", "source")} for p in j["problems"]]
+out["profiles"] = [{k: p[k] for k in ("measure", "tolerance", "rho")} for p in j["profiles"]]
+with open(sys.argv[2] + ".tmp", "w", encoding="utf-8") as f:
+    json.dump(out, f, indent=1, sort_keys=True)
+    f.write("\n")
+PY
+  mv "$root/$v/results/profile/summary.json.tmp" "$root/$v/results/profile/summary.json"
+  echo "update_results.sh: $v/results/profile/summary.json" >&2
+  copied=$((copied + 1))
+fi
+copy $v/profile/profile.png docs/profile.png
 # --target bench-results, bench-direct, bench-contacts, bench-sweeps
 for f in "$build"/bench/results/*.json; do
   [[ -f "$f" ]] && copy "$f" "bench/results/$(basename "$f")"

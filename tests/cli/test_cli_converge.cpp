@@ -106,24 +106,6 @@ TEST_CASE("cbps converge on a stored problem and on a singular contact system", 
   }
 }
 
-TEST_CASE("cbps converge hands each solver its own key=value parameters", "[cli][converge]") {
-  // Measured on the 3-box stack at step 10 (warm start): shock 535 iterations to 1e-10 N, and
-  // 535 with level_sweeps=2:direction=down while converge dropped the parameters; with them
-  // 472 iterations (of two sweeps each).
-  const auto r = run_cli(
-      "converge stack --param n=3 --step 10 --solvers shock,shock:level_sweeps=2:direction=down "
-      "--iterations 2000 --quiet --no-plot --json");
-  INFO(r.err);
-  REQUIRE(r.code == 0);
-  const auto summary = nlohmann::json::parse(r.out);
-  REQUIRE(summary["solvers"].size() == 2);
-  const auto& plain = summary["solvers"][0];
-  const auto& tuned = summary["solvers"][1];
-  CHECK(plain["stopped"] == "residual tolerance");
-  CHECK(tuned["stopped"] == "residual tolerance");
-  CHECK(tuned["iterations"] != plain["iterations"]);
-}
-
 TEST_CASE("cbps converge refuses bad solver lists and writes nothing", "[cli][converge]") {
   const auto dir = scratch_dir("converge_bad");
   const std::string out = (dir / "c").string();
