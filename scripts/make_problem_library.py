@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Writes the problem library that `cbps profile` runs every solver on (docs/convergence.md).
 
     scripts/make_problem_library.py CBPS OUT [--quick]
