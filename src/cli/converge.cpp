@@ -176,12 +176,10 @@ Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s)
 }
 
 Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions& o) {
-  if (spec.method == Method::MatrixFree && !s.has_bodies())
+  if (needs_jacobian(spec.method) && !s.has_bodies())
     throw InputError("--solvers " + spec.text + ": " + s.name +
-                     " has no J and Minv (a Siconos file); the matrix-free form needs them");
-  if (spec.method == Method::Shock && !s.has_bodies())
-    throw InputError("--solvers " + spec.text + ": " + s.name +
-                     " has no J (a Siconos file); the shock order takes its layers from J");
+                     " has no J and Minv (a Siconos file); " + std::string(to_string(spec.method)) +
+                     " needs them");
   if (spec.contacts_first && s.kinds.empty())
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no row kinds (a stored problem); contacts_first needs a scene");

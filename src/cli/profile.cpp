@@ -212,7 +212,7 @@ double seconds_since(Clock::time_point start) {
 
 /// Why a spec cannot run on a problem (empty: it can): what `cbps converge` refuses.
 std::string not_applicable(const SolverSpec& spec, const Problem& p) {
-  if ((spec.method == Method::MatrixFree || spec.method == Method::Shock) && !p.stored.has_bodies())
+  if (needs_jacobian(spec.method) && !p.stored.has_bodies())
     return "not applicable: no J and Minv (a Siconos file)";
   if (spec.contacts_first && p.kinds.empty())
     return "not applicable: no row kinds (contacts_first needs labels.json)";

@@ -219,12 +219,11 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
       return solve(p, lambda, o);
     });
   }
-  // The direct path splits by itself (options.direct.split_islands); the matrix-free rows
-  // never meet, so islands would change nothing there. The shock order takes its layers from
-  // the whole J (an island's problem carries no J); its sweep treats islands apart anyway, only
-  // the stopping is common.
-  if (!options.split_islands || !is_iterative(options.method) ||
-      options.method == Method::MatrixFree || options.method == Method::Shock) {
+  // The direct path splits by itself (options.direct.split_islands). The methods that read J
+  // run whole (an island's problem carries no J): the matrix-free rows of different islands
+  // never meet, and the shock order's sweep treats islands apart anyway; only the stopping is
+  // common.
+  if (!options.split_islands || !is_iterative(options.method) || needs_jacobian(options.method)) {
     return solve_whole(problem, lambda, options);
   }
   const auto islands = find_islands(problem.A);

@@ -76,6 +76,13 @@ std::string method_names();
 inline bool is_iterative(Method method) {
   return method != Method::Direct && method != Method::ActiveSet;
 }
+/// True for the methods that read J (and Minv) rather than A alone: the matrix-free sweep
+/// (7.1.1 on J, Minv) and the shock order (layers from J's body blocks). They need a problem
+/// that carries J (a step's system, a `cbps matrices` folder; not a Siconos file) and run on the
+/// whole of it (an island's problem carries no J).
+inline bool needs_jacobian(Method method) {
+  return method == Method::MatrixFree || method == Method::Shock;
+}
 
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check
