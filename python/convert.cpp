@@ -88,8 +88,10 @@ VecX vector_from_python(const py::handle& v, const std::string& what, long size,
   const bool column = a.ndim() == 2 && a.shape(1) == 1;
   if (a.ndim() != 1 && !column) {
     std::string shape;
-    for (py::ssize_t k = 0; k < a.ndim(); ++k)
-      shape += (k ? ", " : "") + std::to_string(a.shape(k));
+    for (py::ssize_t k = 0; k < a.ndim(); ++k) {
+      if (k > 0) shape += ", ";
+      shape += std::to_string(a.shape(k));
+    }
     throw InputError(what + ": expected a vector (1-D array or one column), got shape (" + shape +
                      ")");
   }

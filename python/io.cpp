@@ -127,7 +127,10 @@ void write_siconos(const std::string& path,
   std::string text = std::to_string(n) + "\n0\n" + std::to_string(n) + " " + std::to_string(n) +
                      "\n" + std::to_string(n) + " " + std::to_string(n) + "\n";
   const auto line = [&](const auto& entry) {
-    for (long i = 0; i < n; ++i) text += (i ? " " : "") + exact(entry(i));
+    for (long i = 0; i < n; ++i) {
+      if (i > 0) text += ' ';
+      text += exact(entry(i));
+    }
     text += "\n";
   };
   for (long j = 0; j < n; ++j) line([&](long i) { return M(i, j); });  // column j of M

@@ -105,7 +105,7 @@ def test_history_is_one_entry_per_sweep(chain_folder):
     p = cbps.read_problem(str(chain_folder))
     lam, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, "pgs", iterations=50, tolerance=0)
     h = s["history"]
-    assert s["iterations"] == 50 and s["termination"] == "max_iterations"
+    assert s["iterations"] == 50 and s["termination"] == "iteration limit"
     np.testing.assert_array_equal(h["iteration"], np.arange(51))
     assert h["residual"][0] == pytest.approx(natural_map_residual(p.A, p.b, p.cmin, p.cmax,
                                                                   np.zeros(len(p.b))), rel=1e-12)
