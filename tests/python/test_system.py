@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 import cbps
-from conftest import natural_map_residual
+from conftest import cli_json, natural_map_residual
 
 # Distance rows (chain, pendulum wave), contacts (v-corner), contacts with friction and the
 # improved push (stack), Coulomb friction (stack, friction=coulomb: the bounds move with lam).
@@ -125,3 +125,21 @@ def test_v_corner_at_rest_matches_the_appendix():
         assert s.lam[k] == pytest.approx(expected[plane], rel=1e-6)
         np.testing.assert_allclose(J[k, :3], normal[plane], atol=1e-12)
     assert seen == {"left", "right"}
+
+
+@pytest.mark.parametrize("name,params,steps", [("chain", {"n": 3}, 10),
+                                               ("stack", {"n": 2, "friction": "coulomb"}, 4)])
+def test_system_equals_cbps_explain(name, params, steps):
+    """After k steps, system() is the system `cbps explain SCENE --step k-1 --json` shows: the
+    same J, A, b, bounds, labels and, solved the same way from the same warm start, the same lam
+    and v2, bit for bit."""
+    _, s = step_system(name, params, steps)
+    cli_params = [arg for key, value in params.items() for arg in ("--param", f"{key}={value}")]
+    e = cli_json("explain", name, *cli_params, "--step", steps - 1, "--json")
+    assert e["row_labels"] == s.row_labels and e["column_labels"] == s.column_labels
+    np.testing.assert_array_equal(np.array(e["J"]["value"], dtype=float), s.J.toarray())
+    np.testing.assert_array_equal(np.array(e["A"]["value"], dtype=float), s.A.toarray())
+    for key, value in (("b", s.b), ("cmin", s.cmin), ("cmax", s.cmax), ("lambda", s.lam),
+                       ("v2", s.v2), ("upsilon", s.upsilon)):
+        np.testing.assert_array_equal(np.array(e[key]["value"], dtype=float), value, err_msg=key)
+    assert e["dt"] == s.dt
