@@ -70,3 +70,24 @@ def test_two_threads_share_a_simulation():
     for t in threads:
         t.join()
     assert sim.steps_done == 100
+
+
+def test_run_stops_on_ctrl_c():
+    """SIGINT during a long run: KeyboardInterrupt within about 0.1 s of the signal (the run
+    looks every 0.1 s), the steps done stay done."""
+    import os
+    import signal
+
+    import pytest
+
+    sim = cbps.Simulation(cbps.scene("chain", n=50))
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        sim.run(steps=10**8)  # hours
+    seconds = time.perf_counter() - t0
+    timer.join()
+    assert 0.3 <= seconds < 2.0, seconds
+    assert 0 < sim.steps_done < 10**8
+    assert sim.time == sim.steps_done * sim.scene.dt
