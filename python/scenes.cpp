@@ -166,8 +166,8 @@ void bind_scenes(py::module_& m) {
             for (const Body& b : s.bodies) out.append(body_dict(b));
             return out;
           },
-          "the bodies' initial states: dicts of name, shape, static, mass (kg), x (m), q (w, x, "
-          "y, z), v (m/s), omega (rad/s)")
+          "the bodies' states (a new scene's initial ones): dicts of name, shape, static, mass "
+          "(kg), x (m), q (w, x, y, z), v (m/s), omega (rad/s)")
       .def("to_json", &scene_to_json, "the scene as JSON text, which parse_scene reads back")
       .def(
           "save",

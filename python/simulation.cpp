@@ -395,7 +395,9 @@ void bind_simulation(py::module_& m) {
            "the bodies' states: dicts of name, shape, static, mass, x, q, v, omega")
       .def_property_readonly("time", &PySimulation::time, "simulated time, s")
       .def_property_readonly("steps_done", &PySimulation::steps_done)
-      .def_property_readonly("scene", &PySimulation::scene, "a copy of the simulated scene")
+      .def_property_readonly("scene",
+                             &PySimulation::scene,
+                             "a copy of the simulated scene, its bodies in their current state")
       .def("energy",
            &PySimulation::energy,
            "kinetic plus gravitational potential energy -m g.x of the movable bodies, J")
