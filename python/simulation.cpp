@@ -373,8 +373,8 @@ void bind_simulation(py::module_& m) {
            "DivergenceError leaves the bodies as they were before the step.")
       .def("run",
            &PySimulation::run,
-           py::kw_only(),
            py::arg("duration") = py::none(),
+           py::kw_only(),
            py::arg("steps") = py::none(),
            py::arg("record_every") = 1,
            "steps for `duration` s (the nearest whole number of steps; default the scene's "

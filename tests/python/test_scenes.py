@@ -89,7 +89,7 @@ def test_free_fall_by_hand():
         "bodies": [{"name": "ball", "shape": {"type": "sphere", "radius": 0.1}, "mass": 2.0,
                     "position": [0, 10, 0]}]}))
     sim = cbps.Simulation(scene)
-    traj = sim.run(duration=0.5)  # 50 steps
+    traj = sim.run(0.5)  # duration 0.5 s: 50 steps
     g, dt = 9.81, 0.01
     k = np.arange(51)
     np.testing.assert_allclose(traj["t"], k * dt, rtol=1e-14)
