@@ -5,7 +5,8 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev catch2 libgsl-dev nlohmann-json3-dev libcli11-dev
-  libbenchmark-dev python3 python3-matplotlib python3-numpy python3-scipy clang-format
+  libbenchmark-dev python3 python3-matplotlib python3-numpy python3-scipy python3-dev
+  pybind11-dev python3-pytest clang-format
   clang libclang-rt-14-dev llvm-14
 )
 missing=()

@@ -1,0 +1,231 @@
+// Scenes for Python: cbps.scenes(), cbps.scene(name, **params) (a built-in scene, as `cbps
+// scenes` lists them), cbps.load_scene(path) and cbps.parse_scene(text) (JSON scene files,
+// docs/scene-format.md), and the Scene class with the world and solver settings the command
+// line's step options set (--dt, --beta, --push, --solver, --iterations, --tolerance, --cfm,
+// --seed) and to_json() / save(), which writes what load_scene reads back.
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "cbps/error.hpp"
+#include "cbps/scene/builtin.hpp"
+#include "cbps/scene/scene_json.hpp"
+#include "cbps/studies/solver_spec.hpp"
+#include "convert.hpp"
+
+namespace cbps::python {
+
+namespace {
+
+/// A keyword argument's value as the text a --param NAME=VALUE would give: numbers in Python's
+/// shortest round-trip form (repr), words as they are.
+std::string parameter_text(const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::float_>(value)) return py::repr(value).cast<std::string>();
+  return py::str(value).cast<std::string>();
+}
+
+/// A finite number > 0 (dt, duration), else InputError naming it and its unit.
+double positive(double x, const std::string& what, const char* unit) {
+  if (!(x > 0.0) || !std::isfinite(x))
+    throw InputError(what + " " + number_text(x) + ": must be a positive finite " + unit);
+  return x;
+}
+
+double non_negative(double x, const std::string& what) {
+  if (!(x >= 0.0) || !std::isfinite(x))
+    throw InputError(what + " " + number_text(x) + ": must be a finite number >= 0");
+  return x;
+}
+
+py::list parameter_list(const std::vector<SceneParameter>& parameters) {
+  py::list out;
+  for (const SceneParameter& p : parameters) {
+    py::dict d;
+    d["name"] = p.name;
+    d["default"] = p.default_value;
+    d["unit"] = p.unit;
+    d["description"] = p.description;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+py::dict body_dict(const Body& b) {
+  py::dict d;
+  d["name"] = b.name;
+  d["shape"] = b.shape.kind == Shape::Kind::Sphere ? "sphere"
+               : b.shape.kind == Shape::Kind::Box  ? "box"
+                                                   : "plane";
+  d["static"] = b.is_static;
+  d["mass"] = b.is_static ? py::object(py::none()) : py::object(py::float_(b.m));  // kg
+  d["x"] = to_numpy(b.x);                                                          // m
+  d["q"] = to_numpy(Eigen::Vector4d(b.q.w(), b.q.x(), b.q.y(), b.q.z()));          // w, x, y, z
+  d["v"] = to_numpy(b.v());                                                        // m/s
+  d["omega"] = to_numpy(b.omega());                                                // rad/s
+  return d;
+}
+
+void bind_scenes(py::module_& m) {
+  py::class_<Scene>(m,
+                    "Scene",
+                    "A scene: bodies, constraints, world and solver settings (scene.hpp). Made by "
+                    "cbps.scene(), cbps.load_scene() or cbps.parse_scene(); cbps.Simulation "
+                    "takes a copy.")
+      .def_readwrite("name", &Scene::name)
+      .def_property_readonly(
+          "parameters",
+          [](const Scene& s) {
+            py::dict d;
+            for (const auto& [name, value] : s.parameters) d[py::str(name)] = value;
+            return d;
+          },
+          "a built-in scene's parameters, name -> value text")
+      .def_property(
+          "dt",
+          [](const Scene& s) { return s.world.dt; },
+          [](Scene& s, double dt) { s.world.dt = positive(dt, "dt", "time in s"); },
+          "time step, s")
+      .def_property(
+          "duration",
+          [](const Scene& s) { return s.duration; },
+          [](Scene& s, double t) { s.duration = positive(t, "duration", "time in s"); },
+          "default simulated time of Simulation.run(), s")
+      .def_property(
+          "beta",
+          [](const Scene& s) { return s.world.beta; },
+          [](Scene& s, double beta) {
+            if (!(beta >= 0.0 && beta <= 1.0))
+              throw InputError("beta " + number_text(beta) + ": must be in [0, 1] (5.2.3)");
+            s.world.beta = beta;
+          },
+          "Baumgarte push factor (5.2.3, 5.3), in [0, 1]")
+      .def_property(
+          "push",
+          [](const Scene& s) {
+            return s.world.push == PushMode::Improved ? "improved" : "original";
+          },
+          [](Scene& s, const std::string& push) {
+            if (push == "original") {
+              s.world.push = PushMode::Original;
+            } else if (push == "improved") {
+              s.world.push = PushMode::Improved;
+            } else {
+              throw InputError("push '" + push + "': expected original or improved (8.1)");
+            }
+          },
+          "the push factor's form: 'original' (5.2.3, 5.3) or 'improved' (8.1)")
+      .def_property(
+          "gravity",
+          [](const Scene& s) { return to_numpy(s.world.gravity); },
+          [](Scene& s, const py::object& g) {
+            s.world.gravity = vector_from_python(g, "gravity", 3);
+          },
+          "g, m/s^2 (y is up)")
+      .def_property_readonly(
+          "mu", [](const Scene& s) { return s.world.mu; }, "friction coefficient (5.4)")
+      .def_property(
+          "solver",
+          [](const Scene& s) { return std::string(to_string(s.solver.method)); },
+          [](Scene& s, const std::string& spec) {
+            apply_solver_spec(parse_solver_spec(spec, "solver"), s.solver);
+          },
+          "the method's name; set it with a --solver spec such as 'psor:1.3' or "
+          "'apgd:restart=off' (parse_solver_spec)")
+      .def_property_readonly(
+          "relaxation", [](const Scene& s) { return s.solver.relaxation; }, "omega")
+      .def_property(
+          "iterations",
+          [](const Scene& s) { return s.solver.iterations; },
+          [](Scene& s, int n) {
+            if (n < 1) throw InputError("iterations " + std::to_string(n) + ": must be >= 1");
+            s.solver.iterations = n;
+          },
+          "max solver sweeps per step")
+      .def_property(
+          "tolerance",
+          [](const Scene& s) { return s.solver.tolerance; },
+          [](Scene& s, double t) { s.solver.tolerance = non_negative(t, "tolerance"); },
+          "natural-map residual to stop at, N (0: every sweep)")
+      .def_property(
+          "cfm",
+          [](const Scene& s) { return s.solver.cfm; },
+          [](Scene& s, double eps) { s.solver.cfm = non_negative(eps, "cfm"); },
+          "constraint-force mixing eps, 1/kg: steps solve (A + eps E) lambda = b")
+      .def_property(
+          "seed",
+          [](const Scene& s) { return s.solver.seed; },
+          [](Scene& s, std::uint64_t seed) { s.solver.seed = seed; },
+          "seed of the random row order (order=random)")
+      .def_property_readonly(
+          "bodies",
+          [](const Scene& s) {
+            py::list out;
+            for (const Body& b : s.bodies) out.append(body_dict(b));
+            return out;
+          },
+          "the bodies' states (a new scene's initial ones): dicts of name, shape, static, mass "
+          "(kg), x (m), q (w, x, y, z), v (m/s), omega (rad/s)")
+      .def("to_json", &scene_to_json, "the scene as JSON text, which parse_scene reads back")
+      .def(
+          "save",
+          [](const Scene& s, const std::string& path, bool force) {
+            const std::string text = scene_to_json(s);
+            write_atomically(path, "save " + path, force, [&](const std::string& temp) {
+              std::FILE* f = std::fopen(temp.c_str(), "w");
+              if (f == nullptr) throw std::runtime_error("cannot open " + temp);
+              const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+              if (std::fclose(f) != 0 || !ok) throw std::runtime_error("cannot write " + temp);
+            });
+          },
+          py::arg("path"),
+          py::arg("force") = false,
+          "writes the scene as a JSON scene file (as `cbps scenes NAME --export FILE`); an "
+          "existing file is replaced only with force=True")
+      .def("__repr__", [](const Scene& s) {
+        return "<cbps.Scene '" + s.name + "': " + std::to_string(s.bodies.size()) + " bodies, " +
+               std::to_string(s.distances.size()) + " distance constraints, dt " +
+               number_text(s.world.dt) + " s>";
+      });
+
+  m.def(
+      "scenes",
+      [] {
+        py::list out;
+        for (const BuiltinScene& s : builtin_scenes()) {
+          py::dict d;
+          d["name"] = s.name;
+          d["description"] = s.description;
+          d["parameters"] = parameter_list(s.parameters);
+          out.append(d);
+        }
+        return out;
+      },
+      "the built-in scenes as `cbps scenes --json` lists them: dicts of name, description and "
+      "parameters (name, default, unit, description)");
+  m.def(
+      "scene",
+      [](const std::string& name, const py::kwargs& params) {
+        std::map<std::string, std::string> values;
+        for (const auto& [key, value] : params)
+          values[key.cast<std::string>()] = parameter_text(value);
+        return make_builtin_scene(name, values);
+      },
+      py::arg("name"),
+      "a built-in scene with its parameters as keywords, e.g. scene('chain', n=5, "
+      "mass_ratio=100) (as `--param n=5 --param mass_ratio=100`); InputError for an unknown "
+      "scene, parameter or value");
+  m.def("load_scene",
+        &read_scene_file,
+        py::arg("path"),
+        "reads a JSON scene file; InputError '<file>: <json path>: <why>'");
+  m.def("parse_scene",
+        &parse_scene,
+        py::arg("text"),
+        py::arg("source") = "<string>",
+        "a scene from JSON text; `source` names it in errors");
+}
+
+}  // namespace cbps::python

@@ -1,0 +1,410 @@
+// cbps.Simulation and cbps.System for Python: stepping a scene (3.2 with 4–8, 12.3), its bodies'
+// states, a run's trajectory as numpy arrays, and a step's system (6.1, 6.2.9) with the lambda
+// and v2 the step found. Stepping releases the GIL; a Simulation serialises its own calls, so two
+// Python threads may share one (each call waits for the other's to end).
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "cbps/error.hpp"
+#include "cbps/solvers/coulomb.hpp"
+#include "convert.hpp"
+
+namespace cbps::python {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// One step's system as Python sees it: a copy, so later steps (which reuse the simulation's
+/// storage) never change it. `lambda` and `v2` are set for a step that ran (Simulation.system),
+/// not for a system only built (Simulation.build_system).
+struct SystemRecord {
+  System sys;
+  std::vector<std::string> columns;  ///< "<body>.vx" … "<body>.wz" per movable body (6.1.1)
+  long step = 0;                     ///< 0-based index of the step this system is of
+  double cfm = 0.0;                  ///< the scene's constraint-force mixing eps, 1/kg
+  std::optional<VecX> lambda;        ///< c, N (6.2.1)
+  std::optional<VecX> v2;            ///< 6n, m/s and rad/s (12.3.1)
+  std::optional<StepReport> report;
+  /// The bounds lambda satisfies: the system's, with Coulomb friction rows (5.4) at ∓mu
+  /// lambda_n of the step's lambda, as `cbps explain` and `cbps matrices` show them.
+  VecX cmin() const { return bounds().first; }
+  VecX cmax() const { return bounds().second; }
+  std::pair<VecX, VecX> bounds() const {
+    if (!lambda || !sys.coulomb().any()) return {sys.cmin, sys.cmax};
+    VecX lo, hi;
+    coulomb_bounds(sys.problem(), sys.coulomb(), *lambda, lo, hi);
+    return {lo, hi};
+  }
+};
+
+std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
+  static const char* const coords[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
+  std::vector<std::string> labels;
+  for (int body : sys.body_of_block)
+    for (const char* c : coords)
+      labels.push_back(scene.bodies[static_cast<std::size_t>(body)].name + "." + c);
+  return labels;
+}
+
+const char* kind_name(RowKind kind) {
+  switch (kind) {
+    case RowKind::Distance:
+      return "distance";
+    case RowKind::Contact:
+      return "contact";
+    case RowKind::Friction:
+      return "friction";
+  }
+  return "?";
+}
+
+/// A Simulation with the last step's system kept for Python.
+class PySimulation {
+ public:
+  explicit PySimulation(const Scene& scene) : sim_(scene) {
+    sim_.set_observer([this](const System& sys, const VecX& lambda, const VecX& v2) {
+      if (!keep_) return;  // only the step whose system is asked for is copied
+      auto record = std::make_shared<SystemRecord>();
+      record->sys = sys;
+      record->lambda = lambda;
+      record->v2 = v2;
+      record->step = sim_.steps_done();
+      record->cfm = sim_.scene().solver.cfm;
+      record->columns = column_labels(sim_.scene(), sys);
+      last_ = std::move(record);
+    });
+  }
+  PySimulation(const PySimulation&) = delete;
+  PySimulation& operator=(const PySimulation&) = delete;
+
+  /// f() under this simulation's lock with the GIL released (the lock is taken only without
+  /// the GIL, so a thread waiting for it never blocks one that needs the GIL).
+  template <class F>
+  auto locked(F f) {
+    py::gil_scoped_release release;
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return f();
+  }
+
+  py::dict step() {
+    const StepReport report = locked([this] { return step_keeping(true); });
+    return step_report_dict(report);
+  }
+
+  py::dict run(const std::optional<double>& duration,
+               const std::optional<long>& steps,
+               long record_every);
+
+  std::shared_ptr<SystemRecord> system() {
+    const auto last = locked([this] { return last_; });
+    if (!last)
+      throw InputError("Simulation.system(): no step has been done yet; call step() or run()");
+    return last;
+  }
+
+  std::shared_ptr<SystemRecord> build_system() {
+    return locked([this] {
+      auto record = std::make_shared<SystemRecord>();
+      record->sys = sim_.build_system();
+      record->step = sim_.steps_done();
+      record->cfm = sim_.scene().solver.cfm;
+      record->columns = column_labels(sim_.scene(), record->sys);
+      return record;
+    });
+  }
+
+  py::list bodies() {
+    const std::vector<Body> bodies = locked([this] { return sim_.bodies(); });
+    py::list out;
+    for (const Body& b : bodies) out.append(body_dict(b));
+    return out;
+  }
+
+  double time() {
+    return locked([this] { return sim_.time(); });
+  }
+  long steps_done() {
+    return locked([this] { return sim_.steps_done(); });
+  }
+  double energy() {
+    return locked([this] { return sim_.energy(); });
+  }
+  double max_constraint_error() {
+    return locked([this] { return sim_.max_constraint_error(); });
+  }
+  Scene scene() {
+    return locked([this] { return sim_.scene(); });
+  }
+  std::vector<std::string> stages() {
+    return locked([this] { return sim_.stages(); });
+  }
+
+ private:
+  /// One step; `keep` copies its system for system(). Call with the lock held.
+  StepReport step_keeping(bool keep) {
+    keep_ = keep;
+    StepReport report = sim_.step();
+    keep_ = false;
+    if (keep && last_) last_->report = report;
+    return report;
+  }
+
+  Simulation sim_;
+  std::mutex mutex_;
+  bool keep_ = false;
+  std::shared_ptr<SystemRecord> last_;
+};
+
+/// The steps of run(duration, steps): as `cbps run` counts them (--steps, else --duration,
+/// else the scene's duration; the nearest whole number of steps of dt).
+long step_count(const Scene& scene,
+                const std::optional<double>& duration,
+                const std::optional<long>& steps) {
+  if (duration && steps) throw InputError("run: give duration or steps, not both");
+  if (steps) {
+    if (*steps < 0) throw InputError("run: steps " + std::to_string(*steps) + ": must be >= 0");
+    return *steps;
+  }
+  const double t = duration ? *duration : scene.duration;
+  const std::string what =
+      duration ? "run: duration " + number_text(t) : "run: the scene's duration " + number_text(t);
+  if (!(t > 0.0) || !std::isfinite(t))
+    throw InputError(what + " s: must be a positive finite time");
+  const double count = t / scene.world.dt;
+  if (count > 1e12)
+    throw InputError(what + " s: " + number_text(count) + " steps of dt = " +
+                     number_text(scene.world.dt) + " s, more than a run can take (1e+12)");
+  const long n = std::lround(count);
+  if (n < 1)
+    throw InputError(what + " s: shorter than half a step (dt = " + number_text(scene.world.dt) +
+                     " s), so no step would run; use steps=1 or a longer duration");
+  return n;
+}
+
+/// A (samples × bodies × width) array from `width` numbers per body per sample.
+py::array_t<double> states(const std::vector<double>& values,
+                           long samples,
+                           long bodies,
+                           long width) {
+  py::array_t<double> a({samples, bodies, width});
+  std::copy(values.begin(), values.end(), a.mutable_data());
+  return a;
+}
+
+py::dict PySimulation::run(const std::optional<double>& duration,
+                           const std::optional<long>& steps,
+                           long record_every) {
+  if (record_every < 1)
+    throw InputError("run: record_every " + std::to_string(record_every) + ": must be >= 1");
+  const long n = step_count(scene(), duration, steps);
+  // The trajectory (t = start and after every record_every-th step, as trajectory.csv) and one
+  // entry per step (as steps.csv), gathered without the GIL.
+  std::vector<double> t, x, q, v, omega;
+  std::vector<double> step_t, residual, constraint_error, energy, wall;
+  std::vector<long> rows, warm_rows, contacts, iterations;
+  long bodies = 0;
+  bool interrupted = false;
+  locked([&] {
+    bodies = static_cast<long>(sim_.bodies().size());
+    const auto sample = [&] {
+      t.push_back(sim_.time());
+      for (const Body& b : sim_.bodies()) {
+        const Vec3 vb = b.v(), wb = b.omega();
+        x.insert(x.end(), {b.x.x(), b.x.y(), b.x.z()});
+        q.insert(q.end(), {b.q.w(), b.q.x(), b.q.y(), b.q.z()});
+        v.insert(v.end(), {vb.x(), vb.y(), vb.z()});
+        omega.insert(omega.end(), {wb.x(), wb.y(), wb.z()});
+      }
+    };
+    sample();
+    auto checked = Clock::now();
+    for (long s = 0; s < n; ++s) {
+      const StepReport r = step_keeping(s == n - 1);  // the last step's system is kept
+      step_t.push_back(sim_.time());
+      rows.push_back(r.rows);
+      warm_rows.push_back(r.warm_rows);
+      contacts.push_back(r.contacts);
+      iterations.push_back(r.solver.iterations);
+      residual.push_back(r.solver.residual);
+      constraint_error.push_back(r.max_constraint_error);
+      energy.push_back(sim_.energy());
+      wall.push_back(r.wall_time_s);
+      if ((s + 1) % record_every == 0) sample();
+      // Ctrl-C: every 0.1 s the GIL is taken for a moment to let Python see its signals.
+      if (Clock::now() - checked > std::chrono::milliseconds(100)) {
+        checked = Clock::now();
+        const py::gil_scoped_acquire acquire;
+        if (PyErr_CheckSignals() != 0) {
+          interrupted = true;
+          break;
+        }
+      }
+    }
+    return 0;
+  });
+  if (interrupted) throw py::error_already_set();  // KeyboardInterrupt; the steps done stay
+  const long samples = static_cast<long>(t.size());
+  py::dict out;
+  out["t"] = py::array_t<double>(static_cast<py::ssize_t>(samples), t.data());
+  out["x"] = states(x, samples, bodies, 3);
+  out["q"] = states(q, samples, bodies, 4);
+  out["v"] = states(v, samples, bodies, 3);
+  out["omega"] = states(omega, samples, bodies, 3);
+  py::dict per_step;
+  const auto count = static_cast<py::ssize_t>(step_t.size());
+  per_step["t"] = py::array_t<double>(count, step_t.data());
+  per_step["rows"] = py::array_t<long>(count, rows.data());
+  per_step["warm_rows"] = py::array_t<long>(count, warm_rows.data());
+  per_step["contacts"] = py::array_t<long>(count, contacts.data());
+  per_step["iterations"] = py::array_t<long>(count, iterations.data());
+  per_step["residual"] = py::array_t<double>(count, residual.data());
+  per_step["max_constraint_error"] = py::array_t<double>(count, constraint_error.data());
+  per_step["energy"] = py::array_t<double>(count, energy.data());
+  per_step["wall_time_s"] = py::array_t<double>(count, wall.data());
+  out["steps"] = per_step;
+  return out;
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::class_<SystemRecord, std::shared_ptr<SystemRecord>>(
+      m,
+      "System",
+      "One step's system (6.1, 6.2.9): sparse matrices as scipy.sparse.csr_matrix, vectors as "
+      "numpy arrays, all copies. lam and v2 are the step's solution (None for a system from "
+      "Simulation.build_system()).")
+      .def_property_readonly(
+          "J", [](const SystemRecord& r) { return to_csr(r.sys.J); }, "c x 6n (6.1)")
+      .def_property_readonly(
+          "Minv", [](const SystemRecord& r) { return to_csr(r.sys.Minv); }, "6n x 6n (6.1.2)")
+      .def_property_readonly(
+          "A", [](const SystemRecord& r) { return to_csr(r.sys.A); }, "c x c, J Minv J^T, 1/kg")
+      .def_property_readonly(
+          "b",
+          [](const SystemRecord& r) { return to_numpy(r.sys.b); },
+          "c, upsilon/dt - J (v1/dt + Minv fext), m/s^2 (6.2.9)")
+      .def_property_readonly(
+          "v1", [](const SystemRecord& r) { return to_numpy(r.sys.v1); }, "6n (6.1.1)")
+      .def_property_readonly(
+          "fext", [](const SystemRecord& r) { return to_numpy(r.sys.fext); }, "6n (6.1.3)")
+      .def_property_readonly(
+          "upsilon",
+          [](const SystemRecord& r) { return to_numpy(r.sys.upsilon); },
+          "c, m/s (6.1.4; with the push terms under the original push, without under the "
+          "improved one)")
+      .def_property_readonly(
+          "upsilon_push",
+          [](const SystemRecord& r) { return to_numpy(r.sys.upsilon_push); },
+          "c, each row's push term alone, m/s")
+      .def_property_readonly(
+          "cmin",
+          [](const SystemRecord& r) { return to_numpy(r.cmin()); },
+          "c, N (5.1); Coulomb friction rows at -mu lambda_n of lam")
+      .def_property_readonly(
+          "cmax",
+          [](const SystemRecord& r) { return to_numpy(r.cmax()); },
+          "c, N (5.1); Coulomb friction rows at +mu lambda_n of lam")
+      .def_property_readonly(
+          "lam",
+          [](const SystemRecord& r) -> py::object {
+            return r.lambda ? py::object(to_numpy(*r.lambda)) : py::none();
+          },
+          "c, lambda of the step, N (6.2.1)")
+      .def_property_readonly(
+          "v2",
+          [](const SystemRecord& r) -> py::object {
+            return r.v2 ? py::object(to_numpy(*r.v2)) : py::none();
+          },
+          "6n, v1 + dt Minv (J^T lam + fext) (12.3.1)")
+      .def_property_readonly(
+          "row_labels", [](const SystemRecord& r) { return r.sys.labels; }, "one per row")
+      .def_property_readonly(
+          "column_labels",
+          [](const SystemRecord& r) { return r.columns; },
+          "'<body>.vx' ... '<body>.wz' per movable body (6.1.1)")
+      .def_property_readonly(
+          "kind",
+          [](const SystemRecord& r) {
+            std::vector<std::string> kinds;
+            for (RowKind k : r.sys.kind) kinds.push_back(kind_name(k));
+            return kinds;
+          },
+          "each row's kind: 'distance', 'contact' or 'friction'")
+      .def_property_readonly(
+          "manifold",
+          [](const SystemRecord& r) { return r.sys.manifold; },
+          "each row's contact manifold, -1 for none (block PGS: solve(..., blocks=manifold))")
+      .def_property_readonly(
+          "dt", [](const SystemRecord& r) { return r.sys.dt; }, "s")
+      .def_property_readonly(
+          "cfm", [](const SystemRecord& r) { return r.cfm; }, "the scene's eps, 1/kg")
+      .def_property_readonly(
+          "push",
+          [](const SystemRecord& r) {
+            return r.sys.push == PushMode::Improved ? "improved" : "original";
+          },
+          "the push form b was made for")
+      .def_property_readonly(
+          "step", [](const SystemRecord& r) { return r.step; }, "0-based step index")
+      .def_property_readonly(
+          "report",
+          [](const SystemRecord& r) -> py::object {
+            return r.report ? py::object(step_report_dict(*r.report)) : py::none();
+          },
+          "the step's report (as Simulation.step() returns it), or None")
+      .def("__repr__", [](const SystemRecord& r) {
+        return "<cbps.System of step " + std::to_string(r.step) + ": " +
+               std::to_string(r.sys.rows()) + " rows, " + std::to_string(r.sys.blocks()) +
+               " movable bodies" + (r.lambda ? ", solved>" : ", not solved>");
+      });
+
+  py::class_<PySimulation>(
+      m, "Simulation", "A simulation of a scene (a copy of it): step(), run(), system().")
+      .def(py::init<const Scene&>(), py::arg("scene"))
+      .def("step",
+           &PySimulation::step,
+           "one step of dt (4, 5, 6.2.9, 7, 12.3.1, 3.2); returns the step's report as a dict "
+           "(rows, iterations, residual (N), termination, solver summary, stage times...). "
+           "DivergenceError leaves the bodies as they were before the step.")
+      .def("run",
+           &PySimulation::run,
+           py::arg("duration") = py::none(),
+           py::kw_only(),
+           py::arg("steps") = py::none(),
+           py::arg("record_every") = 1,
+           "steps for `duration` s (the nearest whole number of steps; default the scene's "
+           "duration) or `steps` steps; returns the trajectory: t (k), x (k, bodies, 3) m, q "
+           "(k, bodies, 4) w x y z, v (k, bodies, 3) m/s, omega (k, bodies, 3) rad/s at the "
+           "start and after every record_every-th step, and 'steps': per-step arrays t, rows, "
+           "warm_rows, contacts, iterations, residual, max_constraint_error, energy, "
+           "wall_time_s")
+      .def("system",
+           &PySimulation::system,
+           "the last step's system with its lam and v2 (InputError before the first step)")
+      .def("build_system",
+           &PySimulation::build_system,
+           "the system of the current state, not solved (as `cbps matrices --step K` after K "
+           "steps)")
+      .def("bodies",
+           &PySimulation::bodies,
+           "the bodies' states: dicts of name, shape, static, mass, x, q, v, omega")
+      .def_property_readonly("time", &PySimulation::time, "simulated time, s")
+      .def_property_readonly("steps_done", &PySimulation::steps_done)
+      .def_property_readonly("scene",
+                             &PySimulation::scene,
+                             "a copy of the simulated scene, its bodies in their current state")
+      .def("energy",
+           &PySimulation::energy,
+           "kinetic plus gravitational potential energy -m g.x of the movable bodies, J")
+      .def("max_constraint_error",
+           &PySimulation::max_constraint_error,
+           "max |c| over the distance constraints (5.2.2), m")
+      .def("stages", &PySimulation::stages, "the stages the last step ran, in order");
+}
+
+}  // namespace cbps::python

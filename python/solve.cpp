@@ -1,0 +1,324 @@
+// cbps.solve for Python: the boxed problem of 6.2 (find lambda in [cmin, cmax] with
+// w = A lambda − b ≥ 0 at cmin, ≤ 0 at cmax, = 0 between) on any (A, b, cmin, cmax) from Python,
+// by every method `cbps converge` knows, named by the --solver grammar (parse_solver_spec:
+// "pgs", "psor:1.3", "apgd:restart=off", ...), and Lemke's method as `cbps lcp --solver lemke`.
+// The solve runs without the GIL; the history of the iterative methods is the natural-map
+// residual after every sweep and the sweeps' time, recorded outside the solver's clock as
+// `cbps converge` records it.
+#include <chrono>
+#include <cmath>
+
+#include "cbps/error.hpp"
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/scene/scene.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/studies/solver_spec.hpp"
+#include "convert.hpp"
+
+namespace cbps::python {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// The largest problem handed to the dense Lemke solver (its tableau is n × 2n), as `cbps lcp`.
+constexpr long kMaxLemkeRows = 3000;
+
+/// One entry per recorded sweep: sweep 0 is the guess.
+struct History {
+  std::vector<int> iteration;
+  std::vector<double> residual;  ///< natural-map residual (6.2), N
+  std::vector<double> time_s;    ///< the solver's time so far, s
+  void add(int k, double r, double t) {
+    iteration.push_back(k);
+    residual.push_back(r);
+    time_s.push_back(t);
+  }
+  py::dict dict() const {
+    py::dict d;
+    const auto n = static_cast<py::ssize_t>(iteration.size());
+    d["iteration"] = py::array_t<int>(n, iteration.data());
+    d["residual"] = py::array_t<double>(n, residual.data());
+    d["time_s"] = py::array_t<double>(n, time_s.data());
+    return d;
+  }
+};
+
+RowKind kind_of(const std::string& name, long k) {
+  if (name == "distance") return RowKind::Distance;
+  if (name == "contact") return RowKind::Contact;
+  if (name == "friction") return RowKind::Friction;
+  throw InputError("kinds: entry " + std::to_string(k) + " '" + name +
+                   "': expected distance, contact or friction");
+}
+
+/// The inputs of a solve, converted and checked with the GIL held.
+struct Inputs {
+  StoredProblem p;  ///< A, b, cmin, cmax and, when given, J and Minv
+  VecX lambda;      ///< the guess
+  std::vector<int> blocks;
+  std::vector<RowKind> kinds;
+  BoxedProblem problem() const {
+    BoxedProblem bp = p.J.rows() > 0 ? BoxedProblem{p.A, p.b, p.cmin, p.cmax, &p.J, &p.Minv}
+                                     : BoxedProblem{p.A, p.b, p.cmin, p.cmax};
+    if (!blocks.empty()) bp.blocks = &blocks;
+    if (!kinds.empty()) bp.kinds = &kinds;
+    return bp;
+  }
+};
+
+Inputs read_inputs(const py::object& A,
+                   const py::object& b,
+                   const py::object& cmin,
+                   const py::object& cmax,
+                   const py::object& lam0,
+                   const py::object& J,
+                   const py::object& Minv,
+                   const py::object& blocks,
+                   const py::object& kinds) {
+  Inputs in;
+  StoredProblem& p = in.p;
+  p.A = sparse_from_python(A, "A");
+  const long c = p.A.rows();
+  if (p.A.cols() != c)
+    throw InputError("A: must be square, got " + std::to_string(c) + " x " +
+                     std::to_string(p.A.cols()));
+  p.b = vector_from_python(b, "b", c);
+  p.cmin = vector_from_python(cmin, "cmin", c, true);
+  p.cmax = vector_from_python(cmax, "cmax", c, true);
+  for (long k = 0; k < c; ++k) {
+    if (p.cmin(k) == kInf || p.cmax(k) == -kInf || p.cmin(k) > p.cmax(k))
+      throw InputError("cmin, cmax: row " + std::to_string(k) + ": [" + number_text(p.cmin(k)) +
+                       ", " + number_text(p.cmax(k)) + "] is not an interval of lambda");
+  }
+  in.lambda = lam0.is_none() ? VecX::Zero(c) : vector_from_python(lam0, "lam0", c);
+  if (J.is_none() != Minv.is_none())
+    throw InputError("J, Minv: give both (A = J Minv J^T) or neither");
+  if (!J.is_none()) {
+    p.J = SpMatRow(sparse_from_python(J, "J"));
+    p.Minv = sparse_from_python(Minv, "Minv");
+    if (p.J.rows() != c || p.Minv.rows() != p.J.cols() || p.Minv.cols() != p.J.cols())
+      throw InputError("J, Minv: J must be c x 6n and Minv 6n x 6n with c = " + std::to_string(c) +
+                       " rows of A; got J " + std::to_string(p.J.rows()) + " x " +
+                       std::to_string(p.J.cols()) + ", Minv " + std::to_string(p.Minv.rows()) +
+                       " x " + std::to_string(p.Minv.cols()));
+  }
+  if (!blocks.is_none()) {
+    in.blocks = blocks.cast<std::vector<int>>();
+    if (static_cast<long>(in.blocks.size()) != c)
+      throw InputError("blocks: has " + std::to_string(in.blocks.size()) + " entries, expected " +
+                       std::to_string(c));
+  }
+  if (!kinds.is_none()) {
+    const auto names = kinds.cast<std::vector<std::string>>();
+    if (static_cast<long>(names.size()) != c)
+      throw InputError("kinds: has " + std::to_string(names.size()) + " entries, expected " +
+                       std::to_string(c));
+    for (std::size_t k = 0; k < names.size(); ++k)
+      in.kinds.push_back(kind_of(names[k], static_cast<long>(k)));
+  }
+  return in;
+}
+
+/// What a method needs beyond (A, b, cmin, cmax), as `cbps converge` and `cbps lcp` ask it.
+void require_method_inputs(const SolverSpec& spec, const Inputs& in) {
+  const std::string what = "method '" + spec.text + "'";
+  if (needs_jacobian(spec.method) && in.p.J.rows() == 0)
+    throw InputError(what + ": it reads J (matrix-free sweeps on J and Minv; shock takes its " +
+                     "levels from J's bodies); pass J= and Minv=");
+  if (spec.contacts_first && in.kinds.empty())
+    throw InputError(what + ": contacts_first needs each row's kind; pass kinds=");
+  if (!is_iterative(spec.method)) {
+    require_symmetric(in.p, what);  // the exact paths solve the QP of 6.2
+    return;
+  }
+  // The sweeps divide by A_kk (7.1.1), as `cbps lcp` checks before PGS and Jacobi.
+  for (Eigen::Index k = 0; k < in.p.A.rows(); ++k)
+    if (!(in.p.A.coeff(k, k) > 0.0))
+      throw InputError(what + ": A[" + std::to_string(k) + "," + std::to_string(k) +
+                       "] = " + number_text(in.p.A.coeff(k, k)) +
+                       "; the iterative methods need a positive diagonal");
+}
+
+py::tuple solve_lemke_py(const Inputs& in, bool record) {
+  const StoredProblem& p = in.p;
+  if (p.rows() > kMaxLemkeRows)
+    throw InputError("method 'lemke': the problem has " + std::to_string(p.rows()) +
+                     " rows; the dense Lemke solver takes at most " +
+                     std::to_string(kMaxLemkeRows));
+  const bool standard = (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
+  LcpResult r;
+  double wall = 0.0;
+  double guess_residual = 0.0;
+  {
+    const py::gil_scoped_release release;
+    guess_residual = natural_map_residual(p.problem(), in.lambda);
+    const auto start = Clock::now();
+    const MatX M = MatX(p.A);  // Siconos' w = M z + q with M = A, q = −b (stored_problem.hpp)
+    const VecX q = -p.b;
+    r = standard ? solve_lemke(M, q) : solve_boxed_lemke(M, q, p.cmin, p.cmax);
+    wall = std::chrono::duration<double>(Clock::now() - start).count();
+  }
+  py::dict s;
+  s["method"] = "lemke";
+  s["iterations"] = r.pivots;
+  s["pivots"] = r.pivots;
+  s["residual"] = r.residual;
+  s["termination"] = to_string(r.status);
+  s["message"] = r.message;
+  s["wall_time_s"] = wall;
+  History h;
+  h.add(0, guess_residual, 0.0);
+  h.add(r.pivots, r.residual, wall);
+  s["history"] = record ? py::object(h.dict()) : py::none();
+  return py::make_tuple(to_numpy(r.z), s);
+}
+
+py::tuple solve_py(const py::object& A,
+                   const py::object& b,
+                   const py::object& cmin,
+                   const py::object& cmax,
+                   const std::string& method,
+                   const py::object& lam0,
+                   int iterations,
+                   double tolerance,
+                   double delta_tolerance,
+                   double cfm,
+                   std::uint64_t seed,
+                   bool split_islands,
+                   const py::object& J,
+                   const py::object& Minv,
+                   const py::object& blocks,
+                   const py::object& kinds,
+                   bool history) {
+  if (iterations < 1)
+    throw InputError("iterations " + std::to_string(iterations) + ": must be >= 1");
+  for (const auto& [name, value] : {std::pair<const char*, double>{"tolerance", tolerance},
+                                    {"delta_tolerance", delta_tolerance},
+                                    {"cfm", cfm}})
+    if (!(value >= 0.0) || !std::isfinite(value))
+      throw InputError(std::string(name) + " " + number_text(value) +
+                       ": must be a finite number >= 0");
+  // The spec first: a bad method is reported before the data are read.
+  const bool lemke = method == "lemke";
+  const SolverSpec spec = lemke ? SolverSpec{} : parse_solver_spec(method, "method");
+  const Inputs in = read_inputs(A, b, cmin, cmax, lam0, J, Minv, blocks, kinds);
+  if (lemke) {
+    if (cfm != 0.0) throw InputError("method 'lemke': cfm is not supported; add it to A");
+    return solve_lemke_py(in, history);
+  }
+  require_method_inputs(spec, in);
+
+  // The spec as a scene's solver block takes it (its warm factors only matter between steps).
+  SolverSettings settings;
+  apply_solver_spec(spec, settings);
+  settings.iterations = iterations;
+  settings.tolerance = tolerance;
+  settings.delta_tolerance = delta_tolerance;
+  settings.cfm = cfm;
+  settings.seed = seed;
+  settings.split_islands = split_islands;
+  SolverOptions options = settings.options();
+  // The per-sweep history (iterative methods on the whole problem: with split_islands each
+  // island sweeps apart, so there is no whole iterate to measure).
+  const bool per_sweep = history && is_iterative(spec.method) && !split_islands;
+  const SpMat A_solved = with_cfm(in.p.A, cfm);  // the matrix the residual is of (A + eps E)
+  const BoxedProblem solved{A_solved, in.p.b, in.p.cmin, in.p.cmax};
+  History h;
+  if (per_sweep)
+    options.after_sweep = [&](int k, const VecX& lambda, double time_s) {
+      h.add(k, natural_map_residual(solved, lambda), time_s);
+      return true;
+    };
+  VecX lambda = in.lambda;
+  SolverSummary summary;
+  {
+    const py::gil_scoped_release release;
+    const double guess = natural_map_residual(solved, lambda);
+    summary = solve(in.problem(), lambda, options);
+    if (history && !per_sweep && !split_islands) {
+      h.add(0, guess, 0.0);
+      h.add(std::max(1, summary.iterations),
+            natural_map_residual(solved, lambda),
+            summary.wall_time_s);
+    } else if (per_sweep) {
+      h.iteration.insert(h.iteration.begin(), 0);
+      h.residual.insert(h.residual.begin(), guess);
+      h.time_s.insert(h.time_s.begin(), 0.0);
+    }
+  }
+  py::dict s = summary_dict(summary);
+  s["method"] = spec.text;
+  s["history"] = history && !split_islands ? py::object(h.dict()) : py::none();
+  return py::make_tuple(to_numpy(lambda), s);
+}
+
+}  // namespace
+
+void bind_solve(py::module_& m) {
+  m.def("solve",
+        &solve_py,
+        py::arg("A"),
+        py::arg("b"),
+        py::arg("cmin"),
+        py::arg("cmax"),
+        py::arg("method") = "pgs",
+        py::kw_only(),
+        py::arg("lam0") = py::none(),
+        py::arg("iterations") = 10000,
+        py::arg("tolerance") = 1e-10,
+        py::arg("delta_tolerance") = 0.0,
+        py::arg("cfm") = 0.0,
+        py::arg("seed") = 0,
+        py::arg("split_islands") = false,
+        py::arg("J") = py::none(),
+        py::arg("Minv") = py::none(),
+        py::arg("blocks") = py::none(),
+        py::arg("kinds") = py::none(),
+        py::arg("history") = true,
+        "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
+        "--solver spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', "
+        "'direct', 'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', "
+        "'rbgs', 'shock', ...; or 'lemke', dense) from lam0 (default 0), with the defaults of "
+        "`cbps lcp` (iterations 10000, tolerance 1e-10 N). A: scipy.sparse or dense; b, cmin, "
+        "cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for matrix-free and "
+        "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
+        "'contact', 'friction') for contacts_first. Returns (lam, summary): summary is a dict "
+        "of iterations, residual (N), termination, message, wall_time_s, ... and history "
+        "{iteration, residual, time_s} after every sweep (sweep 0: the guess). Releases the "
+        "GIL while solving.");
+  m.def(
+      "methods",
+      [] {
+        std::vector<std::string> names;
+        for (Method method : kMethods) names.emplace_back(to_string(method));
+        return names;
+      },
+      "the names of every method solve() and Scene.solver take (besides 'lemke' for solve)");
+  m.def(
+      "parse_solver_spec",
+      [](const std::string& text) {
+        const SolverSpec spec = parse_solver_spec(text, "spec");
+        py::dict d;
+        d["text"] = spec.text;
+        d["method"] = std::string(to_string(spec.method));
+        d["relaxation"] = spec.relaxation;
+        d["order"] = to_string(spec.order);
+        d["contacts_first"] = spec.contacts_first;
+        d["warm"] = spec.warm;
+        d["warm_friction"] =
+            spec.warm_friction ? py::object(py::float_(*spec.warm_friction)) : py::none();
+        py::dict parameters;
+        for (const auto& [key, value] : method_parameters(spec.method, spec.methods))
+          parameters[py::str(key)] = value;
+        d["parameters"] = parameters;
+        return d;
+      },
+      py::arg("text"),
+      "a --solver spec parsed as the command line parses it (InputError naming what is wrong)");
+  m.def("solver_spec_help",
+        &solver_spec_help,
+        "every name the --solver grammar accepts, one line each, as `--help` prints it");
+}
+
+}  // namespace cbps::python

@@ -1,0 +1,49 @@
+"""Shared pieces of the Python module's tests (tests/python, run by CTest as python-*).
+
+CTest sets PYTHONPATH to the build's python/ folder and CBPS_EXECUTABLE to the command line
+built beside the module; run by hand, the tests look for both in build/release.
+"""
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+CLI = os.environ.get("CBPS_EXECUTABLE", str(ROOT / "build" / "release" / "cbps"))
+
+
+def cli(*args, check=True):
+    """Runs the command line; returns the completed process (text output)."""
+    result = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True)
+    if check and result.returncode != 0:
+        raise AssertionError(f"cbps {' '.join(map(str, args))}: exit {result.returncode}\n"
+                             f"{result.stderr}")
+    return result
+
+
+def cli_error(*args):
+    """The message of a command line that fails with bad input: exit 2, 'cbps: <message>'."""
+    result = cli(*args, check=False)
+    assert result.returncode == 2, (result.returncode, result.stdout, result.stderr)
+    line = result.stderr.strip().splitlines()[0]
+    assert line.startswith("cbps: "), line
+    return line[len("cbps: "):]
+
+
+def cli_json(*args):
+    return json.loads(cli(*args).stdout)
+
+
+def natural_map_residual(A, b, cmin, cmax, lam):
+    """||lam - clip(lam - (A lam - b), cmin, cmax)||_inf (6.2), computed here with numpy."""
+    w = A @ lam - b
+    return float(np.max(np.abs(lam - np.clip(lam - w, cmin, cmax)), initial=0.0))
+
+
+@pytest.fixture(scope="session")
+def cbps_module():
+    import cbps
+    return cbps

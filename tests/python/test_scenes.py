@@ -1,0 +1,100 @@
+"""Scenes from Python as the command line has them (`cbps scenes --json`, `--export`), and a
+run's trajectory against `cbps run`'s trajectory.csv and against free fall computed by hand."""
+import csv
+import json
+
+import numpy as np
+import pytest
+
+import cbps
+from conftest import cli, cli_json
+
+
+def test_scenes_list_as_cli():
+    assert cbps.scenes() == cli_json("scenes", "--json")
+
+
+def test_scene_json_as_cli_export(tmp_path):
+    """scene('chain', n=3, mass_ratio=2.5).to_json() is what `cbps scenes chain --param n=3
+    --param mass_ratio=2.5 --export FILE` writes; save() writes the same, load_scene reads it."""
+    exported = tmp_path / "cli.json"
+    cli("scenes", "chain", "--param", "n=3", "--param", "mass_ratio=2.5", "--export", exported)
+    scene = cbps.scene("chain", n=3, mass_ratio=2.5)
+    assert scene.to_json() == exported.read_text()
+    saved = tmp_path / "py.json"
+    scene.save(str(saved))
+    assert saved.read_text() == exported.read_text()
+    again = cbps.load_scene(str(saved))
+    assert again.to_json() == scene.to_json()
+    assert cbps.parse_scene(scene.to_json()).to_json() == scene.to_json()
+    assert scene.parameters["n"] == "3" and scene.parameters["mass_ratio"] == "2.5"
+    assert len(scene.bodies) == 3
+
+
+def test_settings_as_the_step_options():
+    scene = cbps.scene("chain")
+    scene.solver = "psor:1.3"
+    assert scene.solver == "pgs" and scene.relaxation == 1.3
+    scene.dt = 1 / 120
+    scene.push = "improved"
+    scene.iterations = 7
+    scene.gravity = [0, -1.62, 0]
+    text = json.loads(scene.to_json())
+    assert text["solver"]["iterations"] == 7 and text["world"]["push"] == "improved"
+    assert text["world"]["gravity"] == [0, -1.62, 0]
+    sim = cbps.Simulation(scene)
+    report = sim.step()
+    assert report["iterations"] <= 7
+    assert sim.time == pytest.approx(1 / 120, rel=1e-15)
+    assert sim.stages()[-1].startswith("integrate")
+
+
+def read_trajectory(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return rows
+
+
+def test_run_trajectory_equals_cbps_run(tmp_path):
+    """run(steps=48, record_every=4) against `cbps run chain --steps 48 --record-every 4`:
+    positions, orientations and velocities agree to the CSV's 12 significant digits."""
+    out = tmp_path / "run"
+    cli("run", "chain", "--param", "n=3", "--steps", 48, "--record-every", 4, "--no-timing",
+        "--out", out)
+    rows = read_trajectory(out / "trajectory.csv")
+    sim = cbps.Simulation(cbps.scene("chain", n=3))
+    traj = sim.run(steps=48, record_every=4)
+    k, n = 13, 3  # t = 0 and after steps 4, 8, ..., 48; three links
+    assert traj["t"].shape == (k,) and traj["x"].shape == (k, n, 3) and traj["q"].shape == (k, n, 4)
+    assert len(rows) == k * n
+    for row in rows:
+        i, body = divmod(rows.index(row), n)
+        assert int(row["body"]) == body
+        assert traj["t"][i] == pytest.approx(float(row["t"]), rel=1e-11, abs=1e-15)
+        for key, values in (("x", ("x", "y", "z")), ("q", ("qw", "qx", "qy", "qz")),
+                            ("v", ("vx", "vy", "vz")), ("omega", ("wx", "wy", "wz"))):
+            expected = [float(row[c]) for c in values]
+            np.testing.assert_allclose(traj[key][i, body], expected, rtol=1e-10, atol=1e-12)
+    steps = traj["steps"]
+    assert steps["t"].shape == (48,) and np.all(steps["rows"] == 3)
+    assert steps["energy"][-1] == pytest.approx(sim.energy(), rel=1e-15)
+    assert sim.system().step == 47
+
+
+def test_free_fall_by_hand():
+    """One ball and no constraint: semi-implicit Euler (3.2) gives v_k = -g dt k and
+    y_k = y_0 - g dt^2 k (k + 1) / 2 after k steps, exactly up to round-off."""
+    scene = cbps.parse_scene(json.dumps({
+        "name": "fall", "world": {"dt": "1/100"},
+        "bodies": [{"name": "ball", "shape": {"type": "sphere", "radius": 0.1}, "mass": 2.0,
+                    "position": [0, 10, 0]}]}))
+    sim = cbps.Simulation(scene)
+    traj = sim.run(0.5)  # duration 0.5 s: 50 steps
+    g, dt = 9.81, 0.01
+    k = np.arange(51)
+    np.testing.assert_allclose(traj["t"], k * dt, rtol=1e-14)
+    np.testing.assert_allclose(traj["v"][:, 0, 1], -g * dt * k, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(traj["x"][:, 0, 1], 10 - g * dt**2 * k * (k + 1) / 2, rtol=1e-12)
+    body = sim.bodies()[0]
+    assert body["name"] == "ball" and body["mass"] == 2.0
+    np.testing.assert_array_equal(body["x"], traj["x"][-1, 0])

@@ -1,0 +1,140 @@
+"""cbps.solve on (A, b, cmin, cmax) given from Python: the same lambda as the command line on
+the same stored problem (`cbps matrices`' lambda.mtx, `cbps lcp --json`), every method of the
+--solver grammar reachable by its spec text, and the per-sweep history."""
+import numpy as np
+import pytest
+import scipy.io
+import scipy.sparse as sp
+
+import cbps
+from conftest import ROOT, cli, cli_json, natural_map_residual
+
+
+@pytest.fixture(scope="module")
+def chain_folder(tmp_path_factory):
+    """`cbps matrices` of a 6-link chain with a heavy last link at step 20."""
+    folder = tmp_path_factory.mktemp("m") / "chain"
+    cli("matrices", "chain", "--param", "n=6", "--param", "mass_ratio=30", "--step", 20,
+        "--out", folder)
+    return folder
+
+
+def mm(folder, name):
+    """A stored file read by scipy (an independent reader), vectors flattened."""
+    x = scipy.io.mmread(str(folder / name))
+    return x.tocsr() if sp.issparse(x) else np.asarray(x, dtype=float).ravel()
+
+
+def stored(folder):
+    return [mm(folder, f) for f in ("A.mtx", "b.mtx", "cmin.mtx", "cmax.mtx")]
+
+
+def test_direct_equals_matrices_lambda(chain_folder):
+    """The direct path from Python on scipy's reading of the folder gives `cbps matrices`'
+    lambda.mtx (the same exact path, to its rounding floor)."""
+    A, b, cmin, cmax = stored(chain_folder)
+    lam, summary = cbps.solve(A, b, cmin, cmax, "direct", tolerance=0.0)
+    expected = mm(chain_folder, "lambda.mtx")
+    assert summary["method"] == "direct"
+    # Both are the exact solution: they agree to round-off of the largest lambda (A is definite
+    # for a chain, so lambda is unique).
+    assert np.max(np.abs(lam - expected)) <= 1e-9 * np.max(np.abs(expected))
+    assert natural_map_residual(A, b, cmin, cmax, lam) <= 1e-9 * max(1.0, np.max(np.abs(b)))
+
+
+@pytest.mark.parametrize("method", ["pgs", "direct", "active-set"])
+def test_solve_equals_cbps_lcp(chain_folder, method):
+    """`cbps lcp DIR --solver M --json` and cbps.solve(..., M) with cbps lcp's defaults
+    (10000 sweeps, tolerance 1e-10 N, from 0) give the same lambda, bit for bit: the same code on
+    the same numbers (scipy's reading of the folder; Matrix Market keeps 17 digits)."""
+    result = cli_json("lcp", chain_folder, "--solver", method, "--json")
+    A, b, cmin, cmax = stored(chain_folder)
+    lam, summary = cbps.solve(A, b, cmin, cmax, method)
+    cli_lambda = np.array(result["lambda"], dtype=float)
+    if method in ("direct", "active-set"):
+        # cbps lcp reads the folder with J and Minv (body space); here only A is given (row
+        # space): two factorizations of the same problem, equal to round-off.
+        assert np.max(np.abs(lam - cli_lambda)) <= 1e-9 * np.max(np.abs(cli_lambda))
+    else:
+        assert np.array_equal(lam, cli_lambda)
+        assert summary["iterations"] == result["iterations"]
+
+
+def test_read_problem_gives_the_same_problem_as_scipy(chain_folder):
+    p = cbps.read_problem(str(chain_folder))
+    A, b, cmin, cmax = stored(chain_folder)
+    assert (p.A != A).nnz == 0
+    assert np.array_equal(p.b, b) and np.array_equal(p.cmin, cmin) and np.array_equal(p.cmax, cmax)
+    assert p.J is not None and p.J.shape == mm(chain_folder, "J.mtx").shape
+    assert p.dt == pytest.approx(1 / 240, rel=1e-15)
+
+
+def test_every_method_is_reachable(chain_folder):
+    """Every method `cbps converge` knows, by its spec text, on the chain with J and Minv (for
+    matrix-free and shock) and blocks (block-pgs): each ends at a residual, computed here, below
+    1e-6 N, except Jacobi, which diverges undamped on chains and is run damped (jacobi:0.5)."""
+    p = cbps.read_problem(str(chain_folder))
+    A, b, cmin, cmax = p.A, p.b, p.cmin, p.cmax
+    names = cbps.methods()
+    assert {"pgs", "direct", "matrix-free", "apgd", "shock", "admm"} <= set(names)
+    for name in names:
+        spec = "jacobi:0.5" if name == "jacobi" else name
+        lam, summary = cbps.solve(A, b, cmin, cmax, spec, iterations=20000, tolerance=1e-9,
+                                  J=p.J, Minv=p.Minv, blocks=[-1] * len(b))
+        r = natural_map_residual(A, b, cmin, cmax, lam)
+        assert r <= 1e-6, (spec, r, summary["message"])
+        assert summary["method"] == spec
+
+
+def test_relaxation_and_keys_reach_the_solver(chain_folder):
+    """psor:1.3 is not pgs (other iterates); apgd:restart=off not apgd; a spec's key counts."""
+    p = cbps.read_problem(str(chain_folder))
+    args = (p.A, p.b, p.cmin, p.cmax)
+    pgs, _ = cbps.solve(*args, "pgs", iterations=5, tolerance=0)
+    psor, _ = cbps.solve(*args, "psor:1.3", iterations=5, tolerance=0)
+    assert not np.array_equal(pgs, psor)
+    apgd, s1 = cbps.solve(*args, "apgd", iterations=200, tolerance=0)
+    plain, s2 = cbps.solve(*args, "apgd:restart=off", iterations=200, tolerance=0)
+    assert not np.array_equal(apgd, plain)
+    assert cbps.parse_solver_spec("apgd:restart=off")["parameters"]["restart"] == "off"
+
+
+def test_history_is_one_entry_per_sweep(chain_folder):
+    """history: sweep 0 is the guess, then one entry per sweep; its residuals are the
+    natural-map residuals of the iterates (the last one recomputed here), time never falls."""
+    p = cbps.read_problem(str(chain_folder))
+    lam, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, "pgs", iterations=50, tolerance=0)
+    h = s["history"]
+    assert s["iterations"] == 50 and s["termination"] == "iteration limit"
+    np.testing.assert_array_equal(h["iteration"], np.arange(51))
+    assert h["residual"][0] == pytest.approx(natural_map_residual(p.A, p.b, p.cmin, p.cmax,
+                                                                  np.zeros(len(p.b))), rel=1e-12)
+    assert h["residual"][-1] == pytest.approx(natural_map_residual(p.A, p.b, p.cmin, p.cmax, lam),
+                                              rel=1e-9)
+    assert np.all(np.diff(h["time_s"]) >= 0)
+    assert h["residual"][-1] < h["residual"][0]
+    _, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, "pgs", iterations=5, history=False)
+    assert s["history"] is None
+
+
+def test_lemke_on_a_siconos_file_equals_cbps_lcp():
+    """Lemke on a Siconos LCP from Python against `cbps lcp FILE --json` (Lemke by default)."""
+    path = ROOT / "tests" / "data" / "siconos" / "lcp" / "lcp_CPS_1.dat"
+    result = cli_json("lcp", path, "--json")
+    assert result["solver"] == "lemke" and result["status"] == "solved"
+    p = cbps.read_siconos(str(path))
+    lam, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, "lemke")
+    assert s["termination"] == "solved"
+    np.testing.assert_array_equal(lam, np.array(result["lambda"], dtype=float))
+
+
+def test_dense_and_list_inputs():
+    """A dense array and lists are taken as well as scipy.sparse; a 2x2 problem solved by hand:
+    A = [[2, 1], [1, 2]], b = [1, 1], unbounded: lambda = A^-1 b = [1/3, 1/3]."""
+    lam, s = cbps.solve(np.array([[2.0, 1.0], [1.0, 2.0]]), [1, 1], [-np.inf] * 2, [np.inf] * 2,
+                        "direct")
+    np.testing.assert_allclose(lam, [1 / 3, 1 / 3], rtol=1e-14)
+    # With cmax = 0.2 on row 0: lambda_0 = 0.2, w_0 <= 0; row 1: 2 lambda_1 = 1 - 0.2.
+    lam, s = cbps.solve(sp.csc_matrix([[2.0, 1.0], [1.0, 2.0]]), np.array([[1.0], [1.0]]),
+                        [-np.inf, -np.inf], [0.2, np.inf], "pgs")
+    np.testing.assert_allclose(lam, [0.2, 0.4], rtol=1e-9)
