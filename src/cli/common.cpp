@@ -400,6 +400,40 @@ void write_text(const std::string& path, const std::string& text) {
   if (!out) throw std::runtime_error(path + ": write failed");
 }
 
+void check_output_file(const std::string& path, const std::string& option) {
+  const fs::path file(path);
+  std::error_code ec;
+  if (path.empty() || file.filename().empty() || fs::is_directory(file, ec))
+    throw InputError(option + " " + path + ": is a folder, not a file name");
+  const fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+  if (!fs::exists(folder, ec))
+    throw InputError(option + " " + path + ": the folder " + folder.string() + " does not exist");
+  if (!fs::is_directory(folder, ec))
+    throw InputError(option + " " + path + ": " + folder.string() + " is not a folder");
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  const std::string temp = path + ".cbps-tmp-" + std::to_string(getpid());
+  {
+    std::ofstream out(temp, std::ios::binary);
+    if (!out) throw InputError(path + ": cannot write there (" + temp + " cannot be created)");
+    out << text;
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(temp, ec);
+      throw InputError(path + ": write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(temp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+    throw InputError(path + ": cannot move the written file into place: " + ec.message());
+  }
+}
+
 std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
   static const char* const coords[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
   std::vector<std::string> labels;

@@ -105,6 +105,14 @@ bool run_python_script(const std::string& script, std::vector<std::string> args)
 /// Writes text to a file, throwing on failure.
 void write_text(const std::string& path, const std::string& text);
 
+/// Checks before any work that FILE (given by `option`, e.g. "--html") can be written: its
+/// folder exists and FILE is not a folder; InputError naming the option, the file and why.
+void check_output_file(const std::string& path, const std::string& option);
+/// Writes one output file atomically: the text goes to FILE.cbps-tmp-PID in the same folder,
+/// which is then renamed to FILE, so FILE is either its old self or whole. InputError naming
+/// the file when it cannot be written.
+void write_file_atomically(const std::string& path, const std::string& text);
+
 /// Column labels of J: "<body>.vx" … "<body>.wz" for each movable body (6.1.1).
 std::vector<std::string> column_labels(const Scene& scene, const System& sys);
 
