@@ -281,3 +281,61 @@ TEST_CASE("cbps explain --json: b, A and w recomputed by hand, statuses agree wi
     check_explained(e, false);
   }
 }
+
+TEST_CASE("cbps explain --html writes the teaching page atomically, labels as --json has them",
+          "[cli][explain][html]") {
+  const auto dir = scratch_dir("explain_html");
+  const auto page = dir / "page.html";
+  const CliResult r = run_cli("explain v-corner --step 10 --html " + page.string());
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find(page.string()) != std::string::npos);
+  const std::string html = slurp(page);
+  CHECK(html.rfind("<!DOCTYPE html>", 0) == 0);
+  CHECK(html.find("</html>") != std::string::npos);
+  // The same rows and columns as --json, and the page's λ table lists the same solution.
+  const CliResult js = run_cli("explain v-corner --step 10 --json");
+  REQUIRE(js.code == 0);
+  const auto e = nlohmann::json::parse(js.out);
+  for (const auto& label : e["row_labels"]) {
+    CAPTURE(label.get<std::string>());
+    CHECK(html.find("<th class=\"row\">" + label.get<std::string>() + "</th>") !=
+          std::string::npos);
+  }
+  for (const auto& label : e["column_labels"])
+    CHECK(html.find(label.get<std::string>()) != std::string::npos);
+  // Only the page in the folder: no temporary left behind.
+  int files = 0;
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    CAPTURE(f.path().string());
+    ++files;
+  }
+  CHECK(files == 1);
+}
+
+TEST_CASE("cbps explain --html: bad input exits 2 naming it and leaves the old file",
+          "[cli][explain][html]") {
+  const auto dir = scratch_dir("explain_html_bad");
+  const auto page = dir / "page.html";
+  write_file(page, "old");
+  SECTION("a folder that does not exist") {
+    const CliResult r = run_cli("explain v-corner --html " + (dir / "none" / "p.html").string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--html") != std::string::npos);
+    CHECK(r.err.find("does not exist") != std::string::npos);
+  }
+  SECTION("a folder instead of a file") {
+    const CliResult r = run_cli("explain v-corner --html " + dir.string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("is a folder") != std::string::npos);
+  }
+  SECTION("an unknown scene: the existing page stays as it was") {
+    const CliResult r = run_cli("explain no-such-scene --html " + page.string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("no-such-scene") != std::string::npos);
+  }
+  SECTION("--html with --json") {
+    const CliResult r = run_cli("explain v-corner --json --html " + page.string());
+    CHECK(r.code == 2);
+  }
+  CHECK(slurp(page) == "old");
+}
