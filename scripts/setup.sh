@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev catch2 libgsl-dev nlohmann-json3-dev libcli11-dev
   libbenchmark-dev python3 python3-matplotlib python3-numpy python3-scipy clang-format
   clang libclang-rt-14-dev llvm-14
+  chromium  # headless, for the teaching page's tests (tests/test_teaching_page_browser.py)
 )
 missing=()
 for p in "${packages[@]}"; do

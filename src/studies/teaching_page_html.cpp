@@ -194,8 +194,14 @@ void Page::sparsity(const std::string& id,
   const int bin = static_cast<int>(std::ceil(cells / 300.0));
   const double cell = std::clamp(560.0 / (cells / bin), 2.0, 16.0);
   const bool labels = M.rows() <= l_.dense_rows;
-  const double left = labels ? 150.0 : 40.0, top = 70.0;
-  const double width = left + cell * std::ceil(cols / bin) + 10.0;
+  // Room for the row labels at the left (about 6.2 px a character at 11 px) and for the body
+  // names, slanted, above and to the right.
+  std::size_t longest = 0;
+  if (labels)
+    for (const std::string& label : sys_.labels) longest = std::max(longest, label.size());
+  const double left = labels ? std::min(320.0, 6.2 * static_cast<double>(longest) + 10.0) : 40.0;
+  const double top = group > 0 ? 70.0 : 10.0;
+  const double width = left + cell * std::ceil(cols / bin) + (group > 0 ? 70.0 : 10.0);
   const double height = top + cell * std::ceil(rows / bin) + 10.0;
   o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 " << px(width) << " "
      << px(height) << "\" width=\"" << px(width) << "\" height=\"" << px(height)
@@ -215,7 +221,7 @@ void Page::sparsity(const std::string& id,
     }
   } else {
     o_ << "<rect x=\"" << px(left) << "\" y=\"" << px(top) << "\" width=\""
-       << px(width - left - 10.0) << "\" height=\"" << px(height - top - 10.0)
+       << px(cell * std::ceil(cols / bin)) << "\" height=\"" << px(height - top - 10.0)
        << "\" fill=\"#f4f4f4\"/>";
   }
   o_ << "\n";

@@ -148,13 +148,22 @@ TEST_CASE(
     CAPTURE(k, w_here(k), l_rows[static_cast<std::size_t>(k)].values[3]);
     CHECK(std::abs(w_here(k) - l_rows[static_cast<std::size_t>(k)].values[3]) <= 1e-5 * w_scale);
   }
-  // The rows at a bound are marked: as many "at-bound" rows as statuses other than "free".
+}
+
+TEST_CASE("The teaching page marks the rows at a bound (6.2)", "[studies][teaching]") {
+  // A box sliding along x (paper friction, 5.4): kinetic friction holds its x friction rows at a
+  // bound, which the table highlights and marks.
+  const TeachingStep step = step_of("slide", {}, 5);
   int at_bound = 0;
   for (const RowStatus& s : step.systems[0].status) at_bound += s.at_bound() ? 1 : 0;
-  CHECK(at_bound > 0);  // the friction rows of boxes at rest are not all free
+  REQUIRE(at_bound >= 4);
+  const std::string html = teaching_page_html(step);
+  const std::string table = table_of(html, "table-lambda-1");
   const std::regex marked("<tr class=\"[a-z]+ at-bound");
-  const std::string lambda_table = table_of(html, "table-lambda-1");
-  CHECK(std::distance(std::sregex_iterator(lambda_table.begin(), lambda_table.end(), marked),
+  CHECK(std::distance(std::sregex_iterator(table.begin(), table.end(), marked),
+                      std::sregex_iterator()) == at_bound);
+  const std::regex dot("● at cm");
+  CHECK(std::distance(std::sregex_iterator(table.begin(), table.end(), dot),
                       std::sregex_iterator()) == at_bound);
 }
 
