@@ -3,6 +3,7 @@
 // every table has row and column labels and units. Above TeachingLimits the tables give way to
 // pictures and statistics, and the page says so.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -188,11 +189,10 @@ void Page::sparsity(const std::string& id,
                     const std::vector<std::string>& group_names) {
   const auto rows = static_cast<double>(M.rows()), cols = static_cast<double>(M.cols());
   if (M.rows() == 0 || M.cols() == 0) return;
-  // Large matrices are binned: one square per bin of `bin` × `bin` entries, coloured by the
-  // kinds of the rows with a nonzero in it (grey when they differ).
+  // Large matrices are binned: one square per bin of `bin` × `bin` entries.
   const double cells = std::max(rows, cols);
   const int bin = static_cast<int>(std::ceil(cells / 300.0));
-  const double cell = std::clamp(560.0 / (cells / bin), 2.0, 16.0);
+  const double cell = std::clamp(560.0 / (cells / bin), 2.0, 28.0);
   const bool labels = M.rows() <= l_.dense_rows;
   // Room for the row labels at the left (about 6.2 px a character at 11 px) and for the body
   // names, slanted, above and to the right.
@@ -225,18 +225,18 @@ void Page::sparsity(const std::string& id,
        << "\" fill=\"#f4f4f4\"/>";
   }
   o_ << "\n";
-  std::map<std::pair<Eigen::Index, Eigen::Index>, int> kinds;  // bin → bit set of kinds
+  // Nonzeros per bin and row kind; a bin takes the colour of the kind with the most.
+  std::map<std::pair<Eigen::Index, Eigen::Index>, std::array<int, 3>> kinds;
   for (Eigen::Index c = 0; c < M.outerSize(); ++c)
     for (SpMat::InnerIterator it(M, c); it; ++it)
       if (it.value() != 0.0)
-        kinds[{it.row() / bin, c / bin}] |= 1 << static_cast<int>(kind_of(sys_, it.row()));
-  for (const auto& [at, mask] : kinds) {
-    const char* colour = "#555555";
-    for (RowKind k : {RowKind::Distance, RowKind::Contact, RowKind::Friction})
-      if (mask == 1 << static_cast<int>(k)) colour = kind_colour(k);
+        ++kinds[{it.row() / bin, c / bin}][static_cast<int>(kind_of(sys_, it.row()))];
+  for (const auto& [at, count] : kinds) {
+    const auto most = std::max_element(count.begin(), count.end()) - count.begin();
     o_ << "<rect x=\"" << px(left + cell * static_cast<double>(at.second)) << "\" y=\""
        << px(top + cell * static_cast<double>(at.first)) << "\" width=\"" << px(cell * 0.92)
-       << "\" height=\"" << px(cell * 0.92) << "\" fill=\"" << colour << "\"/>";
+       << "\" height=\"" << px(cell * 0.92) << "\" fill=\""
+       << kind_colour(static_cast<RowKind>(most)) << "\"/>";
   }
   o_ << "\n";
   if (labels)
@@ -247,7 +247,9 @@ void Page::sparsity(const std::string& id,
          << kind_colour(kind_of(sys_, r)) << "\">"
          << html_escape(sys_.labels[static_cast<std::size_t>(r)]) << "</text>";
   o_ << "</svg><figcaption class=\"note\">" << html_escape(title);
-  if (bin > 1) o_ << " (one square per " << bin << " × " << bin << " entries)";
+  if (bin > 1)
+    o_ << " (one square per " << bin << " × " << bin
+       << " entries, coloured by the kind with the most nonzeros in it)";
   o_ << "</figcaption></figure>\n";
 }
 
@@ -279,7 +281,9 @@ void Page::log_plot(const std::string& id,
                d_hi = std::max(d_lo + 1, std::ceil(std::log10(hi)));
   const double left = 60, right = 560, top = 12, bottom = 200, below = 238;
   const double n = std::max<double>(1.0, static_cast<double>(values.size()) - 1.0);
-  auto x_of = [&](std::size_t i) { return left + (right - left) * static_cast<double>(i) / n; };
+  auto x_of = [&](std::size_t i) {
+    return left + 8.0 + (right - left - 16.0) * static_cast<double>(i) / n;
+  };
   auto y_of = [&](double v) {
     if (!(v > floor_value)) return bottom + 14.0;  // below the axis: "zero"
     return bottom - (bottom - top) * (std::log10(v) - d_lo) / (d_hi - d_lo);
