@@ -112,6 +112,8 @@ class Page {
   void spectrum();
   void velocities();
   void one_system(const TeachingSystem& t, const std::string& id);
+  /// λ against its bounds, w and the residual per sweep of one system.
+  void solution(const TeachingSystem& t, const std::string& id);
   void footer();
 
   void equation(const std::string& html) { o_ << "<p class=\"eq\">" << html << "</p>\n"; }
@@ -285,7 +287,7 @@ void Page::log_plot(const std::string& id,
     return left + 8.0 + (right - left - 16.0) * static_cast<double>(i) / n;
   };
   auto y_of = [&](double v) {
-    if (!(v > floor_value)) return bottom + 14.0;  // below the axis: "zero"
+    if (!(v > floor_value)) return bottom + 9.0;  // just below the axis: "zero"
     return bottom - (bottom - top) * (std::log10(v) - d_lo) / (d_hi - d_lo);
   };
   o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 580 " << below + 12
@@ -613,6 +615,25 @@ void Page::one_system(const TeachingSystem& t, const std::string& id) {
     o_ << "</dl>\n";
   }
 
+  if (c == 0) {
+    note("No rows: nothing to solve; v₂ = v₁ + Δt M⁻¹ f<sub>ext</sub> (12.3.1 with λ empty).");
+  } else {
+    solution(t, id);
+  }
+
+  o_ << "<h3>v₂: the velocities after the step</h3>\n";
+  equation("v₂ = v₁ + Δt M⁻¹ (Jᵀλ + f<sub>ext</sub>) (12.3.1)");
+  unit("v in m/s, ω in rad/s");
+  if (sys_.blocks() <= 6 * l_.dense_bodies)
+    body_table("table-v2-" + id, {&t.v2}, {"v₂", "ω₂"}, {"m/s", "rad/s"});
+  else
+    limit("The table is shown up to " + std::to_string(6 * l_.dense_bodies) + " bodies.");
+  o_ << "</section>\n";
+}
+
+void Page::solution(const TeachingSystem& t, const std::string& id) {
+  const Eigen::Index c = t.lambda.size();
+  const bool dense = c <= l_.dense_rows;
   o_ << "<h3>λ within its bounds, and w = Aλ − b</h3>\n";
   equation(
       "cmin ≤ λ ≤ cmax (5.1); w = Aλ − b (6.2): λ<sub>k</sub> = cmin<sub>k</sub> ⇒ "
@@ -687,15 +708,6 @@ void Page::one_system(const TeachingSystem& t, const std::string& id) {
             : std::string()) +
        ". The final residual is " +
        (t.sweep_residuals.empty() ? std::string("—") : num(t.sweep_residuals.back())) + " N.");
-
-  o_ << "<h3>v₂: the velocities after the step</h3>\n";
-  equation("v₂ = v₁ + Δt M⁻¹ (Jᵀλ + f<sub>ext</sub>) (12.3.1)");
-  unit("v in m/s, ω in rad/s");
-  if (sys_.blocks() <= 6 * l_.dense_bodies)
-    body_table("table-v2-" + id, {&t.v2}, {"v₂", "ω₂"}, {"m/s", "rad/s"});
-  else
-    limit("The table is shown up to " + std::to_string(6 * l_.dense_bodies) + " bodies.");
-  o_ << "</section>\n";
 }
 
 void Page::footer() {

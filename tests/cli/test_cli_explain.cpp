@@ -339,3 +339,17 @@ TEST_CASE("cbps explain --html: bad input exits 2 naming it and leaves the old f
   }
   CHECK(slurp(page) == "old");
 }
+
+TEST_CASE("cbps explain --html of a step without rows says so and still gives v1 and v2",
+          "[cli][explain][html]") {
+  const auto page = scratch_dir("explain_html_empty") / "page.html";
+  const CliResult r = run_cli("explain " + std::string(CBPS_SOURCE_DIR) +
+                              "/scenes/spinning-box.json --html " + page.string());
+  REQUIRE(r.code == 0);
+  const std::string html = slurp(page);
+  CHECK(html.find("No rows: nothing to solve") != std::string::npos);
+  CHECK(html.find("No rows: A is empty.") != std::string::npos);
+  CHECK(html.find("id=\"table-lambda-1\"") == std::string::npos);
+  CHECK(html.find("id=\"table-v1\"") != std::string::npos);
+  CHECK(html.find("id=\"table-v2-1\"") != std::string::npos);
+}
