@@ -114,7 +114,7 @@ def main():
         elif mode == "phone":
             check_screenshot(browser, page, work, 412, 900)
         else:
-            check_screenshot(browser, page, work, 1000, 1400)
+            check_screenshot(browser, page, work, 1000, 1000)
     return 0
 
 
