@@ -1,13 +1,11 @@
 // Eigen ↔ numpy / scipy.sparse for the Python module (convert.hpp).
 #include "convert.hpp"
 
-#include <unistd.h>
-
 #include <cmath>
-#include <filesystem>
 #include <string>
 
 #include "cbps/error.hpp"
+#include "cbps/io/output_file.hpp"
 
 namespace cbps::python {
 
@@ -160,28 +158,8 @@ void write_atomically(const std::string& path,
                       const std::string& what,
                       bool force,
                       const std::function<void(const std::string&)>& write) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(what + ": is a folder, not a file");
-  if (fs::exists(path, ec) && !force)
-    throw InputError(what + ": exists; refusing to overwrite it (force=True replaces it)");
-  const fs::path parent = fs::absolute(path).parent_path();
-  if (!fs::is_directory(parent, ec))
-    throw InputError(what + ": the folder " + parent.string() + " does not exist");
-  const fs::path temp =
-      parent / ("." + fs::path(path).filename().string() + ".tmp-" + std::to_string(::getpid()));
-  try {
-    write(temp.string());
-  } catch (const std::exception& e) {
-    fs::remove(temp, ec);
-    throw InputError(what + ": cannot write in " + parent.string() + ": " + e.what());
-  }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    throw InputError(what + ": cannot rename the written file to it: " + ec.message());
-  }
+  check_output_file(path, what, force, "force=True replaces it");
+  write_file_atomically(path, what, write);
 }
 
 }  // namespace cbps::python

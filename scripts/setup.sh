@@ -8,6 +8,7 @@ packages=(
   libbenchmark-dev python3 python3-matplotlib python3-numpy python3-scipy python3-dev
   pybind11-dev python3-pytest clang-format
   clang libclang-rt-14-dev llvm-14
+  chromium  # headless, for the teaching page's tests (tests/test_teaching_page_browser.py)
 )
 missing=()
 for p in "${packages[@]}"; do

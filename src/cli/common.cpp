@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "cbps/error.hpp"
+#include "cbps/io/output_file.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/solvers/solver.hpp"
@@ -398,6 +399,25 @@ void write_text(const std::string& path, const std::string& text) {
   out << text;
   out.flush();
   if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+void write_output_file(const std::string& path, const std::string& what, const std::string& text) {
+  const std::string temp = temporary_name(path);
+  {
+    const std::lock_guard<std::mutex> lock(registry_mutex);
+    temp_registry()[temp] = "";  // Ctrl-C removes it (install_interrupt_cleanup)
+  }
+  const auto forget = [&temp] {
+    const std::lock_guard<std::mutex> lock(registry_mutex);
+    temp_registry().erase(temp);
+  };
+  try {
+    write_file_atomically(path, what, [&](const std::string& t) { write_text(t, text); });
+  } catch (...) {
+    forget();
+    throw;
+  }
+  forget();
 }
 
 std::vector<std::string> column_labels(const Scene& scene, const System& sys) {

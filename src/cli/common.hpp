@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cbps/io/output_file.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/system/system.hpp"
 
@@ -104,6 +105,11 @@ bool run_python_script(const std::string& script, std::vector<std::string> args)
 
 /// Writes text to a file, throwing on failure.
 void write_text(const std::string& path, const std::string& text);
+
+/// Writes one output file whole or not at all (cbps/io/output_file.hpp: a temporary file
+/// beside it, renamed into place), its temporary file removed on Ctrl-C as --out's folders are.
+/// Check it first with check_output_file.
+void write_output_file(const std::string& path, const std::string& what, const std::string& text);
 
 /// Column labels of J: "<body>.vx" … "<body>.wz" for each movable body (6.1.1).
 std::vector<std::string> column_labels(const Scene& scene, const System& sys);

@@ -16,6 +16,7 @@
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/step/push.hpp"
 #include "cbps/step/simulation.hpp"
+#include "cbps/studies/teaching_page.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -34,6 +35,8 @@ struct ExplainOptions {
   StepOptions step;
   long at_step = 0;
   bool json = false;
+  std::string html;    ///< --html FILE: the teaching page (teaching_page.hpp)
+  bool force = false;  ///< --force: replace FILE even when it is not a page cbps wrote
 };
 
 /// A number with kDigits significant digits; -0 is printed as 0.
@@ -130,37 +133,34 @@ void print_vector(const std::string& title,
   }
 }
 
-/// Where row k's lambda sits and whether w = A lambda − b agrees (6.2): free (cmin < lambda <
-/// cmax, w ≈ 0), at cmin (w ≥ 0) or at cmax (w ≤ 0).
-struct RowStatus {
-  std::string where;      ///< "free", "at cmin", "at cmax", "at cmin = cmax"
-  bool satisfied = true;  ///< the sign or zero condition of w holds within the tolerance
-};
-
-RowStatus row_status(double lambda, double cmin, double cmax, double w, double tol) {
-  RowStatus s;
-  const double tol_min = std::max(tol, 1e-12 * std::abs(cmin));
-  const double tol_max = std::max(tol, 1e-12 * std::abs(cmax));
-  if (std::isfinite(cmin) && std::isfinite(cmax) && cmax - cmin <= tol_min) {
-    s.where = "at cmin = cmax";  // a fixed lambda (Coulomb friction with no normal force): any w
-  } else if (std::isfinite(cmin) && lambda - cmin <= tol_min) {
-    s.where = "at cmin";
-    s.satisfied = w >= -tol;
-  } else if (std::isfinite(cmax) && cmax - lambda <= tol_max) {
-    s.where = "at cmax";
-    s.satisfied = w <= tol;
-  } else {
-    s.where = "free";
-    s.satisfied = std::abs(w) <= tol;
-  }
-  return s;
-}
-
 int explain_command(const ExplainOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
+  // An existing FILE is replaced when it is a teaching page cbps wrote, else only with --force.
+  if (!o.html.empty())
+    check_output_file(o.html,
+                      "--html " + o.html,
+                      o.force || is_teaching_page(o.html),
+                      "it is not a page cbps wrote; --force replaces it");
   Simulation sim(scene);
   for (long s = 0; s < o.at_step; ++s) sim.step();
+  if (!o.html.empty()) {
+    // The page shows pictures and statistics instead of dense tables above its limits, so it
+    // takes any size the step itself takes.
+    const System shown = sim.build_system();
+    std::vector<std::string> bodies;
+    for (int body : shown.body_of_block)
+      bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
+    const TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
+    write_output_file(o.html, "--html " + o.html, teaching_page_html(step));
+    std::printf("%s, step %ld: %d rows, %d movable bodies; wrote %s\n",
+                scene.name.c_str(),
+                o.at_step,
+                shown.rows(),
+                shown.blocks(),
+                o.html.c_str());
+    return 0;
+  }
 
   System sys = sim.build_system();
   // explain prints J, Minv and A densely: refuse, naming the sizes, what would not fit.
@@ -403,6 +403,18 @@ void register_explain(CLI::App& app, Action& run) {
                 o->json,
                 "full-precision dense arrays with row and column labels, units, w and per-row "
                 "status, as JSON");
+  cmd->add_option("--html",
+                  o->html,
+                  "write the teaching page to FILE instead: one self-contained HTML file with "
+                  "the step's system, sparsity pictures, lambda against its bounds, the "
+                  "residual per sweep and the eigenvalues of A")
+      ->option_text("FILE")
+      ->excludes("--json");
+  cmd->add_flag("--force",
+                o->force,
+                "with --html: replace FILE even when it is not a teaching page cbps wrote (a page "
+                "cbps wrote is always replaced)")
+      ->needs("--html");
   cmd->callback([&run, o] { run = [o] { return explain_command(*o); }; });
 }
 

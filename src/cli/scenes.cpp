@@ -1,8 +1,6 @@
 // cbps scenes [NAME [--param K=V ...] [--export FILE [--force]]] [--json]: the built-in scenes,
 // their parameters, defaults and units; with --export one of them as an editable JSON scene file.
-#include <unistd.h>
 
-#include <filesystem>
 #include <iostream>
 #include <map>
 
@@ -14,8 +12,6 @@
 namespace cbps::cli {
 
 namespace {
-
-namespace fs = std::filesystem;
 
 struct ScenesOptions {
   std::string name;
@@ -46,37 +42,14 @@ void print_listing(const BuiltinScene& s) {
   std::cout << "\n";
 }
 
-/// Writes the scene's JSON to a temporary file beside FILE and renames it to FILE, so FILE is
-/// either the whole scene or untouched. An existing FILE is replaced only with --force.
+/// Writes the scene's JSON whole or not at all (cbps/io/output_file.hpp). An existing FILE is
+/// replaced only with --force.
 void export_scene(const ScenesOptions& o) {
-  const std::string& file = o.export_file;
-  const std::string what = "--export " + file;
-  std::error_code ec;
-  if (fs::is_directory(file, ec)) throw InputError(what + ": is a folder, not a file");
-  if (fs::exists(file, ec) && !o.force)
-    throw InputError(what + ": exists; refusing to overwrite it (--force replaces it)");
-  const fs::path parent = fs::absolute(file).parent_path();
-  if (!fs::is_directory(parent, ec))
-    throw InputError(what + ": the folder " + parent.string() + " does not exist");
-
+  const std::string what = "--export " + o.export_file;
+  check_output_file(o.export_file, what, o.force, "--force replaces it");
   const Scene scene =
       make_builtin_scene(o.name, parameter_values(o.params));  // InputError for a bad name or value
-  const std::string text = scene_to_json(scene);
-
-  const fs::path temp =
-      parent / ("." + fs::path(file).filename().string() + ".tmp-" + std::to_string(::getpid()));
-  try {
-    write_text(temp.string(), text);
-  } catch (const std::exception&) {
-    fs::remove(temp, ec);
-    throw InputError(what + ": cannot write in " + parent.string());
-  }
-  fs::rename(temp, file, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-    throw InputError(what + ": cannot rename the written file to it: " + ec.message());
-  }
+  write_output_file(o.export_file, what, scene_to_json(scene));
 }
 
 int scenes_command(const ScenesOptions& o) {

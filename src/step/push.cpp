@@ -22,7 +22,7 @@ VecX Simulation::position_velocities(const System& sys, const VecX& lambda, Step
     // Start from this step's velocity λ plus last step's push increment λ_position − λ: the
     // two systems differ only by the push (8.1). (4.1 cm top drift against 6.1 cm from the last
     // λ_position, 10-box stack, 20 sweeps.) The increment takes the rows' warm-start factors.
-    lambda_position = lambda + warm_lambda(sys, warm_position_);
+    lambda_position = position_guess(sys, lambda);
     report.position_solver = solve_system(sys, b_position, lambda_position);
   }
   v_position = compute_v2(sys, lambda_position);  // (12.3.1), with the position system's λ

@@ -281,3 +281,100 @@ TEST_CASE("cbps explain --json: b, A and w recomputed by hand, statuses agree wi
     check_explained(e, false);
   }
 }
+
+TEST_CASE("cbps explain --html writes the teaching page atomically, labels as --json has them",
+          "[cli][explain][html]") {
+  const auto dir = scratch_dir("explain_html");
+  const auto page = dir / "page.html";
+  const CliResult r = run_cli("explain v-corner --step 10 --html " + page.string());
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find(page.string()) != std::string::npos);
+  const std::string html = slurp(page);
+  CHECK(html.rfind("<!DOCTYPE html>", 0) == 0);
+  CHECK(html.find("</html>") != std::string::npos);
+  // The same rows and columns as --json, and the page's λ table lists the same solution.
+  const CliResult js = run_cli("explain v-corner --step 10 --json");
+  REQUIRE(js.code == 0);
+  const auto e = nlohmann::json::parse(js.out);
+  for (const auto& label : e["row_labels"]) {
+    CAPTURE(label.get<std::string>());
+    CHECK(html.find("<th class=\"row\">" + label.get<std::string>() + "</th>") !=
+          std::string::npos);
+  }
+  for (const auto& label : e["column_labels"])
+    CHECK(html.find(label.get<std::string>()) != std::string::npos);
+  // Only the page in the folder: no temporary left behind.
+  int files = 0;
+  for (const auto& f : std::filesystem::directory_iterator(dir)) {
+    CAPTURE(f.path().string());
+    ++files;
+  }
+  CHECK(files == 1);
+}
+
+TEST_CASE("cbps explain --html: bad input exits 2 naming it and leaves the old file",
+          "[cli][explain][html]") {
+  const auto dir = scratch_dir("explain_html_bad");
+  const auto page = dir / "page.html";
+  write_file(page, "old");
+  SECTION("a folder that does not exist") {
+    const CliResult r = run_cli("explain v-corner --html " + (dir / "none" / "p.html").string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--html") != std::string::npos);
+    CHECK(r.err.find("does not exist") != std::string::npos);
+  }
+  SECTION("a folder instead of a file") {
+    const CliResult r = run_cli("explain v-corner --html " + dir.string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("is a folder") != std::string::npos);
+  }
+  SECTION("an unknown scene: the existing page stays as it was") {
+    const CliResult r = run_cli("explain no-such-scene --html " + page.string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("no-such-scene") != std::string::npos);
+  }
+  SECTION("--html with --json") {
+    const CliResult r = run_cli("explain v-corner --json --html " + page.string());
+    CHECK(r.code == 2);
+  }
+  CHECK(slurp(page) == "old");
+}
+
+TEST_CASE("cbps explain --html replaces a page it wrote, a user's file only with --force",
+          "[cli][explain][html]") {
+  const auto dir = scratch_dir("explain_html_replace");
+  const auto page = dir / "page.html";
+  // A page cbps wrote is replaced by the next one (another step, so the content changes).
+  REQUIRE(run_cli("explain v-corner --html " + page.string()).code == 0);
+  const std::string first = slurp(page);
+  REQUIRE(run_cli("explain v-corner --step 3 --html " + page.string()).code == 0);
+  CHECK(slurp(page) != first);
+  CHECK(slurp(page).find("step 3") != std::string::npos);
+  // A file cbps did not write (here an HTML file of the user's) is kept, and said why.
+  const auto mine = dir / "notes.html";
+  write_file(mine, "<!DOCTYPE html><p>my notes</p>");
+  const CliResult refused = run_cli("explain v-corner --html " + mine.string());
+  CHECK(refused.code == 2);
+  CHECK(refused.err.find("--html " + mine.string() + ": exists") != std::string::npos);
+  CHECK(refused.err.find("--force") != std::string::npos);
+  CHECK(slurp(mine) == "<!DOCTYPE html><p>my notes</p>");
+  // --force replaces it; --force without --html is refused.
+  CHECK(run_cli("explain v-corner --html " + mine.string() + " --force").code == 0);
+  CHECK(slurp(mine).find("<meta name=\"generator\" content=\"cbps explain --html\">") !=
+        std::string::npos);
+  CHECK(run_cli("explain v-corner --force").code == 2);
+}
+
+TEST_CASE("cbps explain --html of a step without rows says so and still gives v1 and v2",
+          "[cli][explain][html]") {
+  const auto page = scratch_dir("explain_html_empty") / "page.html";
+  const CliResult r = run_cli("explain " + std::string(CBPS_SOURCE_DIR) +
+                              "/scenes/spinning-box.json --html " + page.string());
+  REQUIRE(r.code == 0);
+  const std::string html = slurp(page);
+  CHECK(html.find("No rows: nothing to solve") != std::string::npos);
+  CHECK(html.find("No rows: A is empty.") != std::string::npos);
+  CHECK(html.find("id=\"table-lambda-1\"") == std::string::npos);
+  CHECK(html.find("id=\"table-v1\"") != std::string::npos);
+  CHECK(html.find("id=\"table-v2-1\"") != std::string::npos);
+}

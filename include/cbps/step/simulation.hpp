@@ -101,6 +101,11 @@ class Simulation {
   VecX initial_lambda(const System& sys) const;
   /// Last step's lambda by row id as it was (no factor), else 0.
   VecX last_lambda(const System& sys) const;
+  /// The position system's starting guess (8.1): the velocity system's lambda plus last step's
+  /// push increment lambda_position − lambda by row id (times the rows' warm-start factors).
+  VecX position_guess(const System& sys, const VecX& lambda) const {
+    return lambda + warm_lambda(sys, warm_position_);
+  }
   /// Solves A lambda = b of `sys` with the scene's solver settings, from the guess in lambda;
   /// `b` is sys.b, or the position system's right-hand side (8.1). Coulomb friction rows
   /// (5.4) get their bounds ±mu lambda_normal from lambda (solve_coulomb).

@@ -1,0 +1,102 @@
+// The teaching page of `cbps explain SCENE --html FILE`: one step's system (6.1, 6.2) as a
+// self-contained HTML file (no network, no scripts, no fonts), for reading on a phone or on
+// paper. teaching_step() solves the step as the simulation does and records what the page
+// shows; teaching_page_html() renders it:
+//   J (6.1) and M⁻¹ (6.1.2), A = J M⁻¹ Jᵀ and b = υ/Δt − J (v₁/Δt + M⁻¹ f_ext) (6.2.9),
+//   λ within [cmin, cmax] (5.1) with w = Aλ − b (6.2), v₂ = v₁ + Δt M⁻¹ (Jᵀλ + f_ext) (12.3.1);
+//   sparsity pictures of J and A (rows coloured by RowKind, columns grouped by body), the
+//   solver's residual per sweep, the eigenvalues of A and its null space dimension.
+// Under the improved push (8.1) both systems are shown: the velocity system and the position
+// system (same J, M⁻¹, A; upsilon with the push term).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "cbps/solvers/solver.hpp"
+#include "cbps/system/system.hpp"
+
+namespace cbps {
+
+class Simulation;
+
+/// Where row k's lambda sits and whether w = A lambda − b agrees with it (6.2): free (cmin <
+/// lambda < cmax, w ≈ 0), at cmin (w ≥ 0) or at cmax (w ≤ 0); tol in m/s² (w's unit).
+struct RowStatus {
+  std::string where;      ///< "free", "at cmin", "at cmax", "at cmin = cmax"
+  bool satisfied = true;  ///< the sign or zero condition of w holds within the tolerance
+  bool at_bound() const { return where != "free"; }
+};
+RowStatus row_status(double lambda, double cmin, double cmax, double w, double tol);
+
+/// One solved system of the step: the one system of the original push (5.2.3, 5.3), or the
+/// velocity or position system of the improved push (8.1).
+struct TeachingSystem {
+  std::string name;  ///< e.g. "velocity system (8.1)"
+  std::string note;  ///< what it is for, one sentence
+  VecX upsilon;      ///< c, m/s (6.1.4)
+  VecX b;            ///< c, m/s² (6.2.9)
+  VecX lambda;       ///< c, N: the solve's answer (7.1.1 / 6.2)
+  VecX cmin, cmax;   ///< c, N: the bounds lambda satisfies (Coulomb rows: ±mu lambda_n, 5.4)
+  VecX w;            ///< c, m/s²: A lambda − b (6.2), of A itself
+  VecX v2;           ///< 6n, m/s and rad/s: v1 + dt Minv (Jᵀ lambda + fext) (12.3.1)
+  std::vector<RowStatus> status;  ///< c, within `tolerance`
+  double tolerance = 0.0;         ///< max(solver tolerance, residual), N, for the statuses
+  SolverSummary summary;          ///< of the step's own solve
+  /// Natural-map residual (N) after each sweep of `sweep_method` from the step's guess on the
+  /// whole system (islands not split; Coulomb bounds at each iterate), index 0 = the guess.
+  std::vector<double> sweep_residuals;
+  std::string sweep_method;  ///< the scene's method if it sweeps, else "pgs" (7.1.1)
+};
+
+/// Everything the page shows of one step.
+struct TeachingStep {
+  std::string scene;
+  long step = 0;                        ///< the system of step K (after K steps)
+  double t = 0.0;                       ///< s
+  std::string method;                   ///< the scene's solver
+  double cfm = 0.0;                     ///< kg⁻¹, a solver setting; A stays J Minv Jᵀ
+  double solver_tolerance = 0.0;        ///< the scene's residual tolerance, N
+  System sys;                           ///< J, Minv, A, v1, fext, labels, kind, dt
+  std::vector<std::string> columns;     ///< J's column labels, "<body>.vx" … "<body>.wz"
+  std::vector<std::string> bodies;      ///< the movable bodies' names, one per column block
+  std::vector<TeachingSystem> systems;  ///< one, or two under the improved push (8.1)
+};
+
+/// Solves the current system of `sim` as its step would (same guess, method and settings) and
+/// records everything the page shows. `columns` and `bodies` label J's columns (6n and n).
+TeachingStep teaching_step(const Simulation& sim,
+                           std::vector<std::string> columns,
+                           std::vector<std::string> bodies);
+
+/// Where the page switches from tables to pictures and statistics.
+struct TeachingLimits {
+  int dense_rows = 60;    ///< tables of J, A and the row vectors up to this many rows
+  int dense_bodies = 10;  ///< J's table up to 6 × this many columns; M⁻¹, v tables: 60 bodies
+  int eigen_rows = 400;   ///< eigenvalues of A (dense, O(c³)) up to this many rows
+};
+
+/// The eigenvalues of a symmetric positive semidefinite A, ascending, and its null space
+/// dimension: the eigenvalues ≤ tolerance = c · ε · max(λ_max, 0) (ε = 2⁻⁵², the usual
+/// numerical-rank rule), kg⁻¹.
+struct Spectrum {
+  VecX values;
+  double tolerance = 0.0;
+  int null_dimension = 0;
+};
+Spectrum spectrum_of(const SpMat& A);
+
+/// Text for HTML: & < > " ' as entities.
+std::string html_escape(std::string_view text);
+
+/// The page's <meta name="generator"> content, in its first 200 bytes: how `cbps explain --html`
+/// knows that an existing FILE is a page it wrote (and may replace) and not the user's file.
+inline constexpr std::string_view kTeachingPageGenerator = "cbps explain --html";
+/// True when the file at `path` starts as a teaching page does (its generator line).
+bool is_teaching_page(const std::string& path);
+
+/// The page, one self-contained HTML document.
+std::string teaching_page_html(const TeachingStep& step, const TeachingLimits& limits = {});
+
+}  // namespace cbps

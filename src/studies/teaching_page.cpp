@@ -1,0 +1,183 @@
+// The teaching page's numbers (teaching_page.hpp): one step solved as the simulation solves it,
+// with the residual after every sweep, the row statuses of 6.2 and the spectrum of A.
+// teaching_page_html.cpp renders them.
+#include "cbps/studies/teaching_page.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "cbps/solvers/coulomb.hpp"
+#include "cbps/step/push.hpp"
+#include "cbps/step/simulation.hpp"
+
+namespace cbps {
+
+RowStatus row_status(double lambda, double cmin, double cmax, double w, double tol) {
+  RowStatus s;
+  const double tol_min = std::max(tol, 1e-12 * std::abs(cmin));
+  const double tol_max = std::max(tol, 1e-12 * std::abs(cmax));
+  if (std::isfinite(cmin) && std::isfinite(cmax) && cmax - cmin <= tol_min) {
+    s.where = "at cmin = cmax";  // a fixed lambda (Coulomb friction with no normal force): any w
+  } else if (std::isfinite(cmin) && lambda - cmin <= tol_min) {
+    s.where = "at cmin";
+    s.satisfied = w >= -tol;
+  } else if (std::isfinite(cmax) && cmax - lambda <= tol_max) {
+    s.where = "at cmax";
+    s.satisfied = w <= tol;
+  } else {
+    s.where = "free";
+    s.satisfied = std::abs(w) <= tol;
+  }
+  return s;
+}
+
+Spectrum spectrum_of(const SpMat& A) {
+  Spectrum s;
+  if (A.rows() == 0) return s;
+  const Eigen::SelfAdjointEigenSolver<MatX> eigen(MatX(A), Eigen::EigenvaluesOnly);
+  s.values = eigen.eigenvalues();  // ascending
+  const double largest = std::max(0.0, s.values.maxCoeff());
+  // The numerical-rank rule: an eigenvalue within c ε λ_max of zero is rounding of a zero one.
+  s.tolerance = static_cast<double>(A.rows()) * std::numeric_limits<double>::epsilon() * largest;
+  for (Eigen::Index k = 0; k < s.values.size(); ++k)
+    if (s.values(k) <= s.tolerance) ++s.null_dimension;
+  return s;
+}
+
+namespace {
+
+/// Solves one system of the step (right-hand side b) from `guess` as the simulation does and
+/// fills in everything the page shows of it.
+TeachingSystem solve_one(const Simulation& sim,
+                         const System& sys,
+                         const VecX& upsilon,
+                         const VecX& guess,
+                         std::string name,
+                         std::string note) {
+  const SolverSettings& settings = sim.scene().solver;
+  TeachingSystem out;
+  out.name = std::move(name);
+  out.note = std::move(note);
+  out.upsilon = upsilon;
+  out.b = compute_b(upsilon, sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
+  out.lambda = guess;
+  out.summary = sim.solve_system(sys, out.b, out.lambda);  // the step's own solve (7.1.1 / 6.2)
+
+  // The residual per sweep: the same method (PGS for the exact paths, which do not sweep) from
+  // the same guess on the whole system, recorded after every sweep.
+  const BoxedProblem problem = sys.problem(out.b);
+  SolverOptions options = settings.options();
+  options.seed = settings.seed + static_cast<std::uint64_t>(sim.steps_done());
+  options.split_islands = false;  // one residual of the whole system per sweep
+  options.describe = false;
+  if (!is_iterative(options.method)) options.method = Method::Pgs;
+  out.sweep_method = std::string(to_string(options.method));
+  out.sweep_residuals.push_back(coulomb_residual(problem, sys.coulomb(), guess, settings.cfm));
+  options.after_sweep = [&](int, const VecX& lambda, double) {
+    out.sweep_residuals.push_back(coulomb_residual(problem, sys.coulomb(), lambda, settings.cfm));
+    return true;
+  };
+  VecX lambda = guess;
+  if (sys.rows() > 0) solve_coulomb(problem, sys.coulomb(), lambda, options);
+
+  // The bounds lambda satisfies (Coulomb rows: ±mu lambda_n at the answer, 5.4), w = A lambda
+  // − b (6.2) of A itself, and each row's status within the solve's tolerance or residual plus
+  // the rounding of A lambda − b and eps |lambda| (with CFM the solve met (A + eps E) lambda = b).
+  coulomb_bounds(problem, sys.coulomb(), out.lambda, out.cmin, out.cmax);
+  out.w = sys.A * out.lambda - out.b;
+  const VecX rounding = 64.0 * std::numeric_limits<double>::epsilon() *
+                        ((sys.A.cwiseAbs() * out.lambda.cwiseAbs()) + out.b.cwiseAbs()).array();
+  out.tolerance = std::max(settings.tolerance, out.summary.residual);
+  for (Eigen::Index k = 0; k < out.w.size(); ++k) {
+    const double tol = out.tolerance + rounding(k) + settings.cfm * std::abs(out.lambda(k));
+    out.status.push_back(row_status(out.lambda(k), out.cmin(k), out.cmax(k), out.w(k), tol));
+  }
+  out.v2 = compute_v2(sys, out.lambda);  // (12.3.1)
+  return out;
+}
+
+}  // namespace
+
+TeachingStep teaching_step(const Simulation& sim,
+                           std::vector<std::string> columns,
+                           std::vector<std::string> bodies) {
+  TeachingStep page;
+  page.scene = sim.scene().name;
+  page.step = sim.steps_done();
+  page.t = sim.time();
+  page.method = std::string(to_string(sim.scene().solver.method));
+  page.cfm = sim.scene().solver.cfm;
+  page.solver_tolerance = sim.scene().solver.tolerance;
+  page.sys = sim.build_system();
+  page.columns = std::move(columns);
+  page.bodies = std::move(bodies);
+  const System& sys = page.sys;
+  const VecX guess = sim.initial_lambda(sys);  // the warm start (7)
+  if (sys.push == PushMode::Improved) {
+    page.systems.push_back(solve_one(sim,
+                                     sys,
+                                     sys.upsilon,
+                                     guess,
+                                     "velocity system (8.1)",
+                                     "upsilon holds restitution only (8.2); its v2 is kept as "
+                                     "the bodies' velocity"));
+    const TeachingSystem& velocity = page.systems.back();
+    page.systems.push_back(solve_one(sim,
+                                     sys,
+                                     position_bias(sys),
+                                     sim.position_guess(sys, velocity.lambda),
+                                     "position system (8.1)",
+                                     "upsilon adds each row's push term; its v2 only moves the "
+                                     "bodies this step and is then dropped"));
+  } else {
+    page.systems.push_back(solve_one(sim,
+                                     sys,
+                                     sys.upsilon,
+                                     guess,
+                                     "the one system (5.2.3, 5.3)",
+                                     "upsilon holds the Baumgarte push term and restitution; "
+                                     "its v2 moves the bodies and is kept"));
+  }
+  return page;
+}
+
+bool is_teaching_page(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(200, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  return head.find("<meta name=\"generator\" content=\"" + std::string(kTeachingPageGenerator) +
+                   "\">") != std::string::npos;
+}
+
+std::string html_escape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    switch (ch) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&#39;";
+        break;
+      default:
+        out += ch;
+    }
+  }
+  return out;
+}
+
+}  // namespace cbps

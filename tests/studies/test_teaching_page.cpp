@@ -1,0 +1,315 @@
+// The teaching page (studies/teaching_page.hpp): its HTML read back as numbers and checked by an
+// independent computation, its labels escaped, its limits, and both systems of the improved push.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "cbps/scene/builtin.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/teaching_page.hpp"
+#include "fixture.hpp"
+
+using namespace cbps;
+
+namespace {
+
+/// The teaching step of a built-in scene after `steps` steps, with columns "<body>.vx" …
+TeachingStep step_of(const std::string& name,
+                     const std::map<std::string, std::string>& values,
+                     int steps) {
+  Simulation sim(make_builtin_scene(name, values));
+  for (int s = 0; s < steps; ++s) sim.step();
+  const System sys = sim.build_system();
+  std::vector<std::string> columns, bodies;
+  for (int body : sys.body_of_block) {
+    const std::string& b = sim.scene().bodies[static_cast<std::size_t>(body)].name;
+    bodies.push_back(b);
+    for (const char* c : {"vx", "vy", "vz", "wx", "wy", "wz"}) columns.push_back(b + "." + c);
+  }
+  return teaching_step(sim, columns, bodies);
+}
+
+/// The text of the table with this id (its <table …> to </table>), empty if none.
+std::string table_of(const std::string& html, const std::string& id) {
+  const std::size_t start = html.find("<table id=\"" + id + "\"");
+  if (start == std::string::npos) return {};
+  return html.substr(start, html.find("</table>", start) - start);
+}
+
+double number_of(const std::string& text) {
+  if (text == "∞") return INFINITY;
+  if (text == "-∞") return -INFINITY;
+  return std::stod(text);
+}
+
+/// A table's body rows: the row label (th class="row") and the numbers of its <td> cells (those
+/// that read as numbers; other cells are skipped).
+struct TableRow {
+  std::string label;
+  std::vector<double> values;
+};
+std::vector<TableRow> rows_of(const std::string& table) {
+  static const std::regex row_head(R"(<th class="row">([^<]*)</th>)");
+  static const std::regex cell(R"(<td[^>]*>([^<]*)</td>)");
+  static const std::regex number(R"(-?(\d|∞).*)");
+  std::vector<TableRow> rows;
+  const std::size_t body = table.find("<tbody>");
+  std::size_t at = table.find("<tr", body);
+  while (at != std::string::npos) {
+    const std::size_t end = table.find("</tr>", at);
+    const std::string tr = table.substr(at, end - at);
+    TableRow r;
+    std::smatch m;
+    if (std::regex_search(tr, m, row_head)) r.label = m[1];
+    for (auto it = std::sregex_iterator(tr.begin(), tr.end(), cell); it != std::sregex_iterator();
+         ++it) {
+      const std::string text = (*it)[1];
+      if (std::regex_match(text, number)) r.values.push_back(number_of(text));
+    }
+    rows.push_back(r);
+    at = table.find("<tr", end);
+  }
+  return rows;
+}
+
+/// |shown − exact| within the rounding of kDigits = 6 significant digits.
+bool shown_as(double shown, double exact) {
+  if (std::isinf(exact)) return shown == exact;
+  return std::abs(shown - exact) <= 5e-6 * std::abs(exact) + 1e-300;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "The teaching page's tables equal J, A = J Minv Jᵀ, b (6.2.9) and w = A lambda − b "
+    "(6.2) computed here",
+    "[studies][teaching][eq6.2.9]") {
+  // Two boxes in a stack: contact and friction rows (24 rows, 2 bodies), all tables shown.
+  const TeachingStep step = step_of("stack", {{"n", "2"}, {"push", "original"}}, 5);
+  const System& sys = step.sys;
+  REQUIRE(sys.rows() > 0);
+  REQUIRE(sys.rows() <= 60);
+  const std::string html = teaching_page_html(step);
+
+  const MatX J(sys.J), Minv(sys.Minv);
+  const MatX A_here = J * Minv * J.transpose();
+  const auto A_rows = rows_of(table_of(html, "table-A"));
+  REQUIRE(static_cast<int>(A_rows.size()) == sys.rows());
+  for (int r = 0; r < sys.rows(); ++r) {
+    CAPTURE(r, A_rows[static_cast<std::size_t>(r)].label);
+    CHECK(A_rows[static_cast<std::size_t>(r)].label == sys.labels[static_cast<std::size_t>(r)]);
+    REQUIRE(static_cast<int>(A_rows[static_cast<std::size_t>(r)].values.size()) == sys.rows());
+    for (int c = 0; c < sys.rows(); ++c) {
+      // Entries that are zero in exact arithmetic may be rounding noise in one product or the
+      // other: compare against the scale of the row.
+      const double shown = A_rows[static_cast<std::size_t>(r)].values[static_cast<std::size_t>(c)];
+      const double noise = 1e-12 * A_here.row(r).cwiseAbs().maxCoeff();
+      CAPTURE(c, shown, A_here(r, c));
+      CHECK((shown_as(shown, A_here(r, c)) || std::abs(shown - A_here(r, c)) <= noise));
+    }
+  }
+
+  const auto J_rows = rows_of(table_of(html, "table-J"));
+  REQUIRE(static_cast<int>(J_rows.size()) == sys.rows());
+  for (int r = 0; r < sys.rows(); ++r)
+    for (int c = 0; c < J.cols(); ++c)
+      CHECK(shown_as(J_rows[static_cast<std::size_t>(r)].values[static_cast<std::size_t>(c)],
+                     J(r, c)));
+
+  // b = upsilon/dt − J (v1/dt + Minv fext) and upsilon as shown.
+  REQUIRE(step.systems.size() == 1);
+  const VecX b_here = sys.upsilon / sys.dt - J * (sys.v1 / sys.dt + Minv * sys.fext);
+  const auto b_rows = rows_of(table_of(html, "table-b-1"));
+  REQUIRE(static_cast<int>(b_rows.size()) == sys.rows());
+  for (int k = 0; k < sys.rows(); ++k) {
+    const auto& v = b_rows[static_cast<std::size_t>(k)].values;
+    REQUIRE(v.size() == 2);
+    CHECK(shown_as(v[0], sys.upsilon(k)));
+    CHECK((shown_as(v[1], b_here(k)) || std::abs(v[1] - b_here(k)) <= 1e-9));
+  }
+
+  // lambda within its bounds and w = A lambda − b, with lambda read back from the table.
+  const auto l_rows = rows_of(table_of(html, "table-lambda-1"));
+  REQUIRE(static_cast<int>(l_rows.size()) == sys.rows());
+  VecX lambda(sys.rows());
+  for (int k = 0; k < sys.rows(); ++k) {
+    const auto& v = l_rows[static_cast<std::size_t>(k)].values;  // cmin, lambda, cmax, w
+    REQUIRE(v.size() == 4);
+    lambda(k) = v[1];
+    CHECK(v[0] <= v[1] + 1e-9);
+    CHECK(v[1] <= v[2] + 1e-9);
+  }
+  const VecX w_here = A_here * lambda - b_here;
+  const double w_scale = (A_here.cwiseAbs() * lambda.cwiseAbs() + b_here.cwiseAbs()).maxCoeff();
+  for (int k = 0; k < sys.rows(); ++k) {
+    // lambda as shown carries 6 digits: w from it is good to ~1e-5 of its scale.
+    CAPTURE(k, w_here(k), l_rows[static_cast<std::size_t>(k)].values[3]);
+    CHECK(std::abs(w_here(k) - l_rows[static_cast<std::size_t>(k)].values[3]) <= 1e-5 * w_scale);
+  }
+}
+
+TEST_CASE("The teaching page marks the rows at a bound (6.2)", "[studies][teaching]") {
+  // A box sliding along x (paper friction, 5.4): kinetic friction holds its x friction rows at a
+  // bound, which the table highlights and marks.
+  const TeachingStep step = step_of("slide", {}, 5);
+  int at_bound = 0;
+  for (const RowStatus& s : step.systems[0].status) at_bound += s.at_bound() ? 1 : 0;
+  REQUIRE(at_bound >= 4);
+  const std::string html = teaching_page_html(step);
+  const std::string table = table_of(html, "table-lambda-1");
+  const std::regex marked("<tr class=\"[a-z]+ at-bound");
+  CHECK(std::distance(std::sregex_iterator(table.begin(), table.end(), marked),
+                      std::sregex_iterator()) == at_bound);
+  const std::regex dot("● at cm");
+  CHECK(std::distance(std::sregex_iterator(table.begin(), table.end(), dot),
+                      std::sregex_iterator()) == at_bound);
+}
+
+TEST_CASE("The teaching page is self-contained and escapes every label", "[studies][teaching]") {
+  TeachingStep step = step_of("v-corner", {}, 10);
+  REQUIRE(step.sys.rows() == 2);
+  step.sys.labels[0] = "contact <b>&\"x'";
+  step.bodies[0] = "<script>alert(1)</script>";
+  step.columns[0] = "a<b";
+  const std::string html = teaching_page_html(step);
+  CHECK(html.rfind("<!DOCTYPE html>", 0) == 0);
+  CHECK(html.find("contact &lt;b&gt;&amp;&quot;x&#39;") != std::string::npos);
+  CHECK(html.find("<b>&") == std::string::npos);
+  CHECK(html.find("&lt;script&gt;alert(1)&lt;/script&gt;") != std::string::npos);
+  CHECK(html.find("a&lt;b") != std::string::npos);
+  // Nothing fetched: no script, no stylesheet link, no imported font or image.
+  CHECK(html.find("<script") == std::string::npos);
+  CHECK(html.find("<link") == std::string::npos);
+  CHECK(html.find("@import") == std::string::npos);
+  CHECK(html.find("url(") == std::string::npos);
+  CHECK(html.find("src=") == std::string::npos);
+  // Every block with its equation.
+  for (const char* block : {"id=\"J\"",
+                            "id=\"Minv\"",
+                            "id=\"A\"",
+                            "id=\"spectrum\"",
+                            "id=\"v1\"",
+                            "id=\"system-1\"",
+                            "id=\"svg-J\"",
+                            "id=\"svg-A\"",
+                            "id=\"svg-lambda-1\"",
+                            "id=\"svg-residual-1\"",
+                            "id=\"svg-spectrum\"",
+                            "A = J M⁻¹ Jᵀ (6.2.9)",
+                            "(12.3.1)",
+                            "w = Aλ − b (6.2)",
+                            "b = υ/Δt − J (v₁/Δt + M⁻¹ f<sub>ext</sub>) (6.2.9)"}) {
+    CAPTURE(block);
+    CHECK(html.find(block) != std::string::npos);
+  }
+}
+
+/// How many times `needle` occurs in `text`.
+long count_of(const std::string& text, const std::string& needle) {
+  long n = 0;
+  for (std::size_t at = text.find(needle); at != std::string::npos;
+       at = text.find(needle, at + needle.size()))
+    ++n;
+  return n;
+}
+
+TEST_CASE("The sparsity picture draws rounding entries hollow and counts them",
+          "[studies][teaching]") {
+  // A ball's contact normal passes through its centre, so r x n = 0 and each of the v-corner's
+  // two contact rows has exactly two structural entries, in vx and vy (the walls' normals lie in
+  // the x-y plane): 4 in all. Whatever else J stores is rounding of r x n.
+  const TeachingStep step = step_of("v-corner", {}, 0);
+  const std::string html = teaching_page_html(step);
+  const std::size_t start = html.find("<svg id=\"svg-J\"");
+  REQUIRE(start != std::string::npos);
+  const std::string svg = html.substr(start, html.find("</figure>", start) - start);
+  CHECK(count_of(svg, "fill=\"#c62828\"/>") == 4);  // contact red, one per structural entry
+  long stored = 0;
+  for (Eigen::Index k = 0; k < step.sys.J.outerSize(); ++k)
+    for (SpMatRow::InnerIterator it(step.sys.J, k); it; ++it) stored += it.value() != 0.0;
+  const long rounding = count_of(svg, "class=\"rounding\"");
+  CHECK(rounding == stored - 4);
+  if (rounding > 0)
+    CHECK(svg.find(std::to_string(rounding) + (rounding == 1 ? " stored entry is rounding"
+                                                             : " stored entries are rounding")) !=
+          std::string::npos);
+}
+
+TEST_CASE("The teaching page switches from tables to pictures above its limits",
+          "[studies][teaching]") {
+  const TeachingStep step = step_of("stack", {{"n", "2"}, {"push", "original"}}, 5);
+  TeachingLimits small;
+  small.dense_rows = 5;
+  small.eigen_rows = 5;
+  const std::string html = teaching_page_html(step, small);
+  CHECK(table_of(html, "table-A").empty());
+  CHECK(table_of(html, "table-J").empty());
+  CHECK(table_of(html, "table-lambda-1").empty());
+  CHECK(html.find("id=\"svg-J\"") != std::string::npos);
+  CHECK(html.find("id=\"svg-lambda-1\"") != std::string::npos);
+  CHECK(html.find("id=\"svg-spectrum\"") == std::string::npos);
+  CHECK(html.find("its table is shown up to 5 rows") != std::string::npos);
+  CHECK(html.find("computed up to 5 rows") != std::string::npos);
+}
+
+TEST_CASE(
+    "The teaching page of the improved push shows the velocity and the position system "
+    "(8.1)",
+    "[studies][teaching][eq8.1]") {
+  // The sphere pressed into the V: the push term makes the two right-hand sides differ.
+  const TeachingStep step = step_of("v-corner", {{"push", "improved"}}, 3);
+  REQUIRE(step.systems.size() == 2);
+  CHECK(step.systems[0].name == "velocity system (8.1)");
+  CHECK(step.systems[1].name == "position system (8.1)");
+  const std::string html = teaching_page_html(step);
+  CHECK(html.find("id=\"system-2\"") != std::string::npos);
+  // The same A and J, so b_p − b_v = (upsilon_p − upsilon_v)/dt row by row (6.2.9), read from
+  // the page's two b tables.
+  const auto velocity = rows_of(table_of(html, "table-b-1"));
+  const auto position = rows_of(table_of(html, "table-b-2"));
+  REQUIRE(velocity.size() == 2);
+  REQUIRE(position.size() == 2);
+  for (std::size_t k = 0; k < 2; ++k) {
+    const double db = position[k].values[1] - velocity[k].values[1];
+    const double dupsilon = position[k].values[0] - velocity[k].values[0];
+    CAPTURE(k, db, dupsilon);
+    CHECK(std::abs(db - dupsilon / step.sys.dt) <= 1e-4 * std::max(1.0, std::abs(db)));
+  }
+}
+
+TEST_CASE("The residual per sweep starts at the guess and ends at the solve's residual (7.1.1)",
+          "[studies][teaching]") {
+  const TeachingStep step = step_of("stack", {{"n", "3"}, {"push", "original"}}, 20);
+  const TeachingSystem& t = step.systems[0];
+  REQUIRE(t.sweep_method == "pgs");
+  REQUIRE(t.sweep_residuals.size() >= 2);
+  // The step solves one island (a single column of boxes) with the same sweeps: as many sweeps,
+  // the same final residual.
+  CHECK(static_cast<int>(t.sweep_residuals.size()) - 1 == t.summary.iterations);
+  CHECK(t.sweep_residuals.back() == Approx(t.summary.residual).margin(1e-12));
+}
+
+TEST_CASE("spectrum_of: eigenvalues and null space of A (6.2.9)", "[studies][teaching]") {
+  // [[1, 1], [1, 1]]: eigenvalues 0 and 2, a one-dimensional null space (1, −1).
+  SpMat A(2, 2);
+  A.insert(0, 0) = 1.0;
+  A.insert(0, 1) = 1.0;
+  A.insert(1, 0) = 1.0;
+  A.insert(1, 1) = 1.0;
+  const Spectrum s = spectrum_of(A);
+  REQUIRE(s.values.size() == 2);
+  CHECK(std::abs(s.values(0)) <= 1e-15);
+  CHECK(s.values(1) == Approx(2.0));
+  CHECK(s.null_dimension == 1);
+  CHECK(s.tolerance == Approx(2.0 * 2.0 * 2.220446049250313e-16));
+  // One box resting on the ground without friction: four contact rows, but their Jᵀ spans
+  // only the vertical force and two tipping torques, so A has rank 3 and a null space of 1.
+  const System box = cbps::test::system_of("stack", {{"n", "1"}, {"mu", "0"}}, 5);
+  REQUIRE(box.rows() == 4);
+  CHECK(spectrum_of(box.A).null_dimension == 1);
+  // The sphere in the V: two independent normals, no null space.
+  const System v = cbps::test::system_of("v-corner", {}, 5);
+  CHECK(spectrum_of(v.A).null_dimension == 0);
+}
