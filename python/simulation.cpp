@@ -41,27 +41,6 @@ struct SystemRecord {
   }
 };
 
-std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
-  static const char* const coords[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
-  std::vector<std::string> labels;
-  for (int body : sys.body_of_block)
-    for (const char* c : coords)
-      labels.push_back(scene.bodies[static_cast<std::size_t>(body)].name + "." + c);
-  return labels;
-}
-
-const char* kind_name(RowKind kind) {
-  switch (kind) {
-    case RowKind::Distance:
-      return "distance";
-    case RowKind::Contact:
-      return "contact";
-    case RowKind::Friction:
-      return "friction";
-  }
-  return "?";
-}
-
 /// A Simulation with the last step's system kept for Python.
 class PySimulation {
  public:
@@ -331,7 +310,7 @@ void bind_simulation(py::module_& m) {
           "kind",
           [](const SystemRecord& r) {
             std::vector<std::string> kinds;
-            for (RowKind k : r.sys.kind) kinds.push_back(kind_name(k));
+            for (RowKind k : r.sys.kind) kinds.push_back(to_string(k));
             return kinds;
           },
           "each row's kind: 'distance', 'contact' or 'friction'")

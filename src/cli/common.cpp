@@ -420,17 +420,6 @@ void write_output_file(const std::string& path, const std::string& what, const s
   forget();
 }
 
-std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
-  static const char* const coords[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
-  std::vector<std::string> labels;
-  for (int body : sys.body_of_block) {
-    for (const char* c : coords) {
-      labels.push_back(scene.bodies[static_cast<std::size_t>(body)].name + "." + c);
-    }
-  }
-  return labels;
-}
-
 nlohmann::json number_json(double x) {
   if (std::isnan(x)) return "nan";
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";

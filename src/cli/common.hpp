@@ -111,9 +111,6 @@ void write_text(const std::string& path, const std::string& text);
 /// Check it first with check_output_file.
 void write_output_file(const std::string& path, const std::string& what, const std::string& text);
 
-/// Column labels of J: "<body>.vx" … "<body>.wz" for each movable body (6.1.1).
-std::vector<std::string> column_labels(const Scene& scene, const System& sys);
-
 /// A number for JSON, which has none of these: inf, -inf and NaN as the strings "inf", "-inf"
 /// and "nan".
 nlohmann::json number_json(double x);

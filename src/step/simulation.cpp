@@ -232,4 +232,13 @@ double Simulation::max_constraint_error() const {
   return e;
 }
 
+std::vector<std::string> column_labels(const Scene& scene, const System& sys) {
+  static const char* const coords[6] = {"vx", "vy", "vz", "wx", "wy", "wz"};
+  std::vector<std::string> labels;
+  for (int body : sys.body_of_block)
+    for (const char* c : coords)
+      labels.push_back(scene.bodies[static_cast<std::size_t>(body)].name + "." + c);
+  return labels;
+}
+
 }  // namespace cbps

@@ -48,18 +48,6 @@ std::string px(double x) {
   return text;
 }
 
-const char* kind_name(RowKind kind) {
-  switch (kind) {
-    case RowKind::Distance:
-      return "distance";
-    case RowKind::Contact:
-      return "contact";
-    case RowKind::Friction:
-      return "friction";
-  }
-  return "distance";
-}
-
 /// Row colours by kind, the same in every picture and table.
 const char* kind_colour(RowKind kind) {
   switch (kind) {
@@ -145,7 +133,7 @@ class Page {
     o_ << ">" << num(x) << "</td>";
   }
   void row_head(Eigen::Index k) {
-    o_ << "<tr class=\"" << kind_name(kind_of(sys_, k)) << "\"><th class=\"row\">"
+    o_ << "<tr class=\"" << to_string(kind_of(sys_, k)) << "\"><th class=\"row\">"
        << html_escape(sys_.labels[static_cast<std::size_t>(k)]) << "</th>";
   }
   /// A dense matrix as a table, row and column labels escaped.
@@ -449,7 +437,7 @@ void Page::header() {
      << ". Numbers to " << kDigits << " significant digits.</p>\n"
      << "<p class=\"key\">Rows by kind: ";
   for (RowKind k : {RowKind::Distance, RowKind::Contact, RowKind::Friction})
-    o_ << "<span><i style=\"background:" << kind_colour(k) << "\"></i>" << kind_name(k)
+    o_ << "<span><i style=\"background:" << kind_colour(k) << "\"></i>" << to_string(k)
        << "</span>";
   o_ << "</p>\n<nav><ul><li><a href=\"#J\">J</a></li><li><a href=\"#Minv\">M⁻¹</a></li>"
      << "<li><a href=\"#A\">A</a></li><li><a href=\"#spectrum\">eigenvalues</a></li>"
@@ -642,7 +630,7 @@ void Page::one_system(const TeachingSystem& t, const std::string& id) {
        << "<th>kind</th><th>υ (m/s)</th><th>b (m/s²)</th></tr></thead><tbody>\n";
     for (Eigen::Index k = 0; k < c; ++k) {
       row_head(k);
-      o_ << "<td>" << kind_name(kind_of(sys_, k)) << "</td>";
+      o_ << "<td>" << to_string(kind_of(sys_, k)) << "</td>";
       number_cell(t.upsilon(k));
       number_cell(t.b(k));
       o_ << "</tr>\n";
@@ -704,7 +692,7 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
        << "<th>status</th></tr></thead><tbody>\n";
     for (Eigen::Index k = 0; k < c; ++k) {
       const RowStatus& s = t.status[static_cast<std::size_t>(k)];
-      o_ << "<tr class=\"" << kind_name(kind_of(sys_, k)) << (s.at_bound() ? " at-bound" : "")
+      o_ << "<tr class=\"" << to_string(kind_of(sys_, k)) << (s.at_bound() ? " at-bound" : "")
          << (s.satisfied ? "" : " miss") << "\"><th class=\"row\">"
          << html_escape(sys_.labels[static_cast<std::size_t>(k)]) << "</th>";
       number_cell(t.cmin(k));

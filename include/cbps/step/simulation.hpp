@@ -182,4 +182,8 @@ class Simulation {
   System sys_;             ///< this step's system, kept for its storage
 };
 
+/// Column labels of J: "<body>.vx" … "<body>.wz" for each movable body of `sys` (6.1.1), named
+/// as in `scene`.
+std::vector<std::string> column_labels(const Scene& scene, const System& sys);
+
 }  // namespace cbps
