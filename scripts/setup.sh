@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev catch2 libgsl-dev nlohmann-json3-dev libcli11-dev
   libbenchmark-dev python3 python3-matplotlib python3-numpy python3-scipy python3-dev
-  pybind11-dev python3-pytest clang-format
+  pybind11-dev python3-pytest python3-nbclient python3-ipykernel clang-format
   clang libclang-rt-14-dev llvm-14
   chromium  # headless, for the teaching page's tests (tests/test_teaching_page_browser.py)
 )
