@@ -368,7 +368,13 @@ void Page::bounds_picture(const std::string& id, const TeachingSystem& t) {
       }
   if (hi - lo <= 0.0) hi = lo + 1.0;
   const double left = 60, right = 560, top = 12, bottom = 200;
-  const double w = (right - left) / static_cast<double>(c);
+  // Above l_.bar_rows rows one bar stands for `bin` consecutive rows: the range of their λ, the
+  // lowest finite cmin and highest finite cmax among them, a dot if any is at a bound, coloured
+  // by their commonest kind. The page stays small at any size.
+  const Eigen::Index bars_max = std::max(1, l_.bar_rows);
+  const Eigen::Index bin = (c + bars_max - 1) / bars_max;
+  const Eigen::Index bars = (c + bin - 1) / bin;
+  const double w = (right - left) / static_cast<double>(bars);
   auto y_of = [&](double v) { return bottom - (bottom - top) * (v - lo) / (hi - lo); };
   o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 580 230\" width=\"580\" "
      << "height=\"230\" xmlns=\"http://www.w3.org/2000/svg\"><title>lambda per row within its "
@@ -378,24 +384,53 @@ void Page::bounds_picture(const std::string& id, const TeachingSystem& t) {
        << px(y_of(v)) << "\" stroke=\"" << (v == 0.0 ? "#333" : "#ddd") << "\"/><text x=\""
        << left - 4 << "\" y=\"" << px(y_of(v) + 4) << "\" font-size=\"11\" text-anchor=\"end\">"
        << num(v) << " N</text>";
-  for (Eigen::Index k = 0; k < c; ++k) {
-    const double x = left + w * static_cast<double>(k);
-    const double y0 = y_of(0.0), y1 = y_of(t.lambda(k));
-    o_ << "<rect x=\"" << px(x + 0.1 * w) << "\" y=\"" << px(std::min(y0, y1)) << "\" width=\""
-       << px(0.8 * w) << "\" height=\"" << px(std::max(0.5, std::abs(y1 - y0))) << "\" fill=\""
-       << kind_colour(kind_of(sys_, k)) << "\"/>";
-    for (double b : {t.cmin(k), t.cmax(k)})
+  long at_bound = 0;
+  for (Eigen::Index j = 0; j < bars; ++j) {
+    const Eigen::Index first = j * bin, last = std::min(c, first + bin);
+    double l_lo = 0.0, l_hi = 0.0, b_lo = INFINITY, b_hi = -INFINITY;
+    bool bound = false;
+    std::array<int, 3> kinds{};
+    for (Eigen::Index k = first; k < last; ++k) {
+      l_lo = std::min(l_lo, t.lambda(k));
+      l_hi = std::max(l_hi, t.lambda(k));
+      if (std::isfinite(t.cmin(k))) b_lo = std::min(b_lo, t.cmin(k));
+      if (std::isfinite(t.cmax(k))) b_hi = std::max(b_hi, t.cmax(k));
+      if (t.status[static_cast<std::size_t>(k)].at_bound()) {
+        bound = true;
+        ++at_bound;
+      }
+      ++kinds[static_cast<std::size_t>(kind_of(sys_, k))];
+    }
+    const auto kind =
+        static_cast<RowKind>(std::max_element(kinds.begin(), kinds.end()) - kinds.begin());
+    // One row: its bar runs from 0 to λ; a bin: over the range of its λ and 0.
+    const double x = left + w * static_cast<double>(j);
+    const double y_top = y_of(bin == 1 ? std::max(0.0, t.lambda(first)) : l_hi);
+    const double y_bottom = y_of(bin == 1 ? std::min(0.0, t.lambda(first)) : l_lo);
+    o_ << "<rect x=\"" << px(x + 0.1 * w) << "\" y=\"" << px(y_top) << "\" width=\"" << px(0.8 * w)
+       << "\" height=\"" << px(std::max(0.5, y_bottom - y_top)) << "\" fill=\"" << kind_colour(kind)
+       << "\"/>";
+    for (double b : {b_lo, b_hi})
       if (std::isfinite(b))
         o_ << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + w) << "\" y1=\"" << px(y_of(b))
            << "\" y2=\"" << px(y_of(b)) << "\" stroke=\"#000\" stroke-width=\"1.5\"/>";
-    if (t.status[static_cast<std::size_t>(k)].at_bound())
-      o_ << "<circle cx=\"" << px(x + w / 2) << "\" cy=\"" << px(y1) << "\" r=\""
+    if (bound)
+      o_ << "<circle cx=\"" << px(x + w / 2) << "\" cy=\""
+         << px(bin == 1 ? y_of(t.lambda(first)) : y_top) << "\" r=\""
          << px(std::clamp(w / 3, 1.5, 5.0)) << "\" fill=\"#ffd23f\" stroke=\"#000\"/>";
   }
   o_ << "<text x=\"" << (left + right) / 2 << "\" y=\"222\" font-size=\"12\" "
-     << "text-anchor=\"middle\">row k (0 … " << c - 1 << ")</text></svg><figcaption class=\"note\">"
-     << "Bars: λ per row, coloured by kind; black dashes: finite bounds cmin, cmax; yellow "
-     << "dots: rows at a bound.</figcaption></figure>\n";
+     << "text-anchor=\"middle\">row k (0 … " << c - 1
+     << ")</text></svg><figcaption class=\"note\">";
+  if (bin == 1)
+    o_ << "Bars: λ per row, coloured by kind; black dashes: finite bounds cmin, cmax; yellow "
+       << "dots: rows at a bound.";
+  else
+    o_ << "One bar per " << bin << " consecutive rows (" << bars << " bars): the range of their "
+       << "λ and 0, coloured by their commonest kind; black dashes: the lowest finite cmin and "
+       << "highest finite cmax among them; yellow dots: bars with a row at a bound (" << at_bound
+       << " rows in all).";
+  o_ << "</figcaption></figure>\n";
 }
 
 void Page::body_table(const std::string& id,

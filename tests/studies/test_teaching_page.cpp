@@ -237,6 +237,27 @@ TEST_CASE("The sparsity picture draws rounding entries hollow and counts them",
           std::string::npos);
 }
 
+TEST_CASE("Above its bar limit the picture of lambda gives one bar per bin of rows",
+          "[studies][teaching]") {
+  const TeachingStep step = step_of("stack", {{"n", "3"}, {"push", "original"}}, 5);
+  const long c = step.sys.rows();
+  REQUIRE(c > 10);
+  TeachingLimits few;
+  few.bar_rows = 10;
+  const long bin = (c + 9) / 10, bars = (c + bin - 1) / bin;
+  for (const auto& [limits, expected_bars] :
+       {std::pair<TeachingLimits, long>{TeachingLimits{}, c}, {few, bars}}) {
+    const std::string html = teaching_page_html(step, limits);
+    const std::size_t start = html.find("<svg id=\"svg-lambda-1\"");
+    REQUIRE(start != std::string::npos);
+    const std::string svg = html.substr(start, html.find("</figure>", start) - start);
+    CHECK(count_of(svg, "<rect") == expected_bars);
+    if (expected_bars < c)
+      CHECK(svg.find("One bar per " + std::to_string(bin) + " consecutive rows (" +
+                     std::to_string(bars) + " bars)") != std::string::npos);
+  }
+}
+
 TEST_CASE("The teaching page switches from tables to pictures above its limits",
           "[studies][teaching]") {
   const TeachingStep step = step_of("stack", {{"n", "2"}, {"push", "original"}}, 5);

@@ -75,6 +75,7 @@ struct TeachingLimits {
   int dense_rows = 60;    ///< tables of J, A and the row vectors up to this many rows
   int dense_bodies = 10;  ///< J's table up to 6 × this many columns; M⁻¹, v tables: 60 bodies
   int eigen_rows = 400;   ///< eigenvalues of A (dense, O(c³)) up to this many rows
+  int bar_rows = 250;     ///< λ's picture: one bar per row up to this many, then per bin of rows
 };
 
 /// The eigenvalues of a symmetric positive semidefinite A, ascending, and its null space
