@@ -1064,6 +1064,26 @@ def _limits_pyramid(src):
 
 
 # ---------------------------------------------------------------------------------------------
+# PETSc/TAO under MPI (docs/distributed.md).
+
+TAO = "validation/results/distributed/tao.json"
+
+
+@generator("tao-measured", TAO)
+def _tao_measured(src):
+    r = src.json(TAO)
+    rows = []
+    for run in need(r, "runs", where=TAO):
+        res = run["residual"]
+        rows.append((run["problem"], f"`{run['solver']}`", str(run["ranks"]), run["status"],
+                     thousands(run["iterations"]), dur(run["wall_time_s"]),
+                     "–" if res is None else sci(res), sci(1e-9 * run["scale"]),
+                     run.get("reason", "–")))
+    return table(("problem", "solver", "ranks", "status", "iterations", "wall time",
+                  "residual (N)", "solved at ≤ (N)", "TAO's reason"), rows, "lllllrrrl")
+
+
+# ---------------------------------------------------------------------------------------------
 # The machinery.
 
 

@@ -1,7 +1,26 @@
 #!/usr/bin/env bash
 # Installs cbps's build and run dependencies from Debian 12's packages (idempotent).
 # Runs apt-get only when a package is missing; uses sudo when not root.
+#
+#   scripts/setup.sh                the packages every build needs
+#   scripts/setup.sh --with-petsc   and PETSc with Open MPI, for `cbps lcp --solver tao:TYPE`
+#                                   under mpirun (docs/distributed.md); optional, the build uses
+#                                   PETSc when it finds it
 set -euo pipefail
+with_petsc=0
+for arg in "$@"; do
+  case "$arg" in
+    --with-petsc) with_petsc=1 ;;
+    -h | --help)
+      sed -n '2,8p' "$0" | sed 's/^# \{0,1\}//'
+      exit 0
+      ;;
+    *)
+      echo "setup: unknown option $arg (use --with-petsc, or nothing)" >&2
+      exit 2
+      ;;
+  esac
+done
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libsuitesparse-dev catch2 libgsl-dev nlohmann-json3-dev libcli11-dev
@@ -10,6 +29,10 @@ packages=(
   clang libclang-rt-14-dev llvm-14
   chromium  # headless, for the teaching page's tests (tests/test_teaching_page_browser.py)
 )
+if [ "$with_petsc" -eq 1 ]; then
+  # PETSc 3.18 (pkg-config PETSc) with Open MPI's headers and its mpirun.
+  packages+=(petsc-dev libopenmpi-dev openmpi-bin)
+fi
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

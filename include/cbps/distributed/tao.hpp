@@ -1,0 +1,106 @@
+// The boxed problem of 6.2 on PETSc/TAO under MPI: `cbps lcp PROBLEM --solver tao:TYPE`, run
+// alone or as `mpirun -n N cbps lcp ...` (docs/distributed.md). Built only when PETSc is found
+// (CMake option CBPS_PETSC; the macro CBPS_HAVE_PETSC); src/distributed/tao.cpp is the only file
+// that includes PETSc or MPI, so nothing here names a PETSc type. kTaoTypes, is_tao_type and
+// tao_type_list are here for every build (the CLI's --help names the types either way).
+//
+// With A symmetric positive semidefinite (A = J Minv Jᵀ, 6.2.9) the boxed problem is the
+// bound-constrained quadratic program
+//   minimise f(lambda) = ½ lambdaᵀ A lambda − bᵀ lambda   subject to cmin ≤ lambda ≤ cmax,
+// whose gradient is w = A lambda − b (6.2): its first-order (KKT) conditions are exactly the
+// complementarity conditions of 6.2, so any TAO bound-constrained minimiser solves it.
+//
+//   Symbol   Shape   Unit   In PETSc
+//   A        c×c     kg⁻¹   MATMPIAIJ, distributed by rows (each rank inserts only its own)
+//   b        c       m/s²   VECMPI with A's row layout
+//   cmin     c       N      VECMPI, −∞ as PETSC_NINFINITY
+//   cmax     c       N      VECMPI, +∞ as PETSC_INFINITY
+//   lambda   c       N      VECMPI (TAO's solution), gathered onto rank 0 at the end
+#pragma once
+
+#include <string>
+#include <string_view>
+
+#include "cbps/system/boxed_problem.hpp"
+
+namespace cbps::distributed {
+
+/// TAO's bound-constrained methods offered as `--solver tao:TYPE`, by TAO's own names:
+/// quadratic only (bqpip, gpcg), Newton with a trust region (tron, bntr) or line search (bnls),
+/// quasi-Newton (bqnls, blmvm) and nonlinear conjugate gradient (bncg).
+inline constexpr const char* kTaoTypes[] = {
+    "bqpip", "gpcg", "tron", "bncg", "bqnls", "blmvm", "bnls", "bntr"};
+
+/// True when `type` is one of kTaoTypes.
+inline bool is_tao_type(std::string_view type) {
+  for (const char* t : kTaoTypes)
+    if (type == t) return true;
+  return false;
+}
+/// kTaoTypes as "bqpip, gpcg, ..., bntr" for messages and --help.
+inline std::string tao_type_list() {
+  std::string list;
+  for (const char* t : kTaoTypes) list += (list.empty() ? "" : ", ") + std::string(t);
+  return list;
+}
+
+/// PETSc and MPI for one process of an MPI job: PetscInitialize when made, PetscFinalize when
+/// destroyed. Make one, only on the path that uses it: the other commands never touch MPI.
+/// Without mpirun the process is an MPI job of one rank (singleton start). PETSc's own signal
+/// handlers stay off (cbps handles Ctrl-C itself); options may come from the environment
+/// variable PETSC_OPTIONS (e.g. "-tao_monitor").
+class MpiSession {
+ public:
+  MpiSession();
+  ~MpiSession();
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  /// Collective: the lowest rank on which `failed` is true, or size() when none is.
+  int first_failing_rank(bool failed) const;
+  /// Collective: the `value` of rank `root`, on every rank.
+  int broadcast(int value, int root = 0) const;
+
+ private:
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+/// What `--solver tao:TYPE`, `--iterations` and `--tolerance` ask of TAO.
+struct TaoOptions {
+  std::string type;            ///< one of kTaoTypes
+  int max_iterations = 10000;  ///< TaoSetMaximumIterations
+  double tolerance = 1e-10;    ///< natural-map residual to stop at, and TAO's gatol, N
+};
+
+/// What TAO returned, with the command's own measure of it.
+struct TaoResult {
+  VecX lambda;               ///< c, N: on rank 0 the whole solution, on the other ranks empty
+  int iterations = 0;        ///< TAO's iterations (TaoGetSolutionStatus)
+  std::string reason;        ///< TAO's converged reason, e.g. "CONVERGED_GATOL", "DIVERGED_MAXITS"
+  bool converged = false;    ///< TAO's own claim: reason > 0
+  double tao_residual = 0.;  ///< TAO's own stopping measure at the end (TaoGetSolutionStatus)
+  std::string stop;          ///< what stopped it: "TAO's own test" or cbps's test, with numbers
+  /// The natural-map residual ‖lambda − clamp(lambda − w, cmin, cmax)‖∞ of 6.2, N, formed on the
+  /// distributed vectors (PETSc's MatMult, VecPointwiseMax/Min, VecNorm); the same on every rank.
+  double residual = 0.;
+  long local_rows = 0;  ///< rows of A owned by this rank
+};
+
+/// Solves the boxed problem (A symmetric positive semidefinite) by TAO's `options.type` from
+/// lambda = 0. Collective: every rank calls it with the whole problem (for now every rank reads
+/// the file) and inserts only the rows PetscSplitOwnership gives it. TAO stops after
+/// options.max_iterations, or by its own test: its measure ≤ options.tolerance (gatol;
+/// grtol = gttol = 0; for the gradient types a 2-norm of the gradient without the components
+/// TAO takes as held at a bound, for bqpip its mean primal and dual infeasibility), or by
+/// cbps's test after each iteration: the natural-map residual ≤ options.tolerance (the test of
+/// every cbps solver; TAO_CONVERGED_USER). The caller judges the result by
+/// TaoResult::residual. A PETSc error throws ComputationError on one rank and aborts the MPI
+/// job on more.
+TaoResult solve_tao(const MpiSession& session,
+                    const BoxedProblem& problem,
+                    const TaoOptions& options);
+
+}  // namespace cbps::distributed

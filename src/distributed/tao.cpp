@@ -1,0 +1,304 @@
+// The boxed problem of 6.2 as a bound-constrained quadratic program on PETSc/TAO under MPI
+// (include/cbps/distributed/tao.hpp). The only file that includes PETSc or MPI.
+//
+// References for the methods (docs/distributed.md has the list): the TAO users manual (PETSc
+// 3.18, "TAO: Optimization Solvers", the bound-constrained and quadratic solvers) and the papers
+// each method follows there.
+#include "cbps/distributed/tao.hpp"
+
+#include <petsctao.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "cbps/error.hpp"
+
+namespace cbps::distributed {
+
+namespace {
+
+/// A PETSc error as the contract wants it: ComputationError (exit 1) in a job of one rank; in a
+/// job of several the other ranks may be waiting in a collective call this rank will never
+/// reach, so the whole job is aborted with exit code 1 instead of hanging.
+void check(PetscErrorCode code, const char* call) {
+  if (code == 0) return;
+  const char* text = nullptr;
+  PetscErrorMessage(code, &text, nullptr);
+  const std::string message = std::string("PETSc: ") + call + " failed: " +
+                              (text != nullptr ? text : "error " + std::to_string(code));
+  int initialized = 0;
+  int size = 1;
+  MPI_Initialized(&initialized);
+  if (initialized) MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  if (size > 1) {
+    std::fprintf(stderr, "cbps: %s (aborting all %d ranks)\n", message.c_str(), size);
+    MPI_Abort(PETSC_COMM_WORLD, 1);
+  }
+  throw ComputationError(message);
+}
+
+#define CBPS_PETSC_CHECK(call) check((call), #call)
+
+/// PETSc objects freed when the solve leaves, in any way.
+struct Objects {
+  Mat A = nullptr;
+  Vec b = nullptr, cmin = nullptr, cmax = nullptr, lambda = nullptr, w = nullptr, t = nullptr;
+  Vec lambda_on_0 = nullptr;
+  VecScatter to_0 = nullptr;
+  Tao tao = nullptr;
+  ~Objects() {
+    TaoDestroy(&tao);
+    VecScatterDestroy(&to_0);
+    for (Vec* v : {&b, &cmin, &cmax, &lambda, &w, &t, &lambda_on_0}) VecDestroy(v);
+    MatDestroy(&A);
+  }
+};
+
+/// What TAO's callbacks need: the problem's distributed objects and cbps's stopping test.
+struct Quadratic {
+  Objects* o = nullptr;
+  double tolerance = 0.0;  ///< stop at this natural-map residual, N
+  std::string stop;        ///< why cbps's test stopped TAO (empty: TAO's own test did)
+};
+
+/// f(lambda) = ½ lambdaᵀ A lambda − bᵀ lambda and its gradient w = A lambda − b (6.2), the
+/// residual velocity's rate of the boxed problem, m/s².
+PetscErrorCode objective_and_gradient(Tao, Vec lambda, PetscReal* f, Vec w, void* context) {
+  const Objects* o = static_cast<const Quadratic*>(context)->o;
+  PetscScalar lambda_A_lambda = 0.0;
+  PetscScalar b_lambda = 0.0;
+  PetscFunctionBeginUser;
+  PetscCall(MatMult(o->A, lambda, w));  // w = A lambda
+  PetscCall(VecDot(lambda, w, &lambda_A_lambda));
+  PetscCall(VecDot(o->b, lambda, &b_lambda));
+  *f = 0.5 * lambda_A_lambda - b_lambda;
+  PetscCall(VecAXPY(w, -1.0, o->b));  // w = A lambda − b
+  PetscFunctionReturn(0);
+}
+
+/// The Hessian of f is A itself, assembled once: nothing to recompute.
+PetscErrorCode hessian(Tao, Vec, Mat, Mat, void*) {
+  PetscFunctionBeginUser;
+  PetscFunctionReturn(0);
+}
+
+/// A bound for TAO: ±∞ as PETSc's ±PETSC_INFINITY, which its bound-constrained methods read as
+/// "no bound".
+PetscScalar bound_for_tao(double x) {
+  if (x == kInf) return PETSC_INFINITY;
+  if (x == -kInf) return PETSC_NINFINITY;
+  return x;
+}
+
+/// The rows [begin, end) of v (c entries, this rank's part of a VECMPI) from x.
+void fill_own_rows(Vec v, const VecX& x, PetscInt begin, PetscInt end, bool as_bound) {
+  PetscScalar* local = nullptr;
+  CBPS_PETSC_CHECK(VecGetArray(v, &local));
+  for (PetscInt i = begin; i < end; ++i) local[i - begin] = as_bound ? bound_for_tao(x[i]) : x[i];
+  CBPS_PETSC_CHECK(VecRestoreArray(v, &local));
+}
+
+/// A (c×c, symmetric) as MATMPIAIJ: PetscSplitOwnership's rows on each rank, each rank
+/// preallocating and inserting only its own rows (diagonal block: columns it owns too).
+Mat distributed_matrix(const SpMat& A_colmajor) {
+  const SpMatRow A(A_colmajor);  // rows, exactly as stored (A's symmetry is checked by the caller)
+  PetscInt local = PETSC_DECIDE;
+  PetscInt global = static_cast<PetscInt>(A.rows());
+  CBPS_PETSC_CHECK(PetscSplitOwnership(PETSC_COMM_WORLD, &local, &global));
+  Mat M = nullptr;
+  CBPS_PETSC_CHECK(MatCreate(PETSC_COMM_WORLD, &M));
+  CBPS_PETSC_CHECK(MatSetSizes(M, local, local, global, global));
+  // MATAIJ: MATMPIAIJ on more than one rank, MATSEQAIJ on one, where PETSc's default
+  // preconditioner (ILU, inside the Newton and interior-point types' KSP) exists only for the
+  // sequential format; on more ranks the default is block Jacobi with ILU on each rank's block.
+  CBPS_PETSC_CHECK(MatSetType(M, MATAIJ));
+  // This rank's rows [begin, end): the sum of the local sizes up to it. (MatGetOwnershipRange
+  // answers only once preallocation has set the layout up; it is checked against this below.)
+  PetscInt end = 0;
+  MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
+  const PetscInt begin = end - local;
+  std::vector<PetscInt> diagonal(local, 0), off_diagonal(local, 0);
+  for (PetscInt i = begin; i < end; ++i) {
+    for (SpMatRow::InnerIterator it(A, i); it; ++it) {
+      const bool own_column = it.col() >= begin && it.col() < end;
+      ++(own_column ? diagonal : off_diagonal)[i - begin];
+    }
+  }
+  // Each call does nothing for the other format; on one rank every column is this rank's.
+  CBPS_PETSC_CHECK(MatMPIAIJSetPreallocation(M, 0, diagonal.data(), 0, off_diagonal.data()));
+  CBPS_PETSC_CHECK(MatSeqAIJSetPreallocation(M, 0, diagonal.data()));
+  PetscInt check_begin = 0;
+  PetscInt check_end = 0;
+  CBPS_PETSC_CHECK(MatGetOwnershipRange(M, &check_begin, &check_end));
+  if (check_begin != begin || check_end != end)
+    throw ComputationError("PETSc: MatGetOwnershipRange gave rows [" + std::to_string(check_begin) +
+                           ", " + std::to_string(check_end) + ") where PetscSplitOwnership gave [" +
+                           std::to_string(begin) + ", " + std::to_string(end) + ")");
+  std::vector<PetscInt> columns;
+  std::vector<PetscScalar> values;
+  for (PetscInt i = begin; i < end; ++i) {
+    columns.clear();
+    values.clear();
+    for (SpMatRow::InnerIterator it(A, i); it; ++it) {
+      columns.push_back(static_cast<PetscInt>(it.col()));
+      values.push_back(it.value());
+    }
+    CBPS_PETSC_CHECK(MatSetValues(M,
+                                  1,
+                                  &i,
+                                  static_cast<PetscInt>(columns.size()),
+                                  columns.data(),
+                                  values.data(),
+                                  INSERT_VALUES));
+  }
+  CBPS_PETSC_CHECK(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
+  CBPS_PETSC_CHECK(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+  return M;
+}
+
+/// The natural-map residual of 6.2 on the distributed vectors, N:
+///   ‖lambda − clamp(lambda − w, cmin, cmax)‖∞,  w = A lambda − b,
+/// the formula of natural_map_residual (system/boxed_problem.hpp) written with PETSc's vector
+/// operations (clamp = VecPointwiseMax with cmin, then VecPointwiseMin with cmax). NaN when any
+/// term is (the 2-norm carries a NaN that the maximum may skip). The same value on every rank.
+PetscErrorCode distributed_natural_map_residual(const Objects& o, Vec lambda, double* residual) {
+  PetscReal largest = 0.0;
+  PetscReal two_norm = 0.0;
+  PetscFunctionBeginUser;
+  PetscCall(MatMult(o.A, lambda, o.w));
+  PetscCall(VecAXPY(o.w, -1.0, o.b));            // w = A lambda − b
+  PetscCall(VecWAXPY(o.t, -1.0, o.w, lambda));   // t = lambda − w
+  PetscCall(VecPointwiseMax(o.t, o.t, o.cmin));  // max(t, cmin)
+  PetscCall(VecPointwiseMin(o.t, o.t, o.cmax));  // min(·, cmax)
+  PetscCall(VecAYPX(o.t, -1.0, lambda));         // lambda − clamp(lambda − w, cmin, cmax)
+  PetscCall(VecNorm(o.t, NORM_INFINITY, &largest));
+  PetscCall(VecNorm(o.t, NORM_2, &two_norm));
+  *residual = std::isnan(two_norm) ? std::numeric_limits<double>::quiet_NaN() : largest;
+  PetscFunctionReturn(0);
+}
+
+/// TAO's convergence test, then cbps's, after every iteration: TAO's own (gatol, the iteration
+/// cap, NaN), else stop when the natural-map residual is ≤ the tolerance, the test every cbps
+/// solver stops by (TAO_CONVERGED_USER).
+PetscErrorCode convergence_test(Tao tao, void* context) {
+  auto* q = static_cast<Quadratic*>(context);
+  TaoConvergedReason reason = TAO_CONTINUE_ITERATING;
+  Vec lambda = nullptr;
+  double residual = 0.0;
+  PetscFunctionBeginUser;
+  PetscCall(TaoDefaultConvergenceTest(tao, nullptr));
+  PetscCall(TaoGetConvergedReason(tao, &reason));
+  if (reason != TAO_CONTINUE_ITERATING) PetscFunctionReturn(0);
+  PetscCall(TaoGetSolution(tao, &lambda));
+  PetscCall(distributed_natural_map_residual(*q->o, lambda, &residual));
+  if (residual <= q->tolerance) {
+    q->stop = "natural-map residual " + number_text(residual) + " <= --tolerance " +
+              number_text(q->tolerance);
+    PetscCall(TaoSetConvergedReason(tao, TAO_CONVERGED_USER));
+  }
+  PetscFunctionReturn(0);
+}
+
+}  // namespace
+
+MpiSession::MpiSession() {
+  // PETSc's own command line (cbps's is CLI11's): no .petscrc file changes a result behind the
+  // command line's back, and cbps keeps its own Ctrl-C handling (PETSc's handlers would take
+  // the signals cbps's cleanup thread waits for). PETSC_OPTIONS is still read.
+  static char program[] = "cbps";
+  static char skip_petscrc[] = "-skip_petscrc";
+  static char no_signal_handler[] = "-no_signal_handler";
+  static char* arguments[] = {program, skip_petscrc, no_signal_handler, nullptr};
+  int count = 3;
+  char** argv = arguments;
+  CBPS_PETSC_CHECK(PetscInitialize(&count, &argv, nullptr, nullptr));
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank_);
+  MPI_Comm_size(PETSC_COMM_WORLD, &size_);
+}
+
+MpiSession::~MpiSession() { PetscFinalize(); }
+
+int MpiSession::first_failing_rank(bool failed) const {
+  const int mine = failed ? rank_ : size_;
+  int first = size_;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+  return first;
+}
+
+int MpiSession::broadcast(int value, int root) const {
+  MPI_Bcast(&value, 1, MPI_INT, root, PETSC_COMM_WORLD);
+  return value;
+}
+
+TaoResult solve_tao(const MpiSession& session,
+                    const BoxedProblem& problem,
+                    const TaoOptions& options) {
+  if (problem.rows() > INT_MAX)
+    throw InputError("--solver tao: " + std::to_string(problem.rows()) +
+                     " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
+  Objects o;
+  o.A = distributed_matrix(problem.A);
+  CBPS_PETSC_CHECK(MatCreateVecs(o.A, &o.lambda, &o.b));  // VECMPI with A's row layout
+  for (Vec* v : {&o.cmin, &o.cmax, &o.w, &o.t}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  CBPS_PETSC_CHECK(VecGetOwnershipRange(o.b, &begin, &end));
+  fill_own_rows(o.b, problem.b, begin, end, false);
+  fill_own_rows(o.cmin, problem.cmin, begin, end, true);
+  fill_own_rows(o.cmax, problem.cmax, begin, end, true);
+  CBPS_PETSC_CHECK(VecSet(o.lambda, 0.0));  // the start every cbps solver takes
+
+  Quadratic q;
+  q.o = &o;
+  q.tolerance = options.tolerance;
+  CBPS_PETSC_CHECK(TaoCreate(PETSC_COMM_WORLD, &o.tao));
+  CBPS_PETSC_CHECK(TaoSetType(o.tao, options.type.c_str()));
+  CBPS_PETSC_CHECK(TaoSetSolution(o.tao, o.lambda));
+  CBPS_PETSC_CHECK(TaoSetVariableBounds(o.tao, o.cmin, o.cmax));
+  CBPS_PETSC_CHECK(TaoSetObjectiveAndGradient(o.tao, nullptr, objective_and_gradient, &q));
+  CBPS_PETSC_CHECK(TaoSetHessian(o.tao, o.A, o.A, hessian, &q));
+  // Absolute tolerance only: TAO's relative tests would stop a problem whose f is large (or
+  // whose first gradient is) long before the natural-map residual is small.
+  CBPS_PETSC_CHECK(TaoSetTolerances(o.tao, options.tolerance, 0.0, 0.0));
+  CBPS_PETSC_CHECK(TaoSetConvergenceTest(o.tao, convergence_test, &q));
+  CBPS_PETSC_CHECK(TaoSetMaximumIterations(o.tao, options.max_iterations));
+  // --iterations is the cap; function evaluations (a line search takes several per iteration)
+  // get room enough that TAO's own default cap (4000 for bncg) never stops it first.
+  const long funcs = std::min<long>(INT_MAX, 100L * options.max_iterations);
+  CBPS_PETSC_CHECK(TaoSetMaximumFunctionEvaluations(o.tao, static_cast<PetscInt>(funcs)));
+  CBPS_PETSC_CHECK(TaoSetFromOptions(o.tao));  // PETSC_OPTIONS, e.g. -tao_monitor
+  CBPS_PETSC_CHECK(TaoSolve(o.tao));
+
+  TaoResult r;
+  PetscInt iterations = 0;
+  PetscReal f = 0.0, gnorm = 0.0, cnorm = 0.0, xdiff = 0.0;
+  TaoConvergedReason reason = TAO_CONTINUE_ITERATING;
+  CBPS_PETSC_CHECK(TaoGetSolutionStatus(o.tao, &iterations, &f, &gnorm, &cnorm, &xdiff, &reason));
+  r.iterations = static_cast<int>(iterations);
+  r.reason = TaoConvergedReasons[reason];
+  r.converged = reason > 0;
+  r.tao_residual = gnorm;
+  r.local_rows = static_cast<long>(end - begin);
+  r.stop = q.stop.empty() ? std::string("TAO's own test") : q.stop;
+  CBPS_PETSC_CHECK(distributed_natural_map_residual(o, o.lambda, &r.residual));
+
+  // lambda onto rank 0.
+  CBPS_PETSC_CHECK(VecScatterCreateToZero(o.lambda, &o.to_0, &o.lambda_on_0));
+  CBPS_PETSC_CHECK(
+      VecScatterBegin(o.to_0, o.lambda, o.lambda_on_0, INSERT_VALUES, SCATTER_FORWARD));
+  CBPS_PETSC_CHECK(VecScatterEnd(o.to_0, o.lambda, o.lambda_on_0, INSERT_VALUES, SCATTER_FORWARD));
+  if (session.rank() == 0) {
+    const PetscScalar* all = nullptr;
+    CBPS_PETSC_CHECK(VecGetArrayRead(o.lambda_on_0, &all));
+    r.lambda = Eigen::Map<const VecX>(all, problem.rows());
+    CBPS_PETSC_CHECK(VecRestoreArrayRead(o.lambda_on_0, &all));
+  }
+  return r;
+}
+
+}  // namespace cbps::distributed
