@@ -368,6 +368,7 @@ int lcp_generate_command(const LcpOptions& o) {
   std::unique_ptr<OutputDir> dir;
   std::unique_ptr<OutputDir> system_dir;
   long rows = 0;
+  double generate_wall = 0.0;  // rank 0's time to build its rows, s
   std::exception_ptr failure;
   try {
     if (!is_tao_solver(solver) || !distributed::is_tao_type(type))
@@ -385,8 +386,11 @@ int lcp_generate_command(const LcpOptions& o) {
                        std::to_string(kMaxGatheredRows));
     if (!o.write_system.empty() && !o.out.empty() && o.write_system == o.out)
       throw InputError("--write-system " + o.write_system + ": the same folder as --out");
+    const auto generating = std::chrono::steady_clock::now();
     local =
         distributed::generate_chain({{"n", std::to_string(rows)}}, session.rank(), session.size());
+    generate_wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - generating).count();
     if (session.rank() == 0 && !o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
     if (session.rank() == 0 && !o.write_system.empty())
       system_dir = std::make_unique<OutputDir>(o.write_system);
@@ -443,8 +447,10 @@ int lcp_generate_command(const LcpOptions& o) {
                               {"stop", t.stop},
                               {"measure", number_json(t.tao_residual)},
                               {"gatol", o.tolerance}};
-      extras.fields["generated"] = {
-          {"scene", o.generate}, {"description", local->description}, {"step", 0}};
+      extras.fields["generated"] = {{"scene", o.generate},
+                                    {"description", local->description},
+                                    {"step", 0},
+                                    {"wall_time_s", generate_wall}};
       extras.fields["rank_memory_mb"] = memory;
       ProblemFacts facts;
       facts.rows = rows;
