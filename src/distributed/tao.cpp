@@ -460,7 +460,7 @@ SpMat gather_matrix(Mat A, int rank) {
 }  // namespace
 
 TaoResult solve_tao_generated(const MpiSession& session,
-                              const LocalSystem& local,
+                              LocalSystem& local,
                               const TaoOptions& options,
                               bool gather) {
   if (local.total_columns > INT_MAX)
@@ -473,9 +473,11 @@ TaoResult solve_tao_generated(const MpiSession& session,
   o.J = matrix_from_rows(local.J, local.total_columns, local.first_column, local.owned_columns);
   o.Minv =
       matrix_from_rows(local.Minv, local.total_columns, local.first_column, local.owned_columns);
+  local.J = SpMatRow();  // PETSc holds them now
+  local.Minv = SpMatRow();
   CBPS_PETSC_CHECK(MatTranspose(o.J, MAT_INITIAL_MATRIX, &o.Jt));
   CBPS_PETSC_CHECK(MatPtAP(o.Minv, o.Jt, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &o.A));
-  CBPS_PETSC_CHECK(MatDestroy(&o.Jt));
+  for (Mat* m : {&o.Jt, &o.J, &o.Minv}) CBPS_PETSC_CHECK(MatDestroy(m));  // only A is used
   CBPS_PETSC_CHECK(MatCreateVecs(o.A, nullptr, &o.b));
   for (Vec* v : {&o.cmin, &o.cmax}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
   PetscInt begin = 0;

@@ -5,11 +5,12 @@ per rank (docs/distributed.md), against the serial path's `cbps matrices chain -
     /usr/bin/python3 tests/petsc/test_generate.py CBPS MODE DIR
 
 MODE is one of
-  system      at 1 and 2 ranks, the generated A, b, cmin, cmax (--write-system, gathered onto
-              rank 0) equal the serial folder's to 1e-12 of the largest entry (b: of ||b||inf;
-              the bounds exactly), and TAO's lambda on the generated problem agrees with the
-              direct path's on the serial folder (w and J^T lambda within the bound of
-              test_tao.py, derived from the residuals); rank_memory_mb has one entry per rank
+  system      a chain of 51 links at 1, 2 and 3 ranks: the generated A, b, cmin, cmax
+              (--write-system, gathered onto rank 0) equal the serial folder's to 1e-12 of
+              the largest entry (b: of ||b||inf; the bounds exactly), and TAO's lambda on the
+              generated problem agrees with the direct path's on the serial folder (w and
+              J^T lambda within the bound of test_tao.py, derived from the residuals);
+              rank_memory_mb has one entry per rank; --out holds the printed object and lambda
   bad-input   bad --rows, --generate, too few links for the ranks, --write-system too large:
               exit 2 on both ranks of 2, one message
 
@@ -24,8 +25,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import test_tao as t  # noqa: E402
 
-LINKS = 50
-RANKS = (1, 2)
+LINKS = 51  # odd: 2 ranks split it unevenly (26 + 25)
+RANKS = (1, 2, 3)
 
 
 def mode_system(cbps, root):
@@ -46,8 +47,9 @@ def mode_system(cbps, root):
     for ranks in RANKS:
         label = f"generated chain of {LINKS} at {ranks} rank(s)"
         written = os.path.join(root, f"{name}.generated.{ranks}")
+        out = os.path.join(root, f"{name}.out.{ranks}")
         r = t.run([cbps, "lcp", "--generate", "chain", "--rows", f"{LINKS}", "--solver",
-                   "tao:bqpip", "--json", "--write-system", written], ranks)
+                   "tao:bqpip", "--json", "--write-system", written, "--out", out], ranks)
         if not t.check(r.returncode == 0, f"{label}: exit {r.returncode}: {r.stderr}"):
             continue
         j = json.loads(r.stdout)
@@ -74,6 +76,13 @@ def mode_system(cbps, root):
         j["tao"]["residual_gathered"] = j["residual"]
         t.compare_with_direct(root, name, j, ranks, label)
         t.check(j["status"] == "solved", f"{label}: status {j['status']} ({j['message']})")
+        # --out by rank 0: result.json is the printed object, lambda.mtx its lambda.
+        t.check(json.load(open(os.path.join(out, "result.json"))) == j | {
+            "tao": {k: v for k, v in j["tao"].items() if k != "residual_gathered"}},
+            f"{label}: result.json differs from --json")
+        lam = t.read_mtx(os.path.join(out, "lambda.mtx"))
+        t.check(np.array_equal(lam, np.array(j["lambda"], dtype=float)),
+                f"{label}: lambda.mtx differs from the printed lambda")
     return 0
 
 

@@ -125,9 +125,9 @@ struct LocalSystem;  // cbps/distributed/generate.hpp
 /// MatPtAP (Jᵀ's columns are A's rows), b, cmin, cmax are its own rows: no rank holds more than
 /// its rows and PETSc's communication buffers. Then the same TAO solve. With `gather`, A, b,
 /// cmin and cmax are also gathered onto rank 0 (TaoResult::gathered; small sizes only).
-/// Collective.
+/// local.J and local.Minv are released (emptied) once PETSc holds them. Collective.
 TaoResult solve_tao_generated(const MpiSession& session,
-                              const LocalSystem& local,
+                              LocalSystem& local,
                               const TaoOptions& options,
                               bool gather);
 
