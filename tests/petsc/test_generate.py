@@ -10,7 +10,9 @@ MODE is one of
               the largest entry (b: of ||b||inf; the bounds exactly), and TAO's lambda on the
               generated problem agrees with the direct path's on the serial folder (w and
               J^T lambda within the bound of test_tao.py, derived from the residuals);
-              rank_memory_mb has one entry per rank; --out holds the printed object and lambda
+              rank_memory_mb has one entry per rank; --out holds the printed object and lambda;
+              and a chain of 9000 links at 1 and 2 ranks (more than one generation chunk of
+              4096 joints on a rank): A, b, cmin, cmax as above
   bad-input   bad --rows, --generate, too few links for the ranks, --write-system too large:
               exit 2 on both ranks of 2, one message
 
@@ -26,7 +28,25 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import test_tao as t  # noqa: E402
 
 LINKS = 51  # odd: 2 ranks split it unevenly (26 + 25)
+LONG_LINKS = 9000
 RANKS = (1, 2, 3)
+
+
+def compare_system(written, serial, label):
+    """The generated A, b, cmin, cmax in `written` against the serial folder's (loaded)."""
+    A = t.read_mtx(os.path.join(written, "A.mtx"))
+    largest = abs(serial["A"]).max()
+    dA = abs(A - serial["A"]).max() if A.shape == serial["A"].shape else float("inf")
+    t.check(dA <= 1e-12 * largest,
+            f"{label}: |A - A_serial|max = {dA:.3g} (largest entry {largest:.3g})")
+    b = t.read_mtx(os.path.join(written, "b.mtx"))
+    db = float(np.max(np.abs(b - serial["b"]))) if b.shape == serial["b"].shape else float("inf")
+    t.check(db <= 1e-12 * float(np.max(np.abs(serial["b"]))),
+            f"{label}: |b - b_serial|inf = {db:.3g}")
+    for bound in ("cmin", "cmax"):
+        mine = t.read_mtx(os.path.join(written, bound + ".mtx"))
+        t.check(np.array_equal(mine, serial[bound]), f"{label}: {bound} differs")
+    print(f"{label}: |A - A_serial| {dA:.3g}, |b - b_serial| {db:.3g}, bounds equal")
 
 
 def mode_system(cbps, root):
@@ -34,6 +54,22 @@ def mode_system(cbps, root):
         print("petsc SKIPPED: no mpirun (Debian: openmpi-bin; scripts/setup.sh --with-petsc)")
         return 77
     os.makedirs(root, exist_ok=True)
+    # More joints than one generation chunk (4096) on a rank: 1 rank builds 4096 + 4096 + 808,
+    # 2 ranks 4096 + 404 each; the system alone (the solve's checks form dense J).
+    name = f"chain{LONG_LINKS}"
+    folder = os.path.join(root, name)
+    r = t.run([cbps, "matrices", "chain", "--param", f"n={LONG_LINKS}", "--step", "0", "--out",
+               folder])
+    if t.check(r.returncode == 0, f"cbps matrices: exit {r.returncode} {r.stderr}"):
+        serial = t.load(folder)
+        for ranks in (1, 2):
+            label = f"generated chain of {LONG_LINKS} at {ranks} rank(s)"
+            written = os.path.join(root, f"{name}.generated.{ranks}")
+            r = t.run([cbps, "lcp", "--generate", "chain", "--rows", f"{LONG_LINKS}", "--solver",
+                       "tao:bqpip", "--write-system", written], ranks)
+            if t.check(r.returncode == 0, f"{label}: exit {r.returncode}: {r.stderr}"):
+                compare_system(written, serial, label)
+
     name = f"chain{LINKS}"
     folder = os.path.join(root, name)
     r = t.run([cbps, "matrices", "chain", "--param", f"n={LINKS}", "--step", "0", "--out",
@@ -56,20 +92,7 @@ def mode_system(cbps, root):
         t.check(j["rows"] == LINKS, f"{label}: rows {j['rows']}")
         t.check(len(j["rank_memory_mb"]) == ranks and min(j["rank_memory_mb"]) > 0,
                 f"{label}: rank_memory_mb {j['rank_memory_mb']}")
-        # The system itself against the serial one.
-        A = t.read_mtx(os.path.join(written, "A.mtx"))
-        dA = abs(A - serial["A"]).max()
-        largest = abs(serial["A"]).max()
-        t.check(A.shape == serial["A"].shape and dA <= 1e-12 * largest,
-                f"{label}: |A - A_serial|max = {dA:.3g} (largest entry {largest:.3g})")
-        b = t.read_mtx(os.path.join(written, "b.mtx"))
-        db = float(np.max(np.abs(b - serial["b"])))
-        t.check(db <= 1e-12 * float(np.max(np.abs(serial["b"]))),
-                f"{label}: |b - b_serial|inf = {db:.3g}")
-        for bound in ("cmin", "cmax"):
-            mine = t.read_mtx(os.path.join(written, bound + ".mtx"))
-            t.check(np.array_equal(mine, serial[bound]), f"{label}: {bound} differs")
-        print(f"{label}: |A - A_serial| {dA:.3g}, |b - b_serial| {db:.3g}, bounds equal")
+        compare_system(written, serial, label)
         # The solve: compare_with_direct checks the distributed residual against numpy's on
         # the serial folder, w and J^T lambda against the direct path's. (The generated path
         # has no whole problem on rank 0 to recompute residual_gathered: numpy's check stands.)
