@@ -10,6 +10,10 @@
 // under MPI, alone or as `mpirun -n N cbps lcp ...`: every rank reads the problem, rank 0 alone
 // prints and writes --out, through the same report as every other solver, and every rank exits
 // with the same code.
+//
+// `--generate chain --rows N --solver tao:TYPE` builds the problem instead of reading it, each
+// rank only its own rows (distributed/generate.hpp, docs/distributed.md#generated-problems),
+// and reports through the same report(); no rank holds the whole problem.
 #include <sys/resource.h>
 
 #include <chrono>
@@ -375,25 +379,28 @@ int lcp_generate_command(const LcpOptions& o) {
       throw InputError("--generate: --solver " + (solver.empty() ? "(none)" : solver) +
                        ": a generated problem is solved by tao:TYPE with TYPE one of " +
                        distributed::tao_type_list());
+    if (!o.problem.empty())
+      throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
+                       ") or --generate, not both");
     if (o.generate != "chain")
       throw InputError("--generate " + o.generate + ": unknown; the only generator is chain");
     if (o.rows.empty()) throw InputError("--generate chain: --rows N is required");
     rows = parse_rows(o.rows);
     if (!o.write_system.empty() && rows > kMaxGatheredRows)
       throw InputError("--write-system: " + std::to_string(rows) +
-                       " rows; it gathers the whole "
-                       "problem onto rank 0 and takes at most " +
+                       " rows; it gathers the whole problem onto rank 0 and takes at most " +
                        std::to_string(kMaxGatheredRows));
     if (!o.write_system.empty() && !o.out.empty() && o.write_system == o.out)
       throw InputError("--write-system " + o.write_system + ": the same folder as --out");
+    // The output folders before the work: a refused one ends every rank at once.
+    if (session.rank() == 0 && !o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
+    if (session.rank() == 0 && !o.write_system.empty())
+      system_dir = std::make_unique<OutputDir>(o.write_system);
     const auto generating = std::chrono::steady_clock::now();
     local =
         distributed::generate_chain({{"n", std::to_string(rows)}}, session.rank(), session.size());
     generate_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - generating).count();
-    if (session.rank() == 0 && !o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
-    if (session.rank() == 0 && !o.write_system.empty())
-      system_dir = std::make_unique<OutputDir>(o.write_system);
   } catch (...) {
     failure = std::current_exception();
   }
@@ -488,9 +495,6 @@ int lcp_tao(const LcpOptions& o) {
 
 /// `--generate SCENE`, or without PETSc in the build exit 2 as lcp_tao.
 int lcp_generate(const LcpOptions& o) {
-  if (!o.problem.empty())
-    throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
-                     ") or --generate, not both");
 #ifdef CBPS_HAVE_PETSC
   return lcp_generate_command(o);
 #else

@@ -13,8 +13,9 @@ MODE is one of
               rank_memory_mb has one entry per rank; --out holds the printed object and lambda;
               and a chain of 9000 links at 1 and 2 ranks (more than one generation chunk of
               4096 joints on a rank): A, b, cmin, cmax as above
-  bad-input   bad --rows, --generate, too few links for the ranks, --write-system too large:
-              exit 2 on both ranks of 2, one message
+  bad-input   bad --rows, --generate, PROBLEM with --generate, a solver not tao:TYPE, too few
+              links for the ranks, --write-system too large, an --out holding a user's file:
+              exit 2 on both ranks of 2, one message, the folders as they were
 
 Exit 0 when every check passes, 77 (skipped) without mpirun. Uses test_tao.py's helpers.
 """
@@ -114,6 +115,10 @@ def mode_bad_input(cbps, root):
         print("petsc SKIPPED: no mpirun (Debian: openmpi-bin; scripts/setup.sh --with-petsc)")
         return 77
     os.makedirs(root, exist_ok=True)
+    foreign = os.path.join(root, "foreign-out")
+    os.makedirs(foreign, exist_ok=True)
+    with open(os.path.join(foreign, "mine.txt"), "w") as f:
+        f.write("a user's file\n")
     gen = ["lcp", "--generate", "chain", "--solver", "tao:bqpip"]
     cases = [
         (gen + ["--rows", "0"], "--rows 0"),
@@ -124,7 +129,11 @@ def mode_bad_input(cbps, root):
         (["lcp", "--generate", "stack", "--rows", "10", "--solver", "tao:bqpip"], "only"),
         (["lcp", "--generate", "chain", "--rows", "10", "--solver", "pgs"], "tao:TYPE"),
         (gen + ["--rows", "1"], "1 links on 2 ranks"),
+        (["lcp", "some-folder", "--generate", "chain", "--rows", "10", "--solver", "tao:bqpip"],
+         "not both"),
         (gen + ["--rows", "1e6", "--write-system", os.path.join(root, "big")], "at most"),
+        # Only rank 0 opens --out: its refusal must still end rank 1.
+        (gen + ["--rows", "10", "--out", foreign], "mine.txt"),
     ]
     for args, words in cases:
         label = " ".join(args[1:])
@@ -134,6 +143,7 @@ def mode_bad_input(cbps, root):
         t.check(r.stderr.count("cbps: ") == 1, f"{label}: not one message: {r.stderr}")
         print(f"{label}: exit 2 on both ranks; {r.stderr.strip()}")
     t.check(not os.path.exists(os.path.join(root, "big")), "--write-system folder made")
+    t.check(sorted(os.listdir(foreign)) == ["mine.txt"], "the refused --out folder changed")
     return 0
 
 
