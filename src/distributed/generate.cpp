@@ -42,64 +42,46 @@ LocalSystem generate_chain(const std::map<std::string, std::string>& values, int
   local.total_rows = n;  // one distance row per joint (5.2)
   local.total_columns = 6 * n;
   local.first_row = begin;
-  local.first_column = 6 * begin;
-  local.owned_columns = 6 * (end - begin);
   local.b.resize(end - begin);
   local.cmin.resize(end - begin);
   local.cmax.resize(end - begin);
-  local.J.resize(end - begin, local.total_columns);
-  local.J.reserve(12 * (end - begin));  // a distance row between two links: 2 × 6 entries
-  local.Minv.resize(local.owned_columns, local.total_columns);
-  local.Minv.reserve(6 * local.owned_columns);  // at most a full 6×6 block a link
+  local.A.resize(end - begin, local.total_rows);
+  local.A.reserve(3 * (end - begin));  // joint k couples to joints k − 1, k, k + 1
 
   // This rank's joints in chunks of kChunk (the scene part, its labelled rows and its whole
   // System are several times the size of the rows kept: only one chunk's are alive at a time).
   // Each chunk by the serial path's own code: the scene builder, the row stage (5.2) and the
-  // assembly (6.1, 6.2.9), at step 0. J and Minv are filled row by row in order (Eigen's
-  // startVec / insertBack: no triplets).
+  // assembly (6.1, 6.2.9), at step 0, over the chunk's joints and one halo joint on either side
+  // (the halo rows of the part's A are incomplete and dropped). A is filled row by row in order
+  // (Eigen's startVec / insertBack: no triplets).
   constexpr long kChunk = 4096;
   for (long first = begin; first < end; first += kChunk) {
     const long last = std::min(end, first + kChunk);
-    const Scene part = build_chain_range(values, first, last);
+    const long halo_first = std::max(first - 1, 0L);  // joints [halo_first, halo_last)
+    const long halo_last = std::min(last + 1, n);
+    const Scene part = build_chain_range(values, halo_first, halo_last);
     std::vector<Row> rows;
     build_rows(part.bodies, part.distances, {}, part.world.rows(), rows);
     const System sys =
         assemble_system(part.bodies, rows, part.world.gravity, part.world.dt, part.world.push);
-    // Every link is movable: block i of the part is its body i, global link lowest + i.
-    const long lowest = std::max(first - 1, 0L);
-    if (sys.blocks() != static_cast<int>(part.bodies.size()) || sys.rows() != last - first)
-      throw ComputationError(
-          "generate chain: the part's system has " + std::to_string(sys.blocks()) + " blocks and " +
-          std::to_string(sys.rows()) + " rows where " + std::to_string(part.bodies.size()) +
-          " and " + std::to_string(last - first) + " were expected");
-    const long offset = 6 * lowest;  // global column of the part's column 0
-
-    // J: the chunk's rows, its columns moved to their global place (still ascending).
-    for (Eigen::Index i = 0; i < sys.J.outerSize(); ++i) {
-      const Eigen::Index row = first - begin + i;
-      local.J.startVec(row);
-      for (SpMatRow::InnerIterator e(sys.J, i); e; ++e)
-        local.J.insertBack(row, offset + e.col()) = e.value();
+    if (sys.rows() != halo_last - halo_first)
+      throw ComputationError("generate chain: the part's system has " + std::to_string(sys.rows()) +
+                             " rows where " + std::to_string(halo_last - halo_first) +
+                             " were expected");
+    // Row i of the part is joint halo_first + i; the chunk's own rows are [first, last).
+    const SpMatRow A_rows(sys.A);
+    for (long k = first; k < last; ++k) {
+      const Eigen::Index i = k - halo_first;
+      const Eigen::Index row = k - begin;
+      local.A.startVec(row);
+      for (SpMatRow::InnerIterator e(A_rows, i); e; ++e)
+        local.A.insertBack(row, halo_first + e.col()) = e.value();
+      local.b[row] = sys.b[i];
+      local.cmin[row] = sys.cmin[i];
+      local.cmax[row] = sys.cmax[i];
     }
-    // Minv: the diagonal blocks of the chunk's own links [first, last) (not the link before,
-    // which the chunk or rank before owns), rows and columns in global numbering.
-    const SpMatRow Minv_rows(sys.Minv);
-    for (Eigen::Index i = 0; i < Minv_rows.outerSize(); ++i) {
-      const long global = offset + i;
-      if (global < 6 * first || global >= 6 * last) continue;
-      const Eigen::Index row = global - local.first_column;
-      local.Minv.startVec(row);
-      for (SpMatRow::InnerIterator e(Minv_rows, i); e; ++e)
-        local.Minv.insertBack(row, offset + e.col()) = e.value();
-    }
-    // b, cmin, cmax: row by row as the part's system has them (b's row k needs only the bodies
-    // of row k, both in the part).
-    local.b.segment(first - begin, last - first) = sys.b;
-    local.cmin.segment(first - begin, last - first) = sys.cmin;
-    local.cmax.segment(first - begin, last - first) = sys.cmax;
   }
-  local.J.finalize();
-  local.Minv.finalize();
+  local.A.finalize();
   return local;
 }
 

@@ -48,7 +48,6 @@ void check(PetscErrorCode code, const char* call) {
 /// PETSc objects freed when the solve leaves, in any way.
 struct Objects {
   Mat A = nullptr;
-  Mat J = nullptr, Minv = nullptr, Jt = nullptr;  ///< the generated path's factors of A
   Vec b = nullptr, cmin = nullptr, cmax = nullptr, lambda = nullptr, w = nullptr, t = nullptr;
   Vec lambda_on_0 = nullptr;
   VecScatter to_0 = nullptr;
@@ -57,7 +56,7 @@ struct Objects {
     TaoDestroy(&tao);
     VecScatterDestroy(&to_0);
     for (Vec* v : {&b, &cmin, &cmax, &lambda, &w, &t, &lambda_on_0}) VecDestroy(v);
-    for (Mat* m : {&A, &J, &Minv, &Jt}) MatDestroy(m);
+    MatDestroy(&A);
   }
 };
 
@@ -463,21 +462,14 @@ TaoResult solve_tao_generated(const MpiSession& session,
                               LocalSystem& local,
                               const TaoOptions& options,
                               bool gather) {
-  if (local.total_columns > INT_MAX)
-    throw InputError("--generate: " + std::to_string(local.total_columns) +
-                     " columns of J; this PETSc indexes at most " + std::to_string(INT_MAX));
+  if (local.total_rows > INT_MAX)
+    throw InputError("--generate: " + std::to_string(local.total_rows) +
+                     " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
   Objects o;
-  // J (c×6n) and Minv (6n×6n) distributed by rows, the columns of J laid out as the rows of
-  // Minv; then A = J Minv Jᵀ (6.2.9) = Pᵀ Minv P with P = Jᵀ, by PETSc's MatPtAP, which takes
-  // MPIAIJ on every rank count (docs/distributed.md says why not a shell).
-  o.J = matrix_from_rows(local.J, local.total_columns, local.first_column, local.owned_columns);
-  o.Minv =
-      matrix_from_rows(local.Minv, local.total_columns, local.first_column, local.owned_columns);
-  local.J = SpMatRow();  // PETSc holds them now
-  local.Minv = SpMatRow();
-  CBPS_PETSC_CHECK(MatTranspose(o.J, MAT_INITIAL_MATRIX, &o.Jt));
-  CBPS_PETSC_CHECK(MatPtAP(o.Minv, o.Jt, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &o.A));
-  for (Mat* m : {&o.Jt, &o.J, &o.Minv}) CBPS_PETSC_CHECK(MatDestroy(m));  // only A is used
+  // This rank's rows of A = J Minv Jᵀ (6.2.9), formed by the generator, as its rows of an
+  // MPIAIJ matrix, laid out as the vectors (docs/distributed.md says why not a shell).
+  o.A = matrix_from_rows(local.A, local.total_rows, local.first_row, local.rows());
+  local.A = SpMatRow();  // PETSc holds it now
   CBPS_PETSC_CHECK(MatCreateVecs(o.A, nullptr, &o.b));
   for (Vec* v : {&o.cmin, &o.cmax}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
   PetscInt begin = 0;

@@ -121,11 +121,11 @@ TaoResult solve_tao(const MpiSession& session,
 struct LocalSystem;  // cbps/distributed/generate.hpp
 
 /// solve_tao for a problem generated per rank (LocalSystem, generate.hpp): each rank puts its
-/// rows of J and Minv into PETSc's MPIAIJ, A = J Minv Jᵀ (6.2.9) is formed by MatTranspose and
-/// MatPtAP (Jᵀ's columns are A's rows), b, cmin, cmax are its own rows: no rank holds more than
-/// its rows and PETSc's communication buffers. Then the same TAO solve. With `gather`, A, b,
-/// cmin and cmax are also gathered onto rank 0 (TaoResult::gathered; small sizes only).
-/// local.J and local.Minv are released (emptied) once PETSc holds them. Collective.
+/// rows of A = J Minv Jᵀ (6.2.9) into PETSc's MPIAIJ and its rows of b, cmin and cmax into the
+/// vectors: no rank holds more than its rows and PETSc's communication buffers. Then the same
+/// TAO solve. With `gather`, A, b, cmin and cmax are also gathered onto rank 0
+/// (TaoResult::gathered; small sizes only). local.A is released (emptied) once PETSc holds it.
+/// Collective.
 TaoResult solve_tao_generated(const MpiSession& session,
                               LocalSystem& local,
                               const TaoOptions& options,
