@@ -142,10 +142,6 @@ bool is_tao_solver(const std::string& solver) {
   return solver == "tao" || solver.rfind("tao:", 0) == 0;
 }
 
-/// The command's verdict on what a solver returned and its report: the residual check (6.2),
-/// the JSON object, the text on stdout, --out (result.json, lambda.mtx, only when solved).
-/// Every solver's result goes through here, TAO's included (on rank 0 alone). Returns the exit
-/// code: 0 solved, 1 not.
 /// What report() says of the problem: from a StoredProblem, or from a generated one (which no
 /// rank holds whole: its residual and scale come measured on the distributed vectors).
 struct ProblemFacts {
@@ -166,6 +162,10 @@ ProblemFacts facts_of(const StoredProblem& p, bool folder) {
   return f;
 }
 
+/// The command's verdict on what a solver returned and its report: the residual check (6.2),
+/// the JSON object, the text on stdout, --out (result.json, lambda.mtx, only when solved).
+/// Every solver's result goes through here, TAO's included (on rank 0 alone). Returns the exit
+/// code: 0 solved, 1 not.
 int report(const LcpOptions& o,
            const ProblemFacts& p,
            const std::string& solver,
@@ -177,7 +177,9 @@ int report(const LcpOptions& o,
   const bool sized = r.lambda.size() == p.rows;
   const double residual = !sized            ? kInf
                           : extras.residual ? *extras.residual
-                                            : natural_map_residual(p.stored->problem(), r.lambda);
+                          : p.stored != nullptr
+                              ? natural_map_residual(p.stored->problem(), r.lambda)
+                              : kInf;
   const double scale = p.stored != nullptr ? scale_of(p.stored->problem()) : p.scale;
   const bool solved = sized && r.lambda.allFinite() && std::isfinite(residual) &&
                       residual <= kLcpSolvedTolerance * scale;
