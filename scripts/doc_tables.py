@@ -1167,6 +1167,17 @@ def _generate_messages(src):
             f"({num(mult['messages'] / mult['calls'] / run['ranks'])} a rank a product)")
 
 
+@generator("generate-headline", GENERATE)
+def _generate_headline(src):
+    r = src.json(GENERATE)
+    run = next(x for x in need(r, "runs", where=GENERATE)
+               if x["ranks"] == 2 and x["type"] == "bqpip" and x["rows"] == 1000000)
+    base, per_row, _, _ = generate_model(r)
+    return (f"1,000,000 rows at 2 ranks: {run['status']}, residual {sci(run['residual'])} N, "
+            f"job {dur(run['job_s'])}, {round(max(run['rank_memory_mb']))} MB on the largest "
+            f"rank; measured memory {round(base)} MB a rank plus {round(per_row)} bytes a row")
+
+
 @generator("generate-exact", GENERATE)
 def _generate_exact(src):
     e = need(src.json(GENERATE), "exact", where=GENERATE)
