@@ -91,3 +91,23 @@ foreach(_mode ${cbps_petsc_modes})
     FIXTURES_REQUIRED petsc-problems LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77
     RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
 endforeach()
+
+# tests/petsc/test_generate.py MODE: `cbps lcp --generate chain` at 1 and 2 ranks against the
+# serial `cbps matrices chain --step 0` (its own folder), and its bad input.
+set(cbps_generate_driver "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_generate.py"
+                         $<TARGET_FILE:cbps>)
+foreach(_mode system bad-input)
+  add_test(NAME petsc-generate-${_mode}
+           COMMAND ${cbps_generate_driver} ${_mode} "${CMAKE_BINARY_DIR}/petsc-generate-${_mode}")
+  set_tests_properties(petsc-generate-${_mode} PROPERTIES
+    LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
+endforeach()
+
+# scripts/measure_generate.py --quick: the measurement behind docs/distributed.md's generated
+# tables runs end to end on small sizes (PETSc's -log_view read, the direct path compared).
+add_test(NAME petsc-measure-generate-quick
+         COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/scripts/measure_generate.py"
+                 $<TARGET_FILE:cbps> "${CMAKE_BINARY_DIR}/petsc-measure-generate/generate.json"
+                 --quick --work "${CMAKE_BINARY_DIR}/petsc-measure-generate/work")
+set_tests_properties(petsc-measure-generate-quick PROPERTIES
+  LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")

@@ -1083,6 +1083,112 @@ def _tao_measured(src):
                   "residual (N)", "solved at ≤ (N)", "TAO's reason"), rows, "lllllrrrl")
 
 
+GENERATE = "validation/results/distributed/generate.json"
+
+
+def _memory(run):
+    return ", ".join(str(round(m)) for m in run["rank_memory_mb"])
+
+
+@generator("generate-measured", GENERATE)
+def _generate_measured(src):
+    r = src.json(GENERATE)
+    rows = []
+    for run in need(r, "runs", where=GENERATE):
+        tao = run["log_view"]["events"].get("TaoSolve", {})
+        rows.append((thousands(run["rows"]), str(run["ranks"]), run["type"], run["status"],
+                     thousands(run["iterations"]), sci(run["residual"]),
+                     dur(run["generate_s"]), dur(run["solve_s"]), dur(run["job_s"]),
+                     _memory(run), thousands(tao.get("messages", 0)),
+                     thousands(tao.get("reductions", 0))))
+    return table(("rows", "ranks", "type", "status", "iterations", "residual (N)",
+                  "build rows", "solve", "job", "peak memory per rank (MB)",
+                  "messages in TaoSolve", "reductions in TaoSolve"), rows, "rrllrrrrrlrr")
+
+
+def generate_model(r):
+    """The model of docs/distributed.md: peak memory per rank = base + per_row × rows / ranks,
+    base the 10-row job at 1 rank, per_row the slope between the two largest sizes at 1 rank;
+    its prediction for every measured run of at least 1e5 rows."""
+    runs = need(r, "runs", where=GENERATE)
+    base = next(x for x in runs if x["ranks"] == 1 and x["rows"] <= 10)["rank_memory_mb"][0]
+    single = sorted((x for x in runs if x["ranks"] == 1 and x["type"] == "bqpip"
+                     and x["rows"] >= 100000), key=lambda x: x["rows"])
+    lo, hi = single[-2], single[-1]
+    per_row = (hi["rank_memory_mb"][0] - lo["rank_memory_mb"][0]) * 2**20 / \
+        (hi["rows"] - lo["rows"])  # bytes a row
+    checks = []
+    for x in runs:
+        if x["rows"] >= 100000 and x["type"] == "bqpip":
+            predicted = base + per_row * x["rows"] / x["ranks"] / 2**20
+            checks.append((x, predicted, max(x["rank_memory_mb"])))
+    return base, per_row, checks, (lo["rows"], hi["rows"])
+
+
+@generator("generate-model", GENERATE)
+def _generate_model(src):
+    base, per_row, checks, fit = generate_model(src.json(GENERATE))
+    rows = [(thousands(x["rows"]), str(x["ranks"]), str(round(p)), str(round(m)),
+             minus(f"{num(100 * (m - p) / p)} %")) for x, p, m in checks]
+    return (f"Fitted here: an empty rank {round(base)} MB (the 10-row job); {round(per_row)} "
+            f"bytes a row (bqpip; the slope between the {thousands(fit[0])}- and "
+            f"{thousands(fit[1])}-row jobs at 1 rank). Against "
+            f"every bqpip run of at least 100,000 rows:\n\n"
+            + table(("rows", "ranks", "model: base + bytes a row × rows / ranks (MB)",
+                     "measured, largest rank (MB)", "off by"), rows, "rrrrr"))
+
+
+@generator("generate-model-1e8", GENERATE)
+def _generate_model_1e8(src):
+    base, per_row, _, _ = generate_model(src.json(GENERATE))
+    parts = []
+    for ranks in (16, 64, 256):
+        mb = base + per_row * 1e8 / ranks / 2**20
+        parts.append(f"{ranks} ranks {num(mb / 1024, 2)} GB each" if mb >= 1024
+                     else f"{ranks} ranks {round(mb)} MB each")
+    total = per_row * 1e8 / 2**30
+    return (f"10⁸ rows need {num(total, 2)} GB of rows in all ({round(per_row)} bytes a row) "
+            f"plus {round(base)} MB a rank: " + ", ".join(parts))
+
+
+@generator("generate-messages", GENERATE)
+def _generate_messages(src):
+    r = src.json(GENERATE)
+    run = next(x for x in need(r, "runs", where=GENERATE)
+               if x["ranks"] == 2 and x["type"] == "bqpip" and x["rows"] == 1000000)
+    ev = run["log_view"]["events"]
+    tao, mult = ev["TaoSolve"], ev["MatMult"]
+    its = max(run["iterations"], 1)
+    return (f"1,000,000 rows at 2 ranks, bqpip, {its} iterations: `TaoSolve` sent "
+            f"{thousands(tao['messages'])} messages of {num(tao['average_bytes'])} bytes on "
+            f"average and made {thousands(tao['reductions'])} reductions "
+            f"({num(tao['reductions'] / its)} an iteration); the job's {thousands(mult['calls'])} "
+            f"`MatMult`s sent {thousands(mult['messages'])} messages "
+            f"({num(mult['messages'] / mult['calls'] / run['ranks'])} a rank a product)")
+
+
+@generator("generate-headline", GENERATE)
+def _generate_headline(src):
+    r = src.json(GENERATE)
+    run = next(x for x in need(r, "runs", where=GENERATE)
+               if x["ranks"] == 2 and x["type"] == "bqpip" and x["rows"] == 1000000)
+    base, per_row, _, _ = generate_model(r)
+    return (f"1,000,000 rows at 2 ranks: {run['status']}, residual {sci(run['residual'])} N, "
+            f"job {dur(run['job_s'])}, {round(max(run['rank_memory_mb']))} MB on the largest "
+            f"rank; measured memory {round(base)} MB a rank plus {round(per_row)} bytes a row")
+
+
+@generator("generate-exact", GENERATE)
+def _generate_exact(src):
+    e = need(src.json(GENERATE), "exact", where=GENERATE)
+    d, g = e["direct"], e["generated"]
+    return (f"{thousands(e['rows'])} rows: the direct path on the serial folder {d['status']} "
+            f"with residual {sci(d['residual'])} N, `mpirun -n 2` tao:bqpip on the generated "
+            f"problem {g['status']} with {sci(g['residual'])} N (solved at ≤ "
+            f"{sci(1e-9 * d['scale'])} N, scale {num(d['scale'])}); their λ differ by at most "
+            f"{sci(e['lambda_max_difference'])} N (largest |λ| {num(e['lambda_largest'])} N)")
+
+
 # ---------------------------------------------------------------------------------------------
 # The machinery.
 

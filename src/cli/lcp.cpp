@@ -10,6 +10,12 @@
 // under MPI, alone or as `mpirun -n N cbps lcp ...`: every rank reads the problem, rank 0 alone
 // prints and writes --out, through the same report as every other solver, and every rank exits
 // with the same code.
+//
+// `--generate chain --rows N --solver tao:TYPE` builds the problem instead of reading it, each
+// rank only its own rows (distributed/generate.hpp, docs/distributed.md#generated-problems),
+// and reports through the same report(); no rank holds the whole problem.
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,11 +24,13 @@
 #include <memory>
 #include <optional>
 
+#include "cbps/distributed/generate.hpp"
 #include "cbps/distributed/tao.hpp"
 #include "cbps/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/scene/builtin.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
@@ -45,7 +53,14 @@ struct LcpOptions {
   bool json = false;
   std::string out;
   std::string siconos = "auto";
+  std::string generate;      ///< --generate SCENE: built per rank instead of read (only chain)
+  std::string rows;          ///< --rows N (text: 1e6 accepted)
+  std::string write_system;  ///< --write-system DIR: the generated A, b, cmin, cmax (small)
 };
+
+/// The largest generated problem --write-system gathers onto rank 0, and whose lambda the JSON
+/// object carries.
+constexpr long kMaxGatheredRows = 100000;
 
 bool is_standard_lcp(const StoredProblem& p) {
   return (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
@@ -127,31 +142,52 @@ bool is_tao_solver(const std::string& solver) {
   return solver == "tao" || solver.rfind("tao:", 0) == 0;
 }
 
+/// What report() says of the problem: from a StoredProblem, or from a generated one (which no
+/// rank holds whole: its residual and scale come measured on the distributed vectors).
+struct ProblemFacts {
+  long rows = 0;
+  double cfm = 0.0;
+  std::string kind;  ///< "cbps matrices folder", "Siconos file", "generated on N ranks"
+  const StoredProblem* stored = nullptr;  ///< the problem itself, when one process holds it
+  double scale = 0.0;                     ///< without `stored`: scale_of measured elsewhere
+  bool lambda_in_json = true;             ///< false: "lambda": null (too large to print)
+};
+
+ProblemFacts facts_of(const StoredProblem& p, bool folder) {
+  ProblemFacts f;
+  f.rows = p.rows();
+  f.cfm = p.cfm;
+  f.kind = folder ? "cbps matrices folder" : "Siconos file";
+  f.stored = &p;
+  return f;
+}
+
 /// The command's verdict on what a solver returned and its report: the residual check (6.2),
 /// the JSON object, the text on stdout, --out (result.json, lambda.mtx, only when solved).
 /// Every solver's result goes through here, TAO's included (on rank 0 alone). Returns the exit
 /// code: 0 solved, 1 not.
 int report(const LcpOptions& o,
-           const StoredProblem& p,
-           bool folder,
+           const ProblemFacts& p,
            const std::string& solver,
            const Outcome& r,
            double wall,
            OutputDir* dir,
            const OutcomeExtras& extras = {}) {
   // The command's own check of the returned lambda (6.2), independent of the solver's claim.
-  const bool sized = r.lambda.size() == p.rows();
+  const bool sized = r.lambda.size() == p.rows;
   const double residual = !sized            ? kInf
                           : extras.residual ? *extras.residual
-                                            : natural_map_residual(p.problem(), r.lambda);
-  const double scale = scale_of(p.problem());
+                          : p.stored != nullptr
+                              ? natural_map_residual(p.stored->problem(), r.lambda)
+                              : kInf;
+  const double scale = p.stored != nullptr ? scale_of(p.stored->problem()) : p.scale;
   const bool solved = sized && r.lambda.allFinite() && std::isfinite(residual) &&
                       residual <= kLcpSolvedTolerance * scale;
   const std::string status = solved ? "solved" : r.no_solution ? "no_solution" : "failed";
 
   nlohmann::json j;
   j["problem"] = o.problem;
-  j["rows"] = p.rows();
+  j["rows"] = p.rows;
   j["cfm"] = p.cfm;
   j["solver"] = solver;
   j["status"] = status;
@@ -160,7 +196,9 @@ int report(const LcpOptions& o,
   j["residual"] = std::isfinite(residual) ? nlohmann::json(residual) : nlohmann::json(nullptr);
   j["scale"] = scale;
   j["message"] = r.message;
-  j["lambda"] = sized ? vector_json(r.lambda) : nlohmann::json::array();
+  j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
+                : sized           ? vector_json(r.lambda)
+                                  : nlohmann::json::array();
   j.update(extras.fields);
 
   if (solved && dir) {
@@ -173,10 +211,7 @@ int report(const LcpOptions& o,
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("%s: %ld rows (%s)\n",
-                o.problem.c_str(),
-                p.rows(),
-                folder ? "cbps matrices folder" : "Siconos file");
+    std::printf("%s: %ld rows (%s)\n", o.problem.c_str(), p.rows, p.kind.c_str());
     if (p.cfm > 0.0)
       std::printf("cfm %s kg^-1 (cfm.txt): solving the boxed problem of A + eps E\n",
                   number_text(p.cfm).c_str());
@@ -300,7 +335,141 @@ int lcp_tao_command(const LcpOptions& o) {
           {"residual_gathered",
            number_json(t.lambda.size() == p->rows() ? natural_map_residual(p->problem(), t.lambda)
                                                     : kInf)}};
-      code = report(o, *p, folder, solver, r, wall, dir.get(), extras);
+      code = report(o, facts_of(*p, folder), solver, r, wall, dir.get(), extras);
+    } catch (...) {
+      failure = std::current_exception();
+      code = exit_code_of(failure);
+    }
+  }
+  code = session.broadcast(code);
+  if (failure) std::rethrow_exception(failure);
+  return code;
+}
+
+/// --rows N as a whole number of rows: "1000", "1e6" (parse_number's forms), 1 … 1e7 (the
+/// chain's largest n).
+long parse_rows(const std::string& text) {
+  double value = 0.0;
+  if (!parse_number(text, value) || value != std::floor(value) || value < 1.0 || value > 1e7)
+    throw InputError("--rows " + text + ": not a whole number of rows from 1 to 1e7 (e.g. 1e6)");
+  return static_cast<long>(value);
+}
+
+/// This process's peak resident memory so far (getrusage ru_maxrss, KiB on Linux), MB.
+double peak_memory_mb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+/// `cbps lcp --generate chain --rows N --solver tao:TYPE`: every rank builds only its rows
+/// (generate.hpp), A = J Minv Jᵀ is formed distributed, TAO solves it, rank 0 reports through
+/// the same report() as every solver (the residual and scale measured on the distributed
+/// vectors). Bad input on any rank exits 2 on every rank, as lcp_tao_command.
+int lcp_generate_command(const LcpOptions& o) {
+  distributed::MpiSession session;
+  const std::string& solver = o.solver;
+  const std::string type = solver.size() > 4 ? solver.substr(4) : "";
+  std::optional<distributed::LocalSystem> local;
+  std::unique_ptr<OutputDir> dir;
+  std::unique_ptr<OutputDir> system_dir;
+  long rows = 0;
+  double generate_wall = 0.0;  // rank 0's time to build its rows, s
+  std::exception_ptr failure;
+  try {
+    if (!is_tao_solver(solver) || !distributed::is_tao_type(type))
+      throw InputError("--generate: --solver " + (solver.empty() ? "(none)" : solver) +
+                       ": a generated problem is solved by tao:TYPE with TYPE one of " +
+                       distributed::tao_type_list());
+    if (!o.problem.empty())
+      throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
+                       ") or --generate, not both");
+    if (o.generate != "chain")
+      throw InputError("--generate " + o.generate + ": unknown; the only generator is chain");
+    if (o.rows.empty()) throw InputError("--generate chain: --rows N is required");
+    rows = parse_rows(o.rows);
+    if (!o.write_system.empty() && rows > kMaxGatheredRows)
+      throw InputError("--write-system: " + std::to_string(rows) +
+                       " rows; it gathers the whole problem onto rank 0 and takes at most " +
+                       std::to_string(kMaxGatheredRows));
+    if (!o.write_system.empty() && !o.out.empty() && o.write_system == o.out)
+      throw InputError("--write-system " + o.write_system + ": the same folder as --out");
+    // The output folders before the work: a refused one ends every rank at once.
+    if (session.rank() == 0 && !o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
+    if (session.rank() == 0 && !o.write_system.empty())
+      system_dir = std::make_unique<OutputDir>(o.write_system);
+    const auto generating = std::chrono::steady_clock::now();
+    local =
+        distributed::generate_chain({{"n", std::to_string(rows)}}, session.rank(), session.size());
+    generate_wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - generating).count();
+  } catch (...) {
+    failure = std::current_exception();
+  }
+  const int first = session.first_failing_rank(failure != nullptr);
+  if (first < session.size()) {
+    const int code = session.broadcast(failure ? exit_code_of(failure) : 0, first);
+    if (session.rank() == first) std::rethrow_exception(failure);  // main reports it
+    return code;
+  }
+
+  distributed::TaoOptions options;
+  options.type = type;
+  options.max_iterations = o.iterations;
+  options.tolerance = o.tolerance;
+  const auto start = std::chrono::steady_clock::now();
+  const distributed::TaoResult t =
+      distributed::solve_tao_generated(session, *local, options, !o.write_system.empty());
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::vector<double> memory = session.gather(peak_memory_mb());
+
+  int code = 1;
+  failure = nullptr;
+  if (session.rank() == 0) {
+    try {
+      if (system_dir) {
+        const distributed::GatheredSystem& g = t.gathered;
+        write_matrix_market(system_dir->file("A.mtx"),
+                            g.A,
+                            "A = J Minv J^T, c x c, 1/kg (6.2.9); " + local->description);
+        write_matrix_market(
+            system_dir->file("b.mtx"), g.b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)");
+        write_matrix_market(
+            system_dir->file("cmin.mtx"), g.cmin, "cmin: lower bounds on lambda, N (5.1)");
+        write_matrix_market(
+            system_dir->file("cmax.mtx"), g.cmax, "cmax: upper bounds on lambda, N (5.1)");
+        system_dir->commit();
+      }
+      Outcome r;
+      r.lambda = t.lambda;
+      r.iterations = t.iterations;
+      r.message = "TAO " + type + ": " + t.reason + " (" + t.stop + "), TAO's measure " +
+                  format_number(t.tao_residual) + " (gatol " + format_number(o.tolerance) + "), " +
+                  std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
+      OutcomeExtras extras;
+      extras.residual = t.residual;
+      extras.fields["ranks"] = session.size();
+      extras.fields["tao"] = {{"type", type},
+                              {"reason", t.reason},
+                              {"converged", t.converged},
+                              {"stop", t.stop},
+                              {"measure", number_json(t.tao_residual)},
+                              {"gatol", o.tolerance}};
+      extras.fields["generated"] = {{"scene", o.generate},
+                                    {"description", local->description},
+                                    {"step", 0},
+                                    {"wall_time_s", generate_wall}};
+      extras.fields["rank_memory_mb"] = memory;
+      ProblemFacts facts;
+      facts.rows = rows;
+      facts.kind = "generated on " + std::to_string(session.size()) +
+                   (session.size() == 1 ? " rank" : " ranks");
+      facts.scale = t.scale;
+      facts.lambda_in_json = rows <= kMaxGatheredRows;
+      LcpOptions named = o;
+      named.problem = local->description;
+      code = report(named, facts, solver, r, wall, dir.get(), extras);
     } catch (...) {
       failure = std::current_exception();
       code = exit_code_of(failure);
@@ -326,7 +495,26 @@ int lcp_tao(const LcpOptions& o) {
 #endif
 }
 
+/// `--generate SCENE`, or without PETSc in the build exit 2 as lcp_tao.
+int lcp_generate(const LcpOptions& o) {
+#ifdef CBPS_HAVE_PETSC
+  return lcp_generate_command(o);
+#else
+  throw InputError("--generate " + o.generate +
+                   ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "
+                   "scripts/setup.sh --with-petsc) and build again, see docs/distributed.md");
+#endif
+}
+
 int lcp_command(const LcpOptions& o) {
+  if (!o.generate.empty()) return lcp_generate(o);
+  if (!o.rows.empty() || !o.write_system.empty())
+    throw InputError(std::string(!o.rows.empty() ? "--rows" : "--write-system") +
+                     ": only with --generate SCENE");
+  if (o.problem.empty())
+    throw InputError(
+        "PROBLEM: missing; give a cbps matrices folder or a Siconos .dat file "
+        "(or --generate SCENE --rows N)");
   if (is_tao_solver(o.solver)) return lcp_tao(o);
   std::error_code ec;
   const bool folder = fs::is_directory(o.problem, ec);
@@ -354,7 +542,7 @@ int lcp_command(const LcpOptions& o) {
                                              : run_iterative(p, run);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return report(o, p, folder, solver, r, wall, dir.get());
+  return report(o, facts_of(p, folder), solver, r, wall, dir.get());
 }
 
 }  // namespace
@@ -363,8 +551,10 @@ void register_lcp(CLI::App& app, Action& run) {
   auto* cmd = app.add_subcommand(
       "lcp", "solve a stored problem: a `cbps matrices` folder or a Siconos .dat file");
   auto o = std::make_shared<LcpOptions>();
-  cmd->add_option("PROBLEM", o->problem, "folder from `cbps matrices`, or a Siconos .dat file")
-      ->required();
+  cmd->add_option("PROBLEM",
+                  o->problem,
+                  "folder from `cbps matrices`, or a Siconos .dat file (required unless "
+                  "--generate)");
   cmd->add_option("--solver",
                   o->solver,
                   "lemke (dense, any square A; the default for Siconos files up to 3000 rows), "
@@ -393,6 +583,19 @@ void register_lcp(CLI::App& app, Action& run) {
                   o->siconos,
                   "what a .dat file holds: auto (from the count of numbers: n^2 + n an LCP, "
                   "n^2 + 3n a relay problem), lcp or relay (default auto)");
+  cmd->add_option("--generate",
+                  o->generate,
+                  "instead of PROBLEM, build the problem per rank, no rank holding all of it: "
+                  "chain (the built-in scene at step 0, one row per link; with --rows and "
+                  "--solver tao:TYPE; only in a build with PETSc, docs/distributed.md)");
+  cmd->add_option("--rows",
+                  o->rows,
+                  "--generate: the problem's rows, 1 to 1e7 (1e6 accepted; chain: its links)");
+  cmd->add_option("--write-system",
+                  o->write_system,
+                  "--generate: also write the generated A, b, cmin, cmax here, gathered onto "
+                  "rank 0 (a debugging aid, at most " +
+                      std::to_string(kMaxGatheredRows) + " rows)");
   cmd->add_flag("--json", o->json, "print the result as JSON");
   cmd->add_option("--out",
                   o->out,

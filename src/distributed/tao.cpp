@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "cbps/distributed/generate.hpp"
 #include "cbps/error.hpp"
 
 namespace cbps::distributed {
@@ -235,22 +236,18 @@ int MpiSession::broadcast(int value, int root) const {
   return value;
 }
 
-TaoResult solve_tao(const MpiSession& session,
-                    const BoxedProblem& problem,
-                    const TaoOptions& options) {
-  if (problem.rows() > INT_MAX)
-    throw InputError("--solver tao: " + std::to_string(problem.rows()) +
-                     " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
-  Objects o;
-  o.A = distributed_matrix(problem.A);
-  CBPS_PETSC_CHECK(MatCreateVecs(o.A, &o.lambda, &o.b));  // VECMPI with A's row layout
-  for (Vec* v : {&o.cmin, &o.cmax, &o.w, &o.t}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
+namespace {
+
+/// TAO on the distributed problem in `o` (A, b, cmin, cmax set), from lambda = 0; lambda
+/// gathered onto rank 0 (c entries there).
+TaoResult solve_objects(const MpiSession& session, Objects& o, const TaoOptions& options) {
+  for (Vec* v : {&o.w, &o.t}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
+  CBPS_PETSC_CHECK(MatCreateVecs(o.A, &o.lambda, nullptr));  // A's row layout
   PetscInt begin = 0;
   PetscInt end = 0;
+  PetscInt rows = 0;
   CBPS_PETSC_CHECK(VecGetOwnershipRange(o.b, &begin, &end));
-  fill_own_rows(o.b, problem.b, begin, end, false);
-  fill_own_rows(o.cmin, problem.cmin, begin, end, true);
-  fill_own_rows(o.cmax, problem.cmax, begin, end, true);
+  CBPS_PETSC_CHECK(VecGetSize(o.b, &rows));
   CBPS_PETSC_CHECK(VecSet(o.lambda, 0.0));  // the start every cbps solver takes
 
   Quadratic q;
@@ -295,9 +292,219 @@ TaoResult solve_tao(const MpiSession& session,
   if (session.rank() == 0) {
     const PetscScalar* all = nullptr;
     CBPS_PETSC_CHECK(VecGetArrayRead(o.lambda_on_0, &all));
-    r.lambda = Eigen::Map<const VecX>(all, problem.rows());
+    r.lambda = Eigen::Map<const VecX>(all, rows);
     CBPS_PETSC_CHECK(VecRestoreArrayRead(o.lambda_on_0, &all));
   }
+  return r;
+}
+
+}  // namespace
+
+std::vector<double> MpiSession::gather(double value) const {
+  std::vector<double> all(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
+  MPI_Gather(&value, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, PETSC_COMM_WORLD);
+  return all;
+}
+
+TaoResult solve_tao(const MpiSession& session,
+                    const BoxedProblem& problem,
+                    const TaoOptions& options) {
+  if (problem.rows() > INT_MAX)
+    throw InputError("--solver tao: " + std::to_string(problem.rows()) +
+                     " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
+  Objects o;
+  o.A = distributed_matrix(problem.A);
+  CBPS_PETSC_CHECK(MatCreateVecs(o.A, nullptr, &o.b));  // VECMPI with A's row layout
+  for (Vec* v : {&o.cmin, &o.cmax}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  CBPS_PETSC_CHECK(VecGetOwnershipRange(o.b, &begin, &end));
+  fill_own_rows(o.b, problem.b, begin, end, false);
+  fill_own_rows(o.cmin, problem.cmin, begin, end, true);
+  fill_own_rows(o.cmax, problem.cmax, begin, end, true);
+  return solve_objects(session, o, options);
+}
+
+}  // namespace cbps::distributed
+
+namespace cbps::distributed {
+
+namespace {
+
+/// This rank's rows `local` (global columns) as its rows of a MATAIJ of `columns` global
+/// columns, of which this rank owns [column_begin, column_begin + owned_columns): the rows of
+/// the whole matrix are the ranks' `local` in rank order.
+Mat matrix_from_rows(const SpMatRow& local, long columns, long column_begin, long owned_columns) {
+  Mat M = nullptr;
+  CBPS_PETSC_CHECK(MatCreate(PETSC_COMM_WORLD, &M));
+  CBPS_PETSC_CHECK(MatSetSizes(M,
+                               static_cast<PetscInt>(local.rows()),
+                               static_cast<PetscInt>(owned_columns),
+                               PETSC_DETERMINE,
+                               static_cast<PetscInt>(columns)));
+  CBPS_PETSC_CHECK(MatSetType(M, MATAIJ));
+  std::vector<PetscInt> diagonal(static_cast<std::size_t>(local.rows()), 0);
+  std::vector<PetscInt> off_diagonal(static_cast<std::size_t>(local.rows()), 0);
+  for (Eigen::Index i = 0; i < local.outerSize(); ++i)
+    for (SpMatRow::InnerIterator it(local, i); it; ++it) {
+      const bool own_column = it.col() >= column_begin && it.col() < column_begin + owned_columns;
+      ++(own_column ? diagonal : off_diagonal)[static_cast<std::size_t>(i)];
+    }
+  CBPS_PETSC_CHECK(MatMPIAIJSetPreallocation(M, 0, diagonal.data(), 0, off_diagonal.data()));
+  CBPS_PETSC_CHECK(MatSeqAIJSetPreallocation(M, 0, diagonal.data()));
+  PetscInt row_begin = 0;
+  PetscInt row_end = 0;
+  CBPS_PETSC_CHECK(MatGetOwnershipRange(M, &row_begin, &row_end));
+  std::vector<PetscInt> cols;
+  std::vector<PetscScalar> values;
+  for (Eigen::Index i = 0; i < local.outerSize(); ++i) {
+    cols.clear();
+    values.clear();
+    for (SpMatRow::InnerIterator it(local, i); it; ++it) {
+      cols.push_back(static_cast<PetscInt>(it.col()));
+      values.push_back(it.value());
+    }
+    const PetscInt row = row_begin + static_cast<PetscInt>(i);
+    CBPS_PETSC_CHECK(MatSetValues(
+        M, 1, &row, static_cast<PetscInt>(cols.size()), cols.data(), values.data(), INSERT_VALUES));
+  }
+  CBPS_PETSC_CHECK(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
+  CBPS_PETSC_CHECK(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
+  return M;
+}
+
+/// max over this rank's entries of |A_ij|, then over the ranks.
+double largest_entry(Mat A) {
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  CBPS_PETSC_CHECK(MatGetOwnershipRange(A, &begin, &end));
+  double mine = 0.0;
+  for (PetscInt i = begin; i < end; ++i) {
+    PetscInt count = 0;
+    const PetscScalar* values = nullptr;
+    CBPS_PETSC_CHECK(MatGetRow(A, i, &count, nullptr, &values));
+    for (PetscInt k = 0; k < count; ++k) mine = std::max(mine, std::abs(values[k]));
+    CBPS_PETSC_CHECK(MatRestoreRow(A, i, &count, nullptr, &values));
+  }
+  double all = 0.0;
+  MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
+  return all;
+}
+
+/// The whole of v on rank 0 (empty elsewhere); bounds back to ±kInf.
+VecX gather_vector(Vec v) {
+  Vec on_0 = nullptr;
+  VecScatter to_0 = nullptr;
+  CBPS_PETSC_CHECK(VecScatterCreateToZero(v, &to_0, &on_0));
+  CBPS_PETSC_CHECK(VecScatterBegin(to_0, v, on_0, INSERT_VALUES, SCATTER_FORWARD));
+  CBPS_PETSC_CHECK(VecScatterEnd(to_0, v, on_0, INSERT_VALUES, SCATTER_FORWARD));
+  PetscInt size = 0;
+  CBPS_PETSC_CHECK(VecGetLocalSize(on_0, &size));
+  VecX x(size);
+  const PetscScalar* all = nullptr;
+  CBPS_PETSC_CHECK(VecGetArrayRead(on_0, &all));
+  for (PetscInt i = 0; i < size; ++i)
+    x[i] = all[i] >= PETSC_INFINITY ? kInf : all[i] <= PETSC_NINFINITY ? -kInf : all[i];
+  CBPS_PETSC_CHECK(VecRestoreArrayRead(on_0, &all));
+  VecScatterDestroy(&to_0);
+  VecDestroy(&on_0);
+  return x;
+}
+
+/// The whole of A on rank 0 (c×c; 0×0 elsewhere): each rank's rows as triplets, gathered.
+SpMat gather_matrix(Mat A, int rank) {
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  PetscInt rows = 0;
+  PetscInt columns = 0;
+  CBPS_PETSC_CHECK(MatGetOwnershipRange(A, &begin, &end));
+  CBPS_PETSC_CHECK(MatGetSize(A, &rows, &columns));
+  std::vector<double> mine;  // (row, column, value) triples
+  for (PetscInt i = begin; i < end; ++i) {
+    PetscInt count = 0;
+    const PetscInt* cols = nullptr;
+    const PetscScalar* values = nullptr;
+    CBPS_PETSC_CHECK(MatGetRow(A, i, &count, &cols, &values));
+    for (PetscInt k = 0; k < count; ++k)
+      mine.insert(mine.end(), {double(i), double(cols[k]), values[k]});
+    CBPS_PETSC_CHECK(MatRestoreRow(A, i, &count, &cols, &values));
+  }
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(size), 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  std::vector<int> displacements(static_cast<std::size_t>(size), 0);
+  for (int r = 1; r < size; ++r) displacements[r] = displacements[r - 1] + counts[r - 1];
+  std::vector<double> all(rank == 0 ? static_cast<std::size_t>(displacements.back() + counts.back())
+                                    : 0);
+  MPI_Gatherv(mine.data(),
+              count,
+              MPI_DOUBLE,
+              all.data(),
+              counts.data(),
+              displacements.data(),
+              MPI_DOUBLE,
+              0,
+              PETSC_COMM_WORLD);
+  if (rank != 0) return SpMat();
+  std::vector<Triplet> triplets;
+  for (std::size_t k = 0; k + 2 < all.size(); k += 3)
+    triplets.emplace_back(static_cast<int>(all[k]), static_cast<int>(all[k + 1]), all[k + 2]);
+  SpMat whole(rows, columns);
+  whole.setFromTriplets(triplets.begin(), triplets.end());
+  return whole;
+}
+
+}  // namespace
+
+TaoResult solve_tao_generated(const MpiSession& session,
+                              LocalSystem& local,
+                              const TaoOptions& options,
+                              bool gather) {
+  if (local.total_rows > INT_MAX)
+    throw InputError("--generate: " + std::to_string(local.total_rows) +
+                     " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
+  Objects o;
+  // This rank's rows of A = J Minv Jᵀ (6.2.9), formed by the generator, as its rows of an
+  // MPIAIJ matrix, laid out as the vectors (docs/distributed.md says why not a shell).
+  o.A = matrix_from_rows(local.A, local.total_rows, local.first_row, local.rows());
+  local.A = SpMatRow();  // PETSc holds it now
+  CBPS_PETSC_CHECK(MatCreateVecs(o.A, nullptr, &o.b));
+  for (Vec* v : {&o.cmin, &o.cmax}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  CBPS_PETSC_CHECK(VecGetOwnershipRange(o.b, &begin, &end));
+  if (begin != local.first_row || end - begin != local.rows())
+    throw ComputationError("PETSc: A's rows [" + std::to_string(begin) + ", " +
+                           std::to_string(end) + ") on this rank where the generator built [" +
+                           std::to_string(local.first_row) + ", " +
+                           std::to_string(local.first_row + local.rows()) + ")");
+  // fill_own_rows indexes the whole vector: the local rows start at 0 here.
+  const auto fill = [&](Vec v, const VecX& x, bool as_bound) {
+    PetscScalar* values = nullptr;
+    CBPS_PETSC_CHECK(VecGetArray(v, &values));
+    for (Eigen::Index i = 0; i < x.size(); ++i) values[i] = as_bound ? bound_for_tao(x[i]) : x[i];
+    CBPS_PETSC_CHECK(VecRestoreArray(v, &values));
+  };
+  fill(o.b, local.b, false);
+  fill(o.cmin, local.cmin, true);
+  fill(o.cmax, local.cmax, true);
+
+  // scale_of (system/boxed_problem.hpp) on the distributed A and b: max(1, ‖b‖∞, max |A_ij|).
+  PetscReal b_largest = 0.0;
+  CBPS_PETSC_CHECK(VecNorm(o.b, NORM_INFINITY, &b_largest));
+  const double scale = std::max({1.0, static_cast<double>(b_largest), largest_entry(o.A)});
+  GatheredSystem gathered;
+  if (gather) {
+    gathered.A = gather_matrix(o.A, session.rank());
+    gathered.b = gather_vector(o.b);
+    gathered.cmin = gather_vector(o.cmin);
+    gathered.cmax = gather_vector(o.cmax);
+  }
+  TaoResult r = solve_objects(session, o, options);
+  r.scale = scale;
+  r.gathered = std::move(gathered);
   return r;
 }
 

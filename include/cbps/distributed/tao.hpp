@@ -20,6 +20,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cbps/system/boxed_problem.hpp"
 
@@ -62,6 +63,8 @@ class MpiSession {
   int first_failing_rank(bool failed) const;
   /// Collective: the `value` of rank `root`, on every rank.
   int broadcast(int value, int root = 0) const;
+  /// Collective: every rank's `value` on rank 0, in rank order (empty on the other ranks).
+  std::vector<double> gather(double value) const;
 
  private:
   int rank_ = 0;
@@ -73,6 +76,14 @@ struct TaoOptions {
   std::string type;            ///< one of kTaoTypes
   int max_iterations = 10000;  ///< TaoSetMaximumIterations
   double tolerance = 1e-10;    ///< natural-map residual to stop at, and TAO's gatol, N
+};
+
+/// A whole problem gathered onto rank 0 (small sizes only: --write-system).
+struct GatheredSystem {
+  SpMat A;    ///< c×c, kg⁻¹
+  VecX b;     ///< c, m/s²
+  VecX cmin;  ///< c, N (±kInf for no bound)
+  VecX cmax;  ///< c, N
 };
 
 /// What TAO returned, with the command's own measure of it.
@@ -87,6 +98,10 @@ struct TaoResult {
   /// distributed vectors (PETSc's MatMult, VecPointwiseMax/Min, VecNorm); the same on every rank.
   double residual = 0.;
   long local_rows = 0;  ///< rows of A owned by this rank
+  /// solve_tao_generated: scale_of's max(1, ‖b‖∞, max |A_ij|) on the distributed A and b.
+  double scale = 0.;
+  /// solve_tao_generated with `gather`: the whole problem on rank 0 (empty elsewhere).
+  GatheredSystem gathered;
 };
 
 /// Solves the boxed problem (A symmetric positive semidefinite) by TAO's `options.type` from
@@ -102,5 +117,18 @@ struct TaoResult {
 TaoResult solve_tao(const MpiSession& session,
                     const BoxedProblem& problem,
                     const TaoOptions& options);
+
+struct LocalSystem;  // cbps/distributed/generate.hpp
+
+/// solve_tao for a problem generated per rank (LocalSystem, generate.hpp): each rank puts its
+/// rows of A = J Minv Jᵀ (6.2.9) into PETSc's MPIAIJ and its rows of b, cmin and cmax into the
+/// vectors: no rank holds more than its rows and PETSc's communication buffers. Then the same
+/// TAO solve. With `gather`, A, b, cmin and cmax are also gathered onto rank 0
+/// (TaoResult::gathered; small sizes only). local.A is released (emptied) once PETSc holds it.
+/// Collective.
+TaoResult solve_tao_generated(const MpiSession& session,
+                              LocalSystem& local,
+                              const TaoOptions& options,
+                              bool gather);
 
 }  // namespace cbps::distributed

@@ -34,6 +34,13 @@ const BuiltinScene* find_builtin_scene(const std::string& name);
 /// parameter for an unknown parameter (listing the valid ones) or a value that is not valid.
 Scene make_builtin_scene(const std::string& name, const std::map<std::string, std::string>& values);
 
+/// The part of the built-in scene `chain` (NAME=VALUE overrides as make_builtin_scene takes
+/// them, n the whole chain's links) that holds the joints [first, last) of its n: the links
+/// max(first − 1, 0) … last − 1 (body i of the part is link max(first − 1, 0) + i) and those
+/// joints, built by the same code as the whole scene (which is the part [0, n)). Throws
+/// InputError for a range that is not inside [0, n) or is empty.
+Scene build_chain_range(const std::map<std::string, std::string>& values, long first, long last);
+
 /// Body builders shared by the built-in scenes and the stress catalogue (src/studies/stress.cpp).
 /// A static ground plane through `point` with outward normal `normal` (unit).
 Body ground_body(const std::string& name, const Vec3& point, const Vec3& normal);
