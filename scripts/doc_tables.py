@@ -1178,6 +1178,16 @@ def _generate_headline(src):
             f"rank; measured memory {round(base)} MB a rank plus {round(per_row)} bytes a row")
 
 
+@generator("read-rows", GENERATE)
+def _read_rows(src):
+    parts = []
+    for x in need(src.json(GENERATE), "read", where=GENERATE):
+        parts.append(f"{x['ranks']} rank{'s' if x['ranks'] > 1 else ''}: {x['status']}, read in "
+                     f"{dur(x['read_s'])}, solved in {dur(x['solve_s'])}, "
+                     f"{', '.join(str(round(m)) for m in x['rank_memory_mb'])} MB")
+    return "; ".join(parts)
+
+
 @generator("generate-exact", GENERATE)
 def _generate_exact(src):
     e = need(src.json(GENERATE), "exact", where=GENERATE)

@@ -2,7 +2,7 @@
 """Measures `cbps lcp --generate chain --rows N --solver tao:TYPE` at 1, 2 and 4 MPI ranks: time,
 each rank's peak memory, TAO's iterations and PETSc's count of MPI messages and reductions, and
 checks the largest generated problem against the exact path on the same problem read from a
-`cbps matrices` folder (docs/distributed.md, "Generated problems"). Writes the results as JSON.
+`cbps matrices` folder (which TAO also reads by rows at 1 and 2 ranks) (docs/distributed.md, "Generated problems"). Writes the results as JSON.
 
     /usr/bin/python3 scripts/measure_generate.py CBPS OUT.json [--work DIR] [--quick]
 
@@ -120,6 +120,17 @@ def main():
     shutil.rmtree(os.path.join(work, "direct"), ignore_errors=True)
     r, _ = run([cbps] + direct)
     d = json.loads(r.stdout)
+    # The same folder read by rows under TAO (docs/distributed.md, "Reading a folder by rows").
+    results["read"] = []
+    for ranks in (1, 2):
+        lcp = ["lcp", "serial", "--solver", "tao:bqpip", "--json"]
+        r, elapsed = run([mpirun, "-n", str(ranks), "--oversubscribe", cbps] + lcp)
+        j = json.loads(r.stdout)
+        results["read"].append({
+            "rows": n, "ranks": ranks, "status": j["status"], "residual": j["residual"],
+            "read_s": j["read_wall_time_s"], "solve_s": j["wall_time_s"], "job_s": elapsed,
+            "rank_memory_mb": j["rank_memory_mb"],
+            "command": "mpirun -n %d --oversubscribe cbps %s" % (ranks, " ".join(lcp))})
     shutil.rmtree(os.path.join(work, "tao"), ignore_errors=True)
     g = generated(n, 2, "bqpip", ("--out", "tao"))
     lam_direct = read_vector(os.path.join(work, "direct", "lambda.mtx"))
@@ -144,6 +155,8 @@ def main():
     # The check the docs state: both paths solved the same problem.
     failed = [f"{x['rows']} rows at {x['ranks']} ranks ({x['type']}): {x['status']}"
               for x in results["runs"] + [g] if x["status"] != "solved"]
+    failed += [f"{x['rows']} rows read by rows at {x['ranks']} ranks: {x['status']}"
+               for x in results["read"] if x["status"] != "solved"]
     if d["status"] != "solved":
         failed.append(f"direct on the serial folder of {n} rows: {d['status']}")
     if failed:

@@ -262,90 +262,6 @@ int exit_code_of(const std::exception_ptr& e) {
   }
 }
 
-/// `--solver tao:TYPE` on every rank of the MPI job (one without mpirun). Bad input on any rank
-/// ends every rank with exit 2, reported once, by the lowest rank that found it: the problem is
-/// read and checked (and rank 0 opens --out) before anything is distributed, and the ranks agree
-/// on the outcome by one reduction, so none is left waiting in a collective call.
-int lcp_tao_command(const LcpOptions& o) {
-  distributed::MpiSession session;
-
-  // Check the options and read the problem on every rank (for now every rank reads the whole
-  // file).
-  const std::string& solver = o.solver;
-  const std::string type = solver.size() > 4 ? solver.substr(4) : "";
-  std::optional<StoredProblem> p;
-  std::unique_ptr<OutputDir> dir;
-  bool folder = false;
-  std::exception_ptr failure;
-  try {
-    if (!distributed::is_tao_type(type))
-      throw InputError("--solver " + solver + ": " +
-                       (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
-                       "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
-    check_out_is_not_problem(o);
-    std::error_code ec;
-    folder = fs::is_directory(o.problem, ec);
-    p = read_lcp_problem(o);
-    // TAO minimises ½ lambdaᵀ A lambda − bᵀ lambda, whose gradient is A lambda − b only for a
-    // symmetric A: the paper's A = J Minv Jᵀ.
-    require_symmetric(*p, "--solver " + solver);
-    if (session.rank() == 0 && !o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
-  } catch (...) {
-    failure = std::current_exception();
-  }
-  const int first = session.first_failing_rank(failure != nullptr);
-  if (first < session.size()) {
-    const int code = session.broadcast(failure ? exit_code_of(failure) : 0, first);
-    if (session.rank() == first) std::rethrow_exception(failure);  // main reports it
-    return code;
-  }
-
-  distributed::TaoOptions options;
-  options.type = type;
-  options.max_iterations = o.iterations;
-  options.tolerance = o.tolerance;
-  const auto start = std::chrono::steady_clock::now();
-  const distributed::TaoResult t = distributed::solve_tao(session, p->problem(), options);
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  // Rank 0 reports and writes; every rank exits with its code.
-  int code = 1;
-  failure = nullptr;
-  if (session.rank() == 0) {
-    try {
-      Outcome r;
-      r.lambda = t.lambda;
-      r.iterations = t.iterations;
-      r.message = "TAO " + type + ": " + t.reason + " (" + t.stop + "), TAO's measure " +
-                  format_number(t.tao_residual) + " (gatol " + format_number(o.tolerance) + "), " +
-                  std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
-      OutcomeExtras extras;
-      extras.residual = t.residual;
-      extras.fields["ranks"] = session.size();
-      extras.fields["tao"] = {
-          {"type", type},
-          {"reason", t.reason},
-          {"converged", t.converged},
-          {"stop", t.stop},
-          {"measure", number_json(t.tao_residual)},
-          {"gatol", o.tolerance},
-          // The same residual from the gathered lambda by natural_map_residual, while rank 0
-          // still holds the whole problem: the cross-check of the distributed one.
-          {"residual_gathered",
-           number_json(t.lambda.size() == p->rows() ? natural_map_residual(p->problem(), t.lambda)
-                                                    : kInf)}};
-      code = report(o, facts_of(*p, folder), solver, r, wall, dir.get(), extras);
-    } catch (...) {
-      failure = std::current_exception();
-      code = exit_code_of(failure);
-    }
-  }
-  code = session.broadcast(code);
-  if (failure) std::rethrow_exception(failure);
-  return code;
-}
-
 /// --rows N as a whole number of rows: "1000", "1e6" (parse_number's forms), 1 … 1e7 (the
 /// chain's largest n).
 long parse_rows(const std::string& text) {
@@ -362,45 +278,72 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-/// `cbps lcp --generate chain --rows N --solver tao:TYPE`: every rank builds only its rows
-/// (generate.hpp), A = J Minv Jᵀ is formed distributed, TAO solves it, rank 0 reports through
-/// the same report() as every solver (the residual and scale measured on the distributed
-/// vectors). Bad input on any rank exits 2 on every rank, as lcp_tao_command.
-int lcp_generate_command(const LcpOptions& o) {
+/// `cbps lcp PROBLEM --solver tao:TYPE` and `cbps lcp --generate chain --rows N --solver
+/// tao:TYPE` on every rank of the MPI job (one without mpirun). Each rank holds only its rows
+/// (generate.hpp): generated, read by rows from a `cbps matrices` folder, or cut from a Siconos
+/// file every rank reads (small, dense). TAO solves the distributed problem and rank 0 reports
+/// through the same report() as every solver (the residual and scale measured on the
+/// distributed vectors). Bad input on any rank ends every rank with exit 2, reported once, by
+/// the lowest rank that found it: the options are checked and the rows read (and rank 0 opens
+/// --out) before anything is distributed, and the ranks agree on the outcome by one reduction,
+/// so none is left waiting in a collective call.
+int lcp_distributed_command(const LcpOptions& o) {
   distributed::MpiSession session;
   const std::string& solver = o.solver;
   const std::string type = solver.size() > 4 ? solver.substr(4) : "";
+  const bool generated = !o.generate.empty();
   std::optional<distributed::LocalSystem> local;
   std::unique_ptr<OutputDir> dir;
   std::unique_ptr<OutputDir> system_dir;
   long rows = 0;
-  double generate_wall = 0.0;  // rank 0's time to build its rows, s
+  std::string kind;            // what report() calls the problem
+  double generate_wall = 0.0;  // rank 0's time to build or read its rows, s
   std::exception_ptr failure;
   try {
-    if (!is_tao_solver(solver) || !distributed::is_tao_type(type))
+    if (generated && !is_tao_solver(solver))
       throw InputError("--generate: --solver " + (solver.empty() ? "(none)" : solver) +
                        ": a generated problem is solved by tao:TYPE with TYPE one of " +
                        distributed::tao_type_list());
-    if (!o.problem.empty())
-      throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
-                       ") or --generate, not both");
-    if (o.generate != "chain")
-      throw InputError("--generate " + o.generate + ": unknown; the only generator is chain");
-    if (o.rows.empty()) throw InputError("--generate chain: --rows N is required");
-    rows = parse_rows(o.rows);
-    if (!o.write_system.empty() && rows > kMaxGatheredRows)
-      throw InputError("--write-system: " + std::to_string(rows) +
-                       " rows; it gathers the whole problem onto rank 0 and takes at most " +
-                       std::to_string(kMaxGatheredRows));
-    if (!o.write_system.empty() && !o.out.empty() && o.write_system == o.out)
-      throw InputError("--write-system " + o.write_system + ": the same folder as --out");
+    if (!distributed::is_tao_type(type))
+      throw InputError("--solver " + solver + ": " +
+                       (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
+                       "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
+    if (generated) {
+      if (!o.problem.empty())
+        throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
+                         ") or --generate, not both");
+      if (o.generate != "chain")
+        throw InputError("--generate " + o.generate + ": unknown; the only generator is chain");
+      if (o.rows.empty()) throw InputError("--generate chain: --rows N is required");
+      rows = parse_rows(o.rows);
+      if (!o.write_system.empty() && rows > kMaxGatheredRows)
+        throw InputError("--write-system: " + std::to_string(rows) +
+                         " rows; it gathers the whole problem onto rank 0 and takes at most " +
+                         std::to_string(kMaxGatheredRows));
+      if (!o.write_system.empty() && !o.out.empty() && o.write_system == o.out)
+        throw InputError("--write-system " + o.write_system + ": the same folder as --out");
+    } else {
+      check_out_is_not_problem(o);
+    }
     // The output folders before the work: a refused one ends every rank at once.
     if (session.rank() == 0 && !o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
     if (session.rank() == 0 && !o.write_system.empty())
       system_dir = std::make_unique<OutputDir>(o.write_system);
     const auto generating = std::chrono::steady_clock::now();
-    local =
-        distributed::generate_chain({{"n", std::to_string(rows)}}, session.rank(), session.size());
+    std::error_code ec;
+    if (generated) {
+      local = distributed::generate_chain(
+          {{"n", std::to_string(rows)}}, session.rank(), session.size());
+      kind = "generated";
+    } else if (fs::is_directory(o.problem, ec)) {
+      local = distributed::read_folder_rows(o.problem, session.rank(), session.size());
+      kind = "cbps matrices folder, read by rows";
+    } else {
+      const StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+      local = distributed::rows_of(p.problem(), p.cfm, o.problem, session.rank(), session.size());
+      kind = "Siconos file";
+    }
+    rows = local->total_rows;
     generate_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - generating).count();
   } catch (...) {
@@ -419,7 +362,7 @@ int lcp_generate_command(const LcpOptions& o) {
   options.tolerance = o.tolerance;
   const auto start = std::chrono::steady_clock::now();
   const distributed::TaoResult t =
-      distributed::solve_tao_generated(session, *local, options, !o.write_system.empty());
+      distributed::solve_tao_local(session, *local, options, !o.write_system.empty());
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::vector<double> memory = session.gather(peak_memory_mb());
@@ -428,6 +371,12 @@ int lcp_generate_command(const LcpOptions& o) {
   failure = nullptr;
   if (session.rank() == 0) {
     try {
+      if (t.asymmetric)
+        throw InputError("--solver " + solver +
+                         ": needs a symmetric A (TAO minimises 1/2 lambda^T A lambda - b^T "
+                         "lambda, whose gradient is A lambda - b only then); max |A - A^T| = " +
+                         number_text(t.asymmetry) +
+                         "; `cbps lcp --solver lemke` solves any square A");
       if (system_dir) {
         const distributed::GatheredSystem& g = t.gathered;
         write_matrix_market(system_dir->file("A.mtx"),
@@ -456,14 +405,18 @@ int lcp_generate_command(const LcpOptions& o) {
                               {"stop", t.stop},
                               {"measure", number_json(t.tao_residual)},
                               {"gatol", o.tolerance}};
-      extras.fields["generated"] = {{"scene", o.generate},
-                                    {"description", local->description},
-                                    {"step", 0},
-                                    {"wall_time_s", generate_wall}};
+      if (generated)
+        extras.fields["generated"] = {{"scene", o.generate},
+                                      {"description", local->description},
+                                      {"step", 0},
+                                      {"wall_time_s", generate_wall}};
+      else
+        extras.fields["read_wall_time_s"] = generate_wall;
       extras.fields["rank_memory_mb"] = memory;
       ProblemFacts facts;
       facts.rows = rows;
-      facts.kind = "generated on " + std::to_string(session.size()) +
+      facts.cfm = local->cfm;
+      facts.kind = kind + " on " + std::to_string(session.size()) +
                    (session.size() == 1 ? " rank" : " ranks");
       facts.scale = t.scale;
       facts.lambda_in_json = rows <= kMaxGatheredRows;
@@ -481,13 +434,13 @@ int lcp_generate_command(const LcpOptions& o) {
 }
 #endif
 
-/// `--solver tao:TYPE`, or without PETSc in the build exit 2 saying how to get it (before
-/// anything starts MPI: every process of an mpirun job says it).
-int lcp_tao(const LcpOptions& o) {
+/// `--solver tao:TYPE` or `--generate SCENE`, or without PETSc in the build exit 2 saying how
+/// to get it (before anything starts MPI: every process of an mpirun job says it).
+int lcp_distributed(const LcpOptions& o) {
 #ifdef CBPS_HAVE_PETSC
-  return lcp_tao_command(o);
+  return lcp_distributed_command(o);
 #else
-  throw InputError("--solver " + o.solver +
+  throw InputError((o.generate.empty() ? "--solver " + o.solver : "--generate " + o.generate) +
                    ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "
                    "scripts/setup.sh --with-petsc) and build again: CMake finds it by "
                    "pkg-config (option CBPS_PETSC, on by default; not under the sanitizers), "
@@ -495,19 +448,8 @@ int lcp_tao(const LcpOptions& o) {
 #endif
 }
 
-/// `--generate SCENE`, or without PETSc in the build exit 2 as lcp_tao.
-int lcp_generate(const LcpOptions& o) {
-#ifdef CBPS_HAVE_PETSC
-  return lcp_generate_command(o);
-#else
-  throw InputError("--generate " + o.generate +
-                   ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "
-                   "scripts/setup.sh --with-petsc) and build again, see docs/distributed.md");
-#endif
-}
-
 int lcp_command(const LcpOptions& o) {
-  if (!o.generate.empty()) return lcp_generate(o);
+  if (!o.generate.empty()) return lcp_distributed(o);
   if (!o.rows.empty() || !o.write_system.empty())
     throw InputError(std::string(!o.rows.empty() ? "--rows" : "--write-system") +
                      ": only with --generate SCENE");
@@ -515,7 +457,7 @@ int lcp_command(const LcpOptions& o) {
     throw InputError(
         "PROBLEM: missing; give a cbps matrices folder or a Siconos .dat file "
         "(or --generate SCENE --rows N)");
-  if (is_tao_solver(o.solver)) return lcp_tao(o);
+  if (is_tao_solver(o.solver)) return lcp_distributed(o);
   std::error_code ec;
   const bool folder = fs::is_directory(o.problem, ec);
   check_out_is_not_problem(o);

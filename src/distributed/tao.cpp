@@ -458,10 +458,10 @@ SpMat gather_matrix(Mat A, int rank) {
 
 }  // namespace
 
-TaoResult solve_tao_generated(const MpiSession& session,
-                              LocalSystem& local,
-                              const TaoOptions& options,
-                              bool gather) {
+TaoResult solve_tao_local(const MpiSession& session,
+                          LocalSystem& local,
+                          const TaoOptions& options,
+                          bool gather) {
   if (local.total_rows > INT_MAX)
     throw InputError("--generate: " + std::to_string(local.total_rows) +
                      " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
@@ -494,7 +494,24 @@ TaoResult solve_tao_generated(const MpiSession& session,
   // scale_of (system/boxed_problem.hpp) on the distributed A and b: max(1, ‖b‖∞, max |A_ij|).
   PetscReal b_largest = 0.0;
   CBPS_PETSC_CHECK(VecNorm(o.b, NORM_INFINITY, &b_largest));
-  const double scale = std::max({1.0, static_cast<double>(b_largest), largest_entry(o.A)});
+  const double A_largest = largest_entry(o.A);
+  const double scale = std::max({1.0, static_cast<double>(b_largest), A_largest});
+  if (local.check_symmetric) {
+    // require_symmetric's test (io/stored_problem.hpp) on the distributed A: TAO minimises
+    // ½ λᵀ A λ − bᵀ λ, whose gradient is A λ − b only for a symmetric A.
+    Mat difference = nullptr;
+    CBPS_PETSC_CHECK(MatTranspose(o.A, MAT_INITIAL_MATRIX, &difference));
+    CBPS_PETSC_CHECK(MatAXPY(difference, -1.0, o.A, DIFFERENT_NONZERO_PATTERN));
+    const double asymmetry = largest_entry(difference);
+    MatDestroy(&difference);
+    if (asymmetry > 1e-12 * std::max(1.0, A_largest)) {
+      TaoResult refused;
+      refused.asymmetry = asymmetry;
+      refused.asymmetric = true;
+      refused.scale = scale;
+      return refused;
+    }
+  }
   GatheredSystem gathered;
   if (gather) {
     gathered.A = gather_matrix(o.A, session.rank());

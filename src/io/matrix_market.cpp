@@ -234,9 +234,8 @@ std::ifstream open_for_reading(const std::string& path) {
   return in;
 }
 
-}  // namespace
-
-SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source) {
+/// The whole file (keep empty) or the rows `keep` of it, shifted to start at 0.
+SpMat parse_sparse(std::istream& in, const std::string& source, const RowRange* keep) {
   LineReader r(in, source);
   const std::vector<std::string> h = r.header();
   if (h[0] != "coordinate") r.fail("expected a coordinate (sparse) matrix, found '" + h[0] + "'");
@@ -247,6 +246,12 @@ SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source) {
   const std::vector<long> s = r.sizes(3, 2);
   const long rows = s[0], cols = s[1], nnz = s[2];
   if (symmetric && rows != cols) r.fail("a symmetric matrix must be square");
+  if (keep && (keep->first < 0 || keep->last > rows || keep->first > keep->last))
+    r.fail("rows [" + std::to_string(keep->first) + ", " + std::to_string(keep->last) +
+           ") asked of a matrix of " + std::to_string(rows) + " rows");
+  const long first = keep ? keep->first : 0;
+  const long last = keep ? keep->last : rows;
+  const auto kept = [&](long i) { return i >= first && i < last; };
   // No reserve() from the declared count: the file may hold far fewer entries than it claims.
   std::vector<Triplet> entries;
   std::vector<int> lines;  // the line of each entry in `entries`, for the check below
@@ -259,18 +264,21 @@ SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source) {
     const long j = r.integer(t[1], "column index", cols) - 1;
     const double value = r.number(t[2], "in " + what);
     if (symmetric && j > i) r.fail("a symmetric file holds the lower triangle only (row < column)");
-    entries.emplace_back(i, j, value);
-    lines.push_back(r.line());
-    if (symmetric && i != j) {
-      entries.emplace_back(j, i, value);
+    if (kept(i)) {
+      entries.emplace_back(i - first, j, value);
+      lines.push_back(r.line());
+    }
+    if (symmetric && i != j && kept(j)) {
+      entries.emplace_back(j - first, i, value);
       lines.push_back(r.line());
     }
   }
   r.expect_end(nnz);
-  return assemble(entries, lines, rows, cols, source);
+  return assemble(entries, lines, last - first, cols, source);
 }
 
-VecX parse_matrix_market_vector(std::istream& in, const std::string& source) {
+/// The whole vector (keep empty) or its entries `keep`.
+VecX parse_vector(std::istream& in, const std::string& source, const RowRange* keep) {
   LineReader r(in, source);
   const std::vector<std::string> h = r.header();
   if (h[0] != "array") r.fail("expected an array (dense) vector, found '" + h[0] + "'");
@@ -278,6 +286,11 @@ VecX parse_matrix_market_vector(std::istream& in, const std::string& source) {
   if (h[2] != "general") r.fail("symmetry '" + h[2] + "' is not read for a vector (only general)");
   const std::vector<long> s = r.sizes(2, 2);
   if (s[1] != 1) r.fail("expected an n x 1 vector, found " + std::to_string(s[1]) + " columns");
+  if (keep && (keep->first < 0 || keep->last > s[0] || keep->first > keep->last))
+    r.fail("rows [" + std::to_string(keep->first) + ", " + std::to_string(keep->last) +
+           ") asked of a vector of " + std::to_string(s[0]) + " rows");
+  const long first = keep ? keep->first : 0;
+  const long last = keep ? keep->last : s[0];
   // Grown entry by entry rather than sized from the declared n, which a short file may not hold.
   std::vector<double> values;
   for (long k = 0; k < s[0]; ++k) {
@@ -285,10 +298,21 @@ VecX parse_matrix_market_vector(std::istream& in, const std::string& source) {
     const std::vector<std::string> t = r.next_line(what);
     if (t.size() != 1)
       r.fail(what + " needs one number, found " + std::to_string(t.size()) + " tokens");
-    values.push_back(r.number(t[0], "in " + what));
+    const double value = r.number(t[0], "in " + what);
+    if (k >= first && k < last) values.push_back(value);
   }
   r.expect_end(s[0]);
   return Eigen::Map<const VecX>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+}  // namespace
+
+SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source) {
+  return parse_sparse(in, source, nullptr);
+}
+
+VecX parse_matrix_market_vector(std::istream& in, const std::string& source) {
+  return parse_vector(in, source, nullptr);
 }
 
 SpMat read_matrix_market_sparse(const std::string& path) {
@@ -299,6 +323,30 @@ SpMat read_matrix_market_sparse(const std::string& path) {
 VecX read_matrix_market_vector(const std::string& path) {
   std::ifstream in = open_for_reading(path);
   return parse_matrix_market_vector(in, path);
+}
+
+std::pair<long, long> read_matrix_market_size(const std::string& path) {
+  std::ifstream in = open_for_reading(path);
+  LineReader r(in, path);
+  const std::vector<std::string> h = r.header();
+  check_field(r, h[1]);
+  if (h[0] == "coordinate") {
+    const std::vector<long> s = r.sizes(3, 2);
+    return {s[0], s[1]};
+  }
+  if (h[0] != "array") r.fail("expected a coordinate or array matrix, found '" + h[0] + "'");
+  const std::vector<long> s = r.sizes(2, 2);
+  return {s[0], s[1]};
+}
+
+SpMat read_matrix_market_sparse_rows(const std::string& path, RowRange keep) {
+  std::ifstream in = open_for_reading(path);
+  return parse_sparse(in, path, &keep);
+}
+
+VecX read_matrix_market_vector_rows(const std::string& path, RowRange keep) {
+  std::ifstream in = open_for_reading(path);
+  return parse_vector(in, path, &keep);
 }
 
 }  // namespace cbps

@@ -28,29 +28,6 @@ double read_number_file(const std::string& path, const char* what) {
   return x;
 }
 
-/// cmin ≤ cmax, neither NaN, cmin < +inf and cmax > −inf (a bound no lambda can meet), b finite.
-void check_bounds(const VecX& b,
-                  const VecX& cmin,
-                  const VecX& cmax,
-                  const std::string& cmin_file,
-                  const std::string& cmax_file,
-                  const std::string& b_file) {
-  const auto fail =
-      [](const std::string& file, const char* name, Eigen::Index k, double x, const char* why) {
-        std::ostringstream msg;
-        msg << file << ": " << name << "[" << k << "] = " << number_text(x) << ": " << why;
-        throw InputError(msg.str());
-      };
-  for (Eigen::Index k = 0; k < b.size(); ++k) {
-    if (std::isnan(cmin(k)) || cmin(k) == kInf)
-      fail(cmin_file, "cmin", k, cmin(k), "a lower bound must be a number or -inf");
-    if (std::isnan(cmax(k)) || cmax(k) == -kInf)
-      fail(cmax_file, "cmax", k, cmax(k), "an upper bound must be a number or +inf");
-    if (cmin(k) > cmax(k)) fail(cmin_file, "cmin", k, cmin(k), "above cmax, no lambda fits");
-    if (!std::isfinite(b(k))) fail(b_file, "b", k, b(k), "not finite");
-  }
-}
-
 StoredProblem read_folder(const std::string& dir) {
   const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
   StoredProblem p;
@@ -71,13 +48,7 @@ StoredProblem read_folder(const std::string& dir) {
                        std::to_string(c));
   }
   check_bounds(p.b, p.cmin, p.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"));
-  std::error_code ec;
-  if (fs::exists(file("cfm.txt"), ec)) {
-    p.cfm = read_number_file(file("cfm.txt"), "a constraint-force mixing eps >= 0 in kg^-1");
-    if (p.cfm < 0.0)
-      throw InputError(file("cfm.txt") + ": line 1: eps = " + number_text(p.cfm) +
-                       " kg^-1 is negative");
-  }
+  p.cfm = read_cfm(dir);
   return p;
 }
 
@@ -116,6 +87,41 @@ void read_bodies(const std::string& dir, StoredProblem& p) {
 }
 
 }  // namespace
+
+void check_bounds(const VecX& b,
+                  const VecX& cmin,
+                  const VecX& cmax,
+                  const std::string& cmin_file,
+                  const std::string& cmax_file,
+                  const std::string& b_file,
+                  long first_row) {
+  const auto fail =
+      [first_row](
+          const std::string& file, const char* name, Eigen::Index k, double x, const char* why) {
+        std::ostringstream msg;
+        msg << file << ": " << name << "[" << first_row + k << "] = " << number_text(x) << ": "
+            << why;
+        throw InputError(msg.str());
+      };
+  for (Eigen::Index k = 0; k < b.size(); ++k) {
+    if (std::isnan(cmin(k)) || cmin(k) == kInf)
+      fail(cmin_file, "cmin", k, cmin(k), "a lower bound must be a number or -inf");
+    if (std::isnan(cmax(k)) || cmax(k) == -kInf)
+      fail(cmax_file, "cmax", k, cmax(k), "an upper bound must be a number or +inf");
+    if (cmin(k) > cmax(k)) fail(cmin_file, "cmin", k, cmin(k), "above cmax, no lambda fits");
+    if (!std::isfinite(b(k))) fail(b_file, "b", k, b(k), "not finite");
+  }
+}
+
+double read_cfm(const std::string& dir) {
+  const std::string path = (fs::path(dir) / "cfm.txt").string();
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return 0.0;
+  const double cfm = read_number_file(path, "a constraint-force mixing eps >= 0 in kg^-1");
+  if (cfm < 0.0)
+    throw InputError(path + ": line 1: eps = " + number_text(cfm) + " kg^-1 is negative");
+  return cfm;
+}
 
 StoredProblem read_problem(const std::string& path, SiconosKind kind) {
   std::error_code ec;

@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "cbps/error.hpp"
 #include "cbps/io/matrix_market.hpp"
@@ -147,4 +149,73 @@ TEST_CASE("Matrix Market: malformed files are InputErrors naming the file and li
       CHECK(std::string(e.what()).find("/nonexistent/b.mtx: line 0:") != std::string::npos);
     }
   }
+}
+
+TEST_CASE("Matrix Market by rows: every split of the rows puts the whole back together",
+          "[matrix_market]") {
+  // A symmetric file (each off-diagonal entry stored once, kept by whichever part holds its
+  // row), with a duplicate entry summed, and a general vector; expected from the whole reads.
+  const fs::path a = mm_file("rows-A.mtx",
+                             "%%MatrixMarket matrix coordinate real symmetric\n"
+                             "5 5 7\n1 1 4\n2 1 -1\n3 3 2.5\n5 2 0.25\n5 5 1\n4 4 3\n3 3 0.5\n");
+  const fs::path v =
+      mm_file("rows-b.mtx", "%%MatrixMarket matrix array real general\n5 1\n1\n-2\ninf\n4\n5\n");
+  const cbps::SpMat whole = cbps::read_matrix_market_sparse(a.string());
+  const cbps::VecX whole_v = cbps::read_matrix_market_vector(v.string());
+  CHECK(cbps::read_matrix_market_size(a.string()) == std::pair<long, long>{5, 5});
+  CHECK(cbps::read_matrix_market_size(v.string()) == std::pair<long, long>{5, 1});
+  for (const std::vector<long>& cuts : {std::vector<long>{0, 5},
+                                        std::vector<long>{0, 2, 5},
+                                        std::vector<long>{0, 1, 3, 5},
+                                        std::vector<long>{0, 0, 4, 4, 5}}) {
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const cbps::RowRange keep{cuts[k], cuts[k + 1]};
+      const cbps::SpMat part = cbps::read_matrix_market_sparse_rows(a.string(), keep);
+      const cbps::VecX part_v = cbps::read_matrix_market_vector_rows(v.string(), keep);
+      REQUIRE(part.rows() == keep.last - keep.first);
+      REQUIRE(part.cols() == 5);
+      REQUIRE(part_v.size() == keep.last - keep.first);
+      const Eigen::MatrixXd expected =
+          Eigen::MatrixXd(whole).middleRows(keep.first, keep.last - keep.first);
+      CHECK(Eigen::MatrixXd(part) == expected);  // also an empty part (rows [4, 4))
+      CHECK(part.nonZeros() == cbps::SpMat(whole.middleRows(keep.first, part.rows())).nonZeros());
+      for (Eigen::Index i = 0; i < part_v.size(); ++i) CHECK(part_v[i] == whole_v[keep.first + i]);
+    }
+  }
+  // The duplicate (3, 3) is summed on the part that keeps row 3.
+  CHECK(cbps::read_matrix_market_sparse_rows(a.string(), {2, 3}).coeff(0, 2) == 3.0);
+}
+
+TEST_CASE("Matrix Market by rows: bad files and bad ranges are InputErrors with the line",
+          "[matrix_market]") {
+  const auto error = [](const std::string& text, cbps::RowRange keep, bool vector) {
+    const fs::path p = mm_file("rows-bad.mtx", text);
+    try {
+      if (vector)
+        cbps::read_matrix_market_vector_rows(p.string(), keep);
+      else
+        cbps::read_matrix_market_sparse_rows(p.string(), keep);
+    } catch (const cbps::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string good = "%%MatrixMarket matrix coordinate real general\n3 3 2\n1 1 1\n3 2 2\n";
+  CHECK_THAT(error(good, {1, 4}, false),
+             Catch::Contains("line 2: rows [1, 4) asked of a matrix of 3 rows"));
+  CHECK_THAT(error(good, {2, 1}, false), Catch::Contains("rows [2, 1)"));
+  // A bad entry in rows another part keeps is still found: every part parses every line.
+  CHECK_THAT(
+      error("%%MatrixMarket matrix coordinate real general\n3 3 2\n1 1 1\n3 x 2\n", {0, 1}, false),
+      Catch::Contains("line 4: expected an integer column index, found 'x'"));
+  CHECK_THAT(
+      error("%%MatrixMarket matrix coordinate real general\n3 3 3\n1 1 1\n3 2 2\n", {0, 1}, false),
+      Catch::Contains("end of file where entry 3 of 3 was expected"));
+  CHECK_THAT(error("%%MatrixMarket matrix array real general\n3 1\n1\nnan\n3\n", {0, 1}, true),
+             Catch::Contains("line 4: NaN"));
+  CHECK_THAT(error("%%MatrixMarket matrix array real general\n3 1\n1\n2\n3\n", {0, 4}, true),
+             Catch::Contains("rows [0, 4) asked of a vector of 3 rows"));
+  CHECK_THAT(error("%%MatrixMarket matrix coordinate real general\n3 3 2\n", {0, 1}, false),
+             Catch::Contains("end of file"));
+  CHECK(error(good, {0, 3}, false).empty());
 }

@@ -98,9 +98,14 @@ struct TaoResult {
   /// distributed vectors (PETSc's MatMult, VecPointwiseMax/Min, VecNorm); the same on every rank.
   double residual = 0.;
   long local_rows = 0;  ///< rows of A owned by this rank
-  /// solve_tao_generated: scale_of's max(1, ‖b‖∞, max |A_ij|) on the distributed A and b.
+  /// solve_tao_local: scale_of's max(1, ‖b‖∞, max |A_ij|) on the distributed A and b.
   double scale = 0.;
-  /// solve_tao_generated with `gather`: the whole problem on rank 0 (empty elsewhere).
+  /// solve_tao_local with LocalSystem::check_symmetric: max |A − Aᵀ| on the distributed A; when
+  /// it is above 1e-12 scale's max(1, max |A_ij|) (require_symmetric's test), `asymmetric` is
+  /// set and TAO is not run.
+  double asymmetry = 0.;
+  bool asymmetric = false;
+  /// solve_tao_local with `gather`: the whole problem on rank 0 (empty elsewhere).
   GatheredSystem gathered;
 };
 
@@ -120,15 +125,16 @@ TaoResult solve_tao(const MpiSession& session,
 
 struct LocalSystem;  // cbps/distributed/generate.hpp
 
-/// solve_tao for a problem generated per rank (LocalSystem, generate.hpp): each rank puts its
-/// rows of A = J Minv Jᵀ (6.2.9) into PETSc's MPIAIJ and its rows of b, cmin and cmax into the
-/// vectors: no rank holds more than its rows and PETSc's communication buffers. Then the same
-/// TAO solve. With `gather`, A, b, cmin and cmax are also gathered onto rank 0
-/// (TaoResult::gathered; small sizes only). local.A is released (emptied) once PETSc holds it.
-/// Collective.
-TaoResult solve_tao_generated(const MpiSession& session,
-                              LocalSystem& local,
-                              const TaoOptions& options,
-                              bool gather);
+/// solve_tao for a problem each rank holds only its rows of (LocalSystem, generate.hpp:
+/// generated or read by rows): each rank puts its rows of A (6.2.9) into PETSc's MPIAIJ and its
+/// rows of b, cmin and cmax into the vectors: no rank holds more than its rows and PETSc's
+/// communication buffers. With local.check_symmetric, A's symmetry is measured first
+/// (TaoResult::asymmetric). Then the same TAO solve. With `gather`, A, b, cmin and cmax are
+/// also gathered onto rank 0 (TaoResult::gathered; small sizes only). local.A is released
+/// (emptied) once PETSc holds it. Collective.
+TaoResult solve_tao_local(const MpiSession& session,
+                          LocalSystem& local,
+                          const TaoOptions& options,
+                          bool gather);
 
 }  // namespace cbps::distributed

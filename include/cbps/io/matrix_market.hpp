@@ -5,6 +5,7 @@
 
 #include <istream>
 #include <string>
+#include <utility>
 
 #include "cbps/types.hpp"
 
@@ -37,5 +38,27 @@ SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source);
 
 /// read_matrix_market_vector from a stream; `source` names it in errors.
 VecX parse_matrix_market_vector(std::istream& in, const std::string& source);
+
+/// Rows [first, last) of a matrix or vector: the part one rank of a distributed job keeps
+/// (docs/distributed.md, "Reading a folder by rows").
+struct RowRange {
+  long first = 0;
+  long last = 0;
+};
+
+/// The rows and columns the size line of the Matrix Market file `path` declares (its header
+/// and size line checked as the readers check them; the entries not read).
+std::pair<long, long> read_matrix_market_size(const std::string& path);
+
+/// The rows `keep` of the file's sparse matrix, as a (keep.last − keep.first) × columns matrix
+/// (row r of it is row keep.first + r of the file's). Every line is parsed and checked as by
+/// read_matrix_market_sparse, only the kept rows' entries are stored, and only their duplicate
+/// sums are checked (each row's check belongs to the rank that keeps it). Throws InputError
+/// also when `keep` is not inside the file's rows.
+SpMat read_matrix_market_sparse_rows(const std::string& path, RowRange keep);
+
+/// The entries `keep` of the file's n×1 vector, checked as read_matrix_market_vector; only
+/// those stored.
+VecX read_matrix_market_vector_rows(const std::string& path, RowRange keep);
 
 }  // namespace cbps

@@ -41,6 +41,22 @@ struct StoredProblem {
 /// `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
 StoredProblem read_problem(const std::string& path, SiconosKind kind = SiconosKind::Auto);
 
+/// The bounds and right-hand side of a problem's rows (all of them, or one rank's rows from
+/// `first_row`, which the messages number from): cmin ≤ cmax, neither NaN, cmin < +inf and
+/// cmax > −inf (a bound no lambda can meet), b finite. Throws InputError naming the file, the
+/// vector and its row.
+void check_bounds(const VecX& b,
+                  const VecX& cmin,
+                  const VecX& cmax,
+                  const std::string& cmin_file,
+                  const std::string& cmax_file,
+                  const std::string& b_file,
+                  long first_row = 0);
+
+/// A folder's constraint-force mixing eps from its cfm.txt, kg⁻¹; 0 without one. Throws
+/// InputError for a text that is not a number >= 0.
+double read_cfm(const std::string& dir);
+
 /// InputError naming `what` and max |A − Aᵀ| unless A is symmetric to 1e-12 max(1, max |A_ij|):
 /// the direct path solves the QP of 6.2, which needs it.
 void require_symmetric(const StoredProblem& p, const std::string& what);
