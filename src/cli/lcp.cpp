@@ -7,9 +7,10 @@
 // it is ≤ kLcpSolvedTolerance · max(1, ‖q‖∞, max |M_ij|), whatever the solver claims.
 //
 // `--solver tao:TYPE` (a build with PETSc, docs/distributed.md) solves the same problem by TAO
-// under MPI, alone or as `mpirun -n N cbps lcp ...`: every rank reads the problem, rank 0 alone
-// prints and writes --out, through the same report as every other solver, and every rank exits
-// with the same code.
+// under MPI, alone or as `mpirun -n N cbps lcp ...`: every rank holds only its own rows (a
+// folder read by rows, docs/distributed.md#reading-a-folder-by-rows), rank 0 alone prints and
+// writes --out, through the same report as every other solver, and every rank exits with the
+// same code.
 //
 // `--generate chain --rows N --solver tao:TYPE` builds the problem instead of reading it, each
 // rank only its own rows (distributed/generate.hpp, docs/distributed.md#generated-problems),

@@ -110,8 +110,9 @@ struct TaoResult {
 };
 
 /// Solves the boxed problem (A symmetric positive semidefinite) by TAO's `options.type` from
-/// lambda = 0. Collective: every rank calls it with the whole problem (for now every rank reads
-/// the file) and inserts only the rows PetscSplitOwnership gives it. TAO stops after
+/// lambda = 0. Collective: every rank calls it with the whole problem (for a problem each rank
+/// holds only its rows of, as `cbps lcp` does, solve_tao_local) and inserts only the rows
+/// PetscSplitOwnership gives it. TAO stops after
 /// options.max_iterations, or by its own test: its measure ≤ options.tolerance (gatol;
 /// grtol = gttol = 0; for the gradient types a 2-norm of the gradient without the components
 /// TAO takes as held at a bound, for bqpip its mean primal and dual infeasibility), or by
