@@ -1100,10 +1100,11 @@ def _generate_measured(src):
                      thousands(run["iterations"]), sci(run["residual"]),
                      dur(run["generate_s"]), dur(run["solve_s"]), dur(run["job_s"]),
                      _memory(run), thousands(tao.get("messages", 0)),
-                     thousands(tao.get("reductions", 0))))
+                     thousands(tao.get("reductions", 0)), num(run["load_average"])))
     return table(("rows", "ranks", "type", "status", "iterations", "residual (N)",
                   "build rows", "solve", "job", "peak memory per rank (MB)",
-                  "messages in TaoSolve", "reductions in TaoSolve"), rows, "rrllrrrrrlrr")
+                  "messages in TaoSolve", "reductions in TaoSolve", "load"), rows,
+                 "rrllrrrrrlrrr")
 
 
 def generate_model(r):
