@@ -339,6 +339,14 @@ std::pair<long, long> read_matrix_market_size(const std::string& path) {
   return {s[0], s[1]};
 }
 
+SpMat parse_matrix_market_sparse_rows(std::istream& in, const std::string& source, RowRange keep) {
+  return parse_sparse(in, source, &keep);
+}
+
+VecX parse_matrix_market_vector_rows(std::istream& in, const std::string& source, RowRange keep) {
+  return parse_vector(in, source, &keep);
+}
+
 SpMat read_matrix_market_sparse_rows(const std::string& path, RowRange keep) {
   std::ifstream in = open_for_reading(path);
   return parse_sparse(in, path, &keep);

@@ -61,4 +61,9 @@ SpMat read_matrix_market_sparse_rows(const std::string& path, RowRange keep);
 /// those stored.
 VecX read_matrix_market_vector_rows(const std::string& path, RowRange keep);
 
+/// read_matrix_market_sparse_rows and read_matrix_market_vector_rows from a stream; `source`
+/// names it in errors.
+SpMat parse_matrix_market_sparse_rows(std::istream& in, const std::string& source, RowRange keep);
+VecX parse_matrix_market_vector_rows(std::istream& in, const std::string& source, RowRange keep);
+
 }  // namespace cbps
