@@ -27,6 +27,7 @@
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "common.hpp"
+#include "tao_solvers.hpp"
 
 namespace cbps::cli {
 
@@ -120,11 +121,6 @@ Outcome run_direct(const StoredProblem& p, Method method, double tolerance) {
   std::ostringstream msg;
   msg << s.message << "; " << s.wall_time_s << " s";
   return {lambda, s.iterations, false, msg.str()};
-}
-
-/// "tao:TYPE" (or "tao") asks for PETSc/TAO.
-bool is_tao_solver(const std::string& solver) {
-  return solver == "tao" || solver.rfind("tao:", 0) == 0;
 }
 
 /// The command's verdict on what a solver returned and its report: the residual check (6.2),
@@ -318,11 +314,7 @@ int lcp_tao(const LcpOptions& o) {
 #ifdef CBPS_HAVE_PETSC
   return lcp_tao_command(o);
 #else
-  throw InputError("--solver " + o.solver +
-                   ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "
-                   "scripts/setup.sh --with-petsc) and build again: CMake finds it by "
-                   "pkg-config (option CBPS_PETSC, on by default; not under the sanitizers), "
-                   "see docs/distributed.md");
+  throw InputError(without_petsc_message("--solver " + o.solver));
 #endif
 }
 

@@ -9,6 +9,7 @@
 #include <petsctao.h>
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <cstdio>
@@ -204,6 +205,50 @@ PetscErrorCode convergence_test(Tao tao, void* context) {
   PetscFunctionReturn(0);
 }
 
+/// What the monitor needs: the objects, the caller's callback and its clock.
+struct Monitoring {
+  Objects* o = nullptr;
+  Quadratic* q = nullptr;
+  const TaoOptions* options = nullptr;
+  std::chrono::steady_clock::time_point started;  ///< when solve_tao was called
+  double monitoring_s = 0.0;                      ///< seconds spent in monitor() so far
+  VecX lambda;                                    ///< this rank's rows, handed to the callback
+  std::vector<TaoIterate> history;
+};
+
+/// TaoSetMonitor's callback, after every iteration (and at the start): the natural-map residual
+/// of the iterate and the time so far less the monitor's own, kept in the history and handed to
+/// TaoOptions::monitor, whose false stops TAO (TAO_DIVERGED_USER).
+PetscErrorCode monitor(Tao tao, void* context) {
+  auto* m = static_cast<Monitoring*>(context);
+  const auto entered = std::chrono::steady_clock::now();
+  TaoIterate at;
+  at.time_s = std::chrono::duration<double>(entered - m->started).count() - m->monitoring_s;
+  PetscInt iteration = 0;
+  Vec lambda = nullptr;
+  PetscFunctionBeginUser;
+  PetscCall(TaoGetIterationNumber(tao, &iteration));
+  at.iteration = static_cast<int>(iteration);
+  PetscCall(TaoGetSolution(tao, &lambda));
+  PetscCall(distributed_natural_map_residual(*m->o, lambda, &at.residual));
+  if (m->options->record_history) m->history.push_back(at);
+  if (m->options->monitor) {
+    PetscInt local = 0;
+    const PetscScalar* own = nullptr;
+    PetscCall(VecGetLocalSize(lambda, &local));
+    PetscCall(VecGetArrayRead(lambda, &own));
+    m->lambda = Eigen::Map<const VecX>(own, local);
+    PetscCall(VecRestoreArrayRead(lambda, &own));
+    if (!m->options->monitor(at, m->lambda)) {
+      m->q->stop = "the caller's monitor at iteration " + std::to_string(at.iteration);
+      PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
+    }
+  }
+  m->monitoring_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - entered).count();
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 MpiSession::MpiSession() {
@@ -238,6 +283,7 @@ int MpiSession::broadcast(int value, int root) const {
 TaoResult solve_tao(const MpiSession& session,
                     const BoxedProblem& problem,
                     const TaoOptions& options) {
+  const auto started = std::chrono::steady_clock::now();  // TaoIterate::time_s counts from here
   if (problem.rows() > INT_MAX)
     throw InputError("--solver tao: " + std::to_string(problem.rows()) +
                      " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
@@ -271,6 +317,13 @@ TaoResult solve_tao(const MpiSession& session,
   // get room enough that TAO's own default cap (4000 for bncg) never stops it first.
   const long funcs = std::min<long>(INT_MAX, 100L * options.max_iterations);
   CBPS_PETSC_CHECK(TaoSetMaximumFunctionEvaluations(o.tao, static_cast<PetscInt>(funcs)));
+  Monitoring m;
+  m.o = &o;
+  m.q = &q;
+  m.options = &options;
+  m.started = started;
+  if (options.monitor || options.record_history)
+    CBPS_PETSC_CHECK(TaoSetMonitor(o.tao, monitor, &m, nullptr));
   CBPS_PETSC_CHECK(TaoSetFromOptions(o.tao));  // PETSC_OPTIONS, e.g. -tao_monitor
   CBPS_PETSC_CHECK(TaoSolve(o.tao));
 
@@ -286,6 +339,7 @@ TaoResult solve_tao(const MpiSession& session,
   r.local_rows = static_cast<long>(end - begin);
   r.stop = q.stop.empty() ? std::string("TAO's own test") : q.stop;
   CBPS_PETSC_CHECK(distributed_natural_map_residual(o, o.lambda, &r.residual));
+  r.history = std::move(m.history);
 
   // lambda onto rank 0.
   CBPS_PETSC_CHECK(VecScatterCreateToZero(o.lambda, &o.to_0, &o.lambda_on_0));

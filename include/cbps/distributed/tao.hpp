@@ -18,8 +18,10 @@
 //   lambda   c       N      VECMPI (TAO's solution), gathered onto rank 0 at the end
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cbps/system/boxed_problem.hpp"
 
@@ -68,11 +70,29 @@ class MpiSession {
   int size_ = 1;
 };
 
+/// What the monitor hands on after one TAO iteration (TaoOptions::monitor).
+struct TaoIterate {
+  int iteration = 0;      ///< TAO's iteration count (0: the start, before the first step)
+  double residual = 0.0;  ///< natural-map residual of 6.2 on the distributed vectors, N
+  /// Seconds since solve_tao was called (distributing A included), less the time spent in the
+  /// monitor itself (its residual and the callback).
+  double time_s = 0.0;
+};
+
+/// Called by the monitor after every TAO iteration with the iterate and this rank's rows of
+/// lambda (N; on one rank the whole lambda). Return false to stop TAO (TAO_DIVERGED_USER).
+using TaoMonitor = std::function<bool(const TaoIterate& at, const VecX& lambda_own_rows)>;
+
 /// What `--solver tao:TYPE`, `--iterations` and `--tolerance` ask of TAO.
 struct TaoOptions {
   std::string type;            ///< one of kTaoTypes
   int max_iterations = 10000;  ///< TaoSetMaximumIterations
   double tolerance = 1e-10;    ///< natural-map residual to stop at, and TAO's gatol, N
+  /// When set (or with record_history), a TAO monitor (TaoSetMonitor) forms the natural-map
+  /// residual after every iteration and calls this; `cbps converge` and `cbps profile` use it.
+  /// One MatMult and a few vector operations per iteration, outside TaoIterate::time_s.
+  TaoMonitor monitor;
+  bool record_history = false;  ///< keep every TaoIterate in TaoResult::history
 };
 
 /// What TAO returned, with the command's own measure of it.
@@ -87,6 +107,8 @@ struct TaoResult {
   /// distributed vectors (PETSc's MatMult, VecPointwiseMax/Min, VecNorm); the same on every rank.
   double residual = 0.;
   long local_rows = 0;  ///< rows of A owned by this rank
+  /// Each monitored iteration (TaoOptions::record_history or monitor), the start included.
+  std::vector<TaoIterate> history;
 };
 
 /// Solves the boxed problem (A symmetric positive semidefinite) by TAO's `options.type` from
