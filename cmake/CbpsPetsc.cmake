@@ -50,6 +50,11 @@ if(NOT cbps_petsc_skipped STREQUAL "")
              COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_tao.py"
                      $<TARGET_FILE:cbps> without-petsc "${CMAKE_BINARY_DIR}/petsc-tests")
     set_tests_properties(lcp-tao-without-petsc-exits-2 PROPERTIES LABELS petsc TIMEOUT 60)
+    # And tao:TYPE in converge's and profile's --solvers: exit 2 with lcp's message.
+    add_test(NAME studies-tao-without-petsc-exits-2
+             COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_tao_studies.py"
+                     $<TARGET_FILE:cbps> without-petsc "${CMAKE_BINARY_DIR}/petsc-tests")
+    set_tests_properties(studies-tao-without-petsc-exits-2 PROPERTIES LABELS petsc TIMEOUT 60)
   endif()
   return()
 endif()
@@ -90,4 +95,16 @@ foreach(_mode ${cbps_petsc_modes})
   set_tests_properties(${_name} PROPERTIES
     FIXTURES_REQUIRED petsc-problems LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77
     RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
+endforeach()
+
+# tests/petsc/test_tao_studies.py MODE: TAO's types beside the cbps solvers in one process,
+# `cbps converge` on a 300-row chain against the direct row and `cbps lcp`, `cbps profile` on the
+# quick problem library (docs/distributed.md, "TAO beside PGS"); a few seconds each.
+foreach(_mode converge profile)
+  add_test(NAME petsc-studies-${_mode}
+           COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_tao_studies.py"
+                   $<TARGET_FILE:cbps> ${_mode} "${cbps_petsc_dir}")
+  # converge ends with a two-rank run: serial for the reason above.
+  set_tests_properties(petsc-studies-${_mode} PROPERTIES
+    LABELS petsc TIMEOUT 120 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
 endforeach()
