@@ -526,7 +526,9 @@ void register_converge(CLI::App& app, Action& run) {
   cmd->add_option("--dt", o->step.dt, "scenes: time step in s");
   cmd->add_option("--push", o->step.push, "scenes: original | improved")
       ->check(CLI::IsMember({"original", "improved"}));
-  cmd->add_option("--iterations", o->iterations, "max sweeps per solver (default 100000)")
+  cmd->add_option("--iterations",
+                  o->iterations,
+                  "max sweeps per solver; TAO's iterations for tao:TYPE (default 100000)")
       ->check(positive());
   cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
       ->check(non_negative());

@@ -616,9 +616,10 @@ void register_profile(CLI::App& app, Action& run) {
           o->solvers + ")");
   cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_flag("--quick", o->quick, "only the problems the library marks quick");
-  cmd->add_option("--budget-iterations",
-                  o->budget_iterations,
-                  "max sweeps per problem and solver (default 100000)")
+  cmd->add_option(
+         "--budget-iterations",
+         o->budget_iterations,
+         "max sweeps per problem and solver; TAO's iterations for tao:TYPE (default 100000)")
       ->check(positive());
   cmd->add_option("--time-limit", o->time_limit, "max time per problem and solver, s (default 1)")
       ->check(positive());
