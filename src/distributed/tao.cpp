@@ -13,6 +13,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <string>
 #include <vector>
@@ -213,12 +214,13 @@ struct Monitoring {
   std::chrono::steady_clock::time_point started;  ///< when solve_tao was called
   double monitoring_s = 0.0;                      ///< seconds spent in monitor() so far
   VecX lambda;                                    ///< this rank's rows, handed to the callback
-  std::vector<TaoIterate> history;
+  std::exception_ptr failure;  ///< what the callback threw (not let through PETSc's C frames)
 };
 
 /// TaoSetMonitor's callback, after every iteration (and at the start): the natural-map residual
-/// of the iterate and the time so far less the monitor's own, kept in the history and handed to
-/// TaoOptions::monitor, whose false stops TAO (TAO_DIVERGED_USER).
+/// of the iterate and the time so far less the monitor's own, handed with this rank's lambda to
+/// TaoOptions::monitor, whose false (or exception, rethrown by solve_tao) stops TAO
+/// (TAO_DIVERGED_USER).
 PetscErrorCode monitor(Tao tao, void* context) {
   auto* m = static_cast<Monitoring*>(context);
   const auto entered = std::chrono::steady_clock::now();
@@ -231,18 +233,21 @@ PetscErrorCode monitor(Tao tao, void* context) {
   at.iteration = static_cast<int>(iteration);
   PetscCall(TaoGetSolution(tao, &lambda));
   PetscCall(distributed_natural_map_residual(*m->o, lambda, &at.residual));
-  if (m->options->record_history) m->history.push_back(at);
-  if (m->options->monitor) {
-    PetscInt local = 0;
-    const PetscScalar* own = nullptr;
-    PetscCall(VecGetLocalSize(lambda, &local));
-    PetscCall(VecGetArrayRead(lambda, &own));
-    m->lambda = Eigen::Map<const VecX>(own, local);
-    PetscCall(VecRestoreArrayRead(lambda, &own));
-    if (!m->options->monitor(at, m->lambda)) {
-      m->q->stop = "the caller's monitor at iteration " + std::to_string(at.iteration);
-      PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
-    }
+  PetscInt local = 0;
+  const PetscScalar* own = nullptr;
+  PetscCall(VecGetLocalSize(lambda, &local));
+  PetscCall(VecGetArrayRead(lambda, &own));
+  m->lambda = Eigen::Map<const VecX>(own, local);
+  PetscCall(VecRestoreArrayRead(lambda, &own));
+  bool go_on = false;
+  try {
+    go_on = m->options->monitor(at, m->lambda);
+  } catch (...) {
+    m->failure = std::current_exception();
+  }
+  if (!go_on) {
+    m->q->stop = "the caller's monitor at iteration " + std::to_string(at.iteration);
+    PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
   }
   m->monitoring_s +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - entered).count();
@@ -322,10 +327,10 @@ TaoResult solve_tao(const MpiSession& session,
   m.q = &q;
   m.options = &options;
   m.started = started;
-  if (options.monitor || options.record_history)
-    CBPS_PETSC_CHECK(TaoSetMonitor(o.tao, monitor, &m, nullptr));
+  if (options.monitor) CBPS_PETSC_CHECK(TaoSetMonitor(o.tao, monitor, &m, nullptr));
   CBPS_PETSC_CHECK(TaoSetFromOptions(o.tao));  // PETSC_OPTIONS, e.g. -tao_monitor
   CBPS_PETSC_CHECK(TaoSolve(o.tao));
+  if (m.failure) std::rethrow_exception(m.failure);
 
   TaoResult r;
   PetscInt iterations = 0;
@@ -339,7 +344,6 @@ TaoResult solve_tao(const MpiSession& session,
   r.local_rows = static_cast<long>(end - begin);
   r.stop = q.stop.empty() ? std::string("TAO's own test") : q.stop;
   CBPS_PETSC_CHECK(distributed_natural_map_residual(o, o.lambda, &r.residual));
-  r.history = std::move(m.history);
 
   // lambda onto rank 0.
   CBPS_PETSC_CHECK(VecScatterCreateToZero(o.lambda, &o.to_0, &o.lambda_on_0));

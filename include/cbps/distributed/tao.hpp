@@ -21,7 +21,6 @@
 #include <functional>
 #include <string>
 #include <string_view>
-#include <vector>
 
 #include "cbps/system/boxed_problem.hpp"
 
@@ -88,11 +87,11 @@ struct TaoOptions {
   std::string type;            ///< one of kTaoTypes
   int max_iterations = 10000;  ///< TaoSetMaximumIterations
   double tolerance = 1e-10;    ///< natural-map residual to stop at, and TAO's gatol, N
-  /// When set (or with record_history), a TAO monitor (TaoSetMonitor) forms the natural-map
-  /// residual after every iteration and calls this; `cbps converge` and `cbps profile` use it.
-  /// One MatMult and a few vector operations per iteration, outside TaoIterate::time_s.
+  /// When set, a TAO monitor (TaoSetMonitor) forms the natural-map residual after every
+  /// iteration and calls this; `cbps converge` and `cbps profile` record TAO's history by it.
+  /// One MatMult and a few vector operations per iteration, outside TaoIterate::time_s. An
+  /// exception it throws stops TAO and is rethrown by solve_tao.
   TaoMonitor monitor;
-  bool record_history = false;  ///< keep every TaoIterate in TaoResult::history
 };
 
 /// What TAO returned, with the command's own measure of it.
@@ -107,8 +106,6 @@ struct TaoResult {
   /// distributed vectors (PETSc's MatMult, VecPointwiseMax/Min, VecNorm); the same on every rank.
   double residual = 0.;
   long local_rows = 0;  ///< rows of A owned by this rank
-  /// Each monitored iteration (TaoOptions::record_history or monitor), the start included.
-  std::vector<TaoIterate> history;
 };
 
 /// Solves the boxed problem (A symmetric positive semidefinite) by TAO's `options.type` from
