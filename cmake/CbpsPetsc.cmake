@@ -1,9 +1,9 @@
 # PETSc/TAO under MPI for `cbps lcp PROBLEM --solver tao:TYPE` (docs/distributed.md): optional.
 # With CBPS_PETSC (default ON: "use it when found") and PETSc found by pkg-config (Debian:
 # petsc-dev; `scripts/setup.sh --with-petsc`), src/distributed/ is built into the library
-# cbps_distributed, linked into the cbps executable only, and the CLI gets CBPS_HAVE_PETSC (cbps lcp,
-# and tao:TYPE in cbps converge/profile --solvers). The
-# tests labelled `petsc` (tests/petsc/test_tao.py) run it alone and under mpirun at 1 and 2 ranks.
+# cbps_distributed, linked into the cbps executable only, and the CLI gets CBPS_HAVE_PETSC (cbps
+# lcp, and tao:TYPE in cbps converge/profile --solvers). The tests labelled `petsc`
+# (tests/petsc/test_tao.py, test_tao_studies.py) run it alone and under mpirun at 1 and 2 ranks.
 # Without PETSc (or with CBPS_PETSC=OFF, or under the sanitizers: ASan inside Open MPI reports
 # the MPI library's own allocations), a status line says why, `--solver tao:TYPE` exits 2 saying
 # the build has no PETSc, and a test named petsc-not-built (petsc-not-built-under-sanitizers)
