@@ -1,8 +1,9 @@
 # PETSc/TAO under MPI for `cbps lcp PROBLEM --solver tao:TYPE` (docs/distributed.md): optional.
 # With CBPS_PETSC (default ON: "use it when found") and PETSc found by pkg-config (Debian:
 # petsc-dev; `scripts/setup.sh --with-petsc`), src/distributed/ is built into the library
-# cbps_distributed, linked into the cbps executable only, and the CLI gets CBPS_HAVE_PETSC. The
-# tests labelled `petsc` (tests/petsc/test_tao.py) run it alone and under mpirun at 1 and 2 ranks.
+# cbps_distributed, linked into the cbps executable only, and the CLI gets CBPS_HAVE_PETSC (cbps
+# lcp, and tao:TYPE in cbps converge/profile --solvers). The tests labelled `petsc`
+# (tests/petsc/test_tao.py, test_tao_studies.py) run it alone and under mpirun at 1 and 2 ranks.
 # Without PETSc (or with CBPS_PETSC=OFF, or under the sanitizers: ASan inside Open MPI reports
 # the MPI library's own allocations), a status line says why, `--solver tao:TYPE` exits 2 saying
 # the build has no PETSc, and a test named petsc-not-built (petsc-not-built-under-sanitizers)
@@ -50,6 +51,11 @@ if(NOT cbps_petsc_skipped STREQUAL "")
              COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_tao.py"
                      $<TARGET_FILE:cbps> without-petsc "${CMAKE_BINARY_DIR}/petsc-tests")
     set_tests_properties(lcp-tao-without-petsc-exits-2 PROPERTIES LABELS petsc TIMEOUT 60)
+    # And tao:TYPE in converge's and profile's --solvers: exit 2 with lcp's message.
+    add_test(NAME studies-tao-without-petsc-exits-2
+             COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_tao_studies.py"
+                     $<TARGET_FILE:cbps> without-petsc "${CMAKE_BINARY_DIR}/petsc-tests")
+    set_tests_properties(studies-tao-without-petsc-exits-2 PROPERTIES LABELS petsc TIMEOUT 60)
   endif()
   return()
 endif()
@@ -111,3 +117,15 @@ add_test(NAME petsc-measure-generate-quick
                  --quick --work "${CMAKE_BINARY_DIR}/petsc-measure-generate/work")
 set_tests_properties(petsc-measure-generate-quick PROPERTIES
   LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
+
+# tests/petsc/test_tao_studies.py MODE: TAO's types beside the cbps solvers in one process,
+# `cbps converge` on a 300-row chain against the direct row and `cbps lcp`, `cbps profile` on the
+# quick problem library (docs/distributed.md, "TAO beside PGS"); a few seconds each.
+foreach(_mode converge profile)
+  add_test(NAME petsc-studies-${_mode}
+           COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_tao_studies.py"
+                   $<TARGET_FILE:cbps> ${_mode} "${cbps_petsc_dir}")
+  # converge ends with a two-rank run: serial for the reason above.
+  set_tests_properties(petsc-studies-${_mode} PROPERTIES
+    LABELS petsc TIMEOUT 120 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
+endforeach()

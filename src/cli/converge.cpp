@@ -7,6 +7,9 @@
 // objective ½ λᵀ A λ − bᵀ λ. The direct path (6.2) is one point: its time and residual.
 // With --record-every K only every K-th sweep (and the guess and the last sweep) is written;
 // the milestones of the summary are still taken from every sweep.
+// tao:TYPE (a build with PETSc, docs/distributed.md) runs TAO in this process from lambda = 0;
+// its monitor hands each TAO iteration here as a "sweep" (time: since solve_tao was called,
+// distributing A included, less the monitor's own time).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +26,7 @@
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
+#include "tao_solvers.hpp"
 
 namespace cbps::cli {
 
@@ -245,6 +249,60 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   return run;
 }
 
+/// tao:TYPE from lambda = 0 (TAO has no warm start here): every TAO iteration as a sweep, by
+/// the monitor of solve_tao, which also gives the natural-map residual on PETSc's vectors; the
+/// same stops as run_iterative (tolerance by solve_tao's own test, time limit and non-finite
+/// values by the monitor).
+Run run_tao(const Study& s,
+            const SolverSpec& spec,
+            const ConvergeOptions& o,
+            const TaoInProcess& tao) {
+  Run run;
+  run.spec = spec;
+  run.samples.push_back(measure(s, VecX::Zero(s.stored.rows()), 0, 0.0));
+  run.reach(0, 0.0, run.samples.back().residual);
+  VecX last_lambda;  // the last iteration's, when it was not recorded
+  int last_k = 0;
+  double last_time = 0.0, last_residual = run.samples.back().residual;
+  const distributed::TaoMonitor monitor = [&](const distributed::TaoIterate& at, const VecX& l) {
+    if (at.iteration <= last_k) return true;  // TAO's start (the guess row) or a repeat
+    run.reach(at.iteration, at.time_s, at.residual);
+    if (!std::isfinite(at.residual)) run.stopped = "non-finite values";
+    if (run.stopped.empty() && at.time_s >= o.time_limit) run.stopped = "time limit";
+    const bool record = at.iteration % o.record_every == 0 || !run.stopped.empty() ||
+                        at.iteration >= o.iterations || at.residual <= o.tolerance;
+    if (record) {
+      Sample m = measure(s, l, at.iteration, at.time_s);
+      m.residual = at.residual;  // the one TAO's stopping test saw
+      run.samples.push_back(m);
+    } else {
+      last_lambda = l;
+    }
+    last_k = at.iteration;
+    last_time = at.time_s;
+    last_residual = at.residual;
+    if (!o.quiet && at.iteration % 1000 == 0)
+      std::fprintf(stderr,
+                   "converge: %s: %d iterations, %.2f s, residual %.3g N\n",
+                   spec.text.c_str(),
+                   at.iteration,
+                   at.time_s,
+                   at.residual);
+    return run.stopped.empty();
+  };
+  const TaoRun r = tao.solve(s.solved(), spec.tao, o.iterations, o.tolerance, monitor);
+  if (run.stopped.empty())
+    run.stopped = r.residual <= o.tolerance       ? "residual tolerance"
+                  : r.reason == "DIVERGED_MAXITS" ? "iteration limit"
+                                                  : "TAO " + r.reason;
+  if (run.samples.back().iteration != last_k) {  // TAO stopped on its own
+    Sample m = measure(s, last_lambda, last_k, last_time);
+    m.residual = last_residual;
+    run.samples.push_back(m);
+  }
+  return run;
+}
+
 Run run_direct(const Study& s, const SolverSpec& spec) {
   Run run;
   run.spec = spec;
@@ -279,7 +337,8 @@ bool plot(const std::string& csv, const std::string& prefix, const std::string& 
 }
 
 int converge_command(const ConvergeOptions& o) {
-  const std::vector<SolverSpec> specs = parse_solver_list(o.solvers, "--solvers");
+  const std::vector<SolverSpec> specs = parse_cli_solver_list(o.solvers, "--solvers");
+  const TaoInProcess tao(specs, "converge --solvers");  // PETSc once, for every tao spec
   const bool problem = is_problem(o.scene.scene);
   if (problem && !o.scene.params.empty())
     throw InputError("--param: parameters apply to built-in scenes, not to the problem " +
@@ -296,7 +355,9 @@ int converge_command(const ConvergeOptions& o) {
 
   std::vector<Run> runs;
   for (const SolverSpec& spec : specs) {
-    runs.push_back(!is_iterative(spec.method) ? run_direct(s, spec) : run_iterative(s, spec, o));
+    runs.push_back(!spec.tao.empty()            ? run_tao(s, spec, o, tao)
+                   : !is_iterative(spec.method) ? run_direct(s, spec)
+                                                : run_iterative(s, spec, o));
     if (!o.quiet) {
       const Sample& last = runs.back().samples.back();
       std::fprintf(stderr,
@@ -357,7 +418,7 @@ int converge_command(const ConvergeOptions& o) {
     nlohmann::json j;
     const Sample& last = run.samples.back();
     j["solver"] = run.spec.text;
-    j["method"] = std::string(to_string(run.spec.method));
+    j["method"] = run.spec.tao.empty() ? std::string(to_string(run.spec.method)) : "tao";
     j["relaxation"] = run.spec.relaxation;
     j["order"] = to_string(run.spec.order);
     j["warm_start"] = run.spec.warm > 0.0 || run.spec.warm_friction.value_or(run.spec.warm) > 0.0;
@@ -453,9 +514,10 @@ void register_converge(CLI::App& app, Action& run) {
                   o->solvers,
                   "comma-separated solver specs (the solvers listed below), e.g. "
                   "pgs,psor:1.3,sgs,jacobi:0.7,pgs:order=random,block-pgs,matrix-free,"
-                  "pgs-nesterov,apgd,direct (default: " +
+                  "pgs-nesterov,apgd,direct,tao:bqpip (tao:TYPE only in a build with PETSc; "
+                  "default: " +
                       o->solvers + ")");
-  cmd->footer(solver_spec_help());
+  cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_option("--step",
                   o->at_step,
                   "scenes: study the system of this step (0: the first; later steps start "
@@ -464,7 +526,9 @@ void register_converge(CLI::App& app, Action& run) {
   cmd->add_option("--dt", o->step.dt, "scenes: time step in s");
   cmd->add_option("--push", o->step.push, "scenes: original | improved")
       ->check(CLI::IsMember({"original", "improved"}));
-  cmd->add_option("--iterations", o->iterations, "max sweeps per solver (default 100000)")
+  cmd->add_option("--iterations",
+                  o->iterations,
+                  "max sweeps per solver; TAO's iterations for tao:TYPE (default 100000)")
       ->check(positive());
   cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
       ->check(non_negative());

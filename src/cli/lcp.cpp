@@ -36,6 +36,7 @@
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "common.hpp"
+#include "tao_solvers.hpp"
 
 namespace cbps::cli {
 
@@ -136,11 +137,6 @@ Outcome run_direct(const StoredProblem& p, Method method, double tolerance) {
   std::ostringstream msg;
   msg << s.message << "; " << s.wall_time_s << " s";
   return {lambda, s.iterations, false, msg.str()};
-}
-
-/// "tao:TYPE" (or "tao") asks for PETSc/TAO.
-bool is_tao_solver(const std::string& solver) {
-  return solver == "tao" || solver.rfind("tao:", 0) == 0;
 }
 
 /// What report() says of the problem: from a StoredProblem, or from a generated one (which no
@@ -441,11 +437,8 @@ int lcp_distributed(const LcpOptions& o) {
 #ifdef CBPS_HAVE_PETSC
   return lcp_distributed_command(o);
 #else
-  throw InputError((o.generate.empty() ? "--solver " + o.solver : "--generate " + o.generate) +
-                   ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "
-                   "scripts/setup.sh --with-petsc) and build again: CMake finds it by "
-                   "pkg-config (option CBPS_PETSC, on by default; not under the sanitizers), "
-                   "see docs/distributed.md");
+  throw InputError(without_petsc_message(o.generate.empty() ? "--solver " + o.solver
+                                                            : "--generate " + o.generate));
 #endif
 }
 

@@ -9,7 +9,9 @@
 // that sweep less the time this command spends measuring, so a method's setup (ADMM's
 // factorization) counts. The exact paths (direct, active-set) are one solve each: their cost at a
 // tolerance is the solve's time if its final residual meets it. They have no sweeps, so they are
-// in the time profiles only.
+// in the time profiles only. tao:TYPE (a build with PETSc, docs/distributed.md) is iterative
+// here: its TAO iterations are its "sweeps" (one TAO iteration costs far more than a sweep),
+// handed over by solve_tao's monitor; time from the call of solve_tao, distributing A included.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -26,6 +28,7 @@
 #include "cbps/studies/performance_profile.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
+#include "tao_solvers.hpp"
 
 namespace cbps::cli {
 
@@ -268,6 +271,37 @@ Measurement run_iterative(const Problem& p, const SolverSpec& spec, const Profil
   return m;
 }
 
+/// tao:TYPE from lambda = 0: each TAO iteration as a sweep (the monitor of solve_tao, with the
+/// natural-map residual on PETSc's vectors), at most the budget's iterations, stopped by the
+/// monitor at the time limit, by solve_tao's test at relative residual 1e-10.
+Measurement run_tao(const Problem& p,
+                    const SolverSpec& spec,
+                    const ProfileOptions& o,
+                    const TaoInProcess& tao) {
+  Measurement m;
+  m.reach(0, 0.0, natural_map_residual(p.solved(), VecX::Zero(p.stored.rows())) / p.scale);
+  const distributed::TaoMonitor monitor = [&](const distributed::TaoIterate& at, const VecX&) {
+    if (at.iteration == 0) return true;  // TAO's start
+    const double relative = at.residual / p.scale;
+    m.reach(at.iteration, at.time_s, relative);
+    m.iterations = at.iteration;
+    m.time_s = at.time_s;
+    if (!std::isfinite(relative)) m.status = "non-finite";
+    if (m.reached[kTolerancesCount - 1].iterations >= 0) m.status = "solved";
+    if (m.status.empty() && at.time_s >= o.time_limit) m.status = "time limit";
+    return m.status.empty();
+  };
+  const TaoRun r = tao.solve(p.solved(),
+                             spec.tao,
+                             o.budget_iterations,
+                             kTolerances[kTolerancesCount - 1] * p.scale,
+                             monitor);
+  if (m.status.empty())
+    m.status = r.reason == "DIVERGED_MAXITS" ? "iteration budget" : "TAO " + r.reason;
+  finish(m, p, r.lambda);
+  return m;
+}
+
 Measurement run_exact(const Problem& p, const SolverSpec& spec) {
   Measurement m;
   VecX lambda = VecX::Zero(p.stored.rows());
@@ -319,7 +353,8 @@ Profile make_profile(double tolerance,
   profile.tolerance = tolerance;
   profile.measure = sweeps ? "sweeps" : "time";
   for (std::size_t s = 0; s < specs.size(); ++s)
-    if (!sweeps || is_iterative(specs[s].method)) profile.solvers.push_back(s);
+    if (!sweeps || is_iterative(specs[s].method) || !specs[s].tao.empty())
+      profile.solvers.push_back(s);
   CostTable cost;
   for (const std::vector<Measurement>& problem_runs : runs) {
     std::vector<double> row;
@@ -438,7 +473,8 @@ nlohmann::json profile_json(const Profile& profile, const std::vector<SolverSpec
 
 int profile_command(const ProfileOptions& o) {
   const auto started = Clock::now();
-  const std::vector<SolverSpec> specs = parse_solver_list(o.solvers, "--solvers");
+  const std::vector<SolverSpec> specs = parse_cli_solver_list(o.solvers, "--solvers");
+  const TaoInProcess tao(specs, "profile --solvers");  // PETSc once, for every tao spec
   const std::vector<Entry> entries = read_library(o.library, o.quick);
   // Every problem is read before any solver runs, so a bad file is reported at once (exit 2).
   std::vector<Problem> problems;
@@ -450,8 +486,9 @@ int profile_command(const ProfileOptions& o) {
   for (std::size_t p = 0; p < problems.size(); ++p) {
     runs.emplace_back();
     for (const SolverSpec& spec : specs) {
-      runs.back().push_back(is_iterative(spec.method) ? run_iterative(problems[p], spec, o)
-                                                      : run_exact(problems[p], spec));
+      runs.back().push_back(!spec.tao.empty()           ? run_tao(problems[p], spec, o, tao)
+                            : is_iterative(spec.method) ? run_iterative(problems[p], spec, o)
+                                                        : run_exact(problems[p], spec));
       const Measurement& m = runs.back().back();
       if (!o.quiet)
         std::fprintf(stderr,
@@ -492,9 +529,10 @@ int profile_command(const ProfileOptions& o) {
   }
   j["solvers"] = nlohmann::json::array();
   for (const SolverSpec& spec : specs)
-    j["solvers"].push_back({{"solver", spec.text},
-                            {"method", std::string(to_string(spec.method))},
-                            {"exact", !is_iterative(spec.method)}});
+    j["solvers"].push_back(
+        {{"solver", spec.text},
+         {"method", spec.tao.empty() ? std::string(to_string(spec.method)) : "tao"},
+         {"exact", !is_iterative(spec.method) && spec.tao.empty()}});
   j["measurements"] = nlohmann::json::array();
   std::ostringstream csv;
   csv << "problem,solver,rows,status,iterations,time_s,residual_relative,lambda_error";
@@ -504,7 +542,7 @@ int profile_command(const ProfileOptions& o) {
   for (std::size_t p = 0; p < entries.size(); ++p) {
     for (std::size_t s = 0; s < specs.size(); ++s) {
       const Measurement& m = runs[p][s];
-      const bool exact = !is_iterative(specs[s].method);
+      const bool exact = !is_iterative(specs[s].method) && specs[s].tao.empty();
       nlohmann::json mj;
       mj["problem"] = entries[p].name;
       mj["solver"] = specs[s].text;
@@ -573,12 +611,15 @@ void register_profile(CLI::App& app, Action& run) {
   cmd->add_option(
       "--solvers",
       o->solvers,
-      "comma-separated solver specs (the solvers listed below) (default: " + o->solvers + ")");
-  cmd->footer(solver_spec_help());
+      "comma-separated solver specs (the solvers listed below; tao:TYPE only in a build with "
+      "PETSc) (default: " +
+          o->solvers + ")");
+  cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_flag("--quick", o->quick, "only the problems the library marks quick");
-  cmd->add_option("--budget-iterations",
-                  o->budget_iterations,
-                  "max sweeps per problem and solver (default 100000)")
+  cmd->add_option(
+         "--budget-iterations",
+         o->budget_iterations,
+         "max sweeps per problem and solver; TAO's iterations for tao:TYPE (default 100000)")
       ->check(positive());
   cmd->add_option("--time-limit", o->time_limit, "max time per problem and solver, s (default 1)")
       ->check(positive());

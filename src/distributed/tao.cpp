@@ -9,9 +9,11 @@
 #include <petsctao.h>
 
 #include <algorithm>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <string>
 #include <vector>
@@ -205,6 +207,54 @@ PetscErrorCode convergence_test(Tao tao, void* context) {
   PetscFunctionReturn(0);
 }
 
+/// What the monitor needs: the objects, the caller's callback and its clock.
+struct Monitoring {
+  Objects* o = nullptr;
+  Quadratic* q = nullptr;
+  const TaoOptions* options = nullptr;
+  std::chrono::steady_clock::time_point started;  ///< when solve_tao was called
+  double monitoring_s = 0.0;                      ///< seconds spent in monitor() so far
+  VecX lambda;                                    ///< this rank's rows, handed to the callback
+  std::exception_ptr failure;  ///< what the callback threw (not let through PETSc's C frames)
+};
+
+/// TaoSetMonitor's callback, after every iteration (and at the start): the natural-map residual
+/// of the iterate and the time so far less the monitor's own, handed with this rank's lambda to
+/// TaoOptions::monitor, whose false (or exception, rethrown by solve_tao) stops TAO
+/// (TAO_DIVERGED_USER).
+PetscErrorCode monitor(Tao tao, void* context) {
+  auto* m = static_cast<Monitoring*>(context);
+  const auto entered = std::chrono::steady_clock::now();
+  TaoIterate at;
+  at.time_s = std::chrono::duration<double>(entered - m->started).count() - m->monitoring_s;
+  PetscInt iteration = 0;
+  Vec lambda = nullptr;
+  PetscFunctionBeginUser;
+  PetscCall(TaoGetIterationNumber(tao, &iteration));
+  at.iteration = static_cast<int>(iteration);
+  PetscCall(TaoGetSolution(tao, &lambda));
+  PetscCall(distributed_natural_map_residual(*m->o, lambda, &at.residual));
+  PetscInt local = 0;
+  const PetscScalar* own = nullptr;
+  PetscCall(VecGetLocalSize(lambda, &local));
+  PetscCall(VecGetArrayRead(lambda, &own));
+  m->lambda = Eigen::Map<const VecX>(own, local);
+  PetscCall(VecRestoreArrayRead(lambda, &own));
+  bool go_on = false;
+  try {
+    go_on = m->options->monitor(at, m->lambda);
+  } catch (...) {
+    m->failure = std::current_exception();
+  }
+  if (!go_on) {
+    m->q->stop = "the caller's monitor at iteration " + std::to_string(at.iteration);
+    PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
+  }
+  m->monitoring_s +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - entered).count();
+  PetscFunctionReturn(0);
+}
+
 }  // namespace
 
 MpiSession::MpiSession() {
@@ -239,8 +289,12 @@ int MpiSession::broadcast(int value, int root) const {
 namespace {
 
 /// TAO on the distributed problem in `o` (A, b, cmin, cmax set), from lambda = 0; lambda
-/// gathered onto rank 0 (c entries there).
-TaoResult solve_objects(const MpiSession& session, Objects& o, const TaoOptions& options) {
+/// gathered onto rank 0 (c entries there). `started`: when the caller began (distributing A
+/// included), the zero of TaoIterate::time_s.
+TaoResult solve_objects(const MpiSession& session,
+                        Objects& o,
+                        const TaoOptions& options,
+                        std::chrono::steady_clock::time_point started) {
   for (Vec* v : {&o.w, &o.t}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
   CBPS_PETSC_CHECK(MatCreateVecs(o.A, &o.lambda, nullptr));  // A's row layout
   PetscInt begin = 0;
@@ -268,8 +322,15 @@ TaoResult solve_objects(const MpiSession& session, Objects& o, const TaoOptions&
   // get room enough that TAO's own default cap (4000 for bncg) never stops it first.
   const long funcs = std::min<long>(INT_MAX, 100L * options.max_iterations);
   CBPS_PETSC_CHECK(TaoSetMaximumFunctionEvaluations(o.tao, static_cast<PetscInt>(funcs)));
+  Monitoring m;
+  m.o = &o;
+  m.q = &q;
+  m.options = &options;
+  m.started = started;
+  if (options.monitor) CBPS_PETSC_CHECK(TaoSetMonitor(o.tao, monitor, &m, nullptr));
   CBPS_PETSC_CHECK(TaoSetFromOptions(o.tao));  // PETSC_OPTIONS, e.g. -tao_monitor
   CBPS_PETSC_CHECK(TaoSolve(o.tao));
+  if (m.failure) std::rethrow_exception(m.failure);
 
   TaoResult r;
   PetscInt iterations = 0;
@@ -309,6 +370,7 @@ std::vector<double> MpiSession::gather(double value) const {
 TaoResult solve_tao(const MpiSession& session,
                     const BoxedProblem& problem,
                     const TaoOptions& options) {
+  const auto started = std::chrono::steady_clock::now();  // TaoIterate::time_s counts from here
   if (problem.rows() > INT_MAX)
     throw InputError("--solver tao: " + std::to_string(problem.rows()) +
                      " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
@@ -322,7 +384,7 @@ TaoResult solve_tao(const MpiSession& session,
   fill_own_rows(o.b, problem.b, begin, end, false);
   fill_own_rows(o.cmin, problem.cmin, begin, end, true);
   fill_own_rows(o.cmax, problem.cmax, begin, end, true);
-  return solve_objects(session, o, options);
+  return solve_objects(session, o, options, started);
 }
 
 }  // namespace cbps::distributed
@@ -462,6 +524,7 @@ TaoResult solve_tao_local(const MpiSession& session,
                           LocalSystem& local,
                           const TaoOptions& options,
                           bool gather) {
+  const auto started = std::chrono::steady_clock::now();  // TaoIterate::time_s counts from here
   if (local.total_rows > INT_MAX)
     throw InputError("--generate: " + std::to_string(local.total_rows) +
                      " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
@@ -519,7 +582,7 @@ TaoResult solve_tao_local(const MpiSession& session,
     gathered.cmin = gather_vector(o.cmin);
     gathered.cmax = gather_vector(o.cmax);
   }
-  TaoResult r = solve_objects(session, o, options);
+  TaoResult r = solve_objects(session, o, options, started);
   r.scale = scale;
   r.gathered = std::move(gathered);
   return r;

@@ -18,6 +18,7 @@
 //   lambda   c       N      VECMPI (TAO's solution), gathered onto rank 0 at the end
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -71,11 +72,29 @@ class MpiSession {
   int size_ = 1;
 };
 
+/// What the monitor hands on after one TAO iteration (TaoOptions::monitor).
+struct TaoIterate {
+  int iteration = 0;      ///< TAO's iteration count (0: the start, before the first step)
+  double residual = 0.0;  ///< natural-map residual of 6.2 on the distributed vectors, N
+  /// Seconds since solve_tao was called (distributing A included), less the time spent in the
+  /// monitor itself (its residual and the callback).
+  double time_s = 0.0;
+};
+
+/// Called by the monitor after every TAO iteration with the iterate and this rank's rows of
+/// lambda (N; on one rank the whole lambda). Return false to stop TAO (TAO_DIVERGED_USER).
+using TaoMonitor = std::function<bool(const TaoIterate& at, const VecX& lambda_own_rows)>;
+
 /// What `--solver tao:TYPE`, `--iterations` and `--tolerance` ask of TAO.
 struct TaoOptions {
   std::string type;            ///< one of kTaoTypes
   int max_iterations = 10000;  ///< TaoSetMaximumIterations
   double tolerance = 1e-10;    ///< natural-map residual to stop at, and TAO's gatol, N
+  /// When set, a TAO monitor (TaoSetMonitor) forms the natural-map residual after every
+  /// iteration and calls this; `cbps converge` and `cbps profile` record TAO's history by it.
+  /// One MatMult and a few vector operations per iteration, outside TaoIterate::time_s. An
+  /// exception it throws stops TAO and is rethrown by solve_tao.
+  TaoMonitor monitor;
 };
 
 /// A whole problem gathered onto rank 0 (small sizes only: --write-system).

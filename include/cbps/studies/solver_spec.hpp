@@ -40,6 +40,10 @@ struct SolverSpec {
   double warm = 1.0;                    ///< warm-start factor F (SolverSettings::warm)
   std::optional<double> warm_friction;  ///< G of the friction rows, unset: F
   MethodSettings methods;               ///< the keys of a method's own parameters
+  /// TAO's type for `tao:TYPE` (PETSc/TAO, docs/distributed.md), else empty. Only the CLI's
+  /// parse_cli_solver_list (src/cli/tao_solvers.hpp) sets it, in a build with PETSc; `method`
+  /// is then unused.
+  std::string tao;
 };
 
 /// Parses one spec; throws InputError naming `what` (the option or JSON path) and the spec:

@@ -1,0 +1,117 @@
+// `tao:TYPE` in `cbps converge --solvers` and `cbps profile --solvers` (tao_solvers.hpp).
+#include "tao_solvers.hpp"
+
+#include "cbps/error.hpp"
+
+namespace cbps::cli {
+
+bool is_tao_solver(const std::string& text) { return text == "tao" || text.rfind("tao:", 0) == 0; }
+
+std::string without_petsc_message(const std::string& option_and_spec) {
+  return option_and_spec +
+         ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "
+         "scripts/setup.sh --with-petsc) and build again: CMake finds it by "
+         "pkg-config (option CBPS_PETSC, on by default; not under the sanitizers), "
+         "see docs/distributed.md";
+}
+
+std::vector<SolverSpec> parse_cli_solver_list(const std::string& text, const std::string& what) {
+  std::vector<SolverSpec> specs;
+  std::string::size_type from = 0;
+  while (true) {
+    const auto comma = text.find(',', from);
+    const std::string item =
+        text.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
+    if (item.empty()) throw InputError(what + " '" + text + "': an empty entry");
+    if (!is_tao_solver(item)) {
+      specs.push_back(parse_solver_spec(item, what));
+    } else {
+#ifndef CBPS_HAVE_PETSC
+      throw InputError(without_petsc_message(what + " " + item));
+#endif
+      const std::string type = item.size() > 4 ? item.substr(4) : "";
+      if (!distributed::is_tao_type(type))
+        throw InputError(what + " '" + item + "': " +
+                         (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
+                         "; use tao:TYPE with TYPE one of " + distributed::tao_type_list() +
+                         " (no options after it)");
+      SolverSpec spec;
+      spec.text = item;
+      spec.tao = type;
+      specs.push_back(spec);
+    }
+    if (comma == std::string::npos) break;
+    from = comma + 1;
+  }
+  return specs;
+}
+
+std::string tao_spec_help() {
+#ifdef CBPS_HAVE_PETSC
+  return "  tao:TYPE      PETSc/TAO's bound-constrained minimiser TYPE (" +
+         distributed::tao_type_list() +
+         ") in this process, from lambda = 0; its iterations count as sweeps "
+         "(docs/distributed.md)\n";
+#else
+  return "  tao:TYPE      PETSc/TAO (docs/distributed.md): not in this build (no PETSc)\n";
+#endif
+}
+
+#ifdef CBPS_HAVE_PETSC
+
+struct TaoInProcess::Session {
+  distributed::MpiSession mpi;
+};
+
+TaoInProcess::TaoInProcess(const std::vector<SolverSpec>& specs, const std::string& what) {
+  bool any = false;
+  for (const SolverSpec& s : specs) any = any || !s.tao.empty();
+  if (!any) return;
+  session_ = std::make_unique<Session>();
+  if (session_->mpi.size() != 1)
+    throw InputError(what +
+                     ": tao:TYPE runs in this one process; start the command without "
+                     "mpirun (this is one of " +
+                     std::to_string(session_->mpi.size()) + " ranks)");
+}
+
+TaoRun TaoInProcess::solve(const BoxedProblem& problem,
+                           const std::string& type,
+                           int max_iterations,
+                           double tolerance,
+                           const distributed::TaoMonitor& monitor) const {
+  if (!session_) throw std::logic_error("TaoInProcess::solve: no tao spec was given");
+  distributed::TaoOptions options;
+  options.type = type;
+  options.max_iterations = max_iterations;
+  options.tolerance = tolerance;
+  options.monitor = monitor;
+  const distributed::TaoResult t = distributed::solve_tao(session_->mpi, problem, options);
+  TaoRun r;
+  r.lambda = t.lambda;
+  r.iterations = t.iterations;
+  r.reason = t.reason;
+  r.residual = t.residual;
+  r.monitor_stopped = t.reason == "DIVERGED_USER";
+  return r;
+}
+
+#else
+
+struct TaoInProcess::Session {};
+
+TaoInProcess::TaoInProcess(const std::vector<SolverSpec>&, const std::string&) {}
+
+TaoRun TaoInProcess::solve(const BoxedProblem&,
+                           const std::string& type,
+                           int,
+                           double,
+                           const distributed::TaoMonitor&) const {
+  throw InputError(without_petsc_message("tao:" + type));
+}
+
+#endif
+
+TaoInProcess::~TaoInProcess() = default;
+
+}  // namespace cbps::cli

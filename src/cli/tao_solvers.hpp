@@ -1,0 +1,68 @@
+// `tao:TYPE` in the solver lists of `cbps converge` and `cbps profile` (docs/distributed.md,
+// "TAO beside PGS: converge and profile"): PETSc/TAO's bound-constrained minimisers run in this
+// one process, a job of one MPI rank, beside the cbps solvers. The core library knows nothing of
+// PETSc: the tao specs are parsed here, in the CLI, which alone is built with CBPS_HAVE_PETSC.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cbps/distributed/tao.hpp"
+#include "cbps/studies/solver_spec.hpp"
+
+namespace cbps::cli {
+
+/// "tao:TYPE" (or "tao", "tao:...") asks for PETSc/TAO.
+bool is_tao_solver(const std::string& text);
+
+/// The message of a build without PETSc for `OPTION SPEC` (e.g. "--solver tao:tron"), the same
+/// for `cbps lcp --solver` and the --solvers lists: how to get PETSc.
+std::string without_petsc_message(const std::string& option_and_spec);
+
+/// parse_solver_list (solver_spec.hpp) with `tao:TYPE` entries too: those get SolverSpec::tao =
+/// TYPE. InputError naming `what` for an unknown TAO type or options after it, and (exit 2)
+/// without_petsc_message in a build without PETSc.
+std::vector<SolverSpec> parse_cli_solver_list(const std::string& text, const std::string& what);
+
+/// One line per TAO entry for a --solvers list's --help: "tao:TYPE ..." with the types, or that
+/// the build has none.
+std::string tao_spec_help();
+
+/// What one TAO solve in this process returned.
+struct TaoRun {
+  VecX lambda;                   ///< c, N
+  int iterations = 0;            ///< TAO's iterations
+  std::string reason;            ///< TAO's converged reason, e.g. "CONVERGED_USER"
+  double residual = 0.0;         ///< natural-map residual at the end, N (on PETSc's vectors)
+  bool monitor_stopped = false;  ///< the monitor's false ended it (TAO_DIVERGED_USER)
+};
+
+/// PETSc and MPI for a whole command (converge, profile), made once before its first TAO solve:
+/// PetscInitialize when made, PetscFinalize when destroyed, however many solves run between. In
+/// a build without PETSc, or for a list without tao specs, it starts nothing.
+class TaoInProcess {
+ public:
+  /// Starts PETSc when `specs` holds a tao spec; InputError (exit 2) naming `what` when this
+  /// process is one rank of several (these commands run TAO in one process, not under mpirun -n
+  /// N with N > 1).
+  TaoInProcess(const std::vector<SolverSpec>& specs, const std::string& what);
+  ~TaoInProcess();
+  TaoInProcess(const TaoInProcess&) = delete;
+  TaoInProcess& operator=(const TaoInProcess&) = delete;
+
+  /// solve_tao (distributed/tao.hpp) of `problem` (A symmetric, with its cfm already in it) by
+  /// TAO's `type` from lambda = 0, at most `max_iterations`, stopping at natural-map residual
+  /// `tolerance` (N); `monitor` sees every iteration with the whole lambda.
+  TaoRun solve(const BoxedProblem& problem,
+               const std::string& type,
+               int max_iterations,
+               double tolerance,
+               const distributed::TaoMonitor& monitor) const;
+
+ private:
+  struct Session;
+  std::unique_ptr<Session> session_;
+};
+
+}  // namespace cbps::cli
