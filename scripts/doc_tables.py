@@ -1200,6 +1200,82 @@ def _generate_exact(src):
             f"{sci(e['lambda_max_difference'])} N (largest |λ| {num(e['lambda_largest'])} N)")
 
 
+TAO_STUDIES = "validation/results/distributed/tao-studies.json"
+
+
+def _tao_reached(x, tol):
+    r = (x.get("reached") or {}).get(tol)
+    return "–" if r is None else f"{thousands(r['iterations'])} / {dur(r['time_s'])}"
+
+
+def _tao_converge(src, name, tolerances):
+    c = need(src.json(TAO_STUDIES), "converge", name, where=TAO_STUDIES)
+    rows = []
+    for x in c["solvers"]:
+        stopped = "" if x["stopped"] in ("residual tolerance", None) else f" ({x['stopped']})"
+        rows.append((f"`{x['solver']}`", thousands(x["iterations"]), dur(x["time_s"]) + stopped,
+                     sci(x["residual"]), sci(x["velocity_error"]))
+                    + tuple(_tao_reached(x, t) for t in tolerances))
+    return table(("solver", "sweeps", "time", "residual (N)", "v₂ − v₂ of direct (m/s)")
+                 + tuple(f"to {t} N (sweeps / time)" for t in tolerances), rows,
+                 "lrrrr" + "r" * len(tolerances))
+
+
+@generator("tao-converge-chain", TAO_STUDIES)
+def _tao_converge_chain(src):
+    return _tao_converge(src, "chain", ("1e-06", "1e-10"))
+
+
+@generator("tao-converge-stack", TAO_STUDIES)
+def _tao_converge_stack(src):
+    return _tao_converge(src, "stack", ("0.001", "1e-06"))
+
+
+@generator("tao-profile", TAO_STUDIES)
+def _tao_profile(src):
+    pr = need(src.json(TAO_STUDIES), "profile", where=TAO_STUDIES)
+    n = len(pr["problems"])
+
+    def rho(measure):
+        for p in pr["profiles"]:
+            if p["measure"] == measure and abs(p["tolerance"] - 1e-10) <= 1e-13:
+                return p["rho"]
+        raise SourceError(f"{TAO_STUDIES}: no {measure} profile at 1e-10")
+    time10, sweeps10 = rho("time"), rho("sweeps")
+    rows = []
+    for solver in pr["solvers"]:
+        name = solver["solver"]
+        t = time10[name]
+        sw = ("–", "–") if solver["exact"] else (num(sweeps10[name]["1"], 3),
+                                                 num(sweeps10[name]["10"], 3))
+        rows.append((f"`{name}`", f"{round(t['inf'] * n)}/{n}", num(t["1"], 3), num(t["10"], 3))
+                    + sw)
+    return table(("solver", "solved", "time ρ(1)", "time ρ(10)", "sweeps ρ(1)",
+                  "sweeps ρ(10)"), rows, "lrrrrr")
+
+
+@generator("tao-profile-unsolved", TAO_STUDIES)
+def _tao_profile_unsolved(src):
+    pr = need(src.json(TAO_STUDIES), "profile", where=TAO_STUDIES)
+    parts = []
+    for solver in pr["solvers"]:
+        if solver["method"] != "tao":
+            continue
+        missed = [f"{m['problem']} ({sci(m['residual_relative'])})"
+                  for m in pr["measurements"]
+                  if m["solver"] == solver["solver"] and m["status"] != "solved"]
+        parts.append(f"`{solver['solver']}` " + (", ".join(missed) if missed else "none"))
+    return "; ".join(parts)
+
+
+@generator("tao-profile-size", TAO_STUDIES)
+def _tao_profile_size(src):
+    pr = need(src.json(TAO_STUDIES), "profile", where=TAO_STUDIES)
+    rows = [p["rows"] for p in pr["problems"]]
+    return (f"{len(rows)} problems, {min(rows)} to {max(rows)} rows; "
+            f"{dur(pr['wall_time_s'])} in all")
+
+
 # ---------------------------------------------------------------------------------------------
 # The machinery.
 
