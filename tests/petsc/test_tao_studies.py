@@ -32,14 +32,8 @@ import numpy as np
 import scipy.io
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print(f"FAILED: {what}", file=sys.stderr)
-    return ok
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_tao import check, failures  # noqa: E402  (one record of failures for the drivers)
 
 
 def run(args, env=None):
