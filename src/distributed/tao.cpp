@@ -98,72 +98,6 @@ PetscScalar bound_for_tao(double x) {
   return x;
 }
 
-/// The rows [begin, end) of v (c entries, this rank's part of a VECMPI) from x.
-void fill_own_rows(Vec v, const VecX& x, PetscInt begin, PetscInt end, bool as_bound) {
-  PetscScalar* local = nullptr;
-  CBPS_PETSC_CHECK(VecGetArray(v, &local));
-  for (PetscInt i = begin; i < end; ++i) local[i - begin] = as_bound ? bound_for_tao(x[i]) : x[i];
-  CBPS_PETSC_CHECK(VecRestoreArray(v, &local));
-}
-
-/// A (c×c, symmetric) as MATMPIAIJ: PetscSplitOwnership's rows on each rank, each rank
-/// preallocating and inserting only its own rows (diagonal block: columns it owns too).
-Mat distributed_matrix(const SpMat& A_colmajor) {
-  const SpMatRow A(A_colmajor);  // rows, exactly as stored (A's symmetry is checked by the caller)
-  PetscInt local = PETSC_DECIDE;
-  PetscInt global = static_cast<PetscInt>(A.rows());
-  CBPS_PETSC_CHECK(PetscSplitOwnership(PETSC_COMM_WORLD, &local, &global));
-  Mat M = nullptr;
-  CBPS_PETSC_CHECK(MatCreate(PETSC_COMM_WORLD, &M));
-  CBPS_PETSC_CHECK(MatSetSizes(M, local, local, global, global));
-  // MATAIJ: MATMPIAIJ on more than one rank, MATSEQAIJ on one, where PETSc's default
-  // preconditioner (ILU, inside the Newton and interior-point types' KSP) exists only for the
-  // sequential format; on more ranks the default is block Jacobi with ILU on each rank's block.
-  CBPS_PETSC_CHECK(MatSetType(M, MATAIJ));
-  // This rank's rows [begin, end): the sum of the local sizes up to it. (MatGetOwnershipRange
-  // answers only once preallocation has set the layout up; it is checked against this below.)
-  PetscInt end = 0;
-  MPI_Scan(&local, &end, 1, MPIU_INT, MPI_SUM, PETSC_COMM_WORLD);
-  const PetscInt begin = end - local;
-  std::vector<PetscInt> diagonal(local, 0), off_diagonal(local, 0);
-  for (PetscInt i = begin; i < end; ++i) {
-    for (SpMatRow::InnerIterator it(A, i); it; ++it) {
-      const bool own_column = it.col() >= begin && it.col() < end;
-      ++(own_column ? diagonal : off_diagonal)[i - begin];
-    }
-  }
-  // Each call does nothing for the other format; on one rank every column is this rank's.
-  CBPS_PETSC_CHECK(MatMPIAIJSetPreallocation(M, 0, diagonal.data(), 0, off_diagonal.data()));
-  CBPS_PETSC_CHECK(MatSeqAIJSetPreallocation(M, 0, diagonal.data()));
-  PetscInt check_begin = 0;
-  PetscInt check_end = 0;
-  CBPS_PETSC_CHECK(MatGetOwnershipRange(M, &check_begin, &check_end));
-  if (check_begin != begin || check_end != end)
-    throw ComputationError("PETSc: MatGetOwnershipRange gave rows [" + std::to_string(check_begin) +
-                           ", " + std::to_string(check_end) + ") where PetscSplitOwnership gave [" +
-                           std::to_string(begin) + ", " + std::to_string(end) + ")");
-  std::vector<PetscInt> columns;
-  std::vector<PetscScalar> values;
-  for (PetscInt i = begin; i < end; ++i) {
-    columns.clear();
-    values.clear();
-    for (SpMatRow::InnerIterator it(A, i); it; ++it) {
-      columns.push_back(static_cast<PetscInt>(it.col()));
-      values.push_back(it.value());
-    }
-    CBPS_PETSC_CHECK(MatSetValues(M,
-                                  1,
-                                  &i,
-                                  static_cast<PetscInt>(columns.size()),
-                                  columns.data(),
-                                  values.data(),
-                                  INSERT_VALUES));
-  }
-  CBPS_PETSC_CHECK(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
-  CBPS_PETSC_CHECK(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
-  return M;
-}
-
 /// The natural-map residual of 6.2 on the distributed vectors, N:
 ///   ‖lambda − clamp(lambda − w, cmin, cmax)‖∞,  w = A lambda − b,
 /// the formula of natural_map_residual (system/boxed_problem.hpp) written with PETSc's vector
@@ -370,26 +304,12 @@ std::vector<double> MpiSession::gather(double value) const {
 TaoResult solve_tao(const MpiSession& session,
                     const BoxedProblem& problem,
                     const TaoOptions& options) {
-  const auto started = std::chrono::steady_clock::now();  // TaoIterate::time_s counts from here
-  if (problem.rows() > INT_MAX)
-    throw InputError("--solver tao: " + std::to_string(problem.rows()) +
-                     " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
-  Objects o;
-  o.A = distributed_matrix(problem.A);
-  CBPS_PETSC_CHECK(MatCreateVecs(o.A, nullptr, &o.b));  // VECMPI with A's row layout
-  for (Vec* v : {&o.cmin, &o.cmax}) CBPS_PETSC_CHECK(VecDuplicate(o.b, v));
-  PetscInt begin = 0;
-  PetscInt end = 0;
-  CBPS_PETSC_CHECK(VecGetOwnershipRange(o.b, &begin, &end));
-  fill_own_rows(o.b, problem.b, begin, end, false);
-  fill_own_rows(o.cmin, problem.cmin, begin, end, true);
-  fill_own_rows(o.cmax, problem.cmax, begin, end, true);
-  return solve_objects(session, o, options, started);
+  // This rank's rows of the whole problem, then the one path every TAO solve takes. The caller
+  // has checked A's symmetry (require_symmetric) on the whole matrix.
+  LocalSystem local = rows_of(problem, 0.0, "", session.rank(), session.size());
+  local.check_symmetric = false;
+  return solve_tao_local(session, local, options, false);
 }
-
-}  // namespace cbps::distributed
-
-namespace cbps::distributed {
 
 namespace {
 
@@ -404,6 +324,9 @@ Mat matrix_from_rows(const SpMatRow& local, long columns, long column_begin, lon
                                static_cast<PetscInt>(owned_columns),
                                PETSC_DETERMINE,
                                static_cast<PetscInt>(columns)));
+  // MATAIJ: MATMPIAIJ on more than one rank, MATSEQAIJ on one, where PETSc's default
+  // preconditioner (ILU, inside the Newton and interior-point types' KSP) exists only for the
+  // sequential format; on more ranks the default is block Jacobi with ILU on each rank's block.
   CBPS_PETSC_CHECK(MatSetType(M, MATAIJ));
   std::vector<PetscInt> diagonal(static_cast<std::size_t>(local.rows()), 0);
   std::vector<PetscInt> off_diagonal(static_cast<std::size_t>(local.rows()), 0);
@@ -526,11 +449,12 @@ TaoResult solve_tao_local(const MpiSession& session,
                           bool gather) {
   const auto started = std::chrono::steady_clock::now();  // TaoIterate::time_s counts from here
   if (local.total_rows > INT_MAX)
-    throw InputError("--generate: " + std::to_string(local.total_rows) +
+    throw InputError("--solver tao: " + std::to_string(local.total_rows) +
                      " rows; this PETSc indexes at most " + std::to_string(INT_MAX));
   Objects o;
-  // This rank's rows of A = J Minv Jᵀ (6.2.9), formed by the generator, as its rows of an
-  // MPIAIJ matrix, laid out as the vectors (docs/distributed.md says why not a shell).
+  // This rank's rows of A = J Minv Jᵀ (6.2.9), generated, read or cut, as its rows of a MATAIJ
+  // (MPIAIJ on more than one rank) laid out as the vectors (docs/distributed.md says why not a
+  // shell).
   o.A = matrix_from_rows(local.A, local.total_rows, local.first_row, local.rows());
   local.A = SpMatRow();  // PETSc holds it now
   CBPS_PETSC_CHECK(MatCreateVecs(o.A, nullptr, &o.b));
@@ -540,10 +464,10 @@ TaoResult solve_tao_local(const MpiSession& session,
   CBPS_PETSC_CHECK(VecGetOwnershipRange(o.b, &begin, &end));
   if (begin != local.first_row || end - begin != local.rows())
     throw ComputationError("PETSc: A's rows [" + std::to_string(begin) + ", " +
-                           std::to_string(end) + ") on this rank where the generator built [" +
+                           std::to_string(end) + ") on this rank where its rows are [" +
                            std::to_string(local.first_row) + ", " +
                            std::to_string(local.first_row + local.rows()) + ")");
-  // fill_own_rows indexes the whole vector: the local rows start at 0 here.
+  // This rank's entries of the vectors, from its rows (local row 0 is global first_row).
   const auto fill = [&](Vec v, const VecX& x, bool as_bound) {
     PetscScalar* values = nullptr;
     CBPS_PETSC_CHECK(VecGetArray(v, &values));

@@ -76,8 +76,8 @@ class MpiSession {
 struct TaoIterate {
   int iteration = 0;      ///< TAO's iteration count (0: the start, before the first step)
   double residual = 0.0;  ///< natural-map residual of 6.2 on the distributed vectors, N
-  /// Seconds since solve_tao was called (distributing A included), less the time spent in the
-  /// monitor itself (its residual and the callback).
+  /// Seconds since solve_tao_local was called (putting A into PETSc included), less the time spent
+  /// in the monitor itself (its residual and the callback).
   double time_s = 0.0;
 };
 
@@ -129,9 +129,10 @@ struct TaoResult {
 };
 
 /// Solves the boxed problem (A symmetric positive semidefinite) by TAO's `options.type` from
-/// lambda = 0. Collective: every rank calls it with the whole problem (for a problem each rank
-/// holds only its rows of, as `cbps lcp` does, solve_tao_local) and inserts only the rows
-/// PetscSplitOwnership gives it. TAO stops after
+/// lambda = 0, A's symmetry checked by the caller (require_symmetric). Collective: every rank
+/// calls it with the whole problem and keeps only its rows (rows_of, generate.hpp), then
+/// solve_tao_local, the one path of every TAO solve (`cbps lcp` calls it directly, with each
+/// rank holding only its rows). TAO stops after
 /// options.max_iterations, or by its own test: its measure ≤ options.tolerance (gatol;
 /// grtol = gttol = 0; for the gradient types a 2-norm of the gradient without the components
 /// TAO takes as held at a bound, for bqpip its mean primal and dual infeasibility), or by
