@@ -20,6 +20,7 @@
 
 #include "cbps/distributed/generate.hpp"
 #include "cbps/error.hpp"
+#include "cbps/io/stored_problem.hpp"
 
 namespace cbps::distributed {
 
@@ -491,7 +492,7 @@ TaoResult solve_tao_local(const MpiSession& session,
     CBPS_PETSC_CHECK(MatAXPY(difference, -1.0, o.A, DIFFERENT_NONZERO_PATTERN));
     const double asymmetry = largest_entry(difference);
     MatDestroy(&difference);
-    if (asymmetry > 1e-12 * std::max(1.0, A_largest)) {
+    if (asymmetry > kSymmetryTolerance * std::max(1.0, A_largest)) {
       TaoResult refused;
       refused.asymmetry = asymmetry;
       refused.asymmetric = true;

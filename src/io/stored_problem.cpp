@@ -138,7 +138,7 @@ void require_symmetric(const StoredProblem& p, const std::string& what) {
     asymmetry = std::max(asymmetry, std::abs(difference.valuePtr()[k]));
   for (Eigen::Index k = 0; k < p.A.nonZeros(); ++k)
     largest = std::max(largest, std::abs(p.A.valuePtr()[k]));
-  if (asymmetry > 1e-12 * largest)
+  if (asymmetry > kSymmetryTolerance * largest)
     throw InputError(what +
                      ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - "
                      "A^T| = " +

@@ -120,7 +120,7 @@ struct TaoResult {
   /// solve_tao_local: scale_of's max(1, ‖b‖∞, max |A_ij|) on the distributed A and b.
   double scale = 0.;
   /// solve_tao_local with LocalSystem::check_symmetric: max |A − Aᵀ| on the distributed A; when
-  /// it is above 1e-12 scale's max(1, max |A_ij|) (require_symmetric's test), `asymmetric` is
+  /// it is above kSymmetryTolerance max(1, max |A_ij|) (require_symmetric's test), `asymmetric` is
   /// set and TAO is not run.
   double asymmetry = 0.;
   bool asymmetric = false;
