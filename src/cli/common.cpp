@@ -1,15 +1,19 @@
 #include "common.hpp"
 
+#include <fcntl.h>
 #include <pthread.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -228,6 +232,39 @@ void remove_empty_parents(fs::path dir, const fs::path& top) {
   }
 }
 
+/// The process id in a name cbps gives its unfinished files (".cbps-tmp-PID",
+/// ".cbps-manifest.tmp-PID"), or 0 for any other name.
+pid_t temporary_owner(const std::string& name) {
+  for (const char* prefix : {".cbps-tmp-", ".cbps-manifest.tmp-"}) {
+    const std::string p = prefix;
+    if (name.size() <= p.size() || name.compare(0, p.size(), p) != 0) continue;
+    const std::string digits = name.substr(p.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return 0;
+    return static_cast<pid_t>(std::stol(digits));
+  }
+  return 0;
+}
+
+/// Removes the unfinished files that cbps processes which no longer run left in `folder` (a
+/// process killed by SIGKILL, or by a signal before its cleanup existed), saying so on stderr.
+/// A name whose process still runs is left alone: it may be another cbps writing there now.
+void remove_stale_temporaries(const fs::path& folder) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    const pid_t owner = temporary_owner(name);
+    if (owner <= 0 || owner == ::getpid()) continue;
+    if (::kill(owner, 0) == 0 || errno != ESRCH) continue;  // running, or not ours to ask
+    std::error_code removed;
+    fs::remove_all(entry.path(), removed);
+    if (!removed)
+      std::fprintf(stderr,
+                   "cbps: removed %s, left unfinished by process %ld, which no longer runs\n",
+                   entry.path().c_str(),
+                   static_cast<long>(owner));
+  }
+}
+
 }  // namespace
 
 void set_command_line(int argc, char** argv) {
@@ -295,6 +332,7 @@ OutputDir::OutputDir(const std::string& final_path) : option_(final_path) {
     if (ec) throw InputError("--out " + option_ + ": cannot create: " + ec.message());
     created_final_ = true;
   }
+  remove_stale_temporaries(final_dir);
   temp_ = (final_dir / (".cbps-tmp-" + std::to_string(::getpid()))).string();
   const std::lock_guard<std::mutex> lock(registry_mutex);
   fs::remove_all(temp_, ec);  // a leftover of an earlier process with this id
@@ -360,25 +398,89 @@ void OutputDir::commit() {
   committed_ = true;
 }
 
+namespace {
+
+/// The write end of the pipe the signal handler writes the signal's number to, and the read
+/// end the cleanup thread waits on (install_interrupt_cleanup); -1 before.
+int interrupt_pipe[2] = {-1, -1};
+/// The signal that interrupted the command, 0 while none did (set by the handler).
+volatile std::sig_atomic_t interrupt_signal = 0;
+
+/// The process-wide handler of SIGINT and SIGTERM. The kernel may run it on any thread that
+/// does not block the signal, including threads a library started before main (OpenBLAS's
+/// workers), so it does only what a handler may: it records the signal and writes its number to
+/// the pipe; the cleanup thread does the rest.
+extern "C" void on_interrupt(int signal) {
+  const int saved_errno = errno;
+  interrupt_signal = signal;
+  const unsigned char number = static_cast<unsigned char>(signal);
+  [[maybe_unused]] const ssize_t written = ::write(interrupt_pipe[1], &number, 1);
+  errno = saved_errno;
+}
+
+/// Removes `path` and all below it, again while another thread of this process may still be
+/// writing a file into it (the command goes on until the cleanup thread ends the process).
+void remove_while_written(const fs::path& path) {
+  std::error_code ec;
+  for (int attempt = 0; attempt < 100 && fs::exists(path, ec); ++attempt) {
+    fs::remove_all(path, ec);
+    if (ec) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+/// The cleanup after SIGINT or SIGTERM, on a thread of its own: waits for the handler's byte,
+/// removes every unfinished output (never a committed one: commit() holds the lock), says so,
+/// and ends the process with 128 + the signal.
+void cleanup_on_interrupt() {
+  unsigned char number = 0;
+  while (::read(interrupt_pipe[0], &number, 1) != 1) {
+    if (errno != EINTR) return;  // the pipe is gone: nothing to wait for
+  }
+  const int signal = number;
+  const std::lock_guard<std::mutex> lock(registry_mutex);
+  for (const auto& [temp, made] : temp_registry()) {
+    remove_while_written(temp);
+    std::error_code ec;
+    if (!made.empty() && fs::is_empty(made, ec)) fs::remove(made, ec);
+    std::fprintf(stderr, "cbps: interrupted; removed the unfinished output %s\n", temp.c_str());
+  }
+  std::fprintf(stderr, "cbps: stopped by %s\n", signal == SIGINT ? "SIGINT" : "SIGTERM");
+  std::fflush(stderr);
+  std::_Exit(128 + signal);
+}
+
+}  // namespace
+
 void install_interrupt_cleanup() {
+  if (::pipe2(interrupt_pipe, O_CLOEXEC) != 0)
+    throw std::runtime_error(std::string("cannot make the interrupt pipe: ") +
+                             std::strerror(errno));
+  std::thread(cleanup_on_interrupt).detach();
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;
+  for (const int signal : {SIGINT, SIGTERM}) {
+    struct sigaction previous {};
+    sigaction(signal, nullptr, &previous);
+    // A signal the parent set to be ignored stays ignored (as `nohup` and a shell's
+    // background jobs expect); every other disposition becomes the cleanup.
+    if (previous.sa_handler != SIG_IGN) sigaction(signal, &action, nullptr);
+  }
+  // Threads started before main (a threaded BLAS's workers) receive the signal as well as
+  // this one: the handler above serves every thread. No thread blocks them.
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // inherited by every later thread
-  std::thread([signals] {
-    int signal = 0;
-    if (sigwait(&signals, &signal) != 0) return;
-    const std::lock_guard<std::mutex> lock(registry_mutex);
-    for (const auto& [temp, made] : temp_registry()) {
-      std::error_code ec;
-      fs::remove_all(temp, ec);
-      if (!made.empty() && fs::is_empty(made, ec)) fs::remove(made, ec);
-      std::fprintf(stderr, "cbps: interrupted; removed the unfinished output %s\n", temp.c_str());
-    }
-    std::fprintf(stderr, "cbps: stopped by %s\n", signal == SIGINT ? "SIGINT" : "SIGTERM");
-    std::_Exit(128 + signal);
-  }).detach();
+  pthread_sigmask(SIG_UNBLOCK, &signals, nullptr);
+}
+
+int wait_if_interrupted(int code) {
+  // The command failed or ended because the cleanup thread removed its output: that thread
+  // ends the process with the signal's code; until it does, this thread waits.
+  while (interrupt_signal != 0) std::this_thread::sleep_for(std::chrono::seconds(1));
+  return code;
 }
 
 bool run_python_script(const std::string& script, std::vector<std::string> args) {

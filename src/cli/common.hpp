@@ -67,7 +67,8 @@ inline constexpr const char* kManifestFormat = "cbps-output/1";
 /// files cbps wrote: commit() replaces and removes only files listed there (and its own new
 /// ones). A folder holding anything else is refused up front (InputError naming those files),
 /// so nothing is ever deleted that cbps did not write. "DIR", "DIR/" and "DIR/." are the same.
-/// SIGINT and SIGTERM remove every temporary folder (install_interrupt_cleanup).
+/// SIGINT and SIGTERM remove every temporary folder (install_interrupt_cleanup); a later OutputDir
+/// in the same folder removes those a process left that no longer runs (killed by SIGKILL).
 class OutputDir {
  public:
   explicit OutputDir(const std::string& final_path);
@@ -93,10 +94,17 @@ std::vector<std::string> read_manifest(const std::string& folder);
 /// Records the command line for the manifests (main calls this first).
 void set_command_line(int argc, char** argv);
 
-/// Blocks SIGINT and SIGTERM in every thread and handles them in one thread of their own: it
-/// removes every OutputDir's temporary folder (and output folders made for them), says so on
-/// stderr and exits with 128 + the signal (130, 143). main calls this before anything else.
+/// Handles SIGINT and SIGTERM in the whole process, whichever thread the kernel gives them to
+/// (a threaded BLAS starts threads before main): the handler only writes the signal to a pipe,
+/// and a thread of its own removes every OutputDir's temporary folder (and output folders made
+/// for them), says so on stderr and exits with 128 + the signal (130, 143). A signal the parent
+/// ignores stays ignored. main calls this before anything else.
 void install_interrupt_cleanup();
+
+/// `code`, or never returns once a signal arrived: the cleanup thread then ends the process
+/// with the signal's exit code (main returns through this, so that a command failing because
+/// its output was removed under it does not exit 1 first).
+int wait_if_interrupted(int code);
 
 /// Runs one of cbps's own Python scripts, SCRIPT relative to the source tree (e.g.
 /// "scripts/plot_convergence.py"), under CBPS_PLOT_PYTHON (Debian's python3, which has

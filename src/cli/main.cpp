@@ -6,8 +6,9 @@
 #include "cbps/error.hpp"
 #include "common.hpp"
 
-int main(int argc, char** argv) {
-  cbps::cli::install_interrupt_cleanup();  // before any other thread: Ctrl-C leaves nothing behind
+namespace {
+
+int run(int argc, char** argv) {
   cbps::cli::set_command_line(argc, argv);
   CLI::App app{
       "cbps: the constraint-based rigid-body solver of Tamis & Maggiore (2015), built from the "
@@ -64,4 +65,11 @@ int main(int argc, char** argv) {
     std::cerr << "cbps: " << e.what() << "\n";
     return 1;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  cbps::cli::install_interrupt_cleanup();  // Ctrl-C and SIGTERM leave nothing behind
+  return cbps::cli::wait_if_interrupted(run(argc, argv));
 }

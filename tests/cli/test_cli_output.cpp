@@ -4,13 +4,16 @@
 // temporary folder behind and exit 130/143.
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,6 +46,14 @@ std::vector<std::string> manifest_files(const fs::path& dir) {
 pid_t spawn(const std::vector<std::string>& args) {
   const pid_t pid = ::fork();
   if (pid == 0) {
+    // As a shell with job control starts it: SIGINT and SIGTERM at their default action and
+    // unblocked, whatever this test process inherited (a plain `cmd &` in a script starts it
+    // with SIGINT ignored, and cbps keeps an ignored signal ignored).
+    ::signal(SIGINT, SIG_DFL);
+    ::signal(SIGTERM, SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
     const int null = ::open("/dev/null", O_WRONLY);  // its messages are not the test's
     ::dup2(null, 1);
     ::dup2(null, 2);
@@ -65,6 +76,30 @@ bool wait_for_temp(const fs::path& dir) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return false;
+}
+
+/// The thread ids of process `pid` (/proc/PID/task), the main thread's (= pid) first.
+std::vector<pid_t> threads_of(pid_t pid) {
+  std::vector<pid_t> tids{pid};
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc/" + std::to_string(pid) + "/task", ec)) {
+    const pid_t tid = static_cast<pid_t>(std::stol(e.path().filename().string()));
+    if (tid != pid) tids.push_back(tid);
+  }
+  return tids;
+}
+
+/// waitpid with a limit: the status, or nothing after `seconds` (the child is then killed).
+std::optional<int> wait_at_most(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return status;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  return std::nullopt;
 }
 
 }  // namespace
@@ -185,5 +220,66 @@ TEST_CASE("SIGINT and SIGTERM remove the unfinished output and exit 130 and 143"
     }
     CHECK(leftovers(dir).empty());
   }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a signal cleans up whichever thread of the process receives it", "[cli][out][signal]") {
+  // The kernel gives a process-directed signal to any thread that does not block it; a threaded
+  // BLAS (OpenBLAS, which PETSc's packages bring) starts workers before main, which therefore
+  // cannot block it for them. tgkill directs the signal at one thread: the main thread, then
+  // every other thread of the process in turn (the cleanup's own thread among them; an
+  // OpenBLAS worker where one runs). Each run must end with 128 + the signal, its temporary
+  // folder removed, within 10 s.
+  const fs::path dir = scratch_dir("out_thread_signal");
+  std::size_t thread_index = 0;
+  for (std::size_t round = 0; round < 4; ++round) {
+    const int signal = round % 2 == 0 ? SIGINT : SIGTERM;
+    CAPTURE(round, signal);
+    const fs::path out = dir / ("run" + std::to_string(round));
+    const pid_t pid = spawn({"run", "pendulum-wave", "--quiet", "--out", out.string()});
+    REQUIRE(pid > 0);
+    REQUIRE(wait_for_temp(out));
+    const std::vector<pid_t> tids = threads_of(pid);
+    REQUIRE(tids.size() >= 2);  // main and the cleanup thread at least
+    const pid_t target = tids[thread_index % tids.size()];
+    CAPTURE(tids.size(), target);
+    thread_index = round == 0 ? 1 : thread_index + 1;  // main first, then the others in turn
+    REQUIRE(::syscall(SYS_tgkill, pid, target, signal) == 0);
+    const std::optional<int> status = wait_at_most(pid, 10.0);
+    REQUIRE(status.has_value());  // not hung with the signal pending on a thread that blocks it
+    REQUIRE(WIFEXITED(*status));  // not killed by the signal's default action
+    CHECK(WEXITSTATUS(*status) == 128 + signal);
+    CHECK_FALSE(fs::exists(out));
+    CHECK(leftovers(dir).empty());
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a later --out removes the unfinished files of a cbps process that no longer runs",
+          "[cli][out][signal]") {
+  const fs::path dir = scratch_dir("out_stale");
+  const fs::path out = dir / "out";
+  // A process id that ran and ended (a child, reaped), and one that runs (this test's).
+  const pid_t ended = ::fork();
+  if (ended == 0) ::_exit(0);
+  REQUIRE(ended > 0);
+  int status = 0;
+  REQUIRE(::waitpid(ended, &status, 0) == ended);
+  const std::string dead = std::to_string(ended);
+  const std::string alive = std::to_string(::getpid());
+  fs::create_directories(out / (".cbps-tmp-" + dead) / "sub");
+  { std::ofstream(out / (".cbps-tmp-" + dead) / "sub" / "trajectory.csv") << "t,x\n0,1\n"; }
+  { std::ofstream(out / (".cbps-manifest.tmp-" + dead)) << "{"; }
+  fs::create_directories(out / (".cbps-tmp-" + alive));
+  { std::ofstream(out / ".cbps-tmp-notapid") << "x"; }
+  const CliResult r = run_cli("run chain --steps 2 --quiet --out " + out.string());
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK_FALSE(fs::exists(out / (".cbps-tmp-" + dead)));
+  CHECK_FALSE(fs::exists(out / (".cbps-manifest.tmp-" + dead)));
+  CHECK(r.err.find(".cbps-tmp-" + dead) != std::string::npos);  // said what it removed
+  CHECK(fs::is_directory(out / (".cbps-tmp-" + alive)));        // its process may still be writing
+  CHECK(fs::exists(out / ".cbps-tmp-notapid"));                 // not a name cbps gives
+  CHECK(fs::is_regular_file(out / "summary.json"));
   fs::remove_all(dir);
 }
