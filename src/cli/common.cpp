@@ -26,6 +26,7 @@
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/solvers/solver.hpp"
+#include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
 
 extern char** environ;
@@ -520,6 +521,15 @@ void write_output_file(const std::string& path, const std::string& what, const s
     throw;
   }
   forget();
+}
+
+nlohmann::json threads_json() {
+  const ThreadReport r = thread_report();
+  return {{"requested", r.requested},
+          {"blas", r.blas},
+          {"blas_kind", r.blas_kind},
+          {"blas_threads", r.blas_threads},
+          {"openmp_threads", r.openmp_threads}};
 }
 
 nlohmann::json number_json(double x) {

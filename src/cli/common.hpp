@@ -106,6 +106,10 @@ void install_interrupt_cleanup();
 /// its output was removed under it does not exit 1 first).
 int wait_if_interrupted(int code);
 
+/// The threads the libraries run with (set_threads, from --threads) as summaries report them:
+/// {"requested", "blas", "blas_kind", "blas_threads", "openmp_threads"}.
+nlohmann::json threads_json();
+
 /// Runs one of cbps's own Python scripts, SCRIPT relative to the source tree (e.g.
 /// "scripts/plot_convergence.py"), under CBPS_PLOT_PYTHON (Debian's python3, which has
 /// matplotlib) with the arguments given; true if it exited 0.

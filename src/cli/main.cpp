@@ -4,6 +4,7 @@
 #include <new>
 
 #include "cbps/error.hpp"
+#include "cbps/solvers/threads.hpp"
 #include "common.hpp"
 
 namespace {
@@ -37,6 +38,17 @@ int run(int argc, char** argv) {
   cbps::cli::register_converge(app, action);
   cbps::cli::register_profile(app, action);
   cbps::cli::register_stress(app, action);
+  // One thread unless asked (cbps/solvers/threads.hpp): every command takes --threads.
+  int threads = 1;
+  for (CLI::App* command : app.get_subcommands({})) {
+    command
+        ->add_option("--threads",
+                     threads,
+                     "threads of the BLAS and OpenMP under the exact path (CHOLMOD); 0: the "
+                     "libraries' own default (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, else "
+                     "every core) (default: 1)")
+        ->check(CLI::Range(0, 1024));
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -46,6 +58,7 @@ int run(int argc, char** argv) {
     return 2;
   }
   try {
+    cbps::set_threads(threads);
     return action();
   } catch (const cbps::InputError& e) {
     std::cerr << "cbps: " << e.what() << "\n";

@@ -292,6 +292,7 @@ int run_command(const RunOptions& o) {
   summary["iterations_total"] = iterations_total;
   summary["max_residual"] = max_residual;
   if (!o.no_timing) summary["wall_time_s"] = wall;
+  if (!o.no_timing) summary["threads"] = threads_json();  // of this machine, as the times are
   summary["max_constraint_error"] = max_constraint_error;
   summary["energy_initial"] = energy_initial;
   summary["energy_final"] = sim.energy();

@@ -94,3 +94,31 @@ TEST_CASE("scene files set the divergence limits and cfm, bad values name their 
   REQUIRE(ok.code == 0);
   CHECK(nlohmann::json::parse(ok.out)["solver"]["cfm"] == 1e-6);
 }
+
+TEST_CASE("cbps runs its libraries on one thread unless --threads says otherwise",
+          "[cli][threads]") {
+  // The report reads each library's own getter (openblas_get_num_threads,
+  // omp_get_max_threads), not what cbps asked for. A threaded BLAS left alone uses every core;
+  // Debian's reference BLAS has no threads at all (then blas_kind is "single-threaded").
+  const auto dir = scratch_dir("threads");
+  const auto threads_of = [&](const std::string& option) {
+    const auto r =
+        run_cli("run chain --steps 2 --quiet " + option + " --out " + (dir / "out").string());
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(slurp(dir / "out" / "summary.json")).at("threads");
+  };
+  const auto one = threads_of("");
+  CHECK(one.at("requested") == 1);
+  CHECK(one.at("blas_threads") == 1);
+  CHECK(one.at("openmp_threads").get<int>() <= 1);  // 0: no OpenMP runtime loaded
+  const auto two = threads_of("--threads 2");
+  CHECK(two.at("requested") == 2);
+  if (two.at("blas_kind") != "single-threaded") CHECK(two.at("blas_threads") == 2);
+  if (two.at("openmp_threads").get<int>() > 0) CHECK(two.at("openmp_threads") == 2);
+  // Under --no-timing the summary holds nothing of the machine.
+  const auto r = run_cli("run chain --steps 2 --quiet --no-timing --out " + (dir / "out").string());
+  REQUIRE(r.code == 0);
+  CHECK_FALSE(nlohmann::json::parse(slurp(dir / "out" / "summary.json")).contains("threads"));
+  CHECK(run_cli("run chain --steps 2 --threads -1").code == 2);
+}
