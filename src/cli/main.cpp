@@ -1,13 +1,40 @@
 // cbps: the command line (see docs/cli-contract.md). Exit codes: 0 success, 1 a failed
 // computation, 2 bad input or usage. Errors go to stderr as "cbps: <what>: <why>".
+#include <cstdlib>
 #include <iostream>
 #include <new>
+#include <string>
+#include <utility>
 
 #include "cbps/error.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "common.hpp"
 
 namespace {
+
+/// The number of processes of the MPI job this process was started in by mpirun (Open MPI's
+/// OMPI_COMM_WORLD_SIZE, MPICH's PMI_SIZE), 1 when none; and this process's rank in it.
+std::pair<long, long> mpi_job() {
+  for (const auto& [size_name, rank_name] :
+       {std::pair{"OMPI_COMM_WORLD_SIZE", "OMPI_COMM_WORLD_RANK"},
+        std::pair{"PMI_SIZE", "PMI_RANK"}}) {
+    const char* size = std::getenv(size_name);
+    const char* rank = std::getenv(rank_name);
+    if (size != nullptr) return {std::atol(size), rank != nullptr ? std::atol(rank) : 0};
+  }
+  return {1, 0};
+}
+
+/// True when the parsed command runs distributed, one part on every rank of an MPI job:
+/// `cbps lcp` with `--solver tao:TYPE` or `--generate` (docs/distributed.md).
+bool runs_distributed(const CLI::App& app) {
+  const CLI::App* lcp = app.get_subcommand("lcp");
+  if (lcp == nullptr || !lcp->parsed()) return false;
+  const CLI::Option* solver = lcp->get_option("--solver");
+  const std::string name = solver->count() > 0 ? solver->as<std::string>() : std::string();
+  const bool tao = name == "tao" || name.rfind("tao:", 0) == 0;  // as lcp reads it
+  return tao || lcp->get_option("--generate")->count() > 0;
+}
 
 int run(int argc, char** argv) {
   cbps::cli::set_command_line(argc, argv);
@@ -55,6 +82,18 @@ int run(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "cbps: usage: " << e.what() << " (see cbps --help)\n";
+    return 2;
+  }
+  // Under `mpirun -n N` with N > 1 every process would run a one-process command whole,
+  // print it N times and write the same --out at once: refused on every rank, said once.
+  if (const auto [size, rank] = mpi_job(); size > 1 && !runs_distributed(app)) {
+    const CLI::App* command = app.get_subcommands().front();
+    if (rank == 0)
+      std::cerr << "cbps: " << command->get_name() << ": runs in one process, and this is one of "
+                << size
+                << " started by mpirun; run it without mpirun (only `cbps lcp "
+                   "--solver tao:TYPE` and `cbps lcp --generate` are distributed, "
+                   "docs/distributed.md)\n";
     return 2;
   }
   try {

@@ -1,8 +1,11 @@
 // `cbps run` beyond its files (test_cli.cpp): a divergence keeps the steps before it and exits 1,
 // scene files set the divergence limits and cfm, cfm's effect is reported, and the same inputs
 // give byte-identical outputs.
+#include <stdlib.h>
+
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -121,4 +124,35 @@ TEST_CASE("cbps runs its libraries on one thread unless --threads says otherwise
   REQUIRE(r.code == 0);
   CHECK_FALSE(nlohmann::json::parse(slurp(dir / "out" / "summary.json")).contains("threads"));
   CHECK(run_cli("run chain --steps 2 --threads -1").code == 2);
+}
+
+TEST_CASE("a one-process command started by mpirun -n 2 is refused on every rank, said once",
+          "[cli][mpi]") {
+  // mpirun tells each process its job's size and rank in the environment (Open MPI's names);
+  // the real mpirun runs in tests/petsc/test_tao.py (bad-input) where Open MPI is installed.
+  const auto dir = scratch_dir("mpi_refused");
+  const std::string out = (dir / "out").string();
+  ::setenv("OMPI_COMM_WORLD_SIZE", "2", 1);
+  for (const char* rank : {"0", "1"}) {
+    CAPTURE(rank);
+    ::setenv("OMPI_COMM_WORLD_RANK", rank, 1);
+    for (const std::string& args : {"run chain --steps 2 --out " + out,
+                                    "matrices chain --out " + out,
+                                    "converge chain --step 2 --solvers pgs --out " + out}) {
+      CAPTURE(args);
+      const auto r = run_cli(args);
+      CHECK(r.code == 2);
+      CHECK(r.out.empty());
+      if (std::string(rank) == "0")
+        CHECK(r.err.find("without mpirun") != std::string::npos);
+      else
+        CHECK(r.err.empty());  // the message once, from rank 0
+      CHECK_FALSE(std::filesystem::exists(out));
+    }
+  }
+  ::setenv("OMPI_COMM_WORLD_SIZE", "1", 1);  // a job of one process runs as without mpirun
+  ::setenv("OMPI_COMM_WORLD_RANK", "0", 1);
+  CHECK(run_cli("run chain --steps 2 --quiet --out " + out).code == 0);
+  ::unsetenv("OMPI_COMM_WORLD_SIZE");
+  ::unsetenv("OMPI_COMM_WORLD_RANK");
 }

@@ -269,6 +269,12 @@ def mode_bad_input(cbps, root):
         (["lcp", nonsym, "--solver", "tao:bqpip"], "symmetric"),
         # Only rank 0 opens --out: its refusal must still end rank 1.
         (["lcp", chain, "--solver", "tao:bqpip", "--out", foreign], "mine.txt"),
+        # A command that runs in one process is refused under mpirun -n 2, said once, with
+        # nothing written (before, each rank solved, printed and wrote --out at once).
+        (["lcp", chain, "--solver", "direct", "--out", os.path.join(root, "one-process")],
+         "without mpirun"),
+        (["run", "chain", "--steps", "2", "--out", os.path.join(root, "one-process")],
+         "without mpirun"),
     ]
     for args, words in cases:
         label = " ".join(args[2:])
@@ -282,6 +288,8 @@ def mode_bad_input(cbps, root):
         check(plain.returncode == 2, f"{label}: mpirun exited {plain.returncode}, expected 2")
         print(f"{label}: exit 2 on both ranks; {r.stderr.strip()}")
     check(sorted(os.listdir(foreign)) == ["mine.txt"], "the refused --out folder changed")
+    check(not os.path.exists(os.path.join(root, "one-process")),
+          "a command refused under mpirun wrote its --out folder")
 
 
 def mode_without_petsc(cbps, root):
