@@ -7,6 +7,11 @@ Chromium (Debian's `chromium`).
   test_teaching_page_browser.py CBPS phone|desktop  a screenshot 412 or 1000 pixels wide is
                                                  not blank: many distinct colours, the row
                                                  kinds' colours present, ink on the page
+  test_teaching_page_browser.py CBPS svg-text    every text of every picture lies inside its
+                                                 picture as Chromium lays it out (a label
+                                                 that overflows the left edge loses its
+                                                 minus sign), on pages with negative lambda
+                                                 (chain) and many rows (pyramid)
 
 Exits 77 (CTest's SKIP_RETURN_CODE) with a message saying so when chromium is not installed.
 """
@@ -24,6 +29,28 @@ BLOCKS = ["J", "Minv", "A", "spectrum", "v1", "system-1", "svg-J", "svg-A", "svg
           "svg-lambda-1", "svg-residual-1", "table-J", "table-A", "table-Minv", "table-b-1",
           "table-lambda-1", "table-v1", "table-v2-1"]
 EQUATIONS = ["A = J M⁻¹ Jᵀ (6.2.9)", "(12.3.1)", "w = Aλ − b (6.2)", "(6.1.2)"]
+# svg-text: pages whose pictures have long or negative labels. The chain's lambda are all
+# negative (its joints pull); the pyramid's picture is binned, one panel per row kind.
+SVG_TEXT_SCENES = [["chain", "--step", "30"], ["pyramid", "--step", "5"], SCENE]
+# Added to a copy of the page (the page itself has no script): for every <text> of every <svg>,
+# how far its laid-out box reaches past the picture's box, in CSS pixels, into <pre id=...>.
+MEASURE = """<script>
+(function () {
+  var out = [];
+  document.querySelectorAll("svg").forEach(function (svg) {
+    var s = svg.getBoundingClientRect();
+    svg.querySelectorAll("text").forEach(function (t) {
+      var b = t.getBoundingClientRect();
+      out.push({svg: svg.id, text: t.textContent, left: s.left - b.left, right: b.right - s.right,
+                top: s.top - b.top, bottom: b.bottom - s.bottom});
+    });
+  });
+  var pre = document.createElement("pre");
+  pre.id = "svg-text-overflow";
+  pre.textContent = JSON.stringify(out);
+  document.body.appendChild(pre);
+})();
+</script>"""
 # The row kinds' colours (kind_colour in teaching_page_html.cpp): v-corner has contact rows.
 CONTACT_RGB = (0xc6, 0x28, 0x28)
 
@@ -99,13 +126,49 @@ def check_screenshot(browser, page, work, width, height):
         fail("the contact rows' colour is missing from the screenshot (%d pixels)" % contact)
 
 
+def check_svg_text(cbps, browser, work):
+    import html
+    import re
+    texts = 0
+    for scene in SVG_TEXT_SCENES:
+        page = os.path.join(work, "page.html")
+        subprocess.run([cbps, "explain", *scene, "--html", page], check=True,
+                       stdout=subprocess.DEVNULL)
+        with open(page, encoding="utf-8") as f:
+            text = f.read()
+        measured = os.path.join(work, "measured.html")
+        with open(measured, "w", encoding="utf-8") as f:
+            f.write(text.replace("</body>", MEASURE + "</body>"))
+        dom = run_chromium(browser, work, "--window-size=1000,1000", "--dump-dom",
+                           "file://" + measured)
+        m = re.search(r'<pre id="svg-text-overflow">(.*?)</pre>', dom, re.S)
+        if m is None:
+            fail("%s: the measuring script wrote nothing" % " ".join(scene))
+        boxes = json.loads(html.unescape(m.group(1)))
+        if not boxes:
+            fail("%s: no text in the pictures" % " ".join(scene))
+        # Half a pixel for the layout's rounding.
+        out = [b for b in boxes if max(b["left"], b["right"], b["top"], b["bottom"]) > 0.5]
+        if out:
+            fail("%s: text outside its picture (px past the left, right, top, bottom edge): %s"
+                 % (" ".join(scene), "; ".join("%s %r %.1f %.1f %.1f %.1f" % (
+                     b["svg"], b["text"], b["left"], b["right"], b["top"], b["bottom"])
+                     for b in out[:10])))
+        texts += len(boxes)
+    print("svg-text: %d texts in the pictures of %d pages, every one inside its picture"
+          % (texts, len(SVG_TEXT_SCENES)))
+
+
 def main():
-    if len(sys.argv) != 3 or sys.argv[2] not in ("dom", "phone", "desktop"):
+    if len(sys.argv) != 3 or sys.argv[2] not in ("dom", "phone", "desktop", "svg-text"):
         print(__doc__)
         return 2
     cbps, mode = sys.argv[1], sys.argv[2]
     browser = chromium()
     with tempfile.TemporaryDirectory(prefix="cbps-teaching-page-") as work:
+        if mode == "svg-text":
+            check_svg_text(cbps, browser, work)
+            return 0
         page = os.path.join(work, "page.html")
         subprocess.run([cbps, "explain", *SCENE, "--html", page], check=True,
                        stdout=subprocess.DEVNULL)

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/direct.hpp"
 #include "cbps/step/push.hpp"
 #include "cbps/step/simulation.hpp"
 
@@ -83,16 +84,20 @@ TeachingSystem solve_one(const Simulation& sim,
   VecX lambda = guess;
   if (sys.rows() > 0) solve_coulomb(problem, sys.coulomb(), lambda, options);
 
-  // The bounds lambda satisfies (Coulomb rows: ±mu lambda_n at the answer, 5.4), w = A lambda
-  // − b (6.2) of A itself, and each row's status within the solve's tolerance or residual plus
-  // the rounding of A lambda − b and eps |lambda| (with CFM the solve met (A + eps E) lambda = b).
+  // The bounds lambda satisfies (Coulomb rows: ±mu lambda_n at the answer, 5.4) and w = A
+  // lambda − b (6.2) of A itself. Each row is judged against the tolerance the scene asks for
+  // (not against the residual the solve reached, which no row can exceed): a solve that stops
+  // short of it, such as PGS at its sweep limit, leaves rows missing their condition. The
+  // tolerance is raised to the rounding floor of w where it is below that (tolerance 0: run
+  // every sweep), and with CFM a row's w of A is eps lambda_k off what the solve met,
+  // (A + eps E) lambda = b.
   coulomb_bounds(problem, sys.coulomb(), out.lambda, out.cmin, out.cmax);
   out.w = sys.A * out.lambda - out.b;
-  const VecX rounding = 64.0 * std::numeric_limits<double>::epsilon() *
-                        ((sys.A.cwiseAbs() * out.lambda.cwiseAbs()) + out.b.cwiseAbs()).array();
-  out.tolerance = std::max(settings.tolerance, out.summary.residual);
+  out.tolerance = settings.tolerance;
+  out.rounding_floor = residual_floor(problem, out.lambda);
+  const double tolerance = std::max(out.tolerance, out.rounding_floor);
   for (Eigen::Index k = 0; k < out.w.size(); ++k) {
-    const double tol = out.tolerance + rounding(k) + settings.cfm * std::abs(out.lambda(k));
+    const double tol = tolerance + settings.cfm * std::abs(out.lambda(k));
     out.status.push_back(row_status(out.lambda(k), out.cmin(k), out.cmax(k), out.w(k), tol));
   }
   out.v2 = compute_v2(sys, out.lambda);  // (12.3.1)

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "cbps/studies/teaching_page.hpp"
@@ -359,77 +360,141 @@ void Page::log_plot(const std::string& id,
 void Page::bounds_picture(const std::string& id, const TeachingSystem& t) {
   const Eigen::Index c = t.lambda.size();
   if (c == 0) return;
-  double lo = 0.0, hi = 0.0;
-  for (Eigen::Index k = 0; k < c; ++k)
-    for (double v : {t.lambda(k), t.cmin(k), t.cmax(k)})
-      if (std::isfinite(v)) {
-        lo = std::min(lo, v);
-        hi = std::max(hi, v);
-      }
-  if (hi - lo <= 0.0) hi = lo + 1.0;
-  const double left = 60, right = 560, top = 12, bottom = 200;
   // Above l_.bar_rows rows one bar stands for `bin` consecutive rows: the range of their λ, the
-  // lowest finite cmin and highest finite cmax among them, a dot if any is at a bound, coloured
-  // by their commonest kind. The page stays small at any size.
+  // lowest finite cmin and highest finite cmax among them, a dot if any is at a bound. The page
+  // stays small at any size. Binned, the picture has one panel per row kind (same bins, each on
+  // its own λ scale): a bin mixes kinds (a contact's normal row beside its two friction rows),
+  // and one colour per bin would hide the kinds with fewer rows.
   const Eigen::Index bars_max = std::max(1, l_.bar_rows);
   const Eigen::Index bin = (c + bars_max - 1) / bars_max;
   const Eigen::Index bars = (c + bin - 1) / bin;
-  const double w = (right - left) / static_cast<double>(bars);
-  auto y_of = [&](double v) { return bottom - (bottom - top) * (v - lo) / (hi - lo); };
-  o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 580 230\" width=\"580\" "
-     << "height=\"230\" xmlns=\"http://www.w3.org/2000/svg\"><title>lambda per row within its "
-     << "bounds</title>\n";
-  for (double v : {lo, 0.0, hi})
-    o_ << "<line x1=\"" << left << "\" x2=\"" << right << "\" y1=\"" << px(y_of(v)) << "\" y2=\""
-       << px(y_of(v)) << "\" stroke=\"" << (v == 0.0 ? "#333" : "#ddd") << "\"/><text x=\""
-       << left - 4 << "\" y=\"" << px(y_of(v) + 4) << "\" font-size=\"11\" text-anchor=\"end\">"
-       << num(v) << " N</text>";
-  long at_bound = 0;
-  for (Eigen::Index j = 0; j < bars; ++j) {
-    const Eigen::Index first = j * bin, last = std::min(c, first + bin);
-    double l_lo = 0.0, l_hi = 0.0, b_lo = INFINITY, b_hi = -INFINITY;
-    bool bound = false;
-    std::array<int, 3> kinds{};
-    for (Eigen::Index k = first; k < last; ++k) {
-      l_lo = std::min(l_lo, t.lambda(k));
-      l_hi = std::max(l_hi, t.lambda(k));
-      if (std::isfinite(t.cmin(k))) b_lo = std::min(b_lo, t.cmin(k));
-      if (std::isfinite(t.cmax(k))) b_hi = std::max(b_hi, t.cmax(k));
-      if (t.status[static_cast<std::size_t>(k)].at_bound()) {
-        bound = true;
-        ++at_bound;
-      }
-      ++kinds[static_cast<std::size_t>(kind_of(sys_, k))];
-    }
-    const auto kind =
-        static_cast<RowKind>(std::max_element(kinds.begin(), kinds.end()) - kinds.begin());
-    // One row: its bar runs from 0 to λ; a bin: over the range of its λ and 0.
-    const double x = left + w * static_cast<double>(j);
-    const double y_top = y_of(bin == 1 ? std::max(0.0, t.lambda(first)) : l_hi);
-    const double y_bottom = y_of(bin == 1 ? std::min(0.0, t.lambda(first)) : l_lo);
-    o_ << "<rect x=\"" << px(x + 0.1 * w) << "\" y=\"" << px(y_top) << "\" width=\"" << px(0.8 * w)
-       << "\" height=\"" << px(std::max(0.5, y_bottom - y_top)) << "\" fill=\"" << kind_colour(kind)
-       << "\"/>";
-    for (double b : {b_lo, b_hi})
-      if (std::isfinite(b))
-        o_ << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + w) << "\" y1=\"" << px(y_of(b))
-           << "\" y2=\"" << px(y_of(b)) << "\" stroke=\"#000\" stroke-width=\"1.5\"/>";
-    if (bound)
-      o_ << "<circle cx=\"" << px(x + w / 2) << "\" cy=\""
-         << px(bin == 1 ? y_of(t.lambda(first)) : y_top) << "\" r=\""
-         << px(std::clamp(w / 3, 1.5, 5.0)) << "\" fill=\"#ffd23f\" stroke=\"#000\"/>";
+  std::array<long, 3> rows_of_kind{};
+  for (Eigen::Index k = 0; k < c; ++k) ++rows_of_kind[static_cast<std::size_t>(kind_of(sys_, k))];
+  // The panels: every kind together (one bar per row), or one per kind present (binned).
+  std::vector<std::optional<RowKind>> panels;
+  if (bin == 1) {
+    panels.push_back(std::nullopt);
+  } else {
+    for (RowKind kind : {RowKind::Distance, RowKind::Contact, RowKind::Friction})
+      if (rows_of_kind[static_cast<std::size_t>(kind)] > 0) panels.push_back(kind);
   }
-  o_ << "<text x=\"" << (left + right) / 2 << "\" y=\"222\" font-size=\"12\" "
-     << "text-anchor=\"middle\">row k (0 … " << c - 1
+  auto in_panel = [&](const std::optional<RowKind>& panel, Eigen::Index k) {
+    return !panel || kind_of(sys_, k) == *panel;
+  };
+  // Each panel's λ axis: 0, λ and the finite bounds of its rows, with its three labels.
+  struct Axis {
+    double lo = 0.0, hi = 0.0;
+    std::vector<std::string> labels;  // lo, 0, hi
+  };
+  std::vector<Axis> axes;
+  std::size_t longest = 0;
+  for (const auto& panel : panels) {
+    Axis a;
+    for (Eigen::Index k = 0; k < c; ++k)
+      if (in_panel(panel, k))
+        for (double v : {t.lambda(k), t.cmin(k), t.cmax(k)})
+          if (std::isfinite(v)) {
+            a.lo = std::min(a.lo, v);
+            a.hi = std::max(a.hi, v);
+          }
+    if (a.hi - a.lo <= 0.0) a.hi = a.lo + 1.0;
+    for (double v : {a.lo, 0.0, a.hi}) {
+      a.labels.push_back(num(v) + " N");
+      longest = std::max(longest, a.labels.back().size());
+    }
+    axes.push_back(a);
+  }
+  // Room at the left for the longest label, a minus sign included: 0.65 em a character is wider
+  // than the digits of the usual sans-serif fonts (DejaVu Sans 0.64 em, Roboto 0.56 em).
+  const double font = 11.0;
+  const double left = std::max(60.0, std::ceil(0.65 * font * static_cast<double>(longest)) + 8.0);
+  const double right = left + 500.0, width = right + 20.0;
+  const double title = bin == 1 ? 0.0 : 18.0;    // a panel's title line
+  const double plot = bin == 1 ? 188.0 : 130.0;  // a panel's λ axis, px
+  const double panel_height = title + plot + (bin == 1 ? 12.0 : 20.0);
+  const double height = 12.0 + panel_height * static_cast<double>(panels.size()) + 18.0;
+  const double w = (right - left) / static_cast<double>(bars);
+  o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 " << px(width) << " "
+     << px(height) << "\" width=\"" << px(width) << "\" height=\"" << px(height)
+     << "\" xmlns=\"http://www.w3.org/2000/svg\"><title>lambda per row within its bounds"
+     << (bin == 1 ? "" : ", one panel per row kind") << "</title>\n";
+  std::array<long, 3> at_bound{};
+  for (std::size_t p = 0; p < panels.size(); ++p) {
+    const auto& panel = panels[p];
+    const Axis& a = axes[p];
+    const double top = 12.0 + panel_height * static_cast<double>(p) + title;
+    const double bottom = top + plot;
+    auto y_of = [&](double v) { return bottom - (bottom - top) * (v - a.lo) / (a.hi - a.lo); };
+    if (panel) {
+      const auto n = rows_of_kind[static_cast<std::size_t>(*panel)];
+      o_ << "<text class=\"panel\" x=\"" << px(left) << "\" y=\"" << px(top - 6.0)
+         << "\" font-size=\"12\" font-weight=\"600\" fill=\"" << kind_colour(*panel) << "\">"
+         << to_string(*panel) << " rows: " << n << " of " << c << "</text>";
+    }
+    const std::array<double, 3> ticks{a.lo, 0.0, a.hi};
+    for (std::size_t i = 0; i < ticks.size(); ++i) {
+      if (i > 0 && ticks[i] == ticks[i - 1]) continue;  // 0 at an end of the axis: once
+      o_ << "<line x1=\"" << px(left) << "\" x2=\"" << px(right) << "\" y1=\"" << px(y_of(ticks[i]))
+         << "\" y2=\"" << px(y_of(ticks[i])) << "\" stroke=\""
+         << (ticks[i] == 0.0 ? "#333" : "#ddd") << "\"/><text x=\"" << px(left - 4) << "\" y=\""
+         << px(y_of(ticks[i]) + 4) << "\" font-size=\"" << font << "\" text-anchor=\"end\">"
+         << a.labels[i] << "</text>";
+    }
+    for (Eigen::Index j = 0; j < bars; ++j) {
+      const Eigen::Index first = j * bin, last = std::min(c, first + bin);
+      double l_lo = 0.0, l_hi = 0.0, b_lo = INFINITY, b_hi = -INFINITY;
+      bool any = false, bound = false;
+      for (Eigen::Index k = first; k < last; ++k) {
+        if (!in_panel(panel, k)) continue;
+        any = true;
+        l_lo = std::min(l_lo, t.lambda(k));
+        l_hi = std::max(l_hi, t.lambda(k));
+        if (std::isfinite(t.cmin(k))) b_lo = std::min(b_lo, t.cmin(k));
+        if (std::isfinite(t.cmax(k))) b_hi = std::max(b_hi, t.cmax(k));
+        if (t.status[static_cast<std::size_t>(k)].at_bound()) {
+          bound = true;
+          ++at_bound[static_cast<std::size_t>(kind_of(sys_, k))];
+        }
+      }
+      if (!any) continue;  // no row of this panel's kind in the bin
+      const RowKind kind = panel ? *panel : kind_of(sys_, first);
+      // One row: its bar runs from 0 to λ; a bin: over the range of its λ and 0.
+      const double x = left + w * static_cast<double>(j);
+      const double y_top = y_of(bin == 1 ? std::max(0.0, t.lambda(first)) : l_hi);
+      const double y_bottom = y_of(bin == 1 ? std::min(0.0, t.lambda(first)) : l_lo);
+      o_ << "<rect x=\"" << px(x + 0.1 * w) << "\" y=\"" << px(y_top) << "\" width=\""
+         << px(0.8 * w) << "\" height=\"" << px(std::max(0.5, y_bottom - y_top)) << "\" fill=\""
+         << kind_colour(kind) << "\"/>";
+      for (double b : {b_lo, b_hi})
+        if (std::isfinite(b))
+          o_ << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + w) << "\" y1=\"" << px(y_of(b))
+             << "\" y2=\"" << px(y_of(b)) << "\" stroke=\"#000\" stroke-width=\"1.5\"/>";
+      if (bound)
+        o_ << "<circle cx=\"" << px(x + w / 2) << "\" cy=\""
+           << px(bin == 1 ? y_of(t.lambda(first)) : y_top) << "\" r=\""
+           << px(std::clamp(w / 3, 1.5, 5.0)) << "\" fill=\"#ffd23f\" stroke=\"#000\"/>";
+    }
+    o_ << "\n";
+  }
+  o_ << "<text x=\"" << px((left + right) / 2) << "\" y=\"" << px(height - 8.0)
+     << "\" font-size=\"12\" text-anchor=\"middle\">row k (0 … " << c - 1
      << ")</text></svg><figcaption class=\"note\">";
-  if (bin == 1)
+  if (bin == 1) {
     o_ << "Bars: λ per row, coloured by kind; black dashes: finite bounds cmin, cmax; yellow "
        << "dots: rows at a bound.";
-  else
-    o_ << "One bar per " << bin << " consecutive rows (" << bars << " bars): the range of their "
-       << "λ and 0, coloured by their commonest kind; black dashes: the lowest finite cmin and "
-       << "highest finite cmax among them; yellow dots: bars with a row at a bound (" << at_bound
-       << " rows in all).";
+  } else {
+    o_ << "One bar per " << bin << " consecutive rows (" << bars << " bars), in one panel per "
+       << "row kind, each on its own scale: the range of λ and 0 over the bin's rows of that "
+       << "kind; black dashes: the lowest finite cmin and highest finite cmax among them; yellow "
+       << "dots: bins with a row of that kind at a bound (";
+    bool first = true;
+    for (const auto& panel : panels) {
+      o_ << (first ? "" : ", ") << at_bound[static_cast<std::size_t>(*panel)] << " "
+         << to_string(*panel);
+      first = false;
+    }
+    o_ << " rows in all).";
+  }
   o_ << "</figcaption></figure>\n";
 }
 
@@ -717,7 +782,22 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
   stat("at cmax", std::to_string(at_max));
   if (fixed > 0) stat("at cmin = cmax", std::to_string(fixed));
   stat("rows missing their condition", std::to_string(missed));
-  stat("tolerance", num(t.tolerance) + " N, the larger of the solver's tolerance and residual");
+  {
+    // The rows are judged against the tolerance the scene asks for, not the residual the solve
+    // reached (teaching_page.cpp).
+    std::string judged = num(t.tolerance) + " N, the residual the scene asks for";
+    if (t.rounding_floor > t.tolerance)
+      judged += ", raised to " + num(t.rounding_floor) +
+                " N, the rounding floor of w = Aλ − b (64 u (max<sub>i</sub> Σ<sub>k</sub> "
+                "|A<sub>ik</sub>| ‖λ‖<sub>∞</sub> + ‖b‖<sub>∞</sub>))";
+    if (s_.cfm > 0.0) judged += ", plus ε |λ<sub>k</sub>| per row (the solve met (A + εE) λ = b)";
+    stat("tolerance", judged);
+  }
+  stat("residual",
+       num(t.summary.residual) + " N, the solve's" +
+           (t.summary.residual > std::max(t.tolerance, t.rounding_floor)
+                ? std::string(": above the tolerance, so rows can miss their condition")
+                : std::string()));
   stat("solver", html_escape(s_.method) + ": " + html_escape(t.summary.message));
   o_ << "</dl>\n";
   bounds_picture("svg-lambda-" + id, t);
@@ -752,6 +832,16 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
       "r = ‖λ − clamp(λ − w, cmin, cmax)‖<sub>∞</sub> (the natural-map residual, zero "
       "exactly at a solution of 6.2)");
   unit("N, as the solver reports it");
+  if (t.sweep_residuals.size() <= 1) {
+    // The guess already meets the tolerance: the solver stops before its first sweep and there
+    // is no curve to draw.
+    note("<span id=\"no-sweeps-" + id + "\">No sweep: the step's guess (sweep 0; the warm " +
+         "start of 7 where the scene has one) already meets the tolerance, its residual " +
+         (t.sweep_residuals.empty() ? std::string("—") : num(t.sweep_residuals.front())) + " N ≤ " +
+         num(s_.solver_tolerance) + " N, so " + html_escape(t.sweep_method) +
+         " stops before its first sweep: λ is the guess, and there is no curve to draw.</span>");
+    return;
+  }
   log_plot("svg-residual-" + id,
            "Residual after each sweep of " + t.sweep_method + " from the step's guess (sweep 0)",
            t.sweep_residuals,

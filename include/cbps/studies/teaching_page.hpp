@@ -41,9 +41,11 @@ struct TeachingSystem {
   VecX cmin, cmax;   ///< c, N: the bounds lambda satisfies (Coulomb rows: ±mu lambda_n, 5.4)
   VecX w;            ///< c, m/s²: A lambda − b (6.2), of A itself
   VecX v2;           ///< 6n, m/s and rad/s: v1 + dt Minv (Jᵀ lambda + fext) (12.3.1)
-  std::vector<RowStatus> status;  ///< c, within `tolerance`
-  double tolerance = 0.0;         ///< max(solver tolerance, residual), N, for the statuses
-  SolverSummary summary;          ///< of the step's own solve
+  /// c: each row judged within max(tolerance, rounding_floor) (+ cfm |lambda_k| with CFM)
+  std::vector<RowStatus> status;
+  double tolerance = 0.0;       ///< the residual the scene asks for (solver.tolerance), N
+  double rounding_floor = 0.0;  ///< residual_floor of w = A lambda − b at lambda (direct.hpp), N
+  SolverSummary summary;        ///< of the step's own solve
   /// Natural-map residual (N) after each sweep of `sweep_method` from the step's guess on the
   /// whole system (islands not split; Coulomb bounds at each iterate), index 0 = the guess.
   std::vector<double> sweep_residuals;
