@@ -14,6 +14,7 @@
 
 #include "cbps/error.hpp"
 #include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/direct.hpp"
 #include "cbps/step/push.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/teaching_page.hpp"
@@ -195,15 +196,16 @@ int explain_command(const ExplainOptions& o) {
       "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
 
   // w = A lambda − b (6.2), of A itself (with cfm the solve met (A + eps E) lambda = b, so w
-  // of A is eps lambda off on free rows). "w ≈ 0" and "at a bound" mean within the solve's
-  // tolerance or its residual, whichever is larger, plus the rounding of A lambda − b.
+  // of A is eps lambda off on free rows). "w ≈ 0" and "at a bound" mean within the tolerance
+  // the scene asks for (raised to the rounding floor of w, residual_floor, where it is below
+  // it), as the teaching page judges them: a solve that stopped short of it, such as PGS at its
+  // sweep limit, leaves rows missing their condition.
   const VecX w = sys.A * lambda - sys.b;
-  const VecX rounding = 64.0 * std::numeric_limits<double>::epsilon() *
-                        ((sys.A.cwiseAbs() * lambda.cwiseAbs()) + sys.b.cwiseAbs()).array();
-  const double tol = std::max(scene.solver.tolerance, summary.residual);
+  const double tol = std::max(scene.solver.tolerance,
+                              residual_floor(BoxedProblem{sys.A, sys.b, cmin, cmax}, lambda));
   std::vector<RowStatus> status;
   for (Eigen::Index k = 0; k < w.size(); ++k) {
-    const double row_tol = tol + rounding(k) + cfm * std::abs(lambda(k));
+    const double row_tol = tol + cfm * std::abs(lambda(k));
     status.push_back(row_status(lambda(k), cmin(k), cmax(k), w(k), row_tol));
   }
   const bool all_satisfied =
@@ -289,8 +291,8 @@ int explain_command(const ExplainOptions& o) {
     out["status"] = {{"equation", "6.2"},
                      {"note",
                       "free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; "
-                      "within tolerance (max of the solver tolerance and residual, N, plus "
-                      "rounding and eps |lambda|)"},
+                      "within tolerance (the requested solver tolerance, N, or the rounding floor "
+                      "of w where that is larger, plus eps |lambda|)"},
                      {"tolerance", tol},
                      {"value", where},
                      {"satisfied", satisfied}};
@@ -370,10 +372,13 @@ int explain_command(const ExplainOptions& o) {
   }
   std::printf(
       "  (free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; within "
-      "%s, the larger of the solver tolerance and residual)\n",
+      "%s N, the requested solver tolerance or the rounding floor of w if larger)\n",
       num(tol).c_str());
   if (!all_satisfied)
-    std::printf("  (some rows miss their condition: the solver stopped before it met them)\n");
+    std::printf(
+        "  (some rows miss their condition: the solver stopped at residual %s N, before "
+        "it met them)\n",
+        num(summary.residual).c_str());
   if (coulomb) std::printf("  (%s)\n", coulomb_note);
   std::printf("\n");
   print_vector("v2 = v1 + dt Minv (J^T lambda + fext) (12.3.1)", v2, cols, v_units);

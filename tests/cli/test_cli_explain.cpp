@@ -272,6 +272,22 @@ TEST_CASE("cbps explain --json: b, A and w recomputed by hand, statuses agree wi
     REQUIRE(r.code == 0);
     check_explained(nlohmann::json::parse(r.out), false);
   }
+  SECTION("a solve stopped short of the tolerance leaves rows missing their condition") {
+    // PGS's default 100 sweeps leave the chain at step 30 far from 1e-10 N: a natural-map
+    // residual above the tolerance means some row is more than the tolerance from its
+    // condition (6.2), so some row must be shown unsatisfied (before, each row was judged
+    // against the larger of the tolerance and the residual, and none could fail).
+    const CliResult r = run_cli("explain chain --step 30 --json");
+    REQUIRE(r.code == 0);
+    const auto e = nlohmann::json::parse(r.out);
+    const double residual = e["solver"]["residual"].get<double>();
+    REQUIRE(residual > 1e-6);
+    CHECK(e["status"]["tolerance"].get<double>() < 1e-9);
+    const auto& satisfied = e["status"]["satisfied"];
+    CHECK(std::count(satisfied.begin(), satisfied.end(), false) >= 1);
+    const CliResult text = run_cli("explain chain --step 30");
+    CHECK(text.out.find("some rows miss their condition") != std::string::npos);
+  }
   SECTION("the improved push shows the velocity system and says so") {
     const CliResult r = run_cli("explain v-corner --step 3 --push improved --json");
     REQUIRE(r.code == 0);
