@@ -12,7 +12,9 @@
       which would take minutes). The installed module is the one BUILD made, it imports from the
       environment and solves a problem, pip's metadata has the version, and nothing was written
       into SOURCE. The environment is made --without-pip and runs Debian's pip (the same pip
-      23.0.1 that ensurepip would copy into it, which takes a minute on a busy machine).
+      23.0.1 that ensurepip would copy into it, which takes a minute on a busy machine). Then
+      the same again with build isolation (a plain `pip install`, its build requirements from
+      Debian's wheels of setuptools and wheel in /usr/share/python-wheels, offline).
 
 Run by the interpreter the module is built for. Exit 77 (skipped, with the reason) when that
 interpreter lacks venv, pip, setuptools or wheel (Debian: python3-venv, python3-pip,
@@ -116,6 +118,25 @@ def pip_install(source, build, scratch, version):
     installed = sorted(Path(site).glob("cbps*.so"))
     built = sorted((build / "python").glob("cbps*.so"))
     assert len(installed) == 1 and len(built) == 1, (installed, built)
+    assert installed[0].read_bytes() == built[0].read_bytes(), "not the build folder's module"
+    import_from(python, site, version, scratch, clean_env(PYTHONDONTWRITEBYTECODE="1"), "pip")
+
+    # The plain `pip install .`: with build isolation, pip installs pyproject.toml's
+    # [build-system] requires (setuptools, wheel) into an environment of their own first. Offline
+    # they come from Debian's wheels of them (python3-setuptools-whl, python3-wheel-whl).
+    wheels = Path("/usr/share/python-wheels")
+    if not (any(wheels.glob("setuptools-*.whl")) and any(wheels.glob("wheel-*.whl"))):
+        print(f"the install with build isolation SKIPPED: no setuptools and wheel wheels in "
+              f"{wheels} (Debian: python3-setuptools-whl, python3-wheel-whl)")
+        return 0
+    installed[0].unlink()
+    isolated_env = dict(env)
+    isolated_env.pop("PIP_FIND_LINKS", None)
+    out = run([python, "-m", "pip", "install", "-v", "--force-reinstall", "--no-deps",
+               "--no-index", "--find-links", wheels, source],
+              cwd=scratch, env=isolated_env, capture_output=True, text=True).stdout
+    assert "Installing build dependencies: finished" in out, out
+    assert (top_entries(source), top_entries(source / "build")) == before
     assert installed[0].read_bytes() == built[0].read_bytes(), "not the build folder's module"
     import_from(python, site, version, scratch, clean_env(PYTHONDONTWRITEBYTECODE="1"), "pip")
     return 0
