@@ -2,12 +2,102 @@
 #include "convert.hpp"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "cbps/error.hpp"
 #include "cbps/io/output_file.hpp"
 
 namespace cbps::python {
+
+namespace {
+
+/// x as it appears in a message: its repr, cut short when long (Python refuses to print ints
+/// of more than 4300 digits at all; such an int is named by its size).
+std::string value_text(const py::handle& x) {
+  std::string text;
+  try {
+    text = py::repr(x).cast<std::string>();
+  } catch (const py::error_already_set&) {
+    text.clear();
+  }
+  if (PyLong_Check(x.ptr()) && (text.empty() || text.size() > 40))
+    return "(an integer of " + py::str(x.attr("bit_length")()).cast<std::string>() + " bits)";
+  if (text.size() > 40) return text.substr(0, 37) + "...";
+  return text.empty() ? "(a " + std::string(Py_TYPE(x.ptr())->tp_name) + ")" : text;
+}
+
+/// Whether x is a real number as Python sees one: an int, a float, a numpy scalar; never a bool
+/// (True is an int to Python, but a number given as True is a mistake) nor a complex number.
+bool is_real_number(PyObject* x) {
+  return !PyBool_Check(x) && PyNumber_Check(x) != 0 && !PyComplex_Check(x);
+}
+
+/// The Python int a whole number stands for: an int or numpy integer as it is, a float
+/// without a fraction as its value; nothing for anything else (10.5, nan, inf, True, text).
+std::optional<py::int_> as_whole(const py::handle& x) {
+  PyObject* p = x.ptr();
+  if (!is_real_number(p)) return std::nullopt;
+  if (PyIndex_Check(p)) {  // int, numpy integers
+    PyObject* n = PyNumber_Index(p);
+    if (n == nullptr) {
+      PyErr_Clear();
+      return std::nullopt;
+    }
+    return py::reinterpret_steal<py::int_>(n);
+  }
+  const double d = PyFloat_AsDouble(p);  // float, numpy floats
+  if (d == -1.0 && PyErr_Occurred() != nullptr) {
+    PyErr_Clear();
+    return std::nullopt;
+  }
+  if (!std::isfinite(d) || std::floor(d) != d) return std::nullopt;
+  return py::reinterpret_steal<py::int_>(PyLong_FromDouble(d));
+}
+
+/// lo <= n <= hi, compared as Python ints (no overflow whatever n is).
+bool in_range(const py::int_& n, const py::int_& lo, const py::int_& hi) {
+  return PyObject_RichCompareBool(n.ptr(), lo.ptr(), Py_GE) == 1 &&
+         PyObject_RichCompareBool(n.ptr(), hi.ptr(), Py_LE) == 1;
+}
+
+InputError not_whole(const py::handle& x, const std::string& what, const std::string& range) {
+  return InputError(what + " " + value_text(x) + ": must be a whole number from " + range);
+}
+
+}  // namespace
+
+long long whole_from_python(const py::handle& x,
+                            const std::string& what,
+                            long long lo,
+                            long long hi) {
+  const std::optional<py::int_> n = as_whole(x);
+  if (!n || !in_range(*n, py::int_(lo), py::int_(hi)))
+    throw not_whole(x, what, std::to_string(lo) + " to " + std::to_string(hi));
+  return PyLong_AsLongLong(n->ptr());
+}
+
+std::uint64_t unsigned_from_python(const py::handle& x,
+                                   const std::string& what,
+                                   std::uint64_t lo,
+                                   std::uint64_t hi) {
+  const std::optional<py::int_> n = as_whole(x);
+  if (!n || !in_range(*n, py::int_(lo), py::int_(hi)))
+    throw not_whole(x, what, std::to_string(lo) + " to " + std::to_string(hi));
+  return PyLong_AsUnsignedLongLong(n->ptr());
+}
+
+double real_from_python(const py::handle& x, const std::string& what) {
+  PyObject* p = x.ptr();
+  if (is_real_number(p)) {
+    const double d = PyFloat_AsDouble(p);
+    if (!(d == -1.0 && PyErr_Occurred() != nullptr)) return d;
+    PyErr_Clear();
+    if (PyLong_Check(p))  // beyond 1.8e308
+      throw InputError(what + " " + value_text(x) + ": too large for a double-precision number");
+  }
+  throw InputError(what + " " + value_text(x) + ": not a number");
+}
 
 py::array_t<double> to_numpy(const VecX& v) {
   py::array_t<double> a(static_cast<py::ssize_t>(v.size()));

@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -36,6 +37,24 @@ VecX vector_from_python(const py::handle& v,
                         const std::string& what,
                         long size,
                         bool infinite_ok = false);
+
+/// A whole number given from Python for the argument `what`: an int, a numpy integer, or a
+/// float without a fraction (1e6), in [lo, hi]. Anything else (10.5, 2**40 beyond hi, -1 below
+/// lo, nan, True, 'ten', None) is InputError "<what> <value>: must be a whole number from <lo> to
+/// <hi>", never pybind11's TypeError.
+long long whole_from_python(const py::handle& x,
+                            const std::string& what,
+                            long long lo,
+                            long long hi);
+/// The same for the unsigned 64-bit range (seeds: 0 to 2**64 - 1).
+std::uint64_t unsigned_from_python(const py::handle& x,
+                                   const std::string& what,
+                                   std::uint64_t lo,
+                                   std::uint64_t hi);
+/// A real number given from Python (an int, a float, a numpy scalar) as a double; InputError
+/// "<what> <value>: not a number" for anything else (True, 'ten', None, a complex number) and
+/// for an int too large for a double. The range is the caller's to check (NaN and ±inf pass).
+double real_from_python(const py::handle& x, const std::string& what);
 
 /// A body's state as a dict: name, shape, static, mass (kg; None when static), x (m), q (w, x,
 /// y, z), v (m/s), omega (rad/s), the columns of `cbps run`'s trajectory.csv.

@@ -57,8 +57,9 @@ void write_problem(const std::string& folder,
                    const py::object& v1_in,
                    const py::object& fext_in,
                    const py::object& dt_in,
-                   double cfm,
+                   const py::object& cfm_in,
                    bool force) {
+  const double cfm = real_from_python(cfm_in, "cfm");
   const SpMat A = sparse_from_python(A_in, "A");
   const long c = A.rows();
   if (A.cols() != c) throw InputError("A: must be square");
@@ -87,7 +88,7 @@ void write_problem(const std::string& folder,
       throw InputError("J, Minv: J must be c x 6n and Minv 6n x 6n, c = " + std::to_string(c));
     const VecX v1 = vector_from_python(v1_in, "v1", J.cols());
     const VecX fext = vector_from_python(fext_in, "fext", J.cols());
-    const double dt = dt_in.cast<double>();
+    const double dt = real_from_python(dt_in, "dt");
     if (!(dt > 0.0) || !std::isfinite(dt))
       throw InputError("dt " + number_text(dt) + ": must be a positive finite time in s");
     write_sparse(file("J.mtx"), J, "J: c x 6n constraint Jacobian (6.1)", force);

@@ -4,7 +4,9 @@
 // line's step options set (--dt, --beta, --push, --solver, --iterations, --tolerance, --cfm,
 // --seed) and to_json() / save(), which writes what load_scene reads back.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <map>
 
 #include "cbps/error.hpp"
@@ -86,17 +88,22 @@ void bind_scenes(py::module_& m) {
       .def_property(
           "dt",
           [](const Scene& s) { return s.world.dt; },
-          [](Scene& s, double dt) { s.world.dt = positive(dt, "dt", "time in s"); },
+          [](Scene& s, const py::object& dt) {
+            s.world.dt = positive(real_from_python(dt, "dt"), "dt", "time in s");
+          },
           "time step, s")
       .def_property(
           "duration",
           [](const Scene& s) { return s.duration; },
-          [](Scene& s, double t) { s.duration = positive(t, "duration", "time in s"); },
+          [](Scene& s, const py::object& t) {
+            s.duration = positive(real_from_python(t, "duration"), "duration", "time in s");
+          },
           "default simulated time of Simulation.run(), s")
       .def_property(
           "beta",
           [](const Scene& s) { return s.world.beta; },
-          [](Scene& s, double beta) {
+          [](Scene& s, const py::object& beta_in) {
+            const double beta = real_from_python(beta_in, "beta");
             if (!(beta >= 0.0 && beta <= 1.0))
               throw InputError("beta " + number_text(beta) + ": must be in [0, 1] (5.2.3)");
             s.world.beta = beta;
@@ -139,25 +146,32 @@ void bind_scenes(py::module_& m) {
       .def_property(
           "iterations",
           [](const Scene& s) { return s.solver.iterations; },
-          [](Scene& s, int n) {
-            if (n < 1) throw InputError("iterations " + std::to_string(n) + ": must be >= 1");
-            s.solver.iterations = n;
+          [](Scene& s, const py::object& n) {
+            s.solver.iterations = static_cast<int>(
+                whole_from_python(n, "iterations", 1, std::numeric_limits<int>::max()));
           },
           "max solver sweeps per step")
       .def_property(
           "tolerance",
           [](const Scene& s) { return s.solver.tolerance; },
-          [](Scene& s, double t) { s.solver.tolerance = non_negative(t, "tolerance"); },
+          [](Scene& s, const py::object& t) {
+            s.solver.tolerance = non_negative(real_from_python(t, "tolerance"), "tolerance");
+          },
           "natural-map residual to stop at, N (0: every sweep)")
       .def_property(
           "cfm",
           [](const Scene& s) { return s.solver.cfm; },
-          [](Scene& s, double eps) { s.solver.cfm = non_negative(eps, "cfm"); },
+          [](Scene& s, const py::object& eps) {
+            s.solver.cfm = non_negative(real_from_python(eps, "cfm"), "cfm");
+          },
           "constraint-force mixing eps, 1/kg: steps solve (A + eps E) lambda = b")
       .def_property(
           "seed",
           [](const Scene& s) { return s.solver.seed; },
-          [](Scene& s, std::uint64_t seed) { s.solver.seed = seed; },
+          [](Scene& s, const py::object& seed) {
+            s.solver.seed =
+                unsigned_from_python(seed, "seed", 0, std::numeric_limits<std::uint64_t>::max());
+          },
           "seed of the random row order (order=random)")
       .def_property_readonly(
           "bodies",

@@ -4,6 +4,7 @@
 // Python threads may share one (each call waits for the other's to end).
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -17,6 +18,10 @@ namespace cbps::python {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// The most steps one run() takes (by steps= or by duration=), 1e12: weeks at a microsecond a
+/// step.
+constexpr long kMaxSteps = 1000000000000L;
 
 /// One step's system as Python sees it: a copy, so later steps (which reuse the simulation's
 /// storage) never change it. `lambda` and `v2` are set for a step that ran (Simulation.system),
@@ -74,9 +79,9 @@ class PySimulation {
     return step_report_dict(report);
   }
 
-  py::dict run(const std::optional<double>& duration,
-               const std::optional<long>& steps,
-               long record_every);
+  py::dict run(const py::object& duration_in,
+               const py::object& steps_in,
+               const py::object& record_every_in);
 
   std::shared_ptr<SystemRecord> system() {
     const auto last = locked([this] { return last_; });
@@ -145,8 +150,7 @@ long step_count(const Scene& scene,
                 const std::optional<long>& steps) {
   if (duration && steps) throw InputError("run: give duration or steps, not both");
   if (steps) {
-    if (*steps < 0) throw InputError("run: steps " + std::to_string(*steps) + ": must be >= 0");
-    return *steps;
+    return *steps;  // 0 to kMaxSteps (run)
   }
   const double t = duration ? *duration : scene.duration;
   const std::string what =
@@ -154,7 +158,7 @@ long step_count(const Scene& scene,
   if (!(t > 0.0) || !std::isfinite(t))
     throw InputError(what + " s: must be a positive finite time");
   const double count = t / scene.world.dt;
-  if (count > 1e12)
+  if (count > static_cast<double>(kMaxSteps))
     throw InputError(what + " s: " + number_text(count) + " steps of dt = " +
                      number_text(scene.world.dt) + " s, more than a run can take (1e+12)");
   const long n = std::lround(count);
@@ -174,11 +178,17 @@ py::array_t<double> states(const std::vector<double>& values,
   return a;
 }
 
-py::dict PySimulation::run(const std::optional<double>& duration,
-                           const std::optional<long>& steps,
-                           long record_every) {
-  if (record_every < 1)
-    throw InputError("run: record_every " + std::to_string(record_every) + ": must be >= 1");
+py::dict PySimulation::run(const py::object& duration_in,
+                           const py::object& steps_in,
+                           const py::object& record_every_in) {
+  // The numbers, each named with its range (InputError, never pybind11's TypeError).
+  const long record_every = static_cast<long>(
+      whole_from_python(record_every_in, "run: record_every", 1, std::numeric_limits<long>::max()));
+  std::optional<double> duration;
+  if (!duration_in.is_none()) duration = real_from_python(duration_in, "run: duration");
+  std::optional<long> steps;
+  if (!steps_in.is_none())
+    steps = static_cast<long>(whole_from_python(steps_in, "run: steps", 0, kMaxSteps));
   const long n = step_count(scene(), duration, steps);
   // The trajectory (t = start and after every record_every-th step, as trajectory.csv) and one
   // entry per step (as steps.csv), gathered without the GIL.

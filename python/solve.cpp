@@ -5,8 +5,12 @@
 // The solve runs without the GIL; the history of the iterative methods is the natural-map
 // residual after every sweep and the sweeps' time, recorded outside the solver's clock as
 // `cbps converge` records it.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <tuple>
 
 #include "cbps/error.hpp"
 #include "cbps/io/stored_problem.hpp"
@@ -24,12 +28,51 @@ using Clock = std::chrono::steady_clock;
 /// The largest problem handed to the dense Lemke solver (its tableau is n × 2n), as `cbps lcp`.
 constexpr long kMaxLemkeRows = 3000;
 
-/// One entry per recorded sweep: sweep 0 is the guess.
+/// The default of solve(history_limit=): a million entries, 20 MB (an int and two doubles each).
+constexpr long long kHistoryLimit = 1000000;
+
+/// The per-sweep history, at most `limit` (>= 2) entries: sweep 0 (the guess), then every sweep
+/// while they fit. When an entry more would not fit, every other entry is dropped and from then
+/// on only every 2nd sweep is recorded (then every 4th, 8th, ...), so the entries stay evenly
+/// spread over the whole solve in bounded memory; finish() makes the last sweep the last entry.
 struct History {
+  std::size_t limit = static_cast<std::size_t>(kHistoryLimit);
+  long long stride = 1;  ///< only sweeps k with k % stride == 0 are recorded (until the last)
   std::vector<int> iteration;
   std::vector<double> residual;  ///< natural-map residual (6.2), N
   std::vector<double> time_s;    ///< the solver's time so far, s
+  bool wants(int k) const { return k % stride == 0; }
   void add(int k, double r, double t) {
+    iteration.push_back(k);
+    residual.push_back(r);
+    time_s.push_back(t);
+    if (iteration.size() > limit) thin();
+  }
+  /// Keeps the entries at multiples of twice the stride: the recorded sweeps 0, s, 2s, ..., K
+  /// (K / s + 1 = limit + 1 of them) become 0, 2s, 4s, ..., at most limit / 2 + 1 <= limit.
+  void thin() {
+    stride *= 2;
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < iteration.size(); ++i) {
+      if (iteration[i] % stride != 0) continue;
+      iteration[kept] = iteration[i];
+      residual[kept] = residual[i];
+      time_s[kept] = time_s[i];
+      ++kept;
+    }
+    iteration.resize(kept);
+    residual.resize(kept);
+    time_s.resize(kept);
+  }
+  /// The last sweep k (residual r, time t) as the last entry, unless it is already; when the
+  /// history is full it takes the place of the latest entry before it.
+  void finish(int k, double r, double t) {
+    if (!iteration.empty() && iteration.back() == k) return;
+    if (iteration.size() >= limit) {
+      iteration.pop_back();
+      residual.pop_back();
+      time_s.pop_back();
+    }
     iteration.push_back(k);
     residual.push_back(r);
     time_s.push_back(t);
@@ -104,7 +147,21 @@ Inputs read_inputs(const py::object& A,
                        " x " + std::to_string(p.Minv.cols()));
   }
   if (!blocks.is_none()) {
-    in.blocks = blocks.cast<std::vector<int>>();
+    // Whole ids in int's range (block_pgs.hpp: a negative id is a row alone), numpy or a list.
+    py::object ids;
+    try {
+      ids = py::module_::import("numpy").attr("asarray")(blocks, py::arg("dtype") = "object");
+    } catch (const py::error_already_set& e) {
+      throw InputError("blocks: not a vector of whole numbers (" + std::string(e.what()) + ")");
+    }
+    if (ids.attr("ndim").cast<int>() != 1)
+      throw InputError("blocks: expected a vector of whole numbers, one per row");
+    long k = 0;
+    for (const py::handle id : ids)
+      in.blocks.push_back(static_cast<int>(whole_from_python(id,
+                                                             "blocks: entry " + std::to_string(k++),
+                                                             std::numeric_limits<int>::min(),
+                                                             std::numeric_limits<int>::max())));
     if (static_cast<long>(in.blocks.size()) != c)
       throw InputError("blocks: has " + std::to_string(in.blocks.size()) + " entries, expected " +
                        std::to_string(c));
@@ -180,25 +237,34 @@ py::tuple solve_py(const py::object& A,
                    const py::object& cmax,
                    const std::string& method,
                    const py::object& lam0,
-                   int iterations,
-                   double tolerance,
-                   double delta_tolerance,
-                   double cfm,
-                   std::uint64_t seed,
+                   const py::object& iterations_in,
+                   const py::object& tolerance_in,
+                   const py::object& delta_tolerance_in,
+                   const py::object& cfm_in,
+                   const py::object& seed_in,
                    bool split_islands,
                    const py::object& J,
                    const py::object& Minv,
                    const py::object& blocks,
                    const py::object& kinds,
-                   bool history) {
-  if (iterations < 1)
-    throw InputError("iterations " + std::to_string(iterations) + ": must be >= 1");
-  for (const auto& [name, value] : {std::pair<const char*, double>{"tolerance", tolerance},
-                                    {"delta_tolerance", delta_tolerance},
-                                    {"cfm", cfm}})
-    if (!(value >= 0.0) || !std::isfinite(value))
-      throw InputError(std::string(name) + " " + number_text(value) +
+                   bool history,
+                   const py::object& history_limit_in) {
+  // The numbers first, each named with its range (InputError, never pybind11's TypeError).
+  constexpr long long kMaxInt = std::numeric_limits<int>::max();  // 2**31 - 1
+  const auto iterations =
+      static_cast<int>(whole_from_python(iterations_in, "iterations", 1, kMaxInt));
+  const std::uint64_t seed =
+      unsigned_from_python(seed_in, "seed", 0, std::numeric_limits<std::uint64_t>::max());
+  const auto history_limit = whole_from_python(history_limit_in, "history_limit", 2, kMaxInt);
+  double tolerance = 0.0, delta_tolerance = 0.0, cfm = 0.0;
+  for (auto [name, in, value] : {std::tuple{"tolerance", &tolerance_in, &tolerance},
+                                 {"delta_tolerance", &delta_tolerance_in, &delta_tolerance},
+                                 {"cfm", &cfm_in, &cfm}}) {
+    *value = real_from_python(*in, name);
+    if (!(*value >= 0.0) || !std::isfinite(*value))
+      throw InputError(std::string(name) + " " + number_text(*value) +
                        ": must be a finite number >= 0");
+  }
   // The spec first: a bad method is reported before the data are read.
   const bool lemke = method == "lemke";
   const SolverSpec spec = lemke ? SolverSpec{} : parse_solver_spec(method, "method");
@@ -225,28 +291,55 @@ py::tuple solve_py(const py::object& A,
   const SpMat A_solved = with_cfm(in.p.A, cfm);  // the matrix the residual is of (A + eps E)
   const BoxedProblem solved{A_solved, in.p.b, in.p.cmin, in.p.cmax};
   History h;
-  if (per_sweep)
+  h.limit = static_cast<std::size_t>(history_limit);
+  if (per_sweep) {
+    const auto expected = static_cast<std::size_t>(iterations) + 2;  // the guess and the sweeps
+    const std::size_t capacity = std::min(h.limit + 1, expected);
+    h.iteration.reserve(capacity);
+    h.residual.reserve(capacity);
+    h.time_s.reserve(capacity);
+  }
+  // Every sweep of the iterative methods comes here (without the GIL): its history entry, and
+  // Ctrl-C. Every 0.1 s the GIL is taken for a moment to let Python see its signals, as
+  // Simulation.run does; a signal ends the solve (Termination::Stopped, then KeyboardInterrupt).
+  bool interrupted = false;
+  auto checked = Clock::now();
+  int last_k = 0;
+  double last_time = 0.0;
+  if (is_iterative(spec.method))
     options.after_sweep = [&](int k, const VecX& lambda, double time_s) {
-      h.add(k, natural_map_residual(solved, lambda), time_s);
-      return true;
+      if (per_sweep) {
+        if (h.wants(k)) h.add(k, natural_map_residual(solved, lambda), time_s);
+        last_k = k;
+        last_time = time_s;
+      }
+      if (Clock::now() - checked > std::chrono::milliseconds(100)) {
+        checked = Clock::now();
+        const py::gil_scoped_acquire acquire;
+        interrupted = interrupted || PyErr_CheckSignals() != 0;
+      }
+      return !interrupted;  // with split_islands: every island after it stops at its first sweep
     };
   VecX lambda = in.lambda;
   SolverSummary summary;
   {
     const py::gil_scoped_release release;
     const double guess = natural_map_residual(solved, lambda);
+    if (per_sweep) h.add(0, guess, 0.0);
     summary = solve(in.problem(), lambda, options);
-    if (history && !per_sweep && !split_islands) {
+    if (interrupted) {
+      // KeyboardInterrupt (set by PyErr_CheckSignals), raised below with the GIL back
+    } else if (per_sweep) {
+      if (last_k > 0 && h.iteration.back() != last_k)
+        h.finish(last_k, natural_map_residual(solved, lambda), last_time);
+    } else if (history && !split_islands) {
       h.add(0, guess, 0.0);
       h.add(std::max(1, summary.iterations),
             natural_map_residual(solved, lambda),
             summary.wall_time_s);
-    } else if (per_sweep) {
-      h.iteration.insert(h.iteration.begin(), 0);
-      h.residual.insert(h.residual.begin(), guess);
-      h.time_s.insert(h.time_s.begin(), 0.0);
     }
   }
+  if (interrupted) throw py::error_already_set();
   py::dict s = summary_dict(summary);
   s["method"] = spec.text;
   s["history"] = history && !split_islands ? py::object(h.dict()) : py::none();
@@ -276,6 +369,7 @@ void bind_solve(py::module_& m) {
         py::arg("blocks") = py::none(),
         py::arg("kinds") = py::none(),
         py::arg("history") = true,
+        py::arg("history_limit") = kHistoryLimit,
         "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
         "--solver spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', "
         "'direct', 'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', "
@@ -285,8 +379,12 @@ void bind_solve(py::module_& m) {
         "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
         "'contact', 'friction') for contacts_first. Returns (lam, summary): summary is a dict "
         "of iterations, residual (N), termination, message, wall_time_s, ... and history "
-        "{iteration, residual, time_s} after every sweep (sweep 0: the guess). Releases the "
-        "GIL while solving.");
+        "{iteration, residual, time_s} after every sweep (sweep 0: the guess), at most "
+        "history_limit entries (default 1000000: beyond it every 2nd, 4th, ... sweep, evenly "
+        "over the whole solve, and the last); history=False: None. Numbers out of range raise "
+        "InputError (iterations and history_limit whole, up to 2**31 - 1; seed whole >= 0; "
+        "tolerance, delta_tolerance, cfm finite >= 0). Releases the GIL while solving; Ctrl-C "
+        "stops the iterative methods within 0.1 s (KeyboardInterrupt).");
   m.def(
       "methods",
       [] {

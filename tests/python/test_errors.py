@@ -191,3 +191,116 @@ def test_writers_refuse_to_replace_without_force(tmp_path):
     with pytest.raises(cbps.InputError, match="relay problem's bounds must be finite"):
         cbps.write_siconos(str(tmp_path / "r.dat"), np.eye(2), [1, 1], [0, -np.inf], [1, 1])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.json"]  # no temporary left
+
+
+INT_MAX = 2**31 - 1
+WHOLE = "must be a whole number from"
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"iterations": 2**40}, f"iterations 1099511627776: {WHOLE} 1 to {INT_MAX}"),
+    ({"iterations": 10.5}, f"iterations 10.5: {WHOLE} 1 to {INT_MAX}"),
+    ({"iterations": 0}, f"iterations 0: {WHOLE} 1 to {INT_MAX}"),
+    ({"iterations": float("nan")}, f"iterations nan: {WHOLE} 1 to {INT_MAX}"),
+    ({"iterations": "ten"}, f"iterations 'ten': {WHOLE} 1 to {INT_MAX}"),
+    ({"iterations": True}, f"iterations True: {WHOLE} 1 to {INT_MAX}"),
+    ({"iterations": 10**5000}, f"iterations \\(an integer of 16610 bits\\): {WHOLE} 1 to"),
+    ({"seed": -1}, f"seed -1: {WHOLE} 0 to 18446744073709551615"),
+    ({"seed": 2**64}, f"seed 18446744073709551616: {WHOLE} 0 to 18446744073709551615"),
+    ({"seed": 0.5}, f"seed 0.5: {WHOLE} 0 to"),
+    ({"history_limit": 1}, f"history_limit 1: {WHOLE} 2 to {INT_MAX}"),
+    ({"history_limit": 2**31}, f"history_limit 2147483648: {WHOLE} 2 to {INT_MAX}"),
+    ({"tolerance": -1}, "tolerance -1: must be a finite number >= 0"),
+    ({"tolerance": float("inf")}, "tolerance inf: must be a finite number >= 0"),
+    ({"tolerance": "tight"}, "tolerance 'tight': not a number"),
+    ({"tolerance": 10**400}, "tolerance \\(an integer of 1329 bits\\): too large for a double"),
+    ({"delta_tolerance": float("nan")}, "delta_tolerance nan: must be a finite number >= 0"),
+    ({"delta_tolerance": None}, "delta_tolerance None: not a number"),
+    ({"cfm": -1e-9}, "cfm -1e-09: must be a finite number >= 0"),
+    ({"cfm": [0.1]}, r"cfm \[0.1\]: not a number"),
+    ({"blocks": [0, 2**40]}, f"blocks: entry 1 1099511627776: {WHOLE} -2147483648 to {INT_MAX}"),
+    ({"blocks": [0.5, 0]}, f"blocks: entry 0 0.5: {WHOLE} -2147483648 to {INT_MAX}"),
+])
+def test_solve_numbers_out_of_range(kwargs, message):
+    """Every numeric keyword of solve(): a number out of range or not a number at all is
+    InputError naming the argument, its value and the range, never pybind11's TypeError."""
+    with pytest.raises(cbps.InputError, match=message):
+        cbps.solve(np.eye(2), [1, 1], [0, 0], [1, 1], "block-pgs" if "blocks" in kwargs else "pgs",
+                   **kwargs)
+
+
+def test_solve_takes_whole_numbers_in_any_form():
+    """A whole number may come as a float without a fraction (1e3) or a numpy integer; the
+    ranges' ends are taken. A = I, b = 1 in [0, 1]: lambda = 1; with cfm 0.5 (A + 0.5 I)
+    lambda = 1 / 1.5."""
+    args = (np.eye(2), [1, 1], [0, 0], [1, 1])
+    for kwargs in ({"iterations": 1e3}, {"iterations": np.int64(7)}, {"iterations": INT_MAX},
+                   {"seed": 2**64 - 1}, {"seed": np.uint64(2**64 - 1)}, {"history_limit": 2},
+                   {"tolerance": 0}, {"cfm": np.float32(0.5)}):
+        lam, s = cbps.solve(*args, **kwargs)
+        expected = 1 / 1.5 if "cfm" in kwargs else 1.0
+        np.testing.assert_allclose(lam, [expected] * 2, rtol=1e-12, err_msg=str(kwargs))
+    lam, s = cbps.solve(*args, "block-pgs", blocks=np.array([-1, 7], dtype=np.int16))
+    np.testing.assert_allclose(lam, [1, 1])
+
+
+@pytest.mark.parametrize("attribute,value,message", [
+    ("iterations", 2**40, f"iterations 1099511627776: {WHOLE} 1 to {INT_MAX}"),
+    ("iterations", 10.5, f"iterations 10.5: {WHOLE} 1 to {INT_MAX}"),
+    ("seed", -1, f"seed -1: {WHOLE} 0 to 18446744073709551615"),
+    ("seed", 2**64, f"seed 18446744073709551616: {WHOLE} 0 to"),
+    ("dt", "1/240", "dt '1/240': not a number"),
+    ("dt", -0.01, "dt -0.01: must be a positive finite time in s"),
+    ("duration", float("inf"), "duration inf: must be a positive finite time in s"),
+    ("beta", None, "beta None: not a number"),
+    ("beta", float("nan"), r"beta nan: must be in \[0, 1\]"),
+    ("tolerance", 10**400, "tolerance \\(an integer of 1329 bits\\): too large"),
+    ("cfm", "0.1", "cfm '0.1': not a number"),
+])
+def test_scene_numbers_out_of_range(attribute, value, message):
+    scene = cbps.scene("chain")
+    with pytest.raises(cbps.InputError, match=message):
+        setattr(scene, attribute, value)
+    scene.iterations, scene.seed, scene.dt = 5.0, 2**64 - 1, 1  # whole floats, the ends, ints
+    assert (scene.iterations, scene.seed, scene.dt) == (5, 2**64 - 1, 1.0)
+
+
+@pytest.mark.parametrize("params,message", [
+    ({"n": 10.5}, "parameter 'n': expected an integer"),
+    ({"n": 2**70}, r"parameter 'n': must be in \[1, 1e\+07\]"),
+    ({"n": -1}, r"parameter 'n': must be in \[1, 1e\+07\]"),
+    ({"mass_ratio": float("nan")}, "parameter 'mass_ratio': expected a finite number"),
+    ({"mass_ratio": float("inf")}, "parameter 'mass_ratio': expected a finite number"),
+])
+def test_scene_parameters_out_of_range(params, message):
+    """cbps.scene()'s keywords are checked by the scene's own parameter ranges, as --param."""
+    with pytest.raises(cbps.InputError, match=message):
+        cbps.scene("chain", **params)
+
+
+@pytest.mark.parametrize("kwargs,message", [
+    ({"steps": 2**70}, f"run: steps 1180591620717411303424: {WHOLE} 0 to 1000000000000"),
+    ({"steps": 1.5}, f"run: steps 1.5: {WHOLE} 0 to 1000000000000"),
+    ({"steps": -1}, f"run: steps -1: {WHOLE} 0 to"),
+    ({"steps": 1, "record_every": 2**70}, f"run: record_every 1180591620717411303424: {WHOLE} 1"),
+    ({"steps": 1, "record_every": 0.5}, f"run: record_every 0.5: {WHOLE} 1 to"),
+    ({"duration": "1 s"}, "run: duration '1 s': not a number"),
+    ({"duration": 10**400}, "run: duration \\(an integer of 1329 bits\\): too large"),
+    ({"duration": float("nan")}, "run: duration nan s: must be a positive finite time"),
+])
+def test_simulation_numbers_out_of_range(kwargs, message):
+    sim = cbps.Simulation(cbps.scene("chain", n=2))
+    with pytest.raises(cbps.InputError, match=message):
+        sim.run(**kwargs)
+    assert sim.steps_done == 0
+    sim.run(steps=2.0, record_every=np.int32(2))  # whole numbers in other forms
+    assert sim.steps_done == 2
+
+
+def test_write_problem_numbers(tmp_path):
+    args = (np.eye(2), [1, 1], [0, 0], [1, 1])
+    with pytest.raises(cbps.InputError, match="cfm 'x': not a number"):
+        cbps.write_problem(str(tmp_path / "a"), *args, cfm="x")
+    with pytest.raises(cbps.InputError, match="dt '1/240': not a number"):
+        cbps.write_problem(str(tmp_path / "b"), *args, J=np.eye(2), Minv=np.eye(2), v1=[0, 0],
+                           fext=[0, 0], dt="1/240")

@@ -1,10 +1,13 @@
 """The GIL is released during long solves and runs: a Python thread keeps counting while another
 thread is inside cbps.solve or Simulation.run. With the GIL held the counting thread would wait
-for the whole call."""
+for the whole call. Ctrl-C (SIGINT) stops both."""
+import os
+import signal
 import threading
 import time
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
 
 import cbps
@@ -85,11 +88,6 @@ def test_two_threads_share_a_simulation():
 def test_run_stops_on_ctrl_c():
     """SIGINT during a long run: KeyboardInterrupt within about 0.1 s of the signal (the run
     looks every 0.1 s), the steps done stay done."""
-    import os
-    import signal
-
-    import pytest
-
     sim = cbps.Simulation(cbps.scene("chain", n=50))
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
@@ -101,3 +99,32 @@ def test_run_stops_on_ctrl_c():
     assert 0.3 <= seconds < 2.0, seconds
     assert 0 < sim.steps_done < 10**8
     assert sim.time == sim.steps_done * sim.scene.dt
+
+
+@pytest.mark.parametrize("method,kwargs", [
+    ("pgs", {}),
+    ("pgs", {"history": False}),
+    ("apgd", {}),
+    ("nncg", {}),
+    ("jacobi:0.5", {}),
+    ("pgs", {"split_islands": True}),
+], ids=["pgs", "pgs-without-history", "apgd", "nncg", "jacobi", "pgs-islands"])
+def test_solve_stops_on_ctrl_c(method, kwargs):
+    """SIGINT during a solve of 2**31 - 1 sweeps with no tolerance (hours on the tridiagonal
+    problem): KeyboardInterrupt within about 0.1 s of the signal (the sweeps look every 0.1 s),
+    for every iterative method and with islands solved apart (the chain of 2000 rows cut into
+    two islands by one zero off-diagonal pair)."""
+    A, b, cmin, cmax = long_problem()
+    if kwargs.get("split_islands"):
+        A = A.tolil()
+        A[999, 1000] = A[1000, 999] = 0.0
+        A = A.tocsr()
+        A.eliminate_zeros()
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        cbps.solve(A, b, cmin, cmax, method, iterations=2**31 - 1, tolerance=0, **kwargs)
+    seconds = time.perf_counter() - t0
+    timer.join()
+    assert 0.3 <= seconds < 1.3, seconds

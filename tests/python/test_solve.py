@@ -138,3 +138,49 @@ def test_dense_and_list_inputs():
     lam, s = cbps.solve(sp.csc_matrix([[2.0, 1.0], [1.0, 2.0]]), np.array([[1.0], [1.0]]),
                         [-np.inf, -np.inf], [0.2, np.inf], "pgs")
     np.testing.assert_allclose(lam, [0.2, 0.4], rtol=1e-9)
+
+
+def tridiagonal(c):
+    """A chain's A (2 on the diagonal, -1 beside), b = 1, unbounded: PGS's residual falls by
+    about (pi / (c + 1))**2 per sweep, so on c = 200 it is still far above round-off after
+    20000 sweeps and every sampled entry is a number worth comparing."""
+    A = sp.diags([-np.ones(c - 1), 2 * np.ones(c), -np.ones(c - 1)], [-1, 0, 1], format="csr")
+    return A, np.ones(c), np.full(c, -np.inf), np.full(c, np.inf)
+
+
+def test_history_limit_thins_evenly_and_keeps_the_last_sweep():
+    """20000 sweeps with history_limit=100: the entries are sweep 0 and every s-th sweep for the
+    smallest power of two s with 20000 // s + 1 <= 100 (s = 256: 0, 256, ..., 19968), then
+    the last sweep, 20000; each residual is that of PGS's iterate after so many sweeps,
+    recomputed here with numpy from a solve stopped there."""
+    A, b, cmin, cmax = tridiagonal(200)
+    lam, s = cbps.solve(A, b, cmin, cmax, "pgs", iterations=20000, tolerance=0,
+                        history_limit=100)
+    h = s["history"]
+    assert s["iterations"] == 20000
+    expected = np.append(np.arange(0, 20000, 256), 20000)
+    np.testing.assert_array_equal(h["iteration"], expected)
+    assert len(h["residual"]) == len(h["time_s"]) == len(expected) <= 100
+    for k in (256, 5120, 19968):
+        lam_k, _ = cbps.solve(A, b, cmin, cmax, "pgs", iterations=k, tolerance=0, history=False)
+        r = natural_map_residual(A, b, cmin, cmax, lam_k)
+        assert r > 1e-6
+        assert h["residual"][np.flatnonzero(h["iteration"] == k)[0]] == pytest.approx(r, rel=1e-9)
+    assert h["residual"][-1] == pytest.approx(natural_map_residual(A, b, cmin, cmax, lam),
+                                              rel=1e-9)
+    assert np.all(np.diff(h["time_s"]) >= 0)
+
+
+def test_history_is_bounded_by_default():
+    """cbps.solve(..., iterations=2**31-1, tolerance=0) grew its history by a sweep at a time
+    (5.3 GB in 60 s). The default limit is a million entries: 3e6 sweeps of a 2 x 2 problem
+    keep every 4th sweep (the smallest power of two s with 3e6 // s + 1 <= 1e6), 750001
+    entries ending at the last sweep; history_limit=2 keeps the guess and the last sweep."""
+    A = np.array([[2.0, 1.0], [1.0, 2.0]])
+    b, cmin, cmax = [1.0, 1.0], [-np.inf] * 2, [np.inf] * 2
+    _, s = cbps.solve(A, b, cmin, cmax, "pgs", iterations=3_000_000, tolerance=0)
+    h = s["history"]
+    assert len(h["iteration"]) == 750001 <= 1_000_000
+    assert h["iteration"][1] == 4 and h["iteration"][-1] == 3_000_000
+    _, s = cbps.solve(A, b, cmin, cmax, "pgs", iterations=1000, tolerance=0, history_limit=2)
+    np.testing.assert_array_equal(s["history"]["iteration"], [0, 1000])
