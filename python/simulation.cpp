@@ -348,8 +348,9 @@ void bind_simulation(py::module_& m) {
           "the step's report (as Simulation.step() returns it), or None")
       .def("__repr__", [](const SystemRecord& r) {
         return "<cbps.System of step " + std::to_string(r.step) + ": " +
-               std::to_string(r.sys.rows()) + " rows, " + std::to_string(r.sys.blocks()) +
-               " movable bodies" + (r.lambda ? ", solved>" : ", not solved>");
+               count_text(r.sys.rows(), "row") + ", " +
+               count_text(r.sys.blocks(), "movable body", "movable bodies") +
+               (r.lambda ? ", solved>" : ", not solved>");
       });
 
   py::class_<PySimulation>(

@@ -18,6 +18,13 @@ inline std::string number_text(double x) {
   return text;
 }
 
+/// A count with its noun for messages: "1 sweep", "2 sweeps", "1 movable body", "0 rows".
+/// `plural` defaults to the singular with an "s".
+inline std::string count_text(long n, const std::string& singular, std::string plural = {}) {
+  if (plural.empty()) plural = singular + "s";
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
 /// Bad input or usage (exit code 2). what() reads "<where>: <why>", where names the file and
 /// the JSON path or line, or the option.
 class InputError : public std::runtime_error {

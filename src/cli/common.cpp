@@ -167,6 +167,25 @@ CLI::Validator non_negative() {
       ">= 0");
 }
 
+CLI::Validator step_index() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double x = 0.0;
+        if (!parse_number(text, x) || !(x >= 0.0) || x != std::floor(x) || x > kMaxSteps)
+          return "'" + text + "' is not a whole number of steps from 0 to " +
+                 number_text(kMaxSteps) + " (1e6 accepted)";
+        text = std::to_string(static_cast<long>(x));
+        return {};
+      },
+      "0..1e12");
+}
+
+CLI::Validator non_empty() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string { return text.empty() ? "empty file name" : ""; },
+      "FILE");
+}
+
 namespace {
 
 /// The temporary folders of the live OutputDirs and, for each, the output folder to remove

@@ -42,6 +42,10 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
 /// Option checks whose messages show the value as given (CLI11's own print DBL_MAX in full).
 CLI::Validator positive();      ///< a finite number > 0
 CLI::Validator non_negative();  ///< a finite number >= 0
+/// A whole number of steps from 0 to kMaxSteps, also written 1e6; rewritten as digits for the
+/// option's integer (`--step`).
+CLI::Validator step_index();
+CLI::Validator non_empty();  ///< any text but the empty one (a file name)
 
 /// The most steps a run takes (a longer run is a typo: 1e12 steps of a one-body scene take days).
 inline constexpr double kMaxSteps = 1e12;

@@ -361,10 +361,10 @@ int converge_command(const ConvergeOptions& o) {
     if (!o.quiet) {
       const Sample& last = runs.back().samples.back();
       std::fprintf(stderr,
-                   "converge: %s: %s after %d sweeps, %.3g s, residual %.3g N\n",
+                   "converge: %s: %s after %s, %.3g s, residual %.3g N\n",
                    spec.text.c_str(),
                    runs.back().stopped.c_str(),
-                   last.iteration,
+                   count_text(last.iteration, "sweep").c_str(),
                    last.time_s,
                    last.residual);
     }
@@ -522,7 +522,7 @@ void register_converge(CLI::App& app, Action& run) {
                   o->at_step,
                   "scenes: study the system of this step (0: the first; later steps start "
                   "from the previous step's lambda unless a spec says warm=off)")
-      ->check(non_negative());
+      ->transform(step_index());
   cmd->add_option("--dt", o->step.dt, "scenes: time step in s");
   cmd->add_option("--push", o->step.push, "scenes: original | improved")
       ->check(CLI::IsMember({"original", "improved"}));
@@ -544,7 +544,8 @@ void register_converge(CLI::App& app, Action& run) {
   cmd->add_option("--out", o->out, "write convergence.csv, summary.json and the plot here");
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
-  cmd->add_flag("!--no-plot", o->plot, "write no convergence.png/.svg");
+  cmd->add_flag_callback(
+      "--no-plot", [o] { o->plot = false; }, "write no convergence.png/.svg");
   cmd->callback([&run, o] { run = [o] { return converge_command(*o); }; });
 }
 

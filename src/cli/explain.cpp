@@ -154,11 +154,11 @@ int explain_command(const ExplainOptions& o) {
       bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
     const TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
     write_output_file(o.html, "--html " + o.html, teaching_page_html(step));
-    std::printf("%s, step %ld: %d rows, %d movable bodies; wrote %s\n",
+    std::printf("%s, step %ld: %s, %s; wrote %s\n",
                 scene.name.c_str(),
                 o.at_step,
-                shown.rows(),
-                shown.blocks(),
+                count_text(shown.rows(), "row").c_str(),
+                count_text(shown.blocks(), "movable body", "movable bodies").c_str(),
                 o.html.c_str());
     return 0;
   }
@@ -304,13 +304,13 @@ int explain_command(const ExplainOptions& o) {
     std::cout << out.dump(2) << "\n";
     return 0;
   }
-  std::printf("%s, step %ld (t = %s s, dt = %s s): %d rows, %d movable bodies\n",
+  std::printf("%s, step %ld (t = %s s, dt = %s s): %s, %s\n",
               scene.name.c_str(),
               o.at_step,
               num(sim.time()).c_str(),
               num(sys.dt).c_str(),
-              sys.rows(),
-              sys.blocks());
+              count_text(sys.rows(), "row").c_str(),
+              count_text(sys.blocks(), "movable body", "movable bodies").c_str());
   std::printf("System shown: %s.\n", system_shown.c_str());
   std::printf("Numbers to %d significant digits.\n\n", kDigits);
   print_matrix(
@@ -403,7 +403,7 @@ void register_explain(CLI::App& app, Action& run) {
   add_scene_options(cmd, o->scene);
   add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "explain the system of step K (after K steps)")
-      ->check(non_negative());
+      ->transform(step_index());
   cmd->add_flag("--json",
                 o->json,
                 "full-precision dense arrays with row and column labels, units, w and per-row "
@@ -414,6 +414,7 @@ void register_explain(CLI::App& app, Action& run) {
                   "the step's system, sparsity pictures, lambda against its bounds, the "
                   "residual per sweep and the eigenvalues of A")
       ->option_text("FILE")
+      ->check(non_empty())
       ->excludes("--json");
   cmd->add_flag("--force",
                 o->force,

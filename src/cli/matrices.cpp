@@ -21,6 +21,7 @@ struct MatricesOptions {
   StepOptions step;
   long at_step = 0;
   std::string out;
+  bool quiet = false;
 };
 
 int matrices_command(const MatricesOptions& o) {
@@ -93,11 +94,12 @@ int matrices_command(const MatricesOptions& o) {
   std::snprintf(dt_text, sizeof dt_text, "%.17g\n", sys.dt);
   write_text(dir.file("dt.txt"), dt_text);
   dir.commit();
-  std::printf("%s, step %ld: %d rows, %d movable bodies; wrote %s\n",
+  if (o.quiet) return 0;
+  std::printf("%s, step %ld: %s, %s; wrote %s\n",
               scene.name.c_str(),
               o.at_step,
-              sys.rows(),
-              sys.blocks(),
+              count_text(sys.rows(), "row").c_str(),
+              count_text(sys.blocks(), "movable body", "movable bodies").c_str(),
               o.out.c_str());
   return 0;
 }
@@ -110,8 +112,9 @@ void register_matrices(CLI::App& app, Action& run) {
   add_scene_options(cmd, o->scene);
   add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "the system of step K (after K steps)")
-      ->check(non_negative());
+      ->transform(step_index());
   cmd->add_option("--out", o->out, "output folder")->required();
+  cmd->add_flag("--quiet", o->quiet, "print nothing on success (errors still go to stderr)");
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });
 }
 

@@ -627,7 +627,8 @@ void register_profile(CLI::App& app, Action& run) {
       "--out", o->out, "write profile.json, profile.csv, summary.txt and the plot here");
   cmd->add_flag("--json", o->json, "print profile.json on stdout instead of the table");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
-  cmd->add_flag("!--no-plot", o->plot, "write no profile.png/.svg");
+  cmd->add_flag_callback(
+      "--no-plot", [o] { o->plot = false; }, "write no profile.png/.svg");
   cmd->callback([&run, o] { run = [o] { return profile_command(*o); }; });
 }
 

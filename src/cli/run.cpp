@@ -331,15 +331,15 @@ int run_command(const RunOptions& o) {
     std::cout << summary.dump(2) << "\n";
   } else {
     std::printf(
-        "%s: %ld steps of %.6g s, %zu bodies, %d rows, solver %s%s\n"
+        "%s: %s of %.6g s, %s, %s, solver %s%s\n"
         "  iterations %ld in all, max residual %.3g N, max constraint error %.3g m, "
         "max penetration %.3g m\n"
         "  energy %.9g J -> %.9g J, wall time %.3f s\n",
         scene.name.c_str(),
-        steps_done,
+        count_text(steps_done, "step").c_str(),
         scene.world.dt,
-        scene.bodies.size(),
-        max_rows,
+        count_text(static_cast<long>(scene.bodies.size()), "body", "bodies").c_str(),
+        count_text(max_rows, "row").c_str(),
         std::string(to_string(scene.solver.method)).c_str(),
         diverged ? " (stopped: diverged)" : "",
         iterations_total,

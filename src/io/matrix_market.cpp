@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cbps/error.hpp"
+#include "cbps/io/input_file.hpp"
 
 namespace cbps {
 
@@ -227,11 +228,9 @@ SpMat assemble(const std::vector<Triplet>& entries,
   return M;
 }
 
-/// Opens `path` for a reader; a missing file is "<path>: line 0: cannot open the file".
+/// Opens `path` for a reader (open_text_file: missing, a folder or binary named as such).
 std::ifstream open_for_reading(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": line 0: cannot open the file");
-  return in;
+  return open_text_file(path, "a Matrix Market text file");
 }
 
 /// The whole file (keep empty) or the rows `keep` of it, shifted to start at 0.

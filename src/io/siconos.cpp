@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cbps/error.hpp"
+#include "cbps/io/input_file.hpp"
 
 namespace cbps {
 
@@ -208,8 +209,7 @@ StoredLcp read_siconos(const std::string& path, bool relay) {
 }
 
 StoredLcp read_siconos(const std::string& path, SiconosKind kind) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": line 0: cannot open the file");
+  std::ifstream in = open_text_file(path, "a Siconos .dat text file (or a cbps matrices folder)");
   return parse_siconos(in, path, kind);
 }
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cbps/error.hpp"
 #include "cbps/studies/teaching_page.hpp"
 
 namespace cbps {
@@ -528,10 +529,12 @@ void Page::header() {
      << "<body>\n<header><h1>" << title << ": the system of one step</h1>\n";
   int count[3] = {0, 0, 0};
   for (Eigen::Index k = 0; k < sys_.rows(); ++k) ++count[static_cast<int>(kind_of(sys_, k))];
-  o_ << "<p>t = " << num(s_.t) << " s, Δt = " << num(sys_.dt) << " s; c = " << sys_.rows()
-     << " rows (" << count[0] << " distance, " << count[1] << " contact, " << count[2]
-     << " friction), n = " << sys_.blocks() << " movable bodies (6n = " << 6 * sys_.blocks()
-     << " columns); solver " << html_escape(s_.method) << ". Push: "
+  o_ << "<p>t = " << num(s_.t) << " s, Δt = " << num(sys_.dt)
+     << " s; c = " << count_text(sys_.rows(), "row") << " (" << count[0] << " distance, "
+     << count[1] << " contact, " << count[2]
+     << " friction), n = " << count_text(sys_.blocks(), "movable body", "movable bodies")
+     << " (6n = " << 6 * sys_.blocks() << " columns); solver " << html_escape(s_.method)
+     << ". Push: "
      << (sys_.push == PushMode::Improved ? "improved, two systems with the same J, M⁻¹, A (8.1)"
                                          : "original, one system (5.2.3, 5.3)")
      << ". Numbers to " << kDigits << " significant digits.</p>\n"
@@ -854,7 +857,7 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
   note(html_escape(t.sweep_method) +
        " run again on the whole system (islands not split) from "
        "the step's own guess, " +
-       std::to_string(t.sweep_residuals.size() - 1) + " sweeps" +
+       count_text(static_cast<long>(t.sweep_residuals.size()) - 1, "sweep") +
        (t.sweep_method != s_.method
             ? std::string(": the scene's solver ") + html_escape(s_.method) +
                   " does not sweep, so PGS (7.1.1) is shown beside it"

@@ -3,6 +3,7 @@
 // fail (item 5); bodies named beside trajectory.csv (item 8).
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -142,5 +143,71 @@ TEST_CASE("run --check with a tolerance fails the run and names the first step b
   CHECK(bodies[0]["index"] == 0);
   CHECK(bodies[0]["name"] == "link0");
   CHECK(bodies[99]["mass"].get<double>() == Approx(10.0));  // 0.1 kg × mass_ratio 100
+  fs::remove_all(dir);
+}
+
+TEST_CASE("messages a new user can act on: missing and binary files, --step, --html, --quiet",
+          "[cli][inputs][messages]") {
+  const fs::path dir = scratch_dir("new_user_messages");
+  SECTION("a missing problem says no such file or folder, not line 0") {
+    const CliResult r = run_cli("lcp " + (dir / "nothing").string());
+    CHECK(r.code == 2);
+    CHECK(r.err == "cbps: " + (dir / "nothing").string() + ": no such file or folder\n");
+  }
+  SECTION("an HDF5 file is named as a format cbps does not read, its bytes not echoed") {
+    const fs::path hdf5 = dir / "fclib-problem.hdf5";
+    {
+      std::ofstream out(hdf5, std::ios::binary);
+      out.write("\x89HDF\r\n\x1a\n\0\0\0\0\x01\x08\x08\0", 16);
+    }
+    const CliResult r = run_cli("lcp " + hdf5.string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find("an HDF5 file") != std::string::npos);
+    CHECK(r.err.find("\x89") == std::string::npos);
+    CHECK(r.err.find('\x1a') == std::string::npos);
+  }
+  SECTION("--step takes 1e1 and gives its range for what it refuses") {
+    CHECK(run_cli("matrices chain --param n=2 --step 1e1 --quiet --out " + (dir / "m").string())
+              .code == 0);
+    for (const std::string step : {"1e9.5", "2.5", "-1", "1e13"}) {
+      CAPTURE(step);
+      const CliResult r = run_cli("explain chain --step " + step);
+      CHECK(r.code == 2);
+      CHECK(r.err.find("whole number of steps from 0 to 1e+12") != std::string::npos);
+    }
+  }
+  SECTION("explain --html with an empty file name is refused") {
+    const CliResult r = run_cli("explain chain --param n=2 --html ''");
+    CHECK(r.code == 2);
+    CHECK(r.out.empty());
+    CHECK(r.err.find("empty file name") != std::string::npos);
+  }
+  SECTION("matrices --quiet prints nothing; one body is one movable body") {
+    const CliResult quiet = run_cli("matrices slide --quiet --out " + (dir / "q").string());
+    CHECK(quiet.code == 0);
+    CHECK(quiet.out.empty());
+    const CliResult loud = run_cli("matrices slide --out " + (dir / "l").string());
+    CHECK(loud.code == 0);
+    CHECK(loud.out.find(", 1 movable body;") != std::string::npos);
+    const CliResult run = run_cli("run slide --steps 1");
+    CHECK(run.out.find("slide: 1 step of ") != std::string::npos);
+  }
+  SECTION("--help shows no {false} artefacts") {
+    for (const std::string command : {"run",
+                                      "explain",
+                                      "matrices",
+                                      "lcp",
+                                      "converge",
+                                      "profile",
+                                      "stress",
+                                      "scenes",
+                                      "verify"}) {
+      CAPTURE(command);
+      const CliResult r = run_cli(command + " --help");
+      CHECK(r.code == 0);
+      CHECK(r.out.find("{false}") == std::string::npos);
+      CHECK(r.out.find("{true}") == std::string::npos);
+    }
+  }
   fs::remove_all(dir);
 }

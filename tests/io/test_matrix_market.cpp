@@ -5,12 +5,15 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "cbps/error.hpp"
 #include "cbps/io/matrix_market.hpp"
+#include "cbps/io/siconos.hpp"
+#include "fixture.hpp"
 
 namespace fs = std::filesystem;
 
@@ -146,9 +149,44 @@ TEST_CASE("Matrix Market: malformed files are InputErrors naming the file and li
       cbps::read_matrix_market_vector("/nonexistent/b.mtx");
       FAIL("no InputError");
     } catch (const cbps::InputError& e) {
-      CHECK(std::string(e.what()).find("/nonexistent/b.mtx: line 0:") != std::string::npos);
+      CHECK(std::string(e.what()) == "/nonexistent/b.mtx: no such file or folder");
     }
   }
+}
+
+TEST_CASE("the text readers name a missing file, a folder and a binary file as such",
+          "[matrix_market][siconos]") {
+  // Not "line 0: cannot open the file", and never the bytes of a binary file echoed back.
+  const std::filesystem::path dir = cbps::test::scratch_dir("input_files");
+  const auto message = [](const std::function<void()>& read) {
+    try {
+      read();
+    } catch (const cbps::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no InputError");
+  };
+  const std::string missing = (dir / "missing.dat").string();
+  CHECK(message([&] { cbps::read_siconos(missing, cbps::SiconosKind::Auto); }) ==
+        missing + ": no such file or folder");
+  CHECK(message([&] { cbps::read_matrix_market_sparse(dir.string()); }) ==
+        dir.string() + ": is a folder, not a Matrix Market text file");
+  const std::string hdf5 = (dir / "problem.hdf5").string();
+  {
+    std::ofstream out(hdf5, std::ios::binary);
+    out.write("\x89HDF\r\n\x1a\n\0\0\0\0\x01\x08\x08\0", 16);  // HDF5's superblock start
+  }
+  const std::string h = message([&] { cbps::read_siconos(hdf5, cbps::SiconosKind::Auto); });
+  CHECK(h.rfind(hdf5 + ": an HDF5 file, not a Siconos .dat text file", 0) == 0);
+  CHECK(h.find("HDF\r") == std::string::npos);  // no raw bytes in the message
+  const std::string binary = (dir / "A.mtx").string();
+  {
+    std::ofstream out(binary, std::ios::binary);
+    out.write("%%Matrix\0\xff\xfe", 11);
+  }
+  CHECK(message([&] { cbps::read_matrix_market_sparse(binary); }) ==
+        binary + ": a binary file (a NUL byte at offset 8), not a Matrix Market text file");
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("Matrix Market by rows: every split of the rows puts the whole back together",
