@@ -73,6 +73,9 @@ void write_problem(const std::string& folder,
     throw InputError("write_problem: J, Minv, v1, fext and dt go together (all or none)");
   if (!(cfm >= 0.0) || !std::isfinite(cfm))
     throw InputError("cfm " + number_text(cfm) + ": must be a finite number >= 0");
+  // What read_problem refuses (cmin[k] > cmax[k]: no lambda fits, 5.1), refused before any
+  // file is written, in the reader's words.
+  check_bounds(b, cmin, cmax, "write_problem", "write_problem", "write_problem");
   std::error_code ec;
   if (!fs::is_directory(folder, ec) && !fs::create_directory(folder, ec))
     throw InputError(folder + ": cannot make the folder: " + ec.message());
@@ -120,6 +123,7 @@ void write_siconos(const std::string& path,
     throw InputError("write_siconos: give both cmin and cmax, or neither (a standard LCP)");
   const VecX lb = given ? vector_from_python(cmin_in, "cmin", n, true) : VecX::Zero(n);
   const VecX ub = given ? vector_from_python(cmax_in, "cmax", n, true) : VecX::Constant(n, kInf);
+  check_bounds(b, lb, ub, "write_siconos", "write_siconos", "write_siconos");  // as the reader
   const bool relay = !((lb.array() == 0.0).all() && (ub.array() == kInf).all());
   if (relay && !(lb.allFinite() && ub.allFinite()))
     throw InputError(

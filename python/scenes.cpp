@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <map>
 
@@ -231,10 +232,21 @@ void bind_scenes(py::module_& m) {
       "a built-in scene with its parameters as keywords, e.g. scene('chain', n=5, "
       "mass_ratio=100) (as `--param n=5 --param mass_ratio=100`); InputError for an unknown "
       "scene, parameter or value");
-  m.def("load_scene",
-        &read_scene_file,
-        py::arg("path"),
-        "reads a JSON scene file; InputError '<file>: <json path>: <why>'");
+  m.def(
+      "load_scene",
+      [](const std::string& path) {
+        // A folder would be read as empty text and reported as a JSON syntax error at line 1.
+        std::error_code ec;
+        if (std::filesystem::is_directory(path, ec))
+          throw InputError(path +
+                           ": a folder, not a scene file; load_scene reads a JSON scene file "
+                           "(docs/scene-format.md), and a folder of Matrix Market files from "
+                           "`cbps matrices` or write_problem is read by cbps.read_problem");
+        return read_scene_file(path);
+      },
+      py::arg("path"),
+      "reads a JSON scene file; InputError '<file>: <json path>: <why>', or naming a folder "
+      "given instead of a file");
   m.def("parse_scene",
         &parse_scene,
         py::arg("text"),

@@ -35,13 +35,29 @@ def curve(ratios, k):
     return x, y
 
 
+DASHES = ("-", "--", ":", "-.")
+MARKERS = (None, "o", "s", "^", "v", "D", "x", "+")
+
+
+def solver_styles(solvers):
+    """Each solver's (colour, line style, marker), the same in every panel and no two alike.
+
+    Solver i takes colour i mod 10 (tab10) and dash i mod 4: the pair repeats only after 20
+    solvers (the least common multiple of 10 and 4), so two solvers of one colour never share a
+    dash; from the 21st on a marker (i div 20) tells them apart as well.
+    """
+    if len(solvers) > 20 * len(MARKERS):
+        raise ValueError(f"{len(solvers)} solvers: at most {20 * len(MARKERS)} can be told apart")
+    return {s: (plt.cm.tab10(i % 10), DASHES[i % 4], MARKERS[i // 20])
+            for i, s in enumerate(solvers)}
+
+
 def plot(data):
     profiles = data["profiles"]
     tolerances = data["tolerances"]
     fig, axes = plt.subplots(2, len(tolerances), figsize=(5 * len(tolerances), 8), squeeze=False)
     solvers = [s["solver"] for s in data["solvers"]]
-    # Ten colours, then the same ten dashed: each solver keeps its look in every panel.
-    styles = {s: (plt.cm.tab10(i % 10), "-" if i < 10 else "--") for i, s in enumerate(solvers)}
+    styles = solver_styles(solvers)
     right = 1.0  # the x range: the largest finite log2 ratio of any profile
     for p in profiles:
         for row in p["ratios"]:
@@ -56,21 +72,36 @@ def plot(data):
             x, y = curve(p["ratios"], k)
             x.append(right)
             y.append(y[-1])
-            colour, line = styles[solver]
-            ax.step(x, y, where="post", color=colour, linestyle=line, label=solver)
+            colour, line, marker = styles[solver]
+            ax.step(x, y, where="post", color=colour, linestyle=line, marker=marker,
+                    markersize=4, label=solver)
         ax.set_xlim(0.0, right)
         ax.set_ylim(0.0, 1.02)
         ax.set_xlabel("log2 tau (cost within tau x the best)")
         ax.set_ylabel("rho(tau): fraction of problems")
         ax.set_title(f"{p['measure']}, relative residual <= {p['tolerance']:g}")
         ax.grid(True, alpha=0.3)
-    handles, labels = axes[0][0].get_legend_handles_labels()  # the time panels have them all
-    fig.legend(handles, labels, loc="center right", fontsize="small")
+    # One legend for every solver (a solver may be missing from a panel: the exact paths have no
+    # sweeps), beside the panels: it is measured once drawn and the panels are laid out in the
+    # width left of it, so it never covers a curve however many solvers or however long names.
+    handles, labels = [], []
+    for ax in axes.flat:
+        for h, label in zip(*ax.get_legend_handles_labels()):
+            if label not in labels:
+                handles.append(h)
+                labels.append(label)
+    order = sorted(range(len(labels)), key=lambda k: solvers.index(labels[k]))
+    columns = 1 + len(labels) // 30  # about 30 entries fit the figure's height
+    legend = fig.legend([handles[k] for k in order], [labels[k] for k in order],
+                        loc="center right", bbox_to_anchor=(1.0, 0.5), fontsize="small",
+                        ncol=columns, handlelength=3.5)
     fig.suptitle(
         f"Performance profiles, {len(data['problems'])} problems "
         f"(budget {data['budget_iterations']} sweeps, {data['time_limit_s']:g} s each)"
     )
-    fig.tight_layout(rect=(0, 0, 0.88, 1))
+    fig.canvas.draw()
+    width = legend.get_window_extent().width / fig.bbox.width
+    fig.tight_layout(rect=(0, 0, 1.0 - width - 0.01, 1))
     return fig
 
 

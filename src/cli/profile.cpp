@@ -471,9 +471,40 @@ nlohmann::json profile_json(const Profile& profile, const std::vector<SolverSpec
   return j;
 }
 
+/// What decides a spec's curve here: every solve starts from lambda = 0, so the warm-start
+/// factors (warm, warm_friction) never act; the method, omega, row order, contacts_first, the
+/// method's own parameters and the TAO type do. Two specs with the same key draw the same curve.
+std::string curve_key(const SolverSpec& spec) {
+  if (!spec.tao.empty()) return "tao:" + spec.tao;
+  std::ostringstream key;
+  key.precision(17);
+  key << static_cast<int>(spec.method) << ' ' << spec.relaxation << ' '
+      << static_cast<int>(spec.order) << ' ' << spec.contacts_first;
+  for (const auto& [name, value] : method_parameters(spec.method, spec.methods))
+    key << ' ' << name << '=' << value;
+  return key.str();
+}
+
+/// InputError (exit 2) when two specs of --solvers would draw the same curve: the same text
+/// twice (`pgs,pgs`) or two texts for the same solver (`pgs,psor:1`, `pgs,pgs:warm=off`).
+void refuse_duplicates(const std::vector<SolverSpec>& specs, const std::string& list) {
+  for (std::size_t i = 0; i < specs.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k) {
+      if (specs[i].text == specs[k].text)
+        throw InputError("--solvers '" + list + "': '" + specs[i].text +
+                         "' is listed twice; give each solver once");
+      if (curve_key(specs[i]) == curve_key(specs[k]))
+        throw InputError("--solvers '" + list + "': '" + specs[i].text +
+                         "' is the same solver as '" + specs[k].text +
+                         "' (same method and settings; every solve starts from lambda = 0, so "
+                         "warm factors do not count) and would draw the same curve; give it once");
+    }
+}
+
 int profile_command(const ProfileOptions& o) {
   const auto started = Clock::now();
   const std::vector<SolverSpec> specs = parse_cli_solver_list(o.solvers, "--solvers");
+  refuse_duplicates(specs, o.solvers);
   const TaoInProcess tao(specs, "profile --solvers");  // PETSc once, for every tao spec
   const std::vector<Entry> entries = read_library(o.library, o.quick);
   // Every problem is read before any solver runs, so a bad file is reported at once (exit 2).
@@ -612,7 +643,9 @@ void register_profile(CLI::App& app, Action& run) {
       "--solvers",
       o->solvers,
       "comma-separated solver specs (the solvers listed below; tao:TYPE only in a build with "
-      "PETSc) (default: " +
+      "PETSc), each solver once: a spec listed twice, or two specs for the same method and "
+      "settings (pgs and psor:1; warm factors do not count, every solve starts from lambda = 0), "
+      "is refused (default: " +
           o->solvers + ")");
   cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_flag("--quick", o->quick, "only the problems the library marks quick");

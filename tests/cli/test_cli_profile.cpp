@@ -219,6 +219,27 @@ TEST_CASE("cbps profile refuses bad input with exit 2, naming the file", "[cli][
     CHECK(r.code == 2);
     CHECK(r.err.find("fastest") != std::string::npos);
   }
+  SECTION("a solver listed twice") {
+    const auto r = run_cli("profile " + (dir / "none").string() + " --solvers pgs,jacobi,pgs");
+    CHECK(r.code == 2);
+    CHECK(r.err.find("--solvers 'pgs,jacobi,pgs': 'pgs' is listed twice") != std::string::npos);
+  }
+  SECTION("two specs for the same solver") {
+    // psor with omega = 1 is PGS (7.1.1), and warm factors never act from lambda = 0: the
+    // curves would coincide.
+    for (const std::string list : {"pgs,psor:1", "pgs:warm=off,pgs"}) {
+      const auto r = run_cli("profile " + (dir / "none").string() + " --solvers " + list);
+      CHECK(r.code == 2);
+      CHECK(r.err.find("is the same solver as") != std::string::npos);
+    }
+  }
+  SECTION("specs that differ in a setting are not duplicates") {
+    const auto r =
+        run_cli("profile " + (dir / "none").string() + " --solvers pgs,psor:1.3,pgs:order=reverse");
+    CHECK(r.code == 2);  // the missing library, not the list
+    CHECK(r.err.find((dir / "none").string()) != std::string::npos);
+    CHECK(r.err.find("--solvers") == std::string::npos);
+  }
   SECTION("a problem that cannot be read") {
     fs::create_directories(dir / "lib");
     std::ofstream(dir / "lib" / "library.json")

@@ -304,3 +304,37 @@ def test_write_problem_numbers(tmp_path):
     with pytest.raises(cbps.InputError, match="dt '1/240': not a number"):
         cbps.write_problem(str(tmp_path / "b"), *args, J=np.eye(2), Minv=np.eye(2), v1=[0, 0],
                            fext=[0, 0], dt="1/240")
+
+
+def test_load_scene_names_a_folder(tmp_path):
+    """A folder given to load_scene (a `cbps matrices` folder, say) is named as a folder, not
+    reported as a JSON syntax error at line 1."""
+    with pytest.raises(cbps.InputError) as e:
+        cbps.load_scene(str(tmp_path))
+    message = str(e.value)
+    assert message.startswith(f"{tmp_path}: a folder, not a scene file")
+    assert "read_problem" in message and "syntax error" not in message
+
+
+@pytest.mark.parametrize("writer", ["write_problem", "write_siconos"])
+def test_writers_refuse_cmin_above_cmax_as_the_reader_does(tmp_path, writer):
+    """cmin[1] = 2 > cmax[1] = 1: no lambda fits (5.1). The writer refuses it with the reader's
+    words (read_problem on the same bounds, written file by file) and writes nothing."""
+    A, b, cmin, cmax = np.eye(2), [1.0, 1.0], [0.0, 2.0], [1.0, 1.0]
+    by_hand = tmp_path / "by_hand"
+    by_hand.mkdir()
+    for name, value in (("A", sp.csr_matrix(A)), ("b", b), ("cmin", cmin), ("cmax", cmax)):
+        cbps.write_matrix_market(str(by_hand / f"{name}.mtx"), np.asarray(value)
+                                 if name != "A" else value)
+    with pytest.raises(cbps.InputError) as read:
+        cbps.read_problem(str(by_hand))
+    prefix = f"{by_hand / 'cmin.mtx'}: "
+    assert str(read.value).startswith(prefix)
+    why = str(read.value)[len(prefix):]
+    assert why == "cmin[1] = 2: above cmax, no lambda fits"
+
+    target = tmp_path / ("folder" if writer == "write_problem" else "p.dat")
+    with pytest.raises(cbps.InputError) as e:
+        getattr(cbps, writer)(str(target), A, b, cmin, cmax)
+    assert str(e.value) == f"{writer}: {why}"
+    assert not target.exists()
