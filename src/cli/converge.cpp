@@ -180,7 +180,7 @@ Sample measure(const Study& s, const VecX& lambda, int iteration, double time_s)
 }
 
 Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions& o) {
-  if (needs_jacobian(spec.method) && !s.has_bodies())
+  if (needs_jacobian(spec.method) && !s.stored.has_jacobian())
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no J and Minv (a Siconos file); " + std::string(to_string(spec.method)) +
                      " needs them");

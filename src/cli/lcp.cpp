@@ -35,6 +35,7 @@
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
+#include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
 #include "tao_solvers.hpp"
 
@@ -43,9 +44,6 @@ namespace cbps::cli {
 namespace {
 
 namespace fs = std::filesystem;
-
-/// The largest problem handed to the dense Lemke solver (its tableau is n × 2n).
-constexpr long kMaxLemkeRows = 3000;
 
 struct LcpOptions {
   std::string problem;
@@ -64,16 +62,17 @@ struct LcpOptions {
 /// object carries.
 constexpr long kMaxGatheredRows = 100000;
 
-bool is_standard_lcp(const StoredProblem& p) {
-  return (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
-}
-
 /// What the solver returned, before the command's own check.
 struct Outcome {
   VecX lambda;
   int iterations = 0;
   bool no_solution = false;  ///< Lemke's ray termination
+  bool pivots = false;       ///< iterations are Lemke's pivots
   std::string message;
+  /// Where the exact path factored: "body", "row" or empty (no factorization: the sweeps,
+  /// Lemke, or the active set of a small problem on blocks of A), and why.
+  std::string space;
+  std::string space_reason;
 };
 
 /// What the distributed path adds to its Outcome: it measures the residual itself and says
@@ -86,57 +85,93 @@ struct OutcomeExtras {
   nlohmann::json fields = nlohmann::json::object();
 };
 
-Outcome run_lemke(const StoredProblem& p) {
-  if (p.rows() > kMaxLemkeRows)
-    throw InputError("--solver lemke: the problem has " + std::to_string(p.rows()) +
-                     " rows; the dense Lemke solver takes at most " +
-                     std::to_string(kMaxLemkeRows) + " (use --solver pgs)");
-  const MatX M = MatX(p.A);
-  const VecX q = -p.b;
-  const LcpResult r =
-      is_standard_lcp(p) ? solve_lemke(M, q) : solve_boxed_lemke(M, q, p.cmin, p.cmax);
-  return {r.z, r.pivots, r.status == LcpResult::Status::NoSolution, r.message};
-}
-
-Outcome run_iterative(const StoredProblem& p, const LcpOptions& o) {
-  for (long k = 0; k < p.rows(); ++k) {
-    const double a_kk = p.A.coeff(k, k);
-    if (!(a_kk > 0.0)) {
-      return {VecX::Zero(p.rows()),
-              0,
-              false,
-              o.solver + ": not run, it needs a positive diagonal; A[" + std::to_string(k) + "," +
-                  std::to_string(k) + "] = " + std::to_string(a_kk)};
-    }
-  }
-  SolverOptions options;
-  method_from_string(o.solver, options.method);  // pgs or jacobi, checked by lcp_command
-  options.max_iterations = o.iterations;
-  options.tolerance = o.tolerance;
-  VecX lambda = VecX::Zero(p.rows());
-  const SolverSummary s = solve(p.problem(), lambda, options);
-  return {lambda, s.iterations, false, s.message};
-}
-
 std::string format_number(double x) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", x);
   return buf;
 }
 
-Outcome run_direct(const StoredProblem& p, Method method, double tolerance) {
-  // The exact paths are for the paper's A = J Minv Jᵀ: symmetric positive semidefinite.
-  require_symmetric(p, "--solver " + std::string(to_string(method)));
+/// Refuses (InputError, exit 2) a spec that cannot run on this problem: the methods that read J
+/// on a problem without J and Minv, contacts_first without row kinds, the exact paths on a
+/// non-symmetric A (they solve the QP of 6.2).
+void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path) {
+  const std::string what = "--solver " + spec.text;
+  if (needs_jacobian(spec.method) && !p.has_jacobian())
+    throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
+                     std::string(to_string(spec.method)) +
+                     (spec.method == Method::MatrixFree
+                          ? " sweeps on J and Minv (7.1.1 without A)"
+                          : " takes its levels from the bodies of J's rows") +
+                     ", so it needs a `cbps matrices` folder with J.mtx and Minv.mtx");
+  if (spec.contacts_first)
+    throw InputError(what +
+                     ": contacts_first needs each row's kind, which a stored problem "
+                     "does not carry; drop it or use `cbps converge SCENE`");
+  if (spec.method == Method::Direct || spec.method == Method::ActiveSet) require_symmetric(p, what);
+  if (spec.method == Method::Lemke && p.rows() > kMaxDenseLemkeRows)
+    throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
+                     " rows; the dense Lemke solver takes at most " +
+                     std::to_string(kMaxDenseLemkeRows) + " (use --solver pgs or direct)");
+}
+
+/// Where the exact path factored and why (the summary's `space`, what the problem carries).
+void explain_space(const SolverSpec& spec,
+                   const StoredProblem& p,
+                   const SolverSummary& s,
+                   Outcome& r) {
+  r.space = s.space;
+  const std::string method(to_string(spec.method));
+  if (s.space == "body") {
+    r.space_reason = "body: J and Minv present";
+  } else if (s.space == "row") {
+    r.space_reason = p.has_jacobian() ? "row: J and Minv present, but Minv is not block diagonal "
+                                        "with definite 6 x 6 blocks or A is not J Minv J^T"
+                                      : "row: " + p.without_jacobian;
+  } else if (spec.method == Method::Direct) {
+    r.space_reason = "none: " + std::to_string(p.rows()) +
+                     " rows, fewer than 500 or no bounded row: the active-set path on A "
+                     "itself (" +
+                     (p.has_jacobian() ? "J and Minv present" : p.without_jacobian) + ")";
+  } else if (spec.method == Method::ActiveSet) {
+    r.space_reason = "none: the active-set path factors blocks of A itself";
+  } else {
+    r.space_reason = "none: " + method + " factors no Newton system";
+  }
+}
+
+/// Every method but tao:TYPE: solve() with the options solver_options() builds from the spec
+/// (the ones a scene's solver block with this spec would give), --iterations and --tolerance.
+/// The problem is the stored A with its cfm applied by solve() (A + eps E, as converge does).
+Outcome run_solver(const SolverSpec& spec,
+                   const StoredProblem& p,
+                   const BoxedProblem& solved,
+                   const LcpOptions& o) {
+  if (is_iterative(spec.method)) {
+    // The sweeps divide by (A + eps E)_kk (7.1.1).
+    for (long k = 0; k < p.rows(); ++k) {
+      const double a_kk = solved.A.coeff(k, k);
+      if (!(a_kk > 0.0)) {
+        Outcome r;
+        r.lambda = VecX::Zero(p.rows());
+        r.message = spec.text + ": not run, it needs a positive diagonal; A[" + std::to_string(k) +
+                    "," + std::to_string(k) + "] = " + std::to_string(a_kk);
+        r.space_reason = "none: not run";
+        return r;
+      }
+    }
+  }
+  SolverOptions options = solver_options(spec, o.iterations, o.tolerance);
+  options.cfm = p.cfm;
   VecX lambda = VecX::Zero(p.rows());
-  SolverOptions options;
-  options.method = method;
-  options.tolerance = tolerance;
-  BoxedProblem problem = p.problem();
-  problem.cfm = p.cfm;  // lcp_command put it into A
-  const SolverSummary s = solve(problem, lambda, options);
-  std::ostringstream msg;
-  msg << s.message << "; " << s.wall_time_s << " s";
-  return {lambda, s.iterations, false, msg.str()};
+  const SolverSummary s = solve(p.problem(), lambda, options);
+  Outcome r;
+  r.lambda = lambda;
+  r.iterations = s.iterations;
+  r.no_solution = s.termination == Termination::NoSolution;
+  r.pivots = spec.method == Method::Lemke;
+  r.message = s.message;
+  explain_space(spec, p, s, r);
+  return r;
 }
 
 /// What report() says of the problem: from a StoredProblem, or from a generated one (which no
@@ -145,17 +180,18 @@ struct ProblemFacts {
   long rows = 0;
   double cfm = 0.0;
   std::string kind;  ///< "cbps matrices folder", "Siconos file", "generated on N ranks"
-  const StoredProblem* stored = nullptr;  ///< the problem itself, when one process holds it
-  double scale = 0.0;                     ///< without `stored`: scale_of measured elsewhere
-  bool lambda_in_json = true;             ///< false: "lambda": null (too large to print)
+  /// The problem solved (A + eps E with a cfm.txt), when one process holds it.
+  const BoxedProblem* solved = nullptr;
+  double scale = 0.0;          ///< without `solved`: scale_of measured elsewhere
+  bool lambda_in_json = true;  ///< false: "lambda": null (too large to print)
 };
 
-ProblemFacts facts_of(const StoredProblem& p, bool folder) {
+ProblemFacts facts_of(const StoredProblem& p, const BoxedProblem& solved) {
   ProblemFacts f;
   f.rows = p.rows();
   f.cfm = p.cfm;
-  f.kind = folder ? "cbps matrices folder" : "Siconos file";
-  f.stored = &p;
+  f.kind = p.folder ? "cbps matrices folder" : "Siconos file";
+  f.solved = &solved;
   return f;
 }
 
@@ -172,12 +208,11 @@ int report(const LcpOptions& o,
            const OutcomeExtras& extras = {}) {
   // The command's own check of the returned lambda (6.2), independent of the solver's claim.
   const bool sized = r.lambda.size() == p.rows;
-  const double residual = !sized            ? kInf
-                          : extras.residual ? *extras.residual
-                          : p.stored != nullptr
-                              ? natural_map_residual(p.stored->problem(), r.lambda)
-                              : kInf;
-  const double scale = p.stored != nullptr ? scale_of(p.stored->problem()) : p.scale;
+  const double residual = !sized                ? kInf
+                          : extras.residual     ? *extras.residual
+                          : p.solved != nullptr ? natural_map_residual(*p.solved, r.lambda)
+                                                : kInf;
+  const double scale = p.solved != nullptr ? scale_of(*p.solved) : p.scale;
   const bool solved = sized && r.lambda.allFinite() && std::isfinite(residual) &&
                       residual <= kLcpSolvedTolerance * scale;
   const std::string status = solved ? "solved" : r.no_solution ? "no_solution" : "failed";
@@ -193,6 +228,8 @@ int report(const LcpOptions& o,
   j["residual"] = std::isfinite(residual) ? nlohmann::json(residual) : nlohmann::json(nullptr);
   j["scale"] = scale;
   j["message"] = r.message;
+  j["space"] = r.space.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.space);
+  j["space_reason"] = r.space_reason;
   j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
                 : sized           ? vector_json(r.lambda)
                                   : nlohmann::json::array();
@@ -216,12 +253,13 @@ int report(const LcpOptions& o,
                 solver.c_str(),
                 status.c_str(),
                 r.iterations,
-                solver == "lemke" ? "pivots" : "iterations",
+                r.pivots ? "pivots" : "iterations",
                 format_number(wall).c_str());
     std::printf("residual %s (natural map, infinity norm; scale %s)\n",
                 format_number(residual).c_str(),
                 format_number(scale).c_str());
     std::printf("%s\n", r.message.c_str());
+    if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
     if (solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }
   if (!solved && !o.out.empty())
@@ -235,14 +273,6 @@ void check_out_is_not_problem(const LcpOptions& o) {
   std::error_code ec;
   if (!o.out.empty() && fs::exists(o.out, ec) && fs::equivalent(o.out, o.problem, ec))
     throw InputError("--out " + o.out + ": is the problem itself; choose another folder");
-}
-
-/// The problem as every solver here solves it: a folder with cfm.txt is the boxed problem of
-/// A + eps E, the one its step solved.
-StoredProblem read_lcp_problem(const LcpOptions& o) {
-  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
-  p.A = with_cfm(p.A, p.cfm);
-  return p;
 }
 
 #ifdef CBPS_HAVE_PETSC
@@ -390,6 +420,7 @@ int lcp_distributed_command(const LcpOptions& o) {
       Outcome r;
       r.lambda = t.lambda;
       r.iterations = t.iterations;
+      r.space_reason = "none: TAO " + type + " factors no Newton system";
       r.message = "TAO " + type + ": " + t.reason + " (" + t.stop + "), TAO's measure " +
                   format_number(t.tao_residual) + " (gatol " + format_number(o.tolerance) + "), " +
                   std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
@@ -452,33 +483,31 @@ int lcp_command(const LcpOptions& o) {
         "PROBLEM: missing; give a cbps matrices folder or a Siconos .dat file "
         "(or --generate SCENE --rows N)");
   if (is_tao_solver(o.solver)) return lcp_distributed(o);
-  std::error_code ec;
-  const bool folder = fs::is_directory(o.problem, ec);
+  // The spec first: a bad name is reported before the data are read.
+  std::optional<SolverSpec> given;
+  if (!o.solver.empty()) given = parse_cli_solver_spec(o.solver, "--solver");
   check_out_is_not_problem(o);
-  // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does this.
-  const StoredProblem p = read_lcp_problem(o);
+  const StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does every
+  // solver here (solve() forms it, options.cfm); the residual is that problem's.
+  const SpMat A_solved = with_cfm(p.A, p.cfm);
+  const BoxedProblem solved{A_solved, p.b, p.cmin, p.cmax};
 
   // The default: the exact path for the symmetric A of a `cbps matrices` folder (and for a
   // Siconos file too large for dense Lemke), Lemke for Siconos files.
-  std::string solver = o.solver;
-  if (solver.empty()) solver = (!folder && p.rows() <= kMaxLemkeRows) ? "lemke" : "direct";
-  if (solver != "lemke" && solver != "pgs" && solver != "jacobi" && solver != "direct" &&
-      solver != "active-set")
-    throw InputError("--solver " + solver +
-                     ": unknown; use lemke, pgs, jacobi, direct, active-set or tao:TYPE");
+  const SolverSpec spec =
+      given ? *given
+            : parse_solver_spec(!p.folder && p.rows() <= kMaxDenseLemkeRows ? "lemke" : "direct",
+                                "--solver");
+  check_applicable(spec, p, o.problem);
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
 
-  LcpOptions run = o;
-  run.solver = solver;
   const auto start = std::chrono::steady_clock::now();
-  const Outcome r = solver == "lemke"        ? run_lemke(p)
-                    : solver == "direct"     ? run_direct(p, Method::Direct, o.tolerance)
-                    : solver == "active-set" ? run_direct(p, Method::ActiveSet, o.tolerance)
-                                             : run_iterative(p, run);
+  const Outcome r = run_solver(spec, p, solved, o);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return report(o, facts_of(p, folder), solver, r, wall, dir.get());
+  return report(o, facts_of(p, solved), spec.text, r, wall, dir.get());
 }
 
 }  // namespace
@@ -493,27 +522,32 @@ void register_lcp(CLI::App& app, Action& run) {
                   "--generate)");
   cmd->add_option("--solver",
                   o->solver,
-                  "lemke (dense, any square A; the default for Siconos files up to 3000 rows), "
-                  "pgs, jacobi, direct (interior point in body space with a crossover, "
-                  "symmetric positive semidefinite A; the default for cbps matrices folders), "
-                  "active-set (the previous exact path: active set on CHOLMOD) or tao:TYPE "
-                  "(PETSc/TAO under MPI, alone or under `mpirun -n N`; symmetric A; TYPE one of " +
+                  "NAME[:OMEGA][:key=value]... of the list below (" + cli_solver_names() +
+                      "), with the parameters the list gives. Default: lemke for a Siconos file "
+                      "of up to 3000 rows, else direct (the exact path: interior point with a "
+                      "crossover, in body space when the folder has J.mtx and Minv.mtx). "
+                      "direct and active-set need a symmetric A, lemke takes any square A; "
+                      "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
+                      "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
+                      "`mpirun -n N` (symmetric A; TYPE one of " +
                       distributed::tao_type_list() +
                       "; only in a build with PETSc, docs/distributed.md)");
   cmd->add_option("--iterations",
                   o->iterations,
-                  "pgs/jacobi: sweeps; tao:TYPE: TAO's iterations (default 10000)")
+                  "the iterative methods (all but direct, active-set and lemke): at most this "
+                  "many sweeps (apgd, admm, nncg, pgs-sm: iterations); tao:TYPE: TAO's "
+                  "iterations (default 10000)")
       ->check(positive());
   cmd->add_option(
          "--tolerance",
          o->tolerance,
-         "pgs/jacobi/direct/active-set: stop at this natural-map residual, N (default 1e-10; "
-         "below their rounding floor the exact paths stop there once their steps no longer "
-         "reduce the residual; not used by lemke). tao:TYPE: TAO's absolute tolerance gatol "
-         "on its own measure (a 2-norm of the gradient without the rows TAO holds at a bound; "
-         "for bqpip its mean infeasibility), not the natural-map residual: the result is "
-         "judged solved by that residual <= 1e-9 max(1, |b|inf, max |A_ij|) whatever TAO "
-         "says")
+         "every method but lemke and tao:TYPE: stop at this natural-map residual, N (default "
+         "1e-10; below their rounding floor the exact paths stop there once their steps no "
+         "longer reduce the residual; lemke pivots to the end). tao:TYPE: TAO's absolute "
+         "tolerance gatol on its own measure (a 2-norm of the gradient without the rows TAO "
+         "holds at a bound; for bqpip its mean infeasibility), not the natural-map residual. "
+         "Whatever the method says, the result is judged solved by that residual <= 1e-9 "
+         "max(1, |b|inf, max |A_ij|)")
       ->check(non_negative());
   cmd->add_option("--siconos",
                   o->siconos,
@@ -537,6 +571,7 @@ void register_lcp(CLI::App& app, Action& run) {
                   o->out,
                   "write result.json and lambda.mtx here (only if solved; under mpirun rank 0 "
                   "writes)");
+  cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->callback([&run, o] { run = [o] { return lcp_command(*o); }; });
 }
 

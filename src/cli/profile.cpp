@@ -215,20 +215,20 @@ double seconds_since(Clock::time_point start) {
 
 /// Why a spec cannot run on a problem (empty: it can): what `cbps converge` refuses.
 std::string not_applicable(const SolverSpec& spec, const Problem& p) {
-  if (needs_jacobian(spec.method) && !p.stored.has_bodies())
+  if (needs_jacobian(spec.method) && !p.stored.has_jacobian())
     return "not applicable: no J and Minv (a Siconos file)";
   if (spec.contacts_first && p.kinds.empty())
     return "not applicable: no row kinds (contacts_first needs labels.json)";
+  if (spec.method == Method::Lemke && p.stored.rows() > kMaxDenseLemkeRows)
+    return "not applicable: more than " + std::to_string(kMaxDenseLemkeRows) +
+           " rows (dense Lemke)";
   return "";
 }
 
 SolverOptions options_of(const SolverSpec& spec, const Problem& p, int max_iterations) {
-  SolverSettings settings;
-  apply_solver_spec(spec, settings);
-  settings.split_islands = false;  // after_sweep sees the whole lambda
-  SolverOptions options = settings.options();
-  options.max_iterations = max_iterations;
-  options.tolerance = 0.0;  // this command stops the sweeps (after_sweep)
+  // Tolerance 0: this command stops the sweeps (after_sweep).
+  SolverOptions options = solver_options(spec, max_iterations, 0.0);
+  options.split_islands = false;  // after_sweep sees the whole lambda
   options.delta_tolerance = 0.0;
   options.describe = false;
   options.cfm = p.stored.cfm;
@@ -304,6 +304,8 @@ Measurement run_tao(const Problem& p,
 
 Measurement run_exact(const Problem& p, const SolverSpec& spec) {
   Measurement m;
+  m.status = not_applicable(spec, p);
+  if (!m.status.empty()) return m;
   VecX lambda = VecX::Zero(p.stored.rows());
   SolverOptions options = options_of(spec, p, 1);
   const auto start = Clock::now();

@@ -15,6 +15,30 @@ std::string without_petsc_message(const std::string& option_and_spec) {
          "see docs/distributed.md";
 }
 
+std::string cli_solver_names() { return solver_names() + ", tao:TYPE"; }
+
+SolverSpec parse_cli_solver_spec(const std::string& text, const std::string& what) {
+  if (!is_tao_solver(text)) {
+    if (!is_solver_name(text))
+      throw InputError(what + " '" + text + "': unknown solver (valid: " + cli_solver_names() +
+                       ")");
+    return parse_solver_spec(text, what);
+  }
+#ifndef CBPS_HAVE_PETSC
+  throw InputError(without_petsc_message(what + " " + text));
+#endif
+  const std::string type = text.size() > 4 ? text.substr(4) : "";
+  if (!distributed::is_tao_type(type))
+    throw InputError(what + " '" + text +
+                     "': " + (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
+                     "; use tao:TYPE with TYPE one of " + distributed::tao_type_list() +
+                     " (no options after it)");
+  SolverSpec spec;
+  spec.text = text;
+  spec.tao = type;
+  return spec;
+}
+
 std::vector<SolverSpec> parse_cli_solver_list(const std::string& text, const std::string& what) {
   std::vector<SolverSpec> specs;
   std::string::size_type from = 0;
@@ -23,23 +47,7 @@ std::vector<SolverSpec> parse_cli_solver_list(const std::string& text, const std
     const std::string item =
         text.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
     if (item.empty()) throw InputError(what + " '" + text + "': an empty entry");
-    if (!is_tao_solver(item)) {
-      specs.push_back(parse_solver_spec(item, what));
-    } else {
-#ifndef CBPS_HAVE_PETSC
-      throw InputError(without_petsc_message(what + " " + item));
-#endif
-      const std::string type = item.size() > 4 ? item.substr(4) : "";
-      if (!distributed::is_tao_type(type))
-        throw InputError(what + " '" + item + "': " +
-                         (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
-                         "; use tao:TYPE with TYPE one of " + distributed::tao_type_list() +
-                         " (no options after it)");
-      SolverSpec spec;
-      spec.text = item;
-      spec.tao = type;
-      specs.push_back(spec);
-    }
+    specs.push_back(parse_cli_solver_spec(item, what));
     if (comma == std::string::npos) break;
     from = comma + 1;
   }

@@ -20,6 +20,15 @@ bool is_tao_solver(const std::string& text);
 /// for `cbps lcp --solver` and the --solvers lists: how to get PETSc.
 std::string without_petsc_message(const std::string& option_and_spec);
 
+/// Every name a command that takes tao:TYPE accepts: solver_names() (solver_spec.hpp), then
+/// tao:TYPE. The list of --help and of every "unknown solver" message of lcp, converge, profile.
+std::string cli_solver_names();
+
+/// parse_solver_spec (solver_spec.hpp) with `tao:TYPE` too (SolverSpec::tao = TYPE): an unknown
+/// name lists cli_solver_names(); an unknown TAO type, options after it, or (exit 2) a build
+/// without PETSc (without_petsc_message) are InputErrors naming `what`.
+SolverSpec parse_cli_solver_spec(const std::string& text, const std::string& what);
+
 /// parse_solver_list (solver_spec.hpp) with `tao:TYPE` entries too: those get SolverSpec::tao =
 /// TYPE. InputError naming `what` for an unknown TAO type or options after it, and (exit 2)
 /// without_petsc_message in a build without PETSc.

@@ -55,6 +55,7 @@ StoredProblem read_folder(const std::string& dir) {
 StoredProblem read_dat(const std::string& path, SiconosKind kind) {
   const StoredLcp s = read_siconos(path, kind);
   StoredProblem p;
+  p.without_jacobian = "a Siconos file carries no J and Minv";
   p.A = s.M.sparseView(0.0, 0.0);
   p.b = -s.q;
   p.cmin = s.lb;
@@ -63,27 +64,43 @@ StoredProblem read_dat(const std::string& path, SiconosKind kind) {
   return p;
 }
 
-/// The system's own matrices, when the folder has all of them (6.1).
+/// The system's own matrices (6.1): J and Minv whenever the folder has both (what body space
+/// needs), v1, fext and dt when it has those three as well (what v2 needs).
 void read_bodies(const std::string& dir, StoredProblem& p) {
   const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
-  for (const char* name : {"J.mtx", "Minv.mtx", "v1.mtx", "fext.mtx", "dt.txt"}) {
+  const auto present = [&](const char* name) {
     std::error_code ec;
-    if (!fs::is_regular_file(file(name), ec)) return;
+    return fs::is_regular_file(file(name), ec);
+  };
+  const bool has_J = present("J.mtx"), has_Minv = present("Minv.mtx");
+  if (!has_J || !has_Minv) {
+    p.without_jacobian = !has_J && !has_Minv ? "no J.mtx and no Minv.mtx in the folder"
+                         : !has_J            ? "no J.mtx in the folder"
+                                             : "no Minv.mtx in the folder";
+    return;
   }
+  p.J = read_matrix_market_sparse(file("J.mtx"));
+  p.Minv = read_matrix_market_sparse(file("Minv.mtx"));
+  const long n6 = p.J.cols();
+  if (p.J.rows() != p.rows() || p.Minv.rows() != n6 || p.Minv.cols() != n6)
+    throw InputError(dir + ": J and Minv do not fit each other or A (J is " +
+                     std::to_string(p.J.rows()) + " x " + std::to_string(n6) + ", Minv " +
+                     std::to_string(p.Minv.rows()) + " x " + std::to_string(p.Minv.cols()) +
+                     ", A has " + std::to_string(p.rows()) + " rows)");
+  if (p.rows() == 0) p.without_jacobian = "no rows";
+  for (const char* name : {"v1.mtx", "fext.mtx", "dt.txt"})
+    if (!present(name)) return;
   const double dt = read_number_file(file("dt.txt"), "a positive time step in s");
   if (!(dt > 0.0))
     throw InputError(file("dt.txt") + ": line 1: " + number_text(dt) +
                      " is not a positive time step");
-  p.J = read_matrix_market_sparse(file("J.mtx"));
-  p.Minv = read_matrix_market_sparse(file("Minv.mtx"));
   p.v1 = read_matrix_market_vector(file("v1.mtx"));
   p.fext = read_matrix_market_vector(file("fext.mtx"));
   p.dt = dt;
-  const long n6 = p.J.cols();
-  if (p.J.rows() != p.rows() || p.Minv.rows() != n6 || p.Minv.cols() != n6 || p.v1.size() != n6 ||
-      p.fext.size() != n6)
-    throw InputError(dir + ": J, Minv, v1 and fext do not fit each other or A (J is " +
-                     std::to_string(p.J.rows()) + " x " + std::to_string(n6) + ")");
+  if (p.v1.size() != n6 || p.fext.size() != n6)
+    throw InputError(dir + ": v1 and fext do not fit J (J is " + std::to_string(p.J.rows()) +
+                     " x " + std::to_string(n6) + ", v1 has " + std::to_string(p.v1.size()) +
+                     " rows, fext " + std::to_string(p.fext.size()) + ")");
 }
 
 }  // namespace

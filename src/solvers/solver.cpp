@@ -7,11 +7,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cbps/error.hpp"
 #include "cbps/solvers/active_set.hpp"
 #include "cbps/solvers/admm.hpp"
 #include "cbps/solvers/apgd.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/islands.hpp"
+#include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/nncg.hpp"
 #include "cbps/solvers/pgs.hpp"
 #include "cbps/solvers/pgs_block.hpp"
@@ -42,7 +44,8 @@ constexpr MethodName kMethodNames[] = {{Method::Pgs, "pgs"},
                                        {Method::PgsSm, "pgs-sm"},
                                        {Method::Admm, "admm"},
                                        {Method::Rbgs, "rbgs"},
-                                       {Method::Shock, "shock"}};
+                                       {Method::Shock, "shock"},
+                                       {Method::Lemke, "lemke"}};
 
 }  // namespace
 
@@ -115,11 +118,57 @@ std::string to_string(Termination t) {
       return "non-finite values";
     case Termination::Stopped:
       return "stopped by the caller";
+    case Termination::NoSolution:
+      return "no solution found";
   }
   return "?";
 }
 
 namespace {
+
+/// Method::Lemke: the dense pivoting method of lemke.hpp on M = A, q = −b (the standard LCP when
+/// cmin = 0 and cmax = +inf, else the boxed one), verified on the problem itself: Direct when
+/// the natural-map residual is ≤ kLcpSolvedTolerance · scale_of (6.2). A ray termination whose
+/// last point passes that check is a solution, and is reported as one, with the ray named.
+SolverSummary solve_lemke_method(const BoxedProblem& problem, VecX& lambda) {
+  const auto start = std::chrono::steady_clock::now();
+  const long c = problem.rows();
+  if (c > kMaxDenseLemkeRows)
+    throw InputError("lemke: the problem has " + std::to_string(c) +
+                     " rows; the dense Lemke solver takes at most " +
+                     std::to_string(kMaxDenseLemkeRows) + " (use pgs or direct)");
+  const MatX M = MatX(problem.A);
+  const VecX q = -problem.b;
+  const bool standard = (problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all();
+  const LcpResult r =
+      standard ? solve_lemke(M, q) : solve_boxed_lemke(M, q, problem.cmin, problem.cmax);
+  lambda = r.z.size() == c ? r.z : VecX::Zero(c);
+  SolverSummary s;
+  s.iterations = r.pivots;
+  s.pivots = r.pivots;
+  s.residual = natural_map_residual(problem, lambda);
+  const bool passes = lambda.allFinite() && s.residual <= kLcpSolvedTolerance * scale_of(problem);
+  s.message = r.message;
+  if (passes) {
+    s.termination = Termination::Direct;
+    if (!r.solved()) {
+      std::ostringstream msg;
+      msg << "Lemke: solved: its last point has residual " << s.residual
+          << " N <= " << kLcpSolvedTolerance << " x scale " << scale_of(problem)
+          << ", although the pivoting ended "
+          << (r.status == LcpResult::Status::NoSolution ? "in a ray termination"
+                                                        : "without a verified basis")
+          << " after " << r.pivots << " pivots";
+      s.message = msg.str();
+    }
+  } else {
+    s.termination = !lambda.allFinite()                         ? Termination::NonFinite
+                    : r.status == LcpResult::Status::NoSolution ? Termination::NoSolution
+                                                                : Termination::NotConverged;
+  }
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
 
 /// One method on the whole problem, as it is (no CFM, no islands).
 SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
@@ -152,6 +201,8 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_rbgs(problem, lambda, options);
     case Method::Shock:
       return solve_shock(problem, lambda, options, options.methods.shock);
+    case Method::Lemke:
+      return solve_lemke_method(problem, lambda);
   }
   throw std::invalid_argument("solve: unknown method");
 }

@@ -73,6 +73,11 @@ constexpr SpecName kSpecNames[] = {
      "direction=up|down"},
     {"direct", Method::Direct, false, false, "the exact path: interior point, then active set"},
     {"active-set", Method::ActiveSet, false, false, "the previous exact path, for comparison"},
+    {"lemke",
+     Method::Lemke,
+     false,
+     false,
+     "Lemke's complementary pivoting on the dense A: any square A, at most 3000 rows"},
 };
 
 /// A method's own key=value: the method, the key, what it accepts (for messages) and its setter
@@ -227,7 +232,9 @@ std::vector<std::string> split(const std::string& text, char separator) {
   return parts;
 }
 
-std::string valid_names() {
+}  // namespace
+
+std::string solver_names() {
   std::string names;
   for (const SpecName& n : kSpecNames) {
     if (!names.empty()) names += ", ";
@@ -236,7 +243,12 @@ std::string valid_names() {
   return names;
 }
 
-}  // namespace
+bool is_solver_name(const std::string& text) {
+  const std::string name = text.substr(0, text.find(':'));
+  for (const SpecName& n : kSpecNames)
+    if (n.name == name) return true;
+  return false;
+}
 
 SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   const auto fail = [&](const std::string& why) {
@@ -249,7 +261,7 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   const SpecName* entry = nullptr;
   for (const SpecName& n : kSpecNames)
     if (n.name == name) entry = &n;
-  if (entry == nullptr) fail("unknown solver (valid: " + valid_names() + ")");
+  if (entry == nullptr) fail("unknown solver (valid: " + solver_names() + ")");
   spec.method = entry->method;
   bool have_omega = false;
   for (std::size_t k = 1; k < parts.size(); ++k) {
@@ -335,6 +347,14 @@ void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings) {
   settings.warm = spec.warm;
   settings.warm_friction = spec.warm_friction;
   settings.methods = spec.methods;
+}
+
+SolverOptions solver_options(const SolverSpec& spec, int max_iterations, double tolerance) {
+  SolverSettings settings;
+  apply_solver_spec(spec, settings);
+  settings.iterations = max_iterations;
+  settings.tolerance = tolerance;
+  return settings.options();
 }
 
 std::vector<std::pair<std::string, std::string>> method_parameters(Method method,

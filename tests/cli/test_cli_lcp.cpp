@@ -1,6 +1,7 @@
 // `cbps lcp` against its contract (docs/cli-contract.md): a `cbps matrices` folder solved
 // by every solver to the same lambda, Siconos LCP and relay files, exit codes 0/1/2, errors
 // naming the file, and --out written only when solved.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fixture.hpp"
@@ -158,4 +160,251 @@ TEST_CASE("cbps lcp --out writes result.json and lambda.mtx only when solved", "
     CAPTURE(e.path().string());
     CHECK(e.path().filename().string().find(".tmp") == std::string::npos);
   }
+}
+
+namespace {
+
+/// Every method name of the solver grammar, written out here (not read from cbps), each with a
+/// spec that runs it; one more spec per parameter kind (:OMEGA, order=, a method's own key).
+/// A method added to the grammar without a line here fails "the unknown-name message lists
+/// exactly these".
+const std::vector<std::pair<std::string, std::string>> kEveryMethod = {
+    {"pgs", "pgs"},
+    {"psor:OMEGA", "psor:1.3"},
+    {"sgs[:OMEGA]", "sgs"},
+    {"jacobi[:OMEGA]", "jacobi:0.5"},
+    {"block-pgs", "block-pgs"},
+    {"matrix-free", "matrix-free"},
+    {"pgs-nesterov[:OMEGA]", "pgs-nesterov"},
+    {"apgd", "apgd"},
+    {"nncg", "nncg"},
+    {"pgs-sm", "pgs-sm"},
+    {"admm", "admm"},
+    {"rbgs[:OMEGA]", "rbgs"},
+    {"shock[:OMEGA]", "shock"},
+    {"direct", "direct"},
+    {"active-set", "active-set"},
+    {"lemke", "lemke"},
+};
+const std::vector<std::string> kWithParameters = {"apgd:restart=off",
+                                                  "pgs:order=random",
+                                                  "pgs:order=reverse:warm=off",
+                                                  "sgs:1.2",
+                                                  "pgs-nesterov:restart=off",
+                                                  "admm:rho=2",
+                                                  "shock:level_sweeps=2",
+                                                  "pgs-sm:sweeps=2"};
+
+/// The names between "(valid: " and the closing parenthesis of an error message.
+std::vector<std::string> valid_names(const std::string& err) {
+  const auto from = err.find("(valid: ");
+  const auto to = err.find(')', from);
+  std::vector<std::string> names;
+  if (from == std::string::npos || to == std::string::npos) return names;
+  std::istringstream list(err.substr(from + 8, to - from - 8));
+  std::string name;
+  while (std::getline(list, name, ',')) names.push_back(name.substr(name.find_first_not_of(' ')));
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("cbps lcp runs every method of the solver grammar, with its parameters",
+          "[cli][lcp][methods]") {
+  const fs::path dir = scratch_dir("lcp_every_method");
+  // A chain (distance rows: unbounded, A definite) and a ball in a V (two contact rows, push
+  // only, A definite): lambda is unique on both, so every method must find the same one. The
+  // references are Lemke's pivoting and the direct path, independent of each other and of the
+  // sweeps.
+  for (const char* scene : {"chain --param n=5 --step 3", "v-corner --step 5"}) {
+    CAPTURE(scene);
+    const fs::path m = dir / std::string(scene).substr(0, std::string(scene).find(' '));
+    REQUIRE(run_cli("matrices " + std::string(scene) + " --out " + m.string()).code == 0);
+    std::vector<std::string> specs;
+    for (const auto& [name, spec] : kEveryMethod) specs.push_back(spec);
+    specs.insert(specs.end(), kWithParameters.begin(), kWithParameters.end());
+    std::vector<double> lemke, direct;
+    for (const char* reference : {"lemke", "direct"}) {
+      const CliResult r = run_cli("lcp " + m.string() + " --json --solver " + reference);
+      REQUIRE(r.code == 0);
+      (std::string(reference) == "lemke" ? lemke : direct) =
+          lambda_of(nlohmann::json::parse(r.out));
+    }
+    REQUIRE(lemke.size() == direct.size());
+    double largest = 1.0;
+    for (std::size_t k = 0; k < lemke.size(); ++k) {
+      CHECK(std::abs(lemke[k] - direct[k]) <= 1e-9 * std::max(1.0, std::abs(lemke[k])));
+      largest = std::max(largest, std::abs(lemke[k]));
+    }
+    for (const std::string& spec : specs) {
+      CAPTURE(spec);
+      const CliResult r = run_cli("lcp " + m.string() + " --json --solver " + spec);
+      INFO(r.out << r.err);
+      REQUIRE(r.code == 0);
+      const nlohmann::json j = nlohmann::json::parse(r.out);
+      CHECK(j.at("status") == "solved");
+      CHECK(j.at("solver") == spec);
+      CHECK(j.at("residual").get<double>() <= 1e-9 * j.at("scale").get<double>());
+      const std::vector<double> lambda = lambda_of(j);
+      REQUIRE(lambda.size() == lemke.size());
+      // Residual <= 1e-10 N on a definite A of smallest eigenvalue >= 1e-2 kg^-1 puts lambda
+      // within 1e-8 N of the solution.
+      for (std::size_t k = 0; k < lambda.size(); ++k)
+        CHECK(std::abs(lambda[k] - lemke[k]) <= 1e-7 * largest);
+    }
+  }
+  SECTION("--iterations bounds the sweeps of every iterative method") {
+    const fs::path m = dir / "chain";
+    for (const char* spec : {"pgs", "apgd", "psor:1.3", "admm"}) {
+      CAPTURE(spec);
+      const CliResult r = run_cli("lcp " + m.string() + " --json --iterations 3 --solver " + spec);
+      CHECK(r.code == 1);
+      const nlohmann::json j = nlohmann::json::parse(r.out);
+      CHECK(j.at("status") == "failed");
+      CHECK(j.at("iterations") == 3);
+    }
+  }
+}
+
+TEST_CASE("cbps lcp refuses the methods that read J on a Siconos file (exit 2, why)",
+          "[cli][lcp][methods]") {
+  for (const char* spec : {"matrix-free", "shock", "shock:level_sweeps=2"}) {
+    CAPTURE(spec);
+    const CliResult r =
+        run_cli("lcp " + siconos("relay/relay_4x4.dat") + " --solver " + spec + " --json");
+    CHECK(r.code == 2);
+    CHECK(r.out.empty());
+    CHECK(r.err.rfind("cbps: --solver " + std::string(spec), 0) == 0);
+    CHECK(r.err.find("a Siconos file carries no J and Minv") != std::string::npos);
+    CHECK(r.err.find("J.mtx and Minv.mtx") != std::string::npos);
+  }
+  // A bad parameter is the grammar's message, exit 2.
+  const CliResult bad = run_cli("lcp " + siconos("relay/relay_4x4.dat") + " --solver psor:3");
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("relaxation factor '3' must be a number in (0, 2)") != std::string::npos);
+}
+
+TEST_CASE("one list of solver names: --help and every unknown-name message",
+          "[cli][lcp][methods]") {
+  std::vector<std::string> every;
+  for (const auto& [name, spec] : kEveryMethod) every.push_back(name);
+  std::vector<std::string> with_tao = every;
+  with_tao.push_back("tao:TYPE");
+
+  const fs::path dir = scratch_dir("lcp_one_list");
+  const fs::path m = dir / "chain";
+  REQUIRE(run_cli("matrices chain --param n=3 --out " + m.string()).code == 0);
+  // The commands that take tao:TYPE list it; `run` steps a scene, which TAO does not.
+  const std::vector<std::pair<std::string, std::vector<std::string>>> commands = {
+      {"lcp " + m.string() + " --solver nope", with_tao},
+      {"converge " + m.string() + " --no-plot --solvers pgs,nope", with_tao},
+      {"profile " + dir.string() + " --solvers pgs,nope --out " + (dir / "p").string(), with_tao},
+      {"run chain --steps 1 --solver nope", every},
+  };
+  for (const auto& [command, names] : commands) {
+    CAPTURE(command);
+    const CliResult r = run_cli(command);
+    INFO(r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("'nope': unknown solver") != std::string::npos);
+    CHECK(valid_names(r.err) == names);
+  }
+  // --help of every command that names a method lists every name with what it is.
+  for (const char* command : {"lcp", "converge", "profile", "run"}) {
+    CAPTURE(command);
+    const CliResult r = run_cli(std::string(command) + " --help");
+    REQUIRE(r.code == 0);
+    for (const auto& [name, spec] : kEveryMethod) {
+      CAPTURE(name);
+      CHECK(r.out.find("\n  " + name.substr(0, name.find_first_of(":[")) + " ") !=
+            std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("cbps lcp: Lemke's words agree with the status", "[cli][lcp][lemke]") {
+  // The issue's case: a 200-link chain with mass ratio 1000. Lemke's pivoting ends in a ray
+  // termination whose last point already passes the residual check (residual 1.9e-11 N against
+  // 1e-9 x scale 20): the run is solved, and nothing it prints may say "no solution".
+  const fs::path dir = scratch_dir("lcp_lemke_words");
+  const fs::path m = dir / "m";
+  REQUIRE(
+      run_cli("matrices chain --param n=200 --param mass_ratio=1000 --step 1 --out " + m.string())
+          .code == 0);
+  const CliResult j = run_cli("lcp " + m.string() + " --solver lemke --json");
+  INFO(j.out << j.err);
+  REQUIRE(j.code == 0);
+  const nlohmann::json result = nlohmann::json::parse(j.out);
+  CHECK(result.at("status") == "solved");
+  CHECK(result.at("message").get<std::string>().find("no solution") == std::string::npos);
+  CHECK(result.at("message").get<std::string>().find("solved") != std::string::npos);
+  const CliResult text = run_cli("lcp " + m.string() + " --solver lemke");
+  INFO(text.out);
+  REQUIRE(text.code == 0);
+  CHECK(text.out.find("lemke: solved") != std::string::npos);
+  CHECK(text.out.find("no solution") == std::string::npos);
+  // And where there is none, it says so: status no_solution, the ray named.
+  const CliResult none =
+      run_cli("lcp " + siconos("lcp/lcp_Pang_isolated_sol_perturbed.dat") + " --json");
+  CHECK(none.code == 1);
+  const nlohmann::json n = nlohmann::json::parse(none.out);
+  CHECK(n.at("status") == "no_solution");
+  CHECK(n.at("message").get<std::string>().find("no solution found") != std::string::npos);
+}
+
+TEST_CASE("cbps lcp: a folder with J and Minv is solved in body space, and says why",
+          "[cli][lcp][space]") {
+  // A pyramid of 28 boxes (588 rows, enough for the interior point: 500 and more) whose folder
+  // keeps A, b, cmin, cmax, J and Minv but not v1, fext and dt.
+  const fs::path dir = scratch_dir("lcp_space");
+  const fs::path m = dir / "m";
+  REQUIRE(run_cli("matrices pyramid --param base=7 --step 1 --out " + m.string()).code == 0);
+  for (const char* name : {"v1.mtx", "fext.mtx", "dt.txt"}) fs::remove(m / name);
+  const CliResult body = run_cli("lcp " + m.string() + " --solver direct --json");
+  INFO(body.out << body.err);
+  REQUIRE(body.code == 0);
+  const nlohmann::json b = nlohmann::json::parse(body.out);
+  REQUIRE(b.at("rows").get<long>() >= 500);
+  CHECK(b.at("status") == "solved");
+  CHECK(b.at("space") == "body");
+  CHECK(b.at("space_reason") == "body: J and Minv present");
+  // matrix-free needs only J and Minv too.
+  CHECK(run_cli("lcp " + m.string() + " --solver matrix-free --iterations 5").code == 1);
+
+  // Without J.mtx the same problem is solved in row space, and the reason names the file.
+  fs::remove(m / "J.mtx");
+  const CliResult row = run_cli("lcp " + m.string() + " --solver direct --json");
+  INFO(row.out << row.err);
+  REQUIRE(row.code == 0);
+  const nlohmann::json r = nlohmann::json::parse(row.out);
+  CHECK(r.at("space") == "row");
+  CHECK(r.at("space_reason") == "row: no J.mtx in the folder");
+  const CliResult text = run_cli("lcp " + m.string() + " --solver direct");
+  CHECK(text.out.find("space row: no J.mtx in the folder") != std::string::npos);
+  // Both found the same forces where they are unique: w = A lambda - b agrees; compare the
+  // residuals only (A is singular: four contacts per face).
+  CHECK(r.at("residual").get<double>() <= 1e-9 * r.at("scale").get<double>());
+  const CliResult mf = run_cli("lcp " + m.string() + " --solver matrix-free");
+  CHECK(mf.code == 2);
+  CHECK(mf.err.find("no J.mtx in the folder") != std::string::npos);
+}
+
+TEST_CASE("lemke is a method wherever a method is named: run and converge", "[cli][lcp][lemke]") {
+  const fs::path dir = scratch_dir("lemke_everywhere");
+  // A chain of 3 links: its A is definite, so Lemke's pivoting solves every step.
+  const CliResult run = run_cli("run chain --param n=3 --steps 3 --solver lemke --json");
+  INFO(run.out << run.err);
+  REQUIRE(run.code == 0);
+  const nlohmann::json r = nlohmann::json::parse(run.out);
+  CHECK(r.at("solver").at("method") == "lemke");
+  CHECK(r.at("iterations_total").get<long>() > 0);
+
+  const fs::path m = dir / "m";
+  REQUIRE(run_cli("matrices chain --param n=5 --step 3 --out " + m.string()).code == 0);
+  const CliResult converge =
+      run_cli("converge " + m.string() + " --solvers lemke,pgs --no-plot --quiet --out " +
+              (dir / "c").string());
+  INFO(converge.err);
+  CHECK(converge.code == 0);
+  CHECK(slurp(dir / "c" / "convergence.csv").find("\nlemke,") != std::string::npos);
 }

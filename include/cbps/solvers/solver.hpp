@@ -46,7 +46,8 @@ enum class Method {
   PgsSm,        ///< "pgs-sm": PGS with subspace minimization by CG (pgs_sm.hpp)
   Admm,         ///< "admm": ADMM with one factor of A + rho E (admm.hpp)
   Rbgs,         ///< "rbgs": red-black (graph-coloured) PGS (rbgs.hpp)
-  Shock         ///< "shock": PGS level by level from the ground up (shock.hpp)
+  Shock,        ///< "shock": PGS level by level from the ground up (shock.hpp)
+  Lemke         ///< "lemke": Lemke's complementary pivoting, dense, any square A (lemke.hpp)
 };
 
 /// Every method, in the order of the enum.
@@ -63,7 +64,8 @@ inline constexpr Method kMethods[] = {Method::Pgs,
                                       Method::PgsSm,
                                       Method::Admm,
                                       Method::Rbgs,
-                                      Method::Shock};
+                                      Method::Shock,
+                                      Method::Lemke};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
@@ -72,10 +74,14 @@ bool method_from_string(std::string_view name, Method& method);
 Method method_of(std::string_view name);
 /// "pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set", for messages and help.
 std::string method_names();
-/// True for the methods that sweep (all but the exact paths): they run to a sweep limit.
+/// True for the methods that sweep (all but the exact paths and Lemke's pivoting): they run to
+/// a sweep limit.
 inline bool is_iterative(Method method) {
-  return method != Method::Direct && method != Method::ActiveSet;
+  return method != Method::Direct && method != Method::ActiveSet && method != Method::Lemke;
 }
+/// The largest problem Method::Lemke takes: its dense tableau is c × 2c (for 3000 rows 144 MB,
+/// and a boxed problem doubles its rows); a larger one is an InputError.
+inline constexpr long kMaxDenseLemkeRows = 3000;
 /// True for the methods that read J (and Minv) rather than A alone: the matrix-free sweep
 /// (7.1.1 on J, Minv) and the shock order (layers from J's body blocks). They need a problem
 /// that carries J (a step's system, a `cbps matrices` folder; not a Siconos file) and run on the
@@ -158,7 +164,8 @@ enum class Termination {
   Direct,
   NotConverged,
   NonFinite,
-  Stopped  ///< SolverOptions::after_sweep returned false
+  Stopped,    ///< SolverOptions::after_sweep returned false
+  NoSolution  ///< Lemke's ray termination: no solution found (none exists if A is copositive-plus)
 };
 std::string to_string(Termination t);
 
@@ -199,6 +206,8 @@ SolverSummary with_cfm_applied(
 /// residual of any island and the worst termination. options.tolerance reaches every method.
 /// Method::MatrixFree needs problem.J and problem.Minv, Method::Shock problem.J
 /// (std::invalid_argument otherwise); both run on the whole problem even with split_islands.
+/// Method::Lemke solves the dense A (any square A, the guess unused, tolerance unused) and
+/// throws InputError above kMaxDenseLemkeRows rows; its pivots count as iterations.
 SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
 
 }  // namespace cbps

@@ -26,6 +26,7 @@ namespace cbps {
 ///   apgd         accelerated projected gradient descent (grow=, shrink=, restart=on|off)
 ///   shock        PGS level by level from the ground up (level_sweeps=), shock:OMEGA
 ///   direct       the exact path (6.2); active-set the previous one
+///   lemke        Lemke's complementary pivoting on the dense A (any square A, ≤ 3000 rows)
 /// order applies to pgs, psor, pgs-nesterov and matrix-free; contacts_first=on (pgs, psor,
 /// matrix-free) sweeps every contact normal row before every friction row. warm=F starts each row
 /// from F times the previous step's lambda (on: 1, the default; off: 0, from lambda = 0), F in
@@ -53,9 +54,22 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what = 
 std::vector<SolverSpec> parse_solver_list(const std::string& text,
                                           const std::string& what = "solvers");
 
+/// Every name the grammar accepts, as the "unknown solver" messages list them: "pgs,
+/// psor:OMEGA, sgs[:OMEGA], ..., lemke". A command that also takes tao:TYPE adds it
+/// (src/cli/tao_solvers.hpp).
+std::string solver_names();
+/// True if the name before the first ':' of `text` is one of solver_names().
+bool is_solver_name(const std::string& text);
+
 /// Sets a scene's solver settings from a parsed spec: method, relaxation, row order, contacts
 /// first, warm-start factors, the method's own parameters; the other settings stay.
 void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
+
+/// The options of one solve by `spec`, built the way a scene's solver block with that spec gives
+/// them (apply_solver_spec, then SolverSettings::options(): islands split, seed 0): at most
+/// `max_iterations` sweeps, stopping at natural-map residual `tolerance`, N. The one way `cbps
+/// lcp` and `cbps profile` turn a spec into SolverOptions; callers change what they own after.
+SolverOptions solver_options(const SolverSpec& spec, int max_iterations, double tolerance);
 
 /// A method's own parameters as key and value text, the way the grammar writes them
 /// (`apgd`: grow 2, shrink 0.9, restart on); none for the methods without.
