@@ -23,8 +23,6 @@ using namespace cbps;
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
 SpMat sparse(const MatX& dense) { return dense.sparseView(0.0, 0.0); }
 
 /// Two copies of A = [[2, 1], [0, 2]], b = [1, 1], lambda ≥ 0, one after the other (two islands).
@@ -65,6 +63,9 @@ SolverOptions options_of(const std::string& spec) {
   options.order = s.order;
   options.max_iterations = 2000;
   options.tolerance = 1e-14;
+  // block-pgs: no δI on the blocks (its bias, O(δ), would hide the answer); each block here is
+  // definite, so Lemke solves it as it is.
+  options.block_regularization = 0.0;
   return options;
 }
 
