@@ -149,13 +149,8 @@ StoredProblem read_problem(const std::string& path, SiconosKind kind) {
 }
 
 void require_symmetric(const StoredProblem& p, const std::string& what) {
-  const SpMat difference = p.A - SpMat(p.A.transpose());
-  double asymmetry = 0.0, largest = 1.0;
-  for (Eigen::Index k = 0; k < difference.nonZeros(); ++k)
-    asymmetry = std::max(asymmetry, std::abs(difference.valuePtr()[k]));
-  for (Eigen::Index k = 0; k < p.A.nonZeros(); ++k)
-    largest = std::max(largest, std::abs(p.A.valuePtr()[k]));
-  if (asymmetry > kSymmetryTolerance * largest)
+  const double asymmetry = max_asymmetry(p.A);
+  if (asymmetry > symmetry_tolerance(p.A))
     throw InputError(what +
                      ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - "
                      "A^T| = " +

@@ -348,16 +348,14 @@ class IslandSolver {
   VecX d_;                     ///< ε on every row (newton_)
 };
 
-}  // namespace
-
-SolverSummary solve_active_set(const BoxedProblem& problem,
-                               VecX& lambda,
-                               const SolverOptions& options) {
+/// solve_active_set on a problem without null rows (solve_around_null_rows).
+SolverSummary solve_active_set_coupled(const BoxedProblem& problem,
+                                       VecX& lambda,
+                                       const SolverOptions& options) {
   const SpMat& A = problem.A;
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index n = A.rows();
   SolverSummary s;
-  if (!check_input(problem, "active set", s)) return s;
   if (lambda.size() != n) lambda = VecX::Zero(n);
   s.termination = Termination::Direct;
   std::vector<std::vector<int>> islands;
@@ -414,6 +412,20 @@ SolverSummary solve_active_set(const BoxedProblem& problem,
   if (unsolved > 0) msg << "; " << unsolved << " island(s) stopped short of the tolerance";
   s.message = msg.str();
   return s;
+}
+
+}  // namespace
+
+SolverSummary solve_active_set(const BoxedProblem& problem,
+                               VecX& lambda,
+                               const SolverOptions& options) {
+  SolverSummary s;
+  if (!check_input(problem, "active set", s)) return s;
+  // A row with no entry in A (j_c = 0): CHOLMOD cannot analyse its empty block, and its lambda
+  // follows from b and its bounds alone.
+  return solve_around_null_rows(problem, lambda, [&](const BoxedProblem& rest, VecX& lambda_R) {
+    return solve_active_set_coupled(rest, lambda_R, options);
+  });
 }
 
 SolverSummary finish_active_set(const BoxedProblem& problem,

@@ -371,13 +371,15 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
   return residual_floor(max_abs_row_sum(problem.A), problem.b, lambda);
 }
 
-SolverSummary solve_direct(const BoxedProblem& problem,
-                           VecX& lambda,
-                           const SolverOptions& options) {
+namespace {
+
+/// solve_direct on a problem without null rows (solve_around_null_rows).
+SolverSummary solve_direct_coupled(const BoxedProblem& problem,
+                                   VecX& lambda,
+                                   const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Eigen::Index n = problem.A.rows();
   SolverSummary s;
-  if (!check_input(problem, "direct", s)) return s;
   if (lambda.size() != n) lambda = VecX::Zero(n);
   s.termination = Termination::Direct;
   const auto finish = [&](const std::string& what) {
@@ -445,6 +447,20 @@ SolverSummary solve_direct(const BoxedProblem& problem,
   }
   if (s.termination != Termination::Direct) what << "; stopped short of the tolerance";
   return finish(what.str());
+}
+
+}  // namespace
+
+SolverSummary solve_direct(const BoxedProblem& problem,
+                           VecX& lambda,
+                           const SolverOptions& options) {
+  SolverSummary s;
+  if (!check_input(problem, "direct", s)) return s;
+  // A row with no entry in A (j_c = 0) would make the Newton systems singular (CHOLMOD's
+  // analysis of a block without entries fails): its lambda follows from b and its bounds.
+  return solve_around_null_rows(problem, lambda, [&](const BoxedProblem& rest, VecX& lambda_R) {
+    return solve_direct_coupled(rest, lambda_R, options);
+  });
 }
 
 }  // namespace cbps

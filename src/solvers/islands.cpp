@@ -58,6 +58,10 @@ void for_each_island(const std::vector<std::vector<int>>& islands,
     const VecX cmin_I = gather_rows(problem.cmin, rows);
     const VecX cmax_I = gather_rows(problem.cmax, rows);
     BoxedProblem island{A_I, b_I, cmin_I, cmax_I};
+    // A non-symmetric A's rows for the sweeps (rows_of): Aᵀ(I, I) = A(I, I)ᵀ.
+    const SpMat A_rows_I =
+        problem.A_rows != nullptr ? principal_submatrix(*problem.A_rows, rows, local) : SpMat();
+    if (problem.A_rows != nullptr) island.A_rows = &A_rows_I;
     if (problem.blocks != nullptr && !problem.blocks->empty()) {
       // The island's rows keep their order, so the rows of a block stay consecutive.
       blocks_I.clear();

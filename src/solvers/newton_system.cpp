@@ -4,12 +4,14 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "cbps/solvers/islands.hpp"
 #include "cholmod_factor.hpp"
 
 namespace cbps {
@@ -51,22 +53,10 @@ class BodySpace final : public NewtonSystem {
       block = llt.solve(Eigen::Matrix<double, 6, 6>::Identity());
       block = (0.5 * (block + block.transpose())).eval();
     }
-    std::unique_ptr<BodySpace> body(new BodySpace(problem, std::move(M)));
     // A = J Minv Jᵀ + cfm I is the contract of BoxedProblem; a stored folder whose A says
     // otherwise is solved in row space, on its A.
-    const SpMat& A = problem.A;
-    VecX x(A.rows()), JMJx;
-    for (Eigen::Index k = 0; k < x.size(); ++k) x(k) = std::sin(1.0 + double(k));
-    body->times_A(x, JMJx);
-    const VecX Ax = A * x;
-    double bound = 0.0;                                 // max_i Σ_k |A_ik x_k|
-    for (Eigen::Index j = 0; j < A.outerSize(); ++j) {  // A symmetric: columns = rows
-      double sum = 0.0;
-      for (SpMat::InnerIterator it(A, j); it; ++it) sum += std::abs(it.value() * x(it.row()));
-      bound = std::max(bound, sum);
-    }
-    if (A.rows() > 0 && !((Ax - JMJx).cwiseAbs().maxCoeff() <= 1e-12 * bound)) return nullptr;
-    return body;
+    if (!(factors_mismatch(problem) <= kFactorsTolerance)) return nullptr;
+    return std::unique_ptr<BodySpace>(new BodySpace(problem, std::move(M)));
   }
 
   bool factor(const VecX& d, const std::vector<char>& dropped) override {
@@ -332,6 +322,113 @@ bool check_input(const BoxedProblem& problem, const char* who, SolverSummary& s)
       << ": no lambda is feasible (residual: the largest cmin - cmax, N)";
   s.message = msg.str();
   return false;
+}
+
+SolverSummary solve_around_null_rows(
+    const BoxedProblem& problem,
+    VecX& lambda,
+    const std::function<SolverSummary(const BoxedProblem&, VecX&)>& solve_rest) {
+  const SpMat& A = problem.A;
+  const Eigen::Index n = A.rows();
+  std::vector<int> rest;
+  std::vector<int> null;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    bool coupled = false;
+    for (SpMat::InnerIterator it(A, k); it && !coupled; ++it) coupled = it.value() != 0.0;
+    (coupled ? rest : null).push_back(static_cast<int>(k));
+  }
+  if (null.empty()) return solve_rest(problem, lambda);
+  const auto start = std::chrono::steady_clock::now();
+  if (lambda.size() != n) lambda = VecX::Zero(n);
+  // A null row k (A_kk = 0: its j_c acts on nothing) has w_k = (A lambda)_k − b_k = −b_k whatever
+  // lambda is, so the boxed LCP of 6.2 decides lambda_k by b_k and its bounds alone: b_k > 0
+  // (w_k < 0) needs lambda_k = cmax_k, b_k < 0 needs cmin_k, b_k = 0 allows any point of the box
+  // (the point nearest 0 is taken). A needed bound that is infinite has no solution: the row
+  // keeps the box's point nearest 0 and its residual, |b_k|, shows it (NotConverged).
+  Eigen::Index infeasible = -1;
+  for (const int k : null) {
+    const double b = problem.b(k), lo = problem.cmin(k), hi = problem.cmax(k);
+    double value = clamp(0.0, lo, hi);
+    if (lo == hi) {
+      value = lo;  // a fixed row: w_k is free
+    } else if (b > 0.0) {
+      if (std::isfinite(hi))
+        value = hi;
+      else if (infeasible < 0)
+        infeasible = k;
+    } else if (b < 0.0) {
+      if (std::isfinite(lo))
+        value = lo;
+      else if (infeasible < 0)
+        infeasible = k;
+    }
+    lambda(k) = value;
+  }
+  // The other rows never meet the null ones in A (their entries there are 0): solved as they are,
+  // with J's rows of their own when J is given (J_R Minv J_Rᵀ = A(R, R)), so body space stays.
+  SolverSummary s;
+  s.termination = Termination::Direct;
+  if (!rest.empty()) {
+    std::vector<int> local(static_cast<std::size_t>(n), -1);
+    const SpMat A_R = principal_submatrix(A, rest, local);
+    const VecX b_R = gather_rows(problem.b, rest);
+    const VecX cmin_R = gather_rows(problem.cmin, rest);
+    const VecX cmax_R = gather_rows(problem.cmax, rest);
+    BoxedProblem reduced{A_R, b_R, cmin_R, cmax_R};
+    reduced.cfm = problem.cfm;
+    SpMatRow J_R;
+    if (problem.J != nullptr) {
+      SpMatRow select(static_cast<Eigen::Index>(rest.size()), n);  // row r picks row rest[r]
+      std::vector<Eigen::Triplet<double>> ones;
+      for (std::size_t r = 0; r < rest.size(); ++r) ones.emplace_back(int(r), rest[r], 1.0);
+      select.setFromTriplets(ones.begin(), ones.end());
+      J_R = select * *problem.J;
+      reduced.J = &J_R;
+      reduced.Minv = problem.Minv;
+    }
+    VecX lambda_R = gather_rows(lambda, rest);
+    s = solve_rest(reduced, lambda_R);
+    for (std::size_t r = 0; r < rest.size(); ++r) lambda(rest[r]) = lambda_R(Eigen::Index(r));
+  }
+  s.residual = natural_map_residual(problem, lambda);
+  if (!std::isfinite(s.residual)) {
+    s.termination = Termination::NonFinite;
+  } else if (infeasible >= 0) {
+    s.termination = Termination::NotConverged;
+  }
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::ostringstream msg;
+  if (!s.message.empty()) msg << s.message << "; ";
+  msg << null.size() << " row" << (null.size() == 1 ? "" : "s")
+      << " with no entry in A (j_c = 0: w_k = -b_k) set from b_k and the bounds";
+  if (infeasible >= 0) {
+    msg << "; row " << infeasible << " has no solution: b = " << problem.b(infeasible)
+        << " needs lambda at " << (problem.b(infeasible) > 0.0 ? "cmax" : "cmin")
+        << ", which is infinite";
+  }
+  msg << "; residual " << s.residual << " N";
+  s.message = msg.str();
+  return s;
+}
+
+double factors_mismatch(const BoxedProblem& problem) {
+  const SpMat& A = problem.A;
+  const Eigen::Index c = A.rows();
+  if (c == 0) return 0.0;
+  VecX x(c);
+  for (Eigen::Index k = 0; k < c; ++k) x(k) = std::sin(1.0 + double(k));  // no zero, no pattern
+  // J (Minv (Jᵀ x)) + cfm x, as BodySpace::times_A forms it.
+  const VecX f = problem.J->transpose() * x;
+  const VecX v = *problem.Minv * f;
+  VecX JMJx = *problem.J * v;
+  if (problem.cfm != 0.0) JMJx += problem.cfm * x;
+  const VecX Ax = A * x;
+  VecX size = VecX::Zero(c);  // Σ_k |A_ik x_k| for every row i (any A: scattered by column)
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
+    for (SpMat::InnerIterator it(A, j); it; ++it) size(it.row()) += std::abs(it.value() * x(j));
+  const double difference = (Ax - JMJx).cwiseAbs().maxCoeff();
+  if (difference == 0.0) return 0.0;
+  return difference / size.maxCoeff();  // +inf for A = 0 with J Minv Jᵀ ≠ 0; NaN stays NaN
 }
 
 std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem) {

@@ -3,6 +3,7 @@
 // space otherwise. Private to the library: direct.cpp and active_set.cpp use it.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -39,6 +40,26 @@ class NewtonSystem {
              VecX& x,
              int refinements = 2) const;
 };
+
+/// The exact paths' way around the null rows of A (no nonzero entry in column k, so none in row
+/// k of a symmetric A: a row whose j_c acts on nothing), which CHOLMOD cannot factor: their
+/// lambda_k follow from w_k = −b_k and the bounds alone (b_k > 0: cmax_k, b_k < 0: cmin_k, 0: the
+/// box's point nearest 0), the other rows are solved by solve_rest (with J's rows of their
+/// own), and the summary has the residual of the whole problem, NotConverged when a null row's
+/// needed bound is infinite (no solution). Without null rows: solve_rest(problem, lambda).
+SolverSummary solve_around_null_rows(
+    const BoxedProblem& problem,
+    VecX& lambda,
+    const std::function<SolverSummary(const BoxedProblem&, VecX&)>& solve_rest);
+
+/// How closely A must agree with J Minv Jᵀ + cfm E on factors_mismatch's test vector.
+inline constexpr double kFactorsTolerance = 1e-12;
+
+/// max_i |(A x − J Minv Jᵀ x − cfm x)_i| / max_i Σ_k |A_ik x_k| on x_k = sin(1 + k): how far the
+/// problem's A is from its J and Minv (BoxedProblem::cfm included), relative to the size of the
+/// products; 0 for no rows. The problem must carry J and Minv. The body-space solve needs it
+/// ≤ kFactorsTolerance (else it works in row space, on A); solve() refuses matrix-free above it.
+double factors_mismatch(const BoxedProblem& problem);
 
 /// Body space when the problem has J and Minv, Minv is block diagonal with positive definite
 /// 6×6 blocks and A x = J Minv Jᵀ x + cfm x holds on a test vector (to 1e-12 of |A| |x|); null

@@ -19,11 +19,12 @@ namespace {
 template <class RowAt>
 double sweep_rows(
     const BoxedProblem& p, VecX& lambda, double relaxation, Eigen::Index count, RowAt row_at) {
+  const SpMat& A_rows = detail::rows_of(p);
   double delta = 0.0;
   double target = 0.0;
   for (Eigen::Index n = 0; n < count; ++n) {
     const Eigen::Index k = row_at(n);
-    if (!row_target(p.A, p.b, lambda, k, target)) continue;
+    if (!row_target(A_rows, p.b, lambda, k, target)) continue;
     const double next =
         clamp(relax(lambda(k), target, relaxation), p.cmin(k), p.cmax(k));  // (7.1.1)
     const double change = std::abs(next - lambda(k));
@@ -96,10 +97,11 @@ const std::vector<int>& SweepOrder::next() {
 
 double jacobi_sweep(const BoxedProblem& problem, VecX& lambda, double relaxation, VecX& scratch) {
   scratch = lambda;  // the previous sweep's values
+  const SpMat& A_rows = detail::rows_of(problem);
   double delta = 0.0;
   double target = 0.0;
   for (Eigen::Index k = 0; k < problem.A.outerSize(); ++k) {
-    if (!row_target(problem.A, problem.b, scratch, k, target)) continue;
+    if (!row_target(A_rows, problem.b, scratch, k, target)) continue;
     lambda(k) = clamp(relax(scratch(k), target, relaxation), problem.cmin(k), problem.cmax(k));
     const double change = std::abs(lambda(k) - scratch(k));
     max_keep_nan(delta, change);

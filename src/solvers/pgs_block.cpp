@@ -20,7 +20,7 @@ double block_pgs_sweep(const BoxedProblem& problem,
                        double relaxation,
                        double regularization,
                        int* fallbacks) {
-  const SpMat& A = problem.A;
+  const SpMat& A = detail::rows_of(problem);  // column k holds row k of the problem's A
   const VecX& b = problem.b;
   const VecX& cmin = problem.cmin;
   const VecX& cmax = problem.cmax;
@@ -46,13 +46,13 @@ double block_pgs_sweep(const BoxedProblem& problem,
       first = end;
       continue;
     }
-    // M = A_BB, q = A_BR lambda_R − b_B (A symmetric: column k of A is row k).
+    // M = A_BB, q = A_BR lambda_R − b_B; column k of A (rows_of) is row k of the problem's A.
     M.setZero(size, size);
     q = -b.segment(first, size);
     for (Eigen::Index k = first; k < end; ++k) {
       for (SpMat::InnerIterator it(A, k); it; ++it) {
         if (it.row() >= first && it.row() < end) {
-          M(it.row() - first, k - first) = it.value();
+          M(k - first, it.row() - first) = it.value();  // M_ki = A_ki
         } else {
           q(k - first) += it.value() * lambda(it.row());
         }

@@ -22,6 +22,7 @@
 #include "cbps/solvers/pgs_sm.hpp"
 #include "cbps/solvers/rbgs.hpp"
 #include "cbps/solvers/shock.hpp"
+#include "newton_system.hpp"
 
 namespace cbps {
 
@@ -262,14 +263,10 @@ SolverSummary with_cfm_applied(
   return run(regularised, plain);
 }
 
-SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
-  if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
-    // Every method with an explicit A solves A + eps E; the matrix-free sweep puts eps on its
-    // own diagonal.
-    return with_cfm_applied(problem, options, [&](const BoxedProblem& p, const SolverOptions& o) {
-      return solve(p, lambda, o);
-    });
-  }
+namespace {
+
+/// solve() once A is known to suit the method: whole, or island by island.
+SolverSummary solve_split(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
   // The direct path splits by itself (options.direct.split_islands). The methods that read J
   // run whole (an island's problem carries no J): the matrix-free rows of different islands
   // never meet, and the shock order's sweep treats islands apart anyway; only the stopping is
@@ -280,6 +277,56 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
   const auto islands = find_islands(problem.A);
   if (islands.size() <= 1) return solve_whole(problem, lambda, options);
   return solve_islands(islands, problem, lambda, options);
+}
+
+}  // namespace
+
+SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
+    // Every method with an explicit A solves A + eps E; the matrix-free sweep puts eps on its
+    // own diagonal.
+    return with_cfm_applied(problem, options, [&](const BoxedProblem& p, const SolverOptions& o) {
+      return solve(p, lambda, o);
+    });
+  }
+  // What the method needs of A, tested here once per solve (every method comes through here).
+  if (options.method == Method::MatrixFree && problem.has_factors()) {
+    // The matrix-free sweep solves the problem of J Minv Jᵀ + cfm E and never reads A: it must
+    // be A's, or the residual it reports is not A's (issue 28: Minv doubled, "residual
+    // tolerance reached" at 1e-10 N while A's residual was 3.6 N).
+    const double mismatch = factors_mismatch(problem);
+    if (!(mismatch <= kFactorsTolerance))
+      throw InputError(
+          "method 'matrix-free' sweeps J Minv J^T, never A, and they differ: |A x - "
+          "J Minv J^T x| is " +
+          number_text(mismatch) + " of |A| |x| on a test vector (at most " +
+          number_text(kFactorsTolerance) +
+          "); J, Minv and A are not one problem's. Pass matching ones, or solve A "
+          "with a method that reads it (pgs)");
+  }
+  // A's columns are its rows only when A is symmetric. The sweeps of 7.1.1 read A column by
+  // column (SpMat is column-major), so for any other A they get Aᵀ (rows_of, sweep.hpp), formed
+  // here once; the methods that minimise the QP ½ λᵀAλ − bᵀλ of 6.2 need the symmetry itself.
+  // One pass over A's entries, measured at 1.3 to 2 times one PGS sweep on the base-20
+  // pyramid (370k nonzeros): the price of never sweeping the wrong matrix.
+  // symmetry_tolerance ≥ kSymmetryTolerance: its own pass over A only when that is exceeded.
+  const double asymmetry = max_asymmetry(problem.A);
+  if (asymmetry > kSymmetryTolerance && asymmetry > symmetry_tolerance(problem.A)) {
+    if (needs_symmetric(options.method))
+      throw InputError("method '" + std::string(to_string(options.method)) +
+                       "' minimises the QP 1/2 lambda^T A lambda - b^T lambda of 6.2, which is the "
+                       "boxed LCP only for a symmetric A; max |A - A^T| = " +
+                       number_text(asymmetry) + " > " + number_text(symmetry_tolerance(problem.A)) +
+                       ". lemke or a sweeping method (pgs, psor, sgs, jacobi, rbgs, block-pgs) "
+                       "solves any A (the sweeps need A_kk > 0)");
+    if (problem.A_rows == nullptr) {
+      const SpMat A_rows = problem.A.transpose();  // column k = row k of A
+      BoxedProblem rows = problem;
+      rows.A_rows = &A_rows;
+      return solve_split(rows, lambda, options);
+    }
+  }
+  return solve_split(problem, lambda, options);
 }
 
 }  // namespace cbps

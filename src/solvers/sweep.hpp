@@ -9,15 +9,23 @@
 
 namespace cbps::detail {
 
+/// The matrix whose column k is row k of the problem's A, for the sweeps: A itself when it is
+/// symmetric, else the Aᵀ that solve() formed (BoxedProblem::A_rows). SpMat is column-major, so
+/// reading A's column k for row k (as the sweeps did) swept Aᵀ: 7.1.1 on a non-symmetric A
+/// converged to the solution of the problem of Aᵀ (issue 28).
+inline const SpMat& rows_of(const BoxedProblem& problem) {
+  return problem.A_rows != nullptr ? *problem.A_rows : problem.A;
+}
+
 /// Row k of 7.1.1 before clamping: (b_k − Σ_{i≠k} A_ki x_i) / A_kk, with x the values the
 /// sweep reads (the current lambda for Gauss-Seidel, the previous sweep's for Jacobi).
-/// Returns false for a row with A_kk = 0 (j_c = 0 acts on nothing; its lambda stays).
+/// A_rows is rows_of(problem): its column k holds row k of A. Returns false for a row with
+/// A_kk = 0 (j_c = 0 acts on nothing; its lambda stays).
 inline bool row_target(
-    const SpMat& A, const VecX& b, const VecX& x, Eigen::Index k, double& target) {
-  // A is symmetric: column k holds A_ik = A_ki.
+    const SpMat& A_rows, const VecX& b, const VecX& x, Eigen::Index k, double& target) {
   double sum = b(k);
   double A_kk = 0.0;
-  for (SpMat::InnerIterator it(A, k); it; ++it) {
+  for (SpMat::InnerIterator it(A_rows, k); it; ++it) {  // A_ki = (A_rows)_ik
     if (it.row() == k) {
       A_kk = it.value();
     } else {

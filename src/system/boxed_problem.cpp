@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace cbps {
 
@@ -51,6 +52,46 @@ double max_abs_row_sum(const SpMat& A) {
     max_row_sum = std::max(max_row_sum, sum);
   }
   return max_row_sum;
+}
+
+double max_asymmetry(const SpMat& A) {
+  if (!A.isCompressed()) return max_asymmetry(SpMat(A));  // the walk below reads compressed columns
+  const Eigen::Index n = A.outerSize();
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();  // ascending within each column (Eigen's invariant)
+  const double* value = A.valuePtr();
+  // next[i]: the first entry of column i not yet matched. Columns are visited in order j = 0, 1,
+  // …; an entry (i, j) below the diagonal (i > j) meets its mirror (j, i) in column i, whose rows
+  // above the diagonal come up in the same ascending order of j. So each column's upper part is
+  // consumed front to back, and what is skipped over had no mirror.
+  std::vector<int> next(outer, outer + n);
+  double asymmetry = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    int p = next[std::size_t(j)];
+    for (; p < outer[j + 1] && inner[p] < j; ++p)  // (r, j), r < j: its mirror (j, r) is absent
+      asymmetry = std::max(asymmetry, std::abs(value[p]));
+    for (; p < outer[j + 1]; ++p) {
+      const int i = inner[p];
+      if (i == j) continue;
+      int& q = next[std::size_t(i)];
+      for (; q < outer[i + 1] && inner[q] < j; ++q)  // column i's upper entries without a mirror
+        asymmetry = std::max(asymmetry, std::abs(value[q]));
+      if (q < outer[i + 1] && inner[q] == j) {
+        asymmetry = std::max(asymmetry, std::abs(value[p] - value[q]));
+        ++q;
+      } else {
+        asymmetry = std::max(asymmetry, std::abs(value[p]));
+      }
+    }
+  }
+  return asymmetry;
+}
+
+double symmetry_tolerance(const SpMat& A) {
+  double largest = 1.0;
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
+    largest = std::max(largest, std::abs(A.valuePtr()[k]));
+  return kSymmetryTolerance * largest;
 }
 
 }  // namespace cbps

@@ -184,3 +184,35 @@ def test_history_is_bounded_by_default():
     assert h["iteration"][1] == 4 and h["iteration"][-1] == 3_000_000
     _, s = cbps.solve(A, b, cmin, cmax, "pgs", iterations=1000, tolerance=0, history_limit=2)
     np.testing.assert_array_equal(s["history"]["iteration"], [0, 1000])
+
+
+# Issue 28, item 3: no method returns a silently wrong answer.
+UPPER = [[2.0, 1.0], [0.0, 2.0]]  # not symmetric; by hand lambda = [1/4, 1/2], w = 0 (both > 0)
+
+
+@pytest.mark.parametrize("method", ["pgs", "psor:1.3", "sgs", "jacobi", "rbgs", "block-pgs",
+                                    "pgs-nesterov"])
+def test_sweeps_solve_a_non_symmetric_a(method):
+    """The sweeps of 7.1.1 read A's rows: the issue's example gives A's solution, not Aᵀ's
+    ([1/2, 1/4]), as Lemke does."""
+    lam, summary = cbps.solve(UPPER, [1, 1], [0, 0], [np.inf, np.inf], method, tolerance=1e-14)
+    assert np.allclose(lam, [0.25, 0.5], rtol=0, atol=1e-13), summary["message"]
+    lemke, _ = cbps.solve(UPPER, [1, 1], [0, 0], [np.inf, np.inf], "lemke")
+    assert np.allclose(lemke, [0.25, 0.5], rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("method", ["apgd", "nncg", "pgs-sm", "admm", "direct", "active-set"])
+def test_qp_methods_refuse_a_non_symmetric_a(method):
+    """The methods that minimise ½ λᵀAλ − bᵀλ refuse a non-symmetric A (cbps.InputError)."""
+    with pytest.raises(cbps.InputError, match=r"A - A\^T"):
+        cbps.solve(UPPER, [1, 1], [0, 0], [np.inf, np.inf], method)
+
+
+@pytest.mark.parametrize("method", ["direct", "active-set"])
+def test_exact_paths_solve_a_zero_row(method):
+    """A zero row (j_c = 0) is legitimate: w_2 = −b_2 = −1 < 0 puts lambda_2 at cmax = 5; the
+    rest, [[2, 1], [1, 2]] lambda = [1, 1], gives 1/3 each (by hand)."""
+    A = [[2, 1, 0], [1, 2, 0], [0, 0, 0]]
+    lam, summary = cbps.solve(A, [1, 1, 1], [0] * 3, [np.inf, np.inf, 5], method)
+    assert np.allclose(lam, [1 / 3, 1 / 3, 5], rtol=0, atol=1e-14)
+    assert summary["residual"] <= 1e-15

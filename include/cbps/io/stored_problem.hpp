@@ -65,11 +65,8 @@ void check_bounds(const VecX& b,
 /// InputError for a text that is not a number >= 0.
 double read_cfm(const std::string& dir);
 
-/// How symmetric A must be for the QP of 6.2: max |A − Aᵀ| ≤ kSymmetryTolerance max(1, max |A_ij|)
-/// (require_symmetric, and the distributed check of TAO's path).
-inline constexpr double kSymmetryTolerance = 1e-12;
-
-/// InputError naming `what` and max |A − Aᵀ| unless A is symmetric to kSymmetryTolerance:
+/// InputError naming `what` and max |A − Aᵀ| unless A is symmetric to kSymmetryTolerance
+/// (system/boxed_problem.hpp; solve() makes the same test on every solve):
 /// the direct path solves the QP of 6.2, which needs it.
 void require_symmetric(const StoredProblem& p, const std::string& what);
 

@@ -9,11 +9,11 @@
 
 namespace cbps {
 
-/// The islands of a symmetric A: connected components of its graph (rows i, k joined when
-/// A_ik ≠ 0), each a sorted list of rows, in order of their first row.
+/// The islands of A: connected components of its graph (rows i, k joined when A_ik ≠ 0 or
+/// A_ki ≠ 0), each a sorted list of rows, in order of their first row.
 std::vector<std::vector<int>> find_islands(const SpMat& A);
 
-/// The principal submatrix A(idx, idx) of a symmetric A, idx sorted ascending. `local` is
+/// The principal submatrix A(idx, idx) of A, idx sorted ascending. `local` is
 /// scratch of size A.rows() that holds −1 everywhere on entry and on exit.
 SpMat principal_submatrix(const SpMat& A, const std::vector<int>& idx, std::vector<int>& local);
 
@@ -25,7 +25,8 @@ using IslandSolve = std::function<void(const BoxedProblem& island, VecX& lambda_
 
 /// Calls solve_island on each island in turn with its sub-problem (the whole problem as it is
 /// when one island covers every row, so nothing is copied) and writes lambda_I back. The
-/// sub-problem carries its rows' block ids when the problem has them; it never carries J and
+/// sub-problem carries its rows' block ids and A_rows (the sweeps' rows of a non-symmetric A)
+/// when the problem has them; it never carries J and
 /// Minv (an island's A is not J_I Minv J_Iᵀ of any stored J).
 void for_each_island(const std::vector<std::vector<int>>& islands,
                      const BoxedProblem& problem,

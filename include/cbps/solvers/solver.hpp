@@ -90,6 +90,17 @@ inline bool needs_jacobian(Method method) {
   return method == Method::MatrixFree || method == Method::Shock;
 }
 
+/// True for the methods whose derivation needs a symmetric A: they minimise the QP
+/// ½ λᵀAλ − bᵀλ of 6.2 over the box, whose optimality conditions are the boxed LCP only when
+/// A = Aᵀ (the exact paths direct and active-set, apgd, nncg, pgs-sm, admm). solve() refuses a
+/// non-symmetric A for them (InputError). The sweeps of 7.1.1 (pgs, psor, sgs, jacobi, rbgs,
+/// block-pgs, shock, pgs-nesterov) take any A with a positive diagonal: they read A's rows
+/// (BoxedProblem::A_rows). matrix-free sweeps J Minv Jᵀ, which solve() checks against A.
+inline bool needs_symmetric(Method method) {
+  return method == Method::Direct || method == Method::ActiveSet || method == Method::Apgd ||
+         method == Method::Nncg || method == Method::PgsSm || method == Method::Admm;
+}
+
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check
 /// scene files and the --solver grammar share.
@@ -208,6 +219,9 @@ SolverSummary with_cfm_applied(
 /// (std::invalid_argument otherwise); both run on the whole problem even with split_islands.
 /// Method::Lemke solves the dense A (any square A, the guess unused, tolerance unused) and
 /// throws InputError above kMaxDenseLemkeRows rows; its pivots count as iterations.
+/// Checked once per solve (InputError): A symmetric to kSymmetryTolerance for the methods that
+/// need it (needs_symmetric; the others then sweep A's rows, from an Aᵀ formed here), and for
+/// matrix-free A = J Minv Jᵀ + cfm E on a test vector (factors_mismatch ≤ 1e-12).
 SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
 
 }  // namespace cbps

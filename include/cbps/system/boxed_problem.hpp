@@ -62,6 +62,11 @@ struct BoxedProblem {
   /// Constraint-force mixing already in A: A = J Minv Jᵀ + cfm E when J and Minv are given
   /// (solve() sets it when it forms A + eps E), kg⁻¹.
   double cfm = 0.0;
+  /// A's rows for the sweeps of 7.1.1 when A is not symmetric: A_rows = Aᵀ, so that column k of
+  /// *A_rows (what a column-major sweep reads) is row k of A. Null: A is symmetric to
+  /// kSymmetryTolerance and its columns are its rows. solve() (solvers/solver.hpp) sets it, once
+  /// per solve; nothing else needs to.
+  const SpMat* A_rows = nullptr;
 
   Eigen::Index rows() const { return b.size(); }
   bool has_factors() const { return J != nullptr && Minv != nullptr; }
@@ -77,6 +82,18 @@ struct CoulombRows {
   /// True when some row is a Coulomb friction row.
   bool any() const;
 };
+
+/// How symmetric A must be to count as symmetric (the QP of 6.2 and the exact paths need it; a
+/// column of a symmetric A is its row): max |A − Aᵀ| ≤ kSymmetryTolerance max(1, max |A_ij|).
+/// The one tolerance: solve(), require_symmetric (io/) and the distributed check of TAO's path.
+inline constexpr double kSymmetryTolerance = 1e-12;
+
+/// max |A_ik − A_ki| over A's entries, kg⁻¹ (an entry whose mirror is not stored counts whole),
+/// in one pass over A without forming Aᵀ.
+double max_asymmetry(const SpMat& A);
+
+/// The largest max |A − Aᵀ| a symmetric A may have: kSymmetryTolerance max(1, max |A_ij|), kg⁻¹.
+double symmetry_tolerance(const SpMat& A);
 
 /// The projection onto the box [lo, hi] of 7.1.1 and of the natural map: min(max(x, lo), hi).
 double clamp(double x, double lo, double hi);
