@@ -67,6 +67,10 @@ struct BoxedProblem {
   /// kSymmetryTolerance and its columns are its rows. solve() (solvers/solver.hpp) sets it, once
   /// per solve; nothing else needs to.
   const SpMat* A_rows = nullptr;
+  /// A is symmetric by construction: a step's A = J Minv Jᵀ (6.2.9, System::problem), so
+  /// solve() skips its symmetry test (one pass over A, about two PGS sweeps' time, every step).
+  /// False: solve() tests it (a stored problem, Python's A).
+  bool symmetric = false;
 
   Eigen::Index rows() const { return b.size(); }
   bool has_factors() const { return J != nullptr && Minv != nullptr; }

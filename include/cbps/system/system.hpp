@@ -56,7 +56,9 @@ struct System {
   /// rhs must outlive it (never pass a temporary rhs).
   BoxedProblem problem() const { return problem(b); }
   BoxedProblem problem(const VecX& rhs) const {
-    return BoxedProblem{A, rhs, cmin, cmax, &J, &Minv, &manifold, &kind};
+    BoxedProblem p{A, rhs, cmin, cmax, &J, &Minv, &manifold, &kind};
+    p.symmetric = true;  // A = J Minv Jᵀ (6.2.9)
+    return p;
   }
   /// The Coulomb friction rows (5.4), whose bounds ±mu lambda_n the solve sets.
   CoulombRows coulomb() const { return CoulombRows{normal_row, mu}; }
