@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "cbps/error.hpp"
+
 namespace cbps {
 
 namespace {
@@ -87,8 +89,8 @@ SolverSummary sweep_with_moving_bounds(const BoxedProblem& bounded,
     }
   }
   std::ostringstream msg;
-  msg << to_string(total.termination) << " after " << total.iterations
-      << " sweeps with Coulomb bounds, residual " << total.residual << " N";
+  msg << to_string(total.termination) << " after " << count_text(total.iterations, "sweep")
+      << " with Coulomb bounds, residual " << total.residual << " N";
   total.message = msg.str();
   return total;
 }

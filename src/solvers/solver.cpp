@@ -238,8 +238,8 @@ SolverSummary solve_islands(const std::vector<std::vector<int>>& islands,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::ostringstream msg;
   msg << to_string(total.termination) << " (worst of " << total.islands
-      << " islands solved apart), at most " << total.iterations << " sweeps, residual "
-      << total.residual << " N";
+      << " islands solved apart), at most " << count_text(total.iterations, "sweep")
+      << ", residual " << total.residual << " N";
   total.message = msg.str();
   return total;
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "cbps/error.hpp"
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps::detail {
@@ -95,8 +96,8 @@ SolverSummary iterate_sweeps(
   s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!options.describe) return s;
   std::ostringstream msg;
-  msg << to_string(s.termination) << " after " << s.iterations << " sweeps, residual " << s.residual
-      << " N, last change " << s.delta << " N";
+  msg << to_string(s.termination) << " after " << count_text(s.iterations, "sweep") << ", residual "
+      << s.residual << " N, last change " << s.delta << " N";
   s.message = msg.str();
   return s;
 }
