@@ -32,8 +32,11 @@ packages=(
   chromium  # headless, for the teaching page's tests (tests/test_teaching_page_browser.py)
 )
 if [ "$with_petsc" -eq 1 ]; then
-  # PETSc 3.18 (pkg-config PETSc) with Open MPI's headers and its mpirun.
-  packages+=(petsc-dev libopenmpi-dev openmpi-bin)
+  # PETSc 3.18 (pkg-config PETSc) with Open MPI's headers and its mpirun; and OpenBLAS's
+  # threaded build, which PETSc's packages may bring as the system's libblas.so.3 (they did on a
+  # new user's machine): it starts worker threads before main, so the tests run with it
+  # (--threads, and Ctrl-C whichever thread receives it, docs/cli-contract.md).
+  packages+=(petsc-dev libopenmpi-dev openmpi-bin libopenblas0-pthread)
 fi
 missing=()
 for p in "${packages[@]}"; do
