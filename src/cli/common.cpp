@@ -98,6 +98,10 @@ Scene load_scene(const SceneOptions& o) {
   const std::map<std::string, std::string> values = parameter_values(o.params);
   if (find_builtin_scene(o.scene) != nullptr) return make_builtin_scene(o.scene, values);
   std::error_code ec;
+  if (fs::is_directory(o.scene, ec))
+    throw InputError(o.scene +
+                     ": is a folder, not a scene; give a built-in scene's name (cbps scenes) or "
+                     "a JSON scene file (docs/scene-format.md)");
   if (fs::is_regular_file(o.scene, ec)) {
     if (!values.empty()) {
       throw InputError("--param: parameters apply to built-in scenes only, not to the file " +
@@ -171,13 +175,15 @@ CLI::Validator step_index() {
   return CLI::Validator(
       [](std::string& text) -> std::string {
         double x = 0.0;
-        if (!parse_number(text, x) || !(x >= 0.0) || x != std::floor(x) || x > kMaxSteps)
+        if (!parse_number(text, x) || !(x >= 0.0) || x != std::floor(x) || x > kMaxReplaySteps)
           return "'" + text + "' is not a whole number of steps from 0 to " +
-                 number_text(kMaxSteps) + " (1e6 accepted)";
+                 number_text(kMaxReplaySteps) +
+                 " (1e6 accepted; the steps before it are replayed, so a later one is a run: "
+                 "cbps run --steps N)";
         text = std::to_string(static_cast<long>(x));
         return {};
       },
-      "0..1e12");
+      "0..1e7");
 }
 
 CLI::Validator non_empty() {

@@ -42,13 +42,17 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
 /// Option checks whose messages show the value as given (CLI11's own print DBL_MAX in full).
 CLI::Validator positive();      ///< a finite number > 0
 CLI::Validator non_negative();  ///< a finite number >= 0
-/// A whole number of steps from 0 to kMaxSteps, also written 1e6; rewritten as digits for the
-/// option's integer (`--step`).
+/// A whole number of steps from 0 to kMaxReplaySteps, also written 1e6; rewritten as digits for
+/// the option's integer (`--step` of explain, matrices, converge).
 CLI::Validator step_index();
 CLI::Validator non_empty();  ///< any text but the empty one (a file name)
 
 /// The most steps a run takes (a longer run is a typo: 1e12 steps of a one-body scene take days).
 inline constexpr double kMaxSteps = 1e12;
+/// The latest step `--step K` shows: explain, matrices and converge replay the K steps before it
+/// without output or progress (1e7 steps of the 50-ball pendulum wave take about 9 minutes at
+/// the README's 5e-5 s a step); a later step is a run (`cbps run`) rather than a look at one.
+inline constexpr double kMaxReplaySteps = 1e7;
 
 /// The --param NAME=VALUE texts as name → value; InputError for one without a name or '='.
 std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params);

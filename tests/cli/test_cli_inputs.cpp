@@ -169,12 +169,17 @@ TEST_CASE("messages a new user can act on: missing and binary files, --step, --h
   SECTION("--step takes 1e1 and gives its range for what it refuses") {
     CHECK(run_cli("matrices chain --param n=2 --step 1e1 --quiet --out " + (dir / "m").string())
               .code == 0);
-    for (const std::string step : {"1e9.5", "2.5", "-1", "1e13"}) {
+    for (const std::string step : {"1e9", "1e9.5", "2.5", "-1", "1e13"}) {
       CAPTURE(step);
       const CliResult r = run_cli("explain chain --step " + step);
       CHECK(r.code == 2);
-      CHECK(r.err.find("whole number of steps from 0 to 1e+12") != std::string::npos);
+      CHECK(r.err.find("whole number of steps from 0 to 1e+07") != std::string::npos);
     }
+  }
+  SECTION("a folder given as a scene is named a folder") {
+    const CliResult r = run_cli("run " + dir.string());
+    CHECK(r.code == 2);
+    CHECK(r.err.find(dir.string() + ": is a folder, not a scene") != std::string::npos);
   }
   SECTION("explain --html with an empty file name is refused") {
     const CliResult r = run_cli("explain chain --param n=2 --html ''");
