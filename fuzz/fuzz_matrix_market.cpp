@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 
 namespace {

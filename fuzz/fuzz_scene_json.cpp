@@ -10,7 +10,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/scene/scene_json.hpp"
 

@@ -9,7 +9,7 @@
 #include <sstream>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
 
 namespace {

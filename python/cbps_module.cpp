@@ -7,7 +7,7 @@
 //   cbps.DivergenceError (a ComputationError) a step that diverged; .step, .body, .row
 #include <pybind11/pybind11.h>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "convert.hpp"
 
 namespace cbps::python {

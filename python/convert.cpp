@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/output_file.hpp"
 
 namespace cbps::python {

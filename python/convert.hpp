@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "cbps/base/types.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
-#include "cbps/types.hpp"
 
 namespace cbps::python {
 

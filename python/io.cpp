@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/io/stored_problem.hpp"

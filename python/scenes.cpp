@@ -10,7 +10,7 @@
 #include <limits>
 #include <map>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/studies/solver_spec.hpp"

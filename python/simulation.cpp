@@ -9,7 +9,7 @@
 #include <mutex>
 #include <optional>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "convert.hpp"
 

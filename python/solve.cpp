@@ -12,7 +12,7 @@
 #include <limits>
 #include <tuple>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/lemke.hpp"

@@ -43,6 +43,8 @@ import tempfile
 import numpy as np
 import scipy.io
 
+from cbps_problem import natural_map_residual, scale_of  # scripts/cbps_problem.py
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SICONOS = os.path.join(ROOT, "tests", "data", "siconos")
 
@@ -128,17 +130,6 @@ def read_folder(path):
     cfm_file = os.path.join(path, "cfm.txt")
     cfm = float(open(cfm_file).read()) if os.path.exists(cfm_file) else 0.0
     return A + cfm * np.eye(A.shape[0]), vec("b.mtx"), vec("cmin.mtx"), vec("cmax.mtx")
-
-
-def natural_map_residual(A, b, cmin, cmax, lam):
-    """max |lambda - clamp(lambda - w, cmin, cmax)|, w = A lambda - b (6.2)."""
-    w = A @ lam - b
-    return float(np.max(np.abs(lam - np.clip(lam - w, cmin, cmax)), initial=0.0))
-
-
-def scale_of(A, b):
-    """max(1, |b|_inf, max |A_ij|): scale_of in include/cbps/system/boxed_problem.hpp."""
-    return max(1.0, float(np.max(np.abs(b), initial=0.0)), float(np.max(np.abs(A), initial=0.0)))
 
 
 def describe(A, b, cmin, cmax, lam):

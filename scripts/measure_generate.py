@@ -24,9 +24,7 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests",
-                                "petsc"))
-from test_tao import read_mtx  # noqa: E402  (the tests' Matrix Market reader)
+from cbps_problem import read_mtx  # scripts/cbps_problem.py, beside this script
 
 # (rows, ranks, TAO type). 10 rows measure an empty process; 4 ranks oversubscribe the 2 cores
 # here, so their times are not scaling, only their memory is.

@@ -20,9 +20,7 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests",
-                                "petsc"))
-from test_tao import PROBLEMS  # noqa: E402  (the problems the tests use)
+from cbps_problem import PETSC_PROBLEMS as PROBLEMS  # scripts/cbps_problem.py
 
 TYPES = ("bqpip", "gpcg", "tron", "bncg", "bqnls", "blmvm", "bnls", "bntr")
 

@@ -18,9 +18,7 @@ import sys
 import tempfile
 import time
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests",
-                                "petsc"))
-from test_tao import PROBLEMS  # noqa: E402  (the problems the petsc tests use)
+from cbps_problem import PETSC_PROBLEMS as PROBLEMS  # scripts/cbps_problem.py
 
 CONVERGE = {
     "chain": "direct,pgs,apgd,tao:bqpip,tao:gpcg,tao:tron,tao:bncg",

@@ -38,8 +38,8 @@
 #include <string>
 #include <vector>
 
+#include "cbps/base/error.hpp"
 #include "cbps/collision/collision.hpp"
-#include "cbps/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
 

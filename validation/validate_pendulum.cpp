@@ -38,7 +38,8 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
 

@@ -37,7 +37,7 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/solver_spec.hpp"

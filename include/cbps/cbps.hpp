@@ -1,5 +1,6 @@
 // cbps: the constraint-based rigid-body solver of Tamis & Maggiore (2015), one header per stage.
 // A step runs the stages in this order; each line is paper section → header:
+//                        types, errors, row kinds, numbers        base/ (below every stage)
 //   3.1, 3.2, 12.4–12.5  bodies, inertia, integration           body/body.hpp
 //   4                    collision: broad and narrow phase        collision/collision.hpp
 //   5.1.3                a row: j_c, upsilon, cmin, cmax          rows/row.hpp
@@ -16,6 +17,7 @@
 //   6.2                  the exact path (interior point, CHOLMOD) solvers/direct.hpp
 //                        the previous exact path (active set)     solvers/active_set.hpp
 //                        Lemke's method (dense reference)         solvers/lemke.hpp
+//                        CHOLMOD's factor of A + eps I            solvers/cholmod_factor.hpp
 //                        islands of A                             solvers/islands.hpp
 //   5.4                  Coulomb bounds ±mu lambda_n              solvers/coulomb.hpp
 //   3.2 with all above   the step                                 step/simulation.hpp
@@ -26,9 +28,12 @@
 // verification, conditioning, the GSL reference, the --solver grammar) are not included here.
 #pragma once
 
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
+#include "cbps/base/row_kind.hpp"
+#include "cbps/base/types.hpp"
 #include "cbps/body/body.hpp"
 #include "cbps/collision/collision.hpp"
-#include "cbps/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/io/stored_problem.hpp"
@@ -41,6 +46,7 @@
 #include "cbps/scene/scene.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/solvers/active_set.hpp"
+#include "cbps/solvers/cholmod_factor.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/islands.hpp"
@@ -54,4 +60,3 @@
 #include "cbps/step/simulation.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
-#include "cbps/types.hpp"

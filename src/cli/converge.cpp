@@ -19,7 +19,7 @@
 #include <optional>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/solver.hpp"

@@ -12,7 +12,7 @@
 #include <memory>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/step/push.hpp"

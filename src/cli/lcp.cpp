@@ -25,13 +25,13 @@
 #include <memory>
 #include <optional>
 
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/distributed/generate.hpp"
 #include "cbps/distributed/tao.hpp"
-#include "cbps/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/io/stored_problem.hpp"
-#include "cbps/scene/builtin.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"

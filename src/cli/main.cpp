@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "common.hpp"
 

@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/step/simulation.hpp"

@@ -22,7 +22,7 @@
 #include <memory>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/studies/performance_profile.hpp"

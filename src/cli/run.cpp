@@ -6,7 +6,7 @@
 #include <iostream>
 #include <memory>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/solvers/lemke.hpp"
 #include "cbps/solvers/solver.hpp"

@@ -4,7 +4,7 @@
 #include <iostream>
 #include <map>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "common.hpp"

@@ -9,7 +9,7 @@
 #include <regex>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
 

@@ -1,7 +1,7 @@
 // `tao:TYPE` in `cbps converge --solvers` and `cbps profile --solvers` (tao_solvers.hpp).
 #include "tao_solvers.hpp"
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 
 namespace cbps::cli {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/rows/build_rows.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/system/system.hpp"

@@ -2,8 +2,8 @@
 // read of `cbps lcp FOLDER --solver tao:TYPE` under mpirun. No PETSc or MPI here.
 #include <filesystem>
 
+#include "cbps/base/error.hpp"
 #include "cbps/distributed/generate.hpp"
-#include "cbps/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/stored_problem.hpp"
 

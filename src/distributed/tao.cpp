@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "cbps/base/error.hpp"
 #include "cbps/distributed/generate.hpp"
-#include "cbps/error.hpp"
 #include "cbps/io/stored_problem.hpp"
 
 namespace cbps::distributed {

@@ -6,7 +6,7 @@
 #include <cstring>
 #include <filesystem>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 
 namespace cbps {
 

@@ -12,7 +12,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/io/input_file.hpp"
 
 namespace cbps {
@@ -139,11 +140,8 @@ class LineReader {
 
   /// A whole token as a double; inf, -inf, Inf, Infinity accepted, NaN refused.
   double number(const std::string& token, const std::string& what) const {
-    errno = 0;
-    char* end = nullptr;
-    const double value = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0')
-      fail("expected a number " + what + ", found '" + token + "'");
+    double value = 0.0;
+    if (!parse_token(token, value)) fail("expected a number " + what + ", found '" + token + "'");
     if (std::isnan(value)) fail("NaN " + what);
     return value;
   }

@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 
 namespace cbps {
 

@@ -11,7 +11,8 @@
 #include <sstream>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/io/input_file.hpp"
 
 namespace cbps {
@@ -74,7 +75,7 @@ class TokenReader {
     if (pos_ >= tokens_.size()) next(describe());
     const Token& t = tokens_[pos_++];
     double value = 0;
-    if (!parse_number(t.text, value))
+    if (!parse_token(t.text, value))
       fail(t.line, "expected a number " + describe() + ", found '" + t.text + "'");
     if (!std::isfinite(value)) fail(t.line, describe() + " is not finite ('" + t.text + "')");
     return value;
@@ -85,18 +86,12 @@ class TokenReader {
     if (pos_ >= tokens_.size()) return;
     const Token& t = tokens_[pos_];
     double value = 0;
-    if (parse_number(t.text, value))
+    if (parse_token(t.text, value))
       fail(t.line,
            "a number ('" + t.text + "') after " + after + ": wrong n or wrong problem type");
   }
 
  private:
-  static bool parse_number(const std::string& text, double& value) {
-    char* end = nullptr;
-    value = std::strtod(text.c_str(), &end);
-    return end != text.c_str() && *end == '\0';
-  }
-
   void split(const std::string& text) {
     int line = 1;
     std::string current;

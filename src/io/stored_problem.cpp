@@ -6,10 +6,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
-#include "cbps/scene/builtin.hpp"
 
 namespace cbps {
 

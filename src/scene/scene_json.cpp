@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
-#include "cbps/scene/builtin.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 
 namespace cbps {
 namespace {

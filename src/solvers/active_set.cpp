@@ -12,10 +12,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cbps/solvers/cholmod_factor.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "cbps/solvers/pgs.hpp"
-#include "cholmod_factor.hpp"
 #include "newton_system.hpp"
 
 namespace cbps {

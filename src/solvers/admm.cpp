@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "cholmod_factor.hpp"
+#include "cbps/solvers/cholmod_factor.hpp"
 #include "sweep.hpp"
 
 namespace cbps {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 
 namespace cbps {
 

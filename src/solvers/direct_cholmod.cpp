@@ -6,9 +6,9 @@
 #include <sstream>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/solvers/cholmod_factor.hpp"
 #include "cbps/solvers/direct.hpp"
-#include "cholmod_factor.hpp"
 
 namespace cbps {
 

@@ -32,7 +32,7 @@
 #include <sstream>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/system/boxed_problem.hpp"
 
 namespace cbps {

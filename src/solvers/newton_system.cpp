@@ -11,8 +11,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "cbps/solvers/cholmod_factor.hpp"
 #include "cbps/solvers/islands.hpp"
-#include "cholmod_factor.hpp"
 
 namespace cbps {
 

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/active_set.hpp"
 #include "cbps/solvers/admm.hpp"
 #include "cbps/solvers/apgd.hpp"

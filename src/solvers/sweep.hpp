@@ -5,7 +5,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps::detail {

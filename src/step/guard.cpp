@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 
 namespace cbps {
 

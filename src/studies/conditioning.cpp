@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "../solvers/cholmod_factor.hpp"
+#include "cbps/solvers/cholmod_factor.hpp"
 #include "cbps/solvers/direct.hpp"
 
 namespace cbps {

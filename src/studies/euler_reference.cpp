@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 
 namespace cbps {
 

@@ -8,8 +8,8 @@
 #include <string_view>
 #include <vector>
 
-#include "cbps/error.hpp"
-#include "cbps/scene/builtin.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 
 namespace cbps {
 

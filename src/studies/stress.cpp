@@ -7,7 +7,8 @@
 #include <map>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/studies/euler_reference.hpp"
 #include "cbps/studies/solver_spec.hpp"

@@ -10,7 +10,7 @@
 #include <optional>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/studies/teaching_page.hpp"
 
 namespace cbps {

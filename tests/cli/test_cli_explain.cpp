@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cbps/types.hpp"
+#include "cbps/base/types.hpp"
 #include "fixture.hpp"
 
 using namespace cbps;

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/scene/scene_json.hpp"

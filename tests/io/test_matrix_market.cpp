@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "fixture.hpp"

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
 #include "fixture.hpp"
 

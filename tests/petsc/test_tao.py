@@ -26,16 +26,12 @@ import subprocess
 import sys
 
 import numpy as np
-import scipy.io
-import scipy.sparse
 
-# The problems: a chain of 300 links (300 distance rows, A positive definite) and two columns of
-# ten boxes (240 contact and friction rows, A singular: lambda is not unique, w and J^T lambda
-# are). Step 30 of the stack has every box resting on the one below.
-PROBLEMS = {
-    "chain": ["matrices", "chain", "--param", "n=300", "--step", "10"],
-    "stack": ["matrices", "stack", "--param", "n=10", "--param", "columns=2", "--step", "30"],
-}
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+from cbps_problem import PETSC_PROBLEMS as PROBLEMS  # noqa: E402  (chain and stack)
+from cbps_problem import natural_map_residual as natural_map  # noqa: E402
+from cbps_problem import read_mtx  # noqa: E402
+
 # Extra arguments per problem: on the stack no TAO type reaches the solved criterion within
 # 10000 iterations (docs/distributed.md, measured), so 300 keep its runs short.
 ITERATIONS = {"chain": [], "stack": ["--iterations", "300"]}
@@ -75,17 +71,6 @@ def run(args, ranks=None):
     except subprocess.TimeoutExpired:
         check(False, f"hung: no answer within {TIMEOUT_S} s from {' '.join(cmd)}")
         return subprocess.CompletedProcess(cmd, -1, "", "")
-
-
-def read_mtx(path):
-    m = scipy.io.mmread(path)
-    return m.tocsr() if scipy.sparse.issparse(m) else np.asarray(m, dtype=float).reshape(-1)
-
-
-def natural_map(A, b, cmin, cmax, lam):
-    """||lambda - clamp(lambda - w, cmin, cmax)||_inf with w = A lambda - b (6.2), in numpy."""
-    w = A @ lam - b
-    return float(np.max(np.abs(lam - np.minimum(np.maximum(lam - w, cmin), cmax))))
 
 
 def load(folder):

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/rows/distance.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"

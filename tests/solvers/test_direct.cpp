@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/solvers/active_set.hpp"

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/solvers/lemke.hpp"
 #include "fixture.hpp"

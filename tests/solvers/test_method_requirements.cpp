@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/solvers/active_set.hpp"
 #include "cbps/solvers/direct.hpp"
 #include "cbps/solvers/pgs.hpp"

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <string>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
 

@@ -22,8 +22,8 @@
 #include <map>
 #include <string>
 
+#include "cbps/base/types.hpp"
 #include "cbps/system/boxed_problem.hpp"
-#include "cbps/types.hpp"
 
 namespace cbps::distributed {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "cbps/types.hpp"
+#include "cbps/base/types.hpp"
 
 namespace cbps {
 

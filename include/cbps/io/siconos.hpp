@@ -24,7 +24,7 @@
 #include <istream>
 #include <string>
 
-#include "cbps/types.hpp"
+#include "cbps/base/types.hpp"
 
 namespace cbps {
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "cbps/base/row_kind.hpp"
 #include "cbps/body/body.hpp"
-#include "cbps/system/boxed_problem.hpp"
 
 namespace cbps {
 

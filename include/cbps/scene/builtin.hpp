@@ -49,10 +49,6 @@ Body box_body(const std::string& name, const Vec3& half_extents, double mass, co
 /// A movable solid sphere of uniform density: radius in m, mass in kg, centre x in m.
 Body sphere_body(const std::string& name, double radius, double mass, const Vec3& x);
 
-/// Parses a finite number such as "0.25", "1e-3" or a fraction "1/240"; false if the text is
-/// not one.
-bool parse_number(const std::string& text, double& value);
-
 /// Complete elliptic integral of the first kind K(k) = ∫₀^{π/2} dθ / sqrt(1 − k² sin²θ), by the
 /// arithmetic-geometric mean: K(k) = π / (2 AGM(1, sqrt(1 − k²))). 0 ≤ k < 1.
 double elliptic_K(double k);

@@ -16,7 +16,7 @@
 
 #include <string>
 
-#include "cbps/types.hpp"
+#include "cbps/base/types.hpp"
 
 namespace cbps {
 

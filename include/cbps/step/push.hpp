@@ -7,14 +7,24 @@
 //   the position system  b_p = (upsilon + upsilon_push)/dt − J (v1/dt + Minv fext);
 //                        its velocities v_p only move the bodies this step (3.2) and are dropped.
 // assemble_system leaves the push out of upsilon under PushMode::Improved (system.hpp);
-// Simulation::position_velocities (step/push.cpp) forms and solves the position system.
+// solve_position_system forms and solves the position system; the step (step/simulation.cpp)
+// starts it from its guess, guards it and keeps its lambda for the next step's guess.
 #pragma once
 
+#include "cbps/solvers/solver.hpp"
 #include "cbps/system/system.hpp"
 
 namespace cbps {
 
 /// The position system's bias upsilon + upsilon_push (8.1), m/s, row by row (with_push).
 VecX position_bias(const System& sys);
+
+/// Solves the position system b_position = (upsilon + upsilon_push)/dt − J (v1/dt + Minv fext)
+/// (6.2.9 with 8.1's bias) with the velocity system's A, cmin, cmax and `options`, from the
+/// guess in lambda_position, N; Coulomb friction rows (5.4) take their bounds ±mu lambda_normal
+/// from it (solve_coulomb), as in the velocity system.
+SolverSummary solve_position_system(const System& sys,
+                                    VecX& lambda_position,
+                                    const SolverOptions& options);
 
 }  // namespace cbps

@@ -115,6 +115,8 @@ class Simulation {
   SolverSummary solve_system(const System& sys, VecX& lambda) const {
     return solve_system(sys, sys.b, lambda, scene_.solver);
   }
+  /// The solver options of this step from `settings`: its seed advanced by the steps done.
+  SolverOptions step_options(const SolverSettings& settings) const;
   /// The same with other solver settings (e.g. the direct path for a cross-check).
   SolverSummary solve_system(const System& sys,
                              const VecX& b,
@@ -145,8 +147,8 @@ class Simulation {
   void detect_contacts(std::vector<Manifold>& manifolds, StageTimes* times) const;
   /// The stage list of this step, by stage_name.
   void name_stages();
-  /// The position system of the improved push factor (8.1), from the velocity system's lambda:
-  /// the velocities that move the bodies this step (step/push.cpp).
+  /// The position system of the improved push factor (8.1, solve_position_system), from the
+  /// velocity system's lambda: the velocities that move the bodies this step, guarded.
   VecX position_velocities(const System& sys, const VecX& lambda, StepReport& report);
   /// Momenta from v2 with this step's inertia, then positions moved by v_move (3.2).
   void integrate(const System& sys, const VecX& v2, const VecX& v_move, StageTimes& times);

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "cbps/types.hpp"
+#include "cbps/base/types.hpp"
 
 namespace cbps {
 

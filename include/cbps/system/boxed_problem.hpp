@@ -17,31 +17,10 @@
 #include <cmath>
 #include <vector>
 
-#include "cbps/types.hpp"
+#include "cbps/base/row_kind.hpp"
+#include "cbps/base/types.hpp"
 
 namespace cbps {
-
-/// What a row constrains, set where the row is made (rows/): the solvers may order their
-/// sweeps by it (SolverOptions::contacts_first) and a step scales its warm start by it
-/// (SolverSettings::warm, warm_friction).
-enum class RowKind {
-  Distance,  ///< a distance constraint (5.2)
-  Contact,   ///< a contact's normal row (5.3)
-  Friction   ///< a friction row along a tangent of a contact (5.4)
-};
-/// "distance", "contact" or "friction": the first word of a row's label and the name the Python
-/// module and the teaching page use.
-inline const char* to_string(RowKind kind) {
-  switch (kind) {
-    case RowKind::Distance:
-      return "distance";
-    case RowKind::Contact:
-      return "contact";
-    case RowKind::Friction:
-      return "friction";
-  }
-  return "distance";
-}
 
 /// A view of one boxed problem: it refers to storage owned elsewhere (a System, a stored
 /// problem, an island's copy), so handing it on copies nothing. When A's factors J and Minv are

@@ -7,7 +7,7 @@
 // every link and joint.
 #include <algorithm>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "scene_parameters.hpp"
 
 namespace cbps {

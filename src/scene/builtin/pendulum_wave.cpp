@@ -17,7 +17,7 @@
 //   the simple pendulum's, an approximation for the double pendulum (validation/README.md).
 #include <cmath>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
 #include "scene_parameters.hpp"
 
 namespace cbps {

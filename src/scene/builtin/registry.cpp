@@ -2,7 +2,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "cbps/error.hpp"
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "scene_parameters.hpp"
 
 namespace cbps {
@@ -193,23 +194,6 @@ Scene make_builtin_scene(const std::string& name,
                      "': no such built-in scene and no such file (built-in: " + valid + ")");
   }
   return s->build(values);
-}
-
-bool parse_number(const std::string& text, double& value) {
-  const auto slash = text.find('/');
-  if (slash != std::string::npos) {
-    double p = 0.0;
-    double q = 0.0;
-    if (!parse_number(text.substr(0, slash), p) || !parse_number(text.substr(slash + 1), q) ||
-        q == 0.0) {
-      return false;
-    }
-    value = p / q;
-    return std::isfinite(value);
-  }
-  std::istringstream in(text);
-  in >> value;
-  return !text.empty() && !in.fail() && in.eof() && std::isfinite(value);
 }
 
 ParameterValues::ParameterValues(const BuiltinScene& scene,

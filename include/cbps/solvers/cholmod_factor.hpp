@@ -1,11 +1,12 @@
 // A CHOLMOD factorization of H = A + εI for a symmetric sparse A (only its lower triangle is
-// read), kept between solves. Private to the library: direct_cholmod.cpp is the only file that
-// sees CHOLMOD itself.
+// read), kept between solves: the exact paths' factor (direct, active set, ADMM) and the one
+// the condition estimate of studies/conditioning.hpp inverts with. CHOLMOD itself stays behind
+// it: direct_cholmod.cpp is the only file that sees CHOLMOD's headers.
 #pragma once
 
 #include <memory>
 
-#include "cbps/types.hpp"
+#include "cbps/base/types.hpp"
 
 namespace cbps {
 

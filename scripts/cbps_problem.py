@@ -1,0 +1,46 @@
+"""The boxed problem of 6.2 in numpy, for cbps's scripts and Python tests: one Matrix Market
+reader, one natural-map residual, one scale, and the two stored problems the PETSc/TAO
+measurements and tests share. Import it with scripts/ on sys.path (the scripts beside it find it
+by themselves); nothing here imports a test.
+"""
+import os
+
+import numpy as np
+import scipy.io
+import scipy.sparse
+
+# The stored problems of the PETSc/TAO tests (tests/petsc/test_tao.py) and measurements
+# (scripts/measure_tao*.py), as `cbps matrices` arguments: a chain of 300 links (300 distance
+# rows, A positive definite) and two columns of ten boxes (240 contact and friction rows, A
+# singular: lambda is not unique, w and J^T lambda are). Step 30 of the stack has every box
+# resting on the one below.
+PETSC_PROBLEMS = {
+    "chain": ["matrices", "chain", "--param", "n=300", "--step", "10"],
+    "stack": ["matrices", "stack", "--param", "n=10", "--param", "columns=2", "--step", "30"],
+}
+
+
+def read_mtx(path):
+    """A Matrix Market file: a matrix as scipy CSR, a vector (one column) as a 1-D float array."""
+    m = scipy.io.mmread(path)
+    return m.tocsr() if scipy.sparse.issparse(m) else np.asarray(m, dtype=float).reshape(-1)
+
+
+def read_vector(folder, name):
+    """FOLDER/NAME.mtx as a 1-D float array."""
+    return np.asarray(scipy.io.mmread(os.path.join(folder, name + ".mtx")),
+                      dtype=float).reshape(-1)
+
+
+def natural_map_residual(A, b, cmin, cmax, lam):
+    """||lambda - clamp(lambda - w, cmin, cmax)||_inf with w = A lambda - b (6.2), N; 0 for no
+    rows. A dense or sparse."""
+    w = A @ lam - b
+    return float(np.max(np.abs(lam - np.clip(lam - w, cmin, cmax)), initial=0.0))
+
+
+def scale_of(A, b):
+    """max(1, |b|_inf, max |A_ij|), as scale_of in include/cbps/system/boxed_problem.hpp: a
+    residual is solved when it is at most 1e-9 times this. A dense or sparse."""
+    a_max = abs(A).max() if scipy.sparse.issparse(A) else np.max(np.abs(A), initial=0.0)
+    return max(1.0, float(np.max(np.abs(b), initial=0.0)), float(a_max))
