@@ -76,31 +76,32 @@ void write_problem(const std::string& folder,
   // What read_problem refuses (cmin[k] > cmax[k]: no lambda fits, 5.1), refused before any
   // file is written, in the reader's words.
   check_bounds(b, cmin, cmax, "write_problem", "write_problem", "write_problem");
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec) && !fs::create_directory(folder, ec))
-    throw InputError(folder + ": cannot make the folder: " + ec.message());
-  const auto file = [&](const char* name) { return (fs::path(folder) / name).string(); };
-  write_sparse(file("A.mtx"), A, "A = J Minv J^T, c x c, 1/kg (6.2.9)", force);
-  write_vector(file("b.mtx"), b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)", force);
-  write_vector(file("cmin.mtx"), cmin, "cmin: lower bounds on lambda, N (5.1)", force);
-  write_vector(file("cmax.mtx"), cmax, "cmax: upper bounds on lambda, N (5.1)", force);
+  StoredProblem p;
+  p.A = A;
+  p.b = b;
+  p.cmin = cmin;
+  p.cmax = cmax;
+  p.cfm = cfm;
   if (bodies) {
     const SpMat J = sparse_from_python(J_in, "J");
     const SpMat Minv = sparse_from_python(Minv_in, "Minv");
     if (J.rows() != c || Minv.rows() != J.cols() || Minv.cols() != J.cols())
       throw InputError("J, Minv: J must be c x 6n and Minv 6n x 6n, c = " + std::to_string(c));
-    const VecX v1 = vector_from_python(v1_in, "v1", J.cols());
-    const VecX fext = vector_from_python(fext_in, "fext", J.cols());
-    const double dt = real_from_python(dt_in, "dt");
-    if (!(dt > 0.0) || !std::isfinite(dt))
-      throw InputError("dt " + number_text(dt) + ": must be a positive finite time in s");
-    write_sparse(file("J.mtx"), J, "J: c x 6n constraint Jacobian (6.1)", force);
-    write_sparse(file("Minv.mtx"), Minv, "Minv: 6n x 6n inverse mass (6.1.2)", force);
-    write_vector(file("v1.mtx"), v1, "v1: velocities, m/s and rad/s (6.1.1)", force);
-    write_vector(file("fext.mtx"), fext, "fext: forces and torques, N, N m (6.1.3)", force);
-    write_text_file(file("dt.txt"), exact(dt) + "\n", force);
+    p.J = J;
+    p.Minv = Minv;
+    p.v1 = vector_from_python(v1_in, "v1", J.cols());
+    p.fext = vector_from_python(fext_in, "fext", J.cols());
+    p.dt = real_from_python(dt_in, "dt");
+    if (!(p.dt > 0.0) || !std::isfinite(p.dt))
+      throw InputError("dt " + number_text(p.dt) + ": must be a positive finite time in s");
   }
-  if (cfm > 0.0) write_text_file(file("cfm.txt"), exact(cfm) + "\n", force);
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec) && !fs::create_directory(folder, ec))
+    throw InputError(folder + ": cannot make the folder: " + ec.message());
+  cbps::write_problem(p, [&](const std::string& name, const auto& write) {
+    const std::string path = (fs::path(folder) / name).string();
+    write_atomically(path, path, force, write);
+  });
 }
 
 /// write_siconos: the dense layout siconos.hpp reads, M = A, q = −b (and lb = cmin, ub = cmax

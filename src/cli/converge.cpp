@@ -56,23 +56,16 @@ struct ConvergeOptions {
 /// The system under study and what is known about its answer.
 struct Study {
   std::string name;
-  StoredProblem stored;        ///< A, b, cmin, cmax; J, Minv, v1, fext, dt when known; cfm
-  std::vector<int> blocks;     ///< contact manifold of each row (block PGS), −1 for others
-  std::vector<RowKind> kinds;  ///< each row's kind (a scene's system), empty for a stored one
-  SpMat A_solved;              ///< with_cfm(A, cfm): the matrix every solver works on
-  /// The scene's warm-start guess (7): the previous step's lambda by row id times the scene's
-  /// own factors (scenes after step 0), else 0. A spec's factors scale it again.
-  VecX warm;
+  StoredProblem stored;  ///< A, b, cmin, cmax; J, Minv, v1, fext, dt when known; cfm
+  SpMat A_solved;        ///< with_cfm(A, cfm): the matrix every solver works on
+  /// The previous step's lambda by row id as it was (scenes after step 0), else 0, N: each
+  /// spec's warm-start factors scale it once (7).
+  VecX previous_lambda;
   VecX lambda_star, v2_star;
   bool lambda_unique = false;  ///< A positive definite (a Cholesky factorization exists)
   bool has_bodies() const { return stored.has_bodies(); }
   /// The problem the solvers are handed (A = J Minv Jᵀ; each applies the cfm itself).
-  BoxedProblem problem() const {
-    BoxedProblem p = stored.problem();
-    p.blocks = &blocks;
-    if (!kinds.empty()) p.kinds = &kinds;
-    return p;
-  }
+  BoxedProblem problem() const { return stored.problem(); }
   /// The problem with A + eps E: the one whose residual is measured.
   BoxedProblem solved() const { return BoxedProblem{A_solved, stored.b, stored.cmin, stored.cmax}; }
   VecX v2(const VecX& lambda) const {
@@ -93,8 +86,7 @@ Study study_of_problem(const std::string& path) {
   // The direct path (the reference) solves the QP of 6.2, which needs a symmetric A.
   require_symmetric(s.stored, "converge " + path);
   s.A_solved = with_cfm(s.stored.A, s.stored.cfm);
-  s.blocks.assign(static_cast<std::size_t>(s.stored.rows()), -1);
-  s.warm = VecX::Zero(s.stored.rows());
+  s.previous_lambda = VecX::Zero(s.stored.rows());
   return s;
 }
 
@@ -110,21 +102,9 @@ Study study_of_scene(const ConvergeOptions& o) {
   const System& sys = sim.assemble();
   Study s;
   s.name = o.scene.scene;
-  StoredProblem& p = s.stored;
-  p.A = sys.A;
-  p.b = sys.b;
-  p.cmin = sys.cmin;
-  p.cmax = sys.cmax;
-  p.J = sys.J;
-  p.Minv = sys.Minv;
-  p.v1 = sys.v1;
-  p.fext = sys.fext;
-  p.dt = sys.dt;
-  p.cfm = scene.solver.cfm;
-  s.blocks = sys.manifold;
-  s.A_solved = with_cfm(p.A, p.cfm);
-  s.kinds = sys.kind;
-  s.warm = sim.initial_lambda(sys);
+  s.stored = stored_problem(sys, scene.solver.cfm);
+  s.A_solved = with_cfm(s.stored.A, s.stored.cfm);
+  s.previous_lambda = sim.last_lambda(sys);
   return s;
 }
 
@@ -184,19 +164,20 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
     throw InputError("--solvers " + spec.text + ": " + s.name +
                      " has no J and Minv (a Siconos file); " + std::string(to_string(spec.method)) +
                      " needs them");
-  if (spec.contacts_first && s.kinds.empty())
+  if (spec.contacts_first && s.stored.kinds.empty())
     throw InputError("--solvers " + spec.text + ": " + s.name +
-                     " has no row kinds (a stored problem); contacts_first needs a scene");
+                     " has no row kinds (no labels.json); contacts_first needs a scene or a "
+                     "`cbps matrices` folder");
   Run run;
   run.spec = spec;
-  // The spec's warm-start factors on the scene's guess (7), row by row (exactly the scene's guess
-  // for warm=on, 0 for warm=off).
+  // The spec's warm-start factors on the previous step's lambda (7), row by row, as `cbps run
+  // --solver SPEC` starts the step: the spec's factors replace the scene's (apply_solver_spec).
   SolverSettings factors;
   apply_solver_spec(spec, factors);
   VecX lambda = VecX::Zero(s.stored.rows());
-  for (std::size_t k = 0; k < s.kinds.size(); ++k) {
+  for (std::size_t k = 0; k < s.stored.kinds.size(); ++k) {
     const auto row = static_cast<Eigen::Index>(k);
-    lambda(row) = warm_guess(s.warm(row), factors.warm_factor(s.kinds[k]));
+    lambda(row) = warm_guess(s.previous_lambda(row), factors.warm_factor(s.stored.kinds[k]));
   }
   run.samples.push_back(measure(s, lambda, 0, 0.0));
   run.reach(0, 0.0, run.samples.back().residual);

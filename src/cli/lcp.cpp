@@ -103,10 +103,10 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
                           ? " sweeps on J and Minv (7.1.1 without A)"
                           : " takes its levels from the bodies of J's rows") +
                      ", so it needs a `cbps matrices` folder with J.mtx and Minv.mtx");
-  if (spec.contacts_first)
-    throw InputError(what +
-                     ": contacts_first needs each row's kind, which a stored problem "
-                     "does not carry; drop it or use `cbps converge SCENE`");
+  if (spec.contacts_first && p.kinds.empty())
+    throw InputError(what + ": " + path +
+                     ": contacts_first needs each row's kind, which only a `cbps matrices` "
+                     "folder's labels.json gives; drop it or use `cbps converge SCENE`");
   if (spec.method == Method::Direct || spec.method == Method::ActiveSet) require_symmetric(p, what);
   if (spec.method == Method::Lemke && p.rows() > kMaxDenseLemkeRows)
     throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
@@ -388,7 +388,7 @@ int lcp_distributed_command(const LcpOptions& o) {
   options.max_iterations = o.iterations;
   options.tolerance = o.tolerance;
   const auto start = std::chrono::steady_clock::now();
-  const distributed::TaoResult t =
+  distributed::TaoResult t =
       distributed::solve_tao_local(session, *local, options, !o.write_system.empty());
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -405,16 +405,16 @@ int lcp_distributed_command(const LcpOptions& o) {
                          number_text(t.asymmetry) +
                          "; `cbps lcp --solver lemke` solves any square A");
       if (system_dir) {
-        const distributed::GatheredSystem& g = t.gathered;
-        write_matrix_market(system_dir->file("A.mtx"),
-                            g.A,
-                            "A = J Minv J^T, c x c, 1/kg (6.2.9); " + local->description);
-        write_matrix_market(
-            system_dir->file("b.mtx"), g.b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)");
-        write_matrix_market(
-            system_dir->file("cmin.mtx"), g.cmin, "cmin: lower bounds on lambda, N (5.1)");
-        write_matrix_market(
-            system_dir->file("cmax.mtx"), g.cmax, "cmax: upper bounds on lambda, N (5.1)");
+        distributed::GatheredSystem& g = t.gathered;  // written once, then unused: moved
+        StoredProblem gathered;
+        gathered.A = std::move(g.A);
+        gathered.b = std::move(g.b);
+        gathered.cmin = std::move(g.cmin);
+        gathered.cmax = std::move(g.cmax);
+        write_problem(
+            gathered,
+            [&](const std::string& name, const auto& write) { write(system_dir->file(name)); },
+            {"; " + local->description, ""});
         system_dir->commit();
       }
       Outcome r;

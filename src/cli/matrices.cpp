@@ -8,6 +8,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
+#include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/coulomb.hpp"
 #include "cbps/step/simulation.hpp"
 #include "common.hpp"
@@ -45,19 +46,15 @@ int matrices_command(const MatricesOptions& o) {
                            "), so no boxed problem is the step's; nothing written");
   VecX cmin, cmax;  // the bounds lambda satisfies: Coulomb rows at ±mu lambda_n
   coulomb_bounds(sys.problem(), sys.coulomb(), lambda, cmin, cmax);
-  const std::string coulomb_note =
-      coulomb ? "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)" : "";
-
-  write_matrix_market(dir.file("J.mtx"), SpMat(sys.J), "J: c x 6n constraint Jacobian (6.1)");
-  write_matrix_market(dir.file("Minv.mtx"), sys.Minv, "Minv: 6n x 6n inverse mass (6.1.2)");
-  write_matrix_market(dir.file("A.mtx"), sys.A, "A = J Minv J^T, c x c, 1/kg (6.2.9)");
-  write_matrix_market(dir.file("b.mtx"), sys.b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)");
-  write_matrix_market(
-      dir.file("cmin.mtx"), cmin, "cmin: lower bounds on lambda, N (5.1)" + coulomb_note);
-  write_matrix_market(
-      dir.file("cmax.mtx"), cmax, "cmax: upper bounds on lambda, N (5.1)" + coulomb_note);
-  write_matrix_market(dir.file("v1.mtx"), sys.v1, "v1: velocities, m/s and rad/s (6.1.1)");
-  write_matrix_market(dir.file("fext.mtx"), sys.fext, "fext: forces and torques, N, N m (6.1.3)");
+  // The boxed problem the step solved, written by the one writer of a problem folder.
+  StoredProblem problem = stored_problem(sys, scene.solver.cfm);
+  problem.cmin = cmin;
+  problem.cmax = cmax;
+  ProblemNotes notes;
+  if (coulomb)
+    notes.bounds = "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)";
+  write_problem(
+      problem, [&](const std::string& name, const auto& write) { write(dir.file(name)); }, notes);
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
   write_matrix_market(
       dir.file("lambda.mtx"), lambda, "lambda: direct solution, N (" + direct.message + ")");
@@ -70,11 +67,6 @@ int matrices_command(const MatricesOptions& o) {
                          ? "velocity system of the improved push (8.1): b without the push terms"
                          : "the one system of the original push (5.2.3, 6.2.9)";
   labels["cfm"] = scene.solver.cfm;
-  if (scene.solver.cfm > 0.0) {
-    char cfm_text[40];
-    std::snprintf(cfm_text, sizeof cfm_text, "%.17g\n", scene.solver.cfm);
-    write_text(dir.file("cfm.txt"), cfm_text);
-  }
   if (coulomb) {
     nlohmann::json rows = nlohmann::json::array();
     for (int k = 0; k < sys.rows(); ++k) {
@@ -90,9 +82,6 @@ int matrices_command(const MatricesOptions& o) {
         {"solve", direct.message}};
   }
   write_text(dir.file("labels.json"), labels.dump(2) + "\n");
-  char dt_text[40];
-  std::snprintf(dt_text, sizeof dt_text, "%.17g\n", sys.dt);
-  write_text(dir.file("dt.txt"), dt_text);
   dir.commit();
   if (o.quiet) return 0;
   std::printf("%s, step %ld: %s, %s; wrote %s\n",

@@ -117,56 +117,14 @@ std::vector<Entry> read_library(const std::string& library, bool quick) {
 /// A problem loaded for the solvers, with what is known about its answer.
 struct Problem {
   StoredProblem stored;
-  SpMat A_solved;  ///< with_cfm(A, cfm): the matrix every solver works on
-  std::vector<int> blocks;
-  std::vector<RowKind> kinds;  ///< from labels.json (folders), else empty
-  VecX exact;                  ///< the library's lambda*, N
+  SpMat A_solved;         ///< with_cfm(A, cfm): the matrix every solver works on
+  VecX exact;             ///< the library's lambda*, N
   bool definite = false;  ///< rank A = rows: lambda* unique, so ‖λ − λ*‖ means something
   double scale = 1.0;     ///< scale_of(A + eps E, b)
-  BoxedProblem problem() const {
-    BoxedProblem p = stored.problem();
-    p.blocks = &blocks;
-    if (!kinds.empty()) p.kinds = &kinds;
-    return p;
-  }
+  /// With the row kinds and manifolds of the folder's labels.json (read_problem).
+  BoxedProblem problem() const { return stored.problem(); }
   BoxedProblem solved() const { return BoxedProblem{A_solved, stored.b, stored.cmin, stored.cmax}; }
 };
-
-/// Row kinds and contact manifolds of a `cbps matrices` folder from its labels.json (row labels
-/// "contact A-B #F", "friction A-B #F t1", anything else a distance row; docs/outputs.md): the
-/// rows of one body pair A-B in a run form one manifold, as System::manifold groups them.
-/// Without labels.json every row stays alone and no kinds are known.
-void read_row_labels(const std::string& folder, Problem& p) {
-  const auto rows = static_cast<std::size_t>(p.stored.rows());
-  p.blocks.assign(rows, -1);
-  const fs::path file = fs::path(folder) / "labels.json";
-  std::ifstream in(file);
-  if (!in) return;
-  nlohmann::json labels;
-  try {
-    labels = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file.string() + ": not JSON: " + e.what());
-  }
-  if (!labels.contains("rows") || !labels["rows"].is_array() || labels["rows"].size() != rows)
-    throw InputError(file.string() + ": /rows: not one label per row of A.mtx");
-  p.kinds.assign(rows, RowKind::Distance);
-  int manifold = -1;
-  std::string previous_pair;
-  for (std::size_t k = 0; k < rows; ++k) {
-    std::istringstream words(labels["rows"][k].get<std::string>());
-    std::string kind, pair;
-    words >> kind >> pair;
-    if (kind != "contact" && kind != "friction") {
-      previous_pair.clear();
-      continue;
-    }
-    p.kinds[k] = kind == "contact" ? RowKind::Contact : RowKind::Friction;
-    if (pair != previous_pair) ++manifold;
-    previous_pair = pair;
-    p.blocks[k] = manifold;
-  }
-}
 
 Problem load(const Entry& e) {
   Problem p;
@@ -174,12 +132,6 @@ Problem load(const Entry& e) {
   require_symmetric(p.stored, "profile " + e.path);
   p.A_solved = with_cfm(p.stored.A, p.stored.cfm);
   p.scale = scale_of(p.solved());
-  std::error_code ec;
-  if (fs::is_directory(e.path, ec)) {
-    read_row_labels(e.path, p);
-  } else {
-    p.blocks.assign(static_cast<std::size_t>(p.stored.rows()), -1);
-  }
   p.exact = read_matrix_market_vector(e.exact);
   if (p.exact.size() != p.stored.rows())
     throw InputError(e.exact + ": " + std::to_string(p.exact.size()) + " values for a problem of " +
@@ -217,7 +169,7 @@ double seconds_since(Clock::time_point start) {
 std::string not_applicable(const SolverSpec& spec, const Problem& p) {
   if (needs_jacobian(spec.method) && !p.stored.has_jacobian())
     return "not applicable: no J and Minv (a Siconos file)";
-  if (spec.contacts_first && p.kinds.empty())
+  if (spec.contacts_first && p.stored.kinds.empty())
     return "not applicable: no row kinds (contacts_first needs labels.json)";
   if (spec.method == Method::Lemke && p.stored.rows() > kMaxDenseLemkeRows)
     return "not applicable: more than " + std::to_string(kMaxDenseLemkeRows) +

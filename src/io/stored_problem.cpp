@@ -2,8 +2,10 @@
 #include "cbps/io/stored_problem.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cbps/base/error.hpp"
@@ -28,6 +30,54 @@ double read_number_file(const std::string& path, const char* what) {
   return x;
 }
 
+/// A one-line text file holding x so that it reads back as the same double (dt.txt, cfm.txt).
+void write_number_file(const std::string& path, double x) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g\n", x);
+  std::ofstream out(path);
+  out << text;
+  out.flush();
+  if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+/// Row kinds and contact manifolds from a folder's labels.json (StoredProblem::kinds, blocks).
+void read_row_labels(const std::string& dir, StoredProblem& p) {
+  const auto rows = static_cast<std::size_t>(p.rows());
+  p.blocks.assign(rows, -1);
+  const std::string file = (fs::path(dir) / "labels.json").string();
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return;
+  std::ifstream in(file);
+  nlohmann::json labels;
+  try {
+    labels = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file + ": not JSON: " + e.what());
+  }
+  if (!labels.is_object() || !labels.contains("rows") || !labels["rows"].is_array() ||
+      labels["rows"].size() != rows)
+    throw InputError(file + ": /rows: not one label per row of A.mtx");
+  p.kinds.assign(rows, RowKind::Distance);
+  int manifold = -1;
+  std::string previous_pair;
+  for (std::size_t k = 0; k < rows; ++k) {
+    const nlohmann::json& label = labels["rows"][k];
+    if (!label.is_string())
+      throw InputError(file + ": /rows/" + std::to_string(k) + ": not a text label");
+    std::istringstream words(label.get<std::string>());
+    std::string kind, pair;
+    words >> kind >> pair;
+    if (kind != to_string(RowKind::Contact) && kind != to_string(RowKind::Friction)) {
+      previous_pair.clear();
+      continue;
+    }
+    p.kinds[k] = kind == to_string(RowKind::Contact) ? RowKind::Contact : RowKind::Friction;
+    if (pair != previous_pair) ++manifold;
+    previous_pair = pair;
+    p.blocks[k] = manifold;
+  }
+}
+
 StoredProblem read_folder(const std::string& dir) {
   const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
   StoredProblem p;
@@ -49,6 +99,7 @@ StoredProblem read_folder(const std::string& dir) {
   }
   check_bounds(p.b, p.cmin, p.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"));
   p.cfm = read_cfm(dir);
+  read_row_labels(dir, p);
   return p;
 }
 
@@ -61,6 +112,7 @@ StoredProblem read_dat(const std::string& path, SiconosKind kind) {
   p.cmin = s.lb;
   p.cmax = s.ub;
   check_bounds(p.b, p.cmin, p.cmax, path + " (lb)", path + " (ub)", path + " (q)");
+  p.blocks.assign(static_cast<std::size_t>(p.rows()), -1);
   return p;
 }
 
@@ -128,6 +180,50 @@ void check_bounds(const VecX& b,
     if (cmin(k) > cmax(k)) fail(cmin_file, "cmin", k, cmin(k), "above cmax, no lambda fits");
     if (!std::isfinite(b(k))) fail(b_file, "b", k, b(k), "not finite");
   }
+}
+
+StoredProblem stored_problem(const System& sys, double cfm) {
+  StoredProblem p;
+  p.A = sys.A;
+  p.b = sys.b;
+  p.cmin = sys.cmin;
+  p.cmax = sys.cmax;
+  p.J = sys.J;
+  p.Minv = sys.Minv;
+  p.v1 = sys.v1;
+  p.fext = sys.fext;
+  p.dt = sys.dt;
+  p.cfm = cfm;
+  p.kinds = sys.kind;
+  p.blocks = sys.manifold;
+  return p;
+}
+
+void write_problem(const StoredProblem& p, const FileSink& sink, const ProblemNotes& notes) {
+  const auto matrix = [&](const char* name, const SpMat& M, const std::string& comment) {
+    sink(name, [&](const std::string& path) { write_matrix_market(path, M, comment); });
+  };
+  const auto vector = [&](const char* name, const VecX& v, const std::string& comment) {
+    sink(name, [&](const std::string& path) { write_matrix_market(path, v, comment); });
+  };
+  const auto number = [&](const char* name, double x) {
+    sink(name, [&](const std::string& path) { write_number_file(path, x); });
+  };
+  matrix("A.mtx", p.A, "A = J Minv J^T, c x c, 1/kg (6.2.9)" + notes.A);
+  vector("b.mtx", p.b, "b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)");
+  vector("cmin.mtx", p.cmin, "cmin: lower bounds on lambda, N (5.1)" + notes.bounds);
+  vector("cmax.mtx", p.cmax, "cmax: upper bounds on lambda, N (5.1)" + notes.bounds);
+  const bool bodies = p.dt > 0.0;  // a step's system: all of J, Minv, v1, fext, dt known
+  if (bodies || p.has_jacobian()) {
+    matrix("J.mtx", SpMat(p.J), "J: c x 6n constraint Jacobian (6.1)");
+    matrix("Minv.mtx", p.Minv, "Minv: 6n x 6n inverse mass (6.1.2)");
+  }
+  if (bodies) {
+    vector("v1.mtx", p.v1, "v1: velocities, m/s and rad/s (6.1.1)");
+    vector("fext.mtx", p.fext, "fext: forces and torques, N, N m (6.1.3)");
+    number("dt.txt", p.dt);
+  }
+  if (p.cfm > 0.0) number("cfm.txt", p.cfm);
 }
 
 double read_cfm(const std::string& dir) {

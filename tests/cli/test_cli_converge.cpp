@@ -223,6 +223,46 @@ TEST_CASE("cbps converge hands a spec's method keys to the method", "[cli][conve
   CHECK(sweeps["pgs-sm"] != sweeps["pgs-sm:sweeps=1"]);
 }
 
+TEST_CASE("cbps converge scales the previous step's lambda by each spec's warm factor once",
+          "[cli][converge]") {
+  // A double pendulum released from rest along x under gravity along -y: step 0 has b = 0 and
+  // lambda = 0, so step 1 starts from 0 whatever the warm factor and both scenes below reach
+  // step 2 in the same state with the same previous lambda. A spec's warm=F starts each row from
+  // F times that lambda, as `cbps run --solver SPEC` does, whatever the scene's own factor (it
+  // was scaled by both: F times the scene's 0.5).
+  const auto dir = scratch_dir("converge_warm");
+  const auto scene = [&](const std::string& warm) {
+    const auto path = dir / ("warm" + warm + ".json");
+    cbps::test::write_file(
+        path,
+        R"({"name": "two-link", "world": {"gravity": [0, -9.81, 0], "dt": "1/240"},
+            "solver": {"method": "pgs", "warm": )" +
+            warm + R"(},
+            "bodies": [{"name": "a", "shape": {"type": "sphere", "radius": 0.05}, "mass": 1,
+                        "position": [0.5, 0, 0]},
+                       {"name": "b", "shape": {"type": "sphere", "radius": 0.05}, "mass": 1,
+                        "position": [1, 0, 0]}],
+            "constraints": [{"type": "distance", "a": "world", "b": "a", "anchor_a": [0, 0, 0],
+                             "length": 0.5},
+                            {"type": "distance", "a": "a", "b": "b", "length": 0.5}]})");
+    return path.string();
+  };
+  std::map<std::string, std::map<std::string, double>> guess;  // scene → spec → residual
+  for (const std::string warm : {"1", "0.5"}) {
+    const auto r = run_cli("converge " + scene(warm) +
+                           " --step 2 --solvers pgs,pgs:warm=0.5 --quiet --no-plot --json");
+    INFO(r.err);
+    REQUIRE(r.code == 0);
+    const auto summary = nlohmann::json::parse(r.out);
+    for (const auto& s : summary.at("solvers"))
+      guess[warm][s.at("solver").get<std::string>()] = s.at("guess_residual").get<double>();
+  }
+  CAPTURE(guess["1"]["pgs"], guess["1"]["pgs:warm=0.5"], guess["0.5"]["pgs"]);
+  CHECK(guess["1"]["pgs"] != guess["1"]["pgs:warm=0.5"]);  // the factor matters at this step
+  CHECK(guess["0.5"]["pgs"] == guess["1"]["pgs"]);
+  CHECK(guess["0.5"]["pgs:warm=0.5"] == guess["1"]["pgs:warm=0.5"]);
+}
+
 TEST_CASE("plot_convergence.py draws a CSV with a diverging solver", "[cli][converge][plot]") {
   const auto dir = scratch_dir("converge_plot");
   // pgs converges, jacobi diverges to 1e300 and then inf, direct is one point.

@@ -408,3 +408,34 @@ TEST_CASE("lemke is a method wherever a method is named: run and converge", "[cl
   CHECK(converge.code == 0);
   CHECK(slurp(dir / "c" / "convergence.csv").find("\nlemke,") != std::string::npos);
 }
+
+TEST_CASE("cbps lcp takes a folder's row kinds and manifolds from its labels.json",
+          "[cli][lcp][methods]") {
+  // A `cbps matrices` folder labels each row (docs/outputs.md): contacts_first and block PGS
+  // read the kinds and manifolds from it, as `cbps profile` and `cbps converge` do. Without
+  // labels.json the rows have no kind (contacts_first refused, exit 2) and block PGS takes
+  // every row alone, which sweeps differently: its iterations tell the two apart.
+  const fs::path dir = scratch_dir("lcp_labels");
+  const fs::path m = dir / "stack";
+  REQUIRE(
+      run_cli("matrices stack --param n=3 --param columns=2 --step 30 --quiet --out " + m.string())
+          .code == 0);
+  const auto solve = [&](const std::string& spec) {
+    const CliResult r = run_cli("lcp " + m.string() + " --json --iterations 500 --solver " + spec);
+    INFO(r.out << r.err);
+    REQUIRE(r.code <= 1);
+    return nlohmann::json::parse(r.out);
+  };
+  const auto contacts_first = solve("pgs:contacts_first=on");
+  CHECK(contacts_first.at("solver") == "pgs:contacts_first=on");
+  CHECK(contacts_first.at("iterations").get<int>() >= 1);
+  const int manifolds = solve("block-pgs").at("iterations").get<int>();
+  fs::rename(m / "labels.json", dir / "labels.json");
+  const CliResult refused = run_cli("lcp " + m.string() + " --solver pgs:contacts_first=on");
+  CHECK(refused.code == 2);
+  CHECK(refused.err.find("labels.json") != std::string::npos);
+  const int alone = solve("block-pgs").at("iterations").get<int>();
+  CAPTURE(manifolds, alone);
+  CHECK(manifolds != alone);
+  fs::remove_all(dir);
+}

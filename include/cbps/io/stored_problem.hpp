@@ -2,10 +2,13 @@
 // Siconos .dat file (LCP or relay), held in the paper's convention (6.2).
 #pragma once
 
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "cbps/io/siconos.hpp"
 #include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/system.hpp"
 
 namespace cbps {
 
@@ -30,24 +33,60 @@ struct StoredProblem {
   /// Constraint-force mixing eps, kg⁻¹, from the folder's cfm.txt (0 without one): the step
   /// solved the boxed problem of A + eps E (with_cfm), and so do `cbps lcp` and `converge`.
   double cfm = 0.0;
+  /// Each row's kind from the folder's labels.json (row labels "contact A-B #F", "friction A-B
+  /// #F t1", anything else a distance row; docs/outputs.md); empty without labels.json (a
+  /// Siconos file, a folder written without one): then no sweep can put contacts first.
+  std::vector<RowKind> kinds;
+  /// Each row's contact manifold for block PGS: the contact and friction rows of one body pair
+  /// A-B in a run of rows form one, as System::manifold groups a step's rows; −1 for a row
+  /// alone (every row without labels.json).
+  std::vector<int> blocks;
   long rows() const { return static_cast<long>(b.size()); }
   /// J and Minv are here (A = J Minv Jᵀ, 6.2.9): body space for the direct path.
   bool has_jacobian() const { return J.rows() == rows() && J.rows() > 0; }
   /// J, Minv, v1, fext and dt are all here: v2 can be formed (12.3.1).
   bool has_bodies() const { return has_jacobian() && dt > 0.0; }
-  /// The boxed problem, with J and Minv when the folder has them. A view: keep this alive.
+  /// The boxed problem, with J and Minv when the folder has them and its rows' kinds and
+  /// manifolds when its labels.json gives them. A view: keep this alive.
   BoxedProblem problem() const {
-    return has_jacobian() ? BoxedProblem{A, b, cmin, cmax, &J, &Minv}
-                          : BoxedProblem{A, b, cmin, cmax};
+    BoxedProblem p =
+        has_jacobian() ? BoxedProblem{A, b, cmin, cmax, &J, &Minv} : BoxedProblem{A, b, cmin, cmax};
+    if (blocks.size() == static_cast<std::size_t>(rows())) p.blocks = &blocks;
+    if (!kinds.empty()) p.kinds = &kinds;
+    return p;
   }
 };
 
+/// A step's system as the problem a folder stores (copies): A, b, cmin, cmax, J, Minv, v1,
+/// fext, dt, the rows' kinds and manifolds, and the solver's constraint-force mixing `cfm`.
+StoredProblem stored_problem(const System& sys, double cfm);
+
 /// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx, cfm.txt if there is one; J.mtx and
-/// Minv.mtx when both are there, and then v1.mtx, fext.mtx and dt.txt when all three are) or a
-/// Siconos file. Throws InputError naming
+/// Minv.mtx when both are there, and then v1.mtx, fext.mtx and dt.txt when all three are;
+/// labels.json's row labels when it is there) or a Siconos file. Throws InputError naming
 /// the file and line.
 /// `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
 StoredProblem read_problem(const std::string& path, SiconosKind kind = SiconosKind::Auto);
+
+/// Where write_problem puts each file: called with the file's name in the folder ("A.mtx") and
+/// a function that writes the content to a path it is given; the sink chooses that path (a
+/// `--out` folder's temporary place, a temporary name renamed into place, ...).
+using FileSink = std::function<void(const std::string& name,
+                                    const std::function<void(const std::string& path)>& write)>;
+
+/// What the writer of a problem folder adds to the files' comment lines.
+struct ProblemNotes {
+  std::string A;       ///< after A's comment, e.g. how its rows were made
+  std::string bounds;  ///< after cmin's and cmax's, e.g. the Coulomb fixed point of their rows
+};
+
+/// The one writer of a problem folder, the files read_problem reads: A.mtx, b.mtx, cmin.mtx,
+/// cmax.mtx; J.mtx, Minv.mtx, v1.mtx, fext.mtx and dt.txt when p.dt > 0 (a step's system, whose
+/// bodies are all known; J.mtx and Minv.mtx alone when only p.has_jacobian()); cfm.txt when
+/// p.cfm > 0. Numbers are written to read back as the same
+/// doubles. `cbps matrices`, `cbps lcp --generate --write-system` and the Python module's
+/// write_problem write through it; each adds its own files (labels.json, lambda.mtx) beside.
+void write_problem(const StoredProblem& p, const FileSink& sink, const ProblemNotes& notes = {});
 
 /// The bounds and right-hand side of a problem's rows (all of them, or one rank's rows from
 /// `first_row`, which the messages number from): cmin ≤ cmax, neither NaN, cmin < +inf and
