@@ -187,16 +187,8 @@ Run run_iterative(const Study& s, const SolverSpec& spec, const ConvergeOptions&
   double last_time = 0.0;
   // The solvers themselves, as `cbps run` uses them; they time their sweeps and hand each
   // iterate here, outside the clock.
-  SolverOptions options;
-  options.method = spec.method;
-  options.max_iterations = o.iterations;
-  options.relaxation = spec.relaxation;
-  options.order = spec.order;
-  options.contacts_first = spec.contacts_first;
+  SolverOptions options = study_options(spec, o.iterations, s.stored.cfm);
   options.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
-  options.describe = false;
-  options.cfm = s.stored.cfm;
-  options.methods = spec.methods;  // the method's own keys (apgd:restart=off, pgs-sm:sweeps=1)
   options.after_sweep = [&](int k, const VecX& l, double time_s) {
     const double residual = natural_map_residual(s.solved(), l);
     run.reach(k, time_s, residual);
@@ -289,10 +281,8 @@ Run run_direct(const Study& s, const SolverSpec& spec) {
   run.spec = spec;
   VecX lambda = VecX::Zero(s.stored.rows());
   const auto start = Clock::now();
-  SolverOptions options;
-  options.method = spec.method;
-  options.cfm = s.stored.cfm;  // solve() forms A + eps E (and hands on J, Minv: body space)
-  const SolverSummary d = solve(s.problem(), lambda, options);
+  // solve() forms A + eps E and hands on J and Minv (body space).
+  const SolverSummary d = solve(s.problem(), lambda, study_options(spec, 1, s.stored.cfm));
   const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
   run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
   run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);

@@ -177,16 +177,6 @@ std::string not_applicable(const SolverSpec& spec, const Problem& p) {
   return "";
 }
 
-SolverOptions options_of(const SolverSpec& spec, const Problem& p, int max_iterations) {
-  // Tolerance 0: this command stops the sweeps (after_sweep).
-  SolverOptions options = solver_options(spec, max_iterations, 0.0);
-  options.split_islands = false;  // after_sweep sees the whole lambda
-  options.delta_tolerance = 0.0;
-  options.describe = false;
-  options.cfm = p.stored.cfm;
-  return options;
-}
-
 void finish(Measurement& m, const Problem& p, const VecX& lambda) {
   m.residual = natural_map_residual(p.solved(), lambda) / p.scale;
   if (p.definite && lambda.size() == p.exact.size())
@@ -199,7 +189,7 @@ Measurement run_iterative(const Problem& p, const SolverSpec& spec, const Profil
   if (!m.status.empty()) return m;
   VecX lambda = VecX::Zero(p.stored.rows());
   m.reach(0, 0.0, natural_map_residual(p.solved(), lambda) / p.scale);
-  SolverOptions options = options_of(spec, p, o.budget_iterations);
+  SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
   const auto start = Clock::now();
   double measuring = 0.0;  // s spent in after_sweep so far, taken off the times
   options.after_sweep = [&](int k, const VecX& l, double) {
@@ -259,7 +249,7 @@ Measurement run_exact(const Problem& p, const SolverSpec& spec) {
   m.status = not_applicable(spec, p);
   if (!m.status.empty()) return m;
   VecX lambda = VecX::Zero(p.stored.rows());
-  SolverOptions options = options_of(spec, p, 1);
+  SolverOptions options = study_options(spec, 1, p.stored.cfm);
   const auto start = Clock::now();
   const SolverSummary summary = solve(p.problem(), lambda, options);
   m.time_s = seconds_since(start);

@@ -357,6 +357,15 @@ SolverOptions solver_options(const SolverSpec& spec, int max_iterations, double 
   return settings.options();
 }
 
+SolverOptions study_options(const SolverSpec& spec, int max_iterations, double cfm) {
+  SolverOptions options = solver_options(spec, max_iterations, 0.0);
+  options.delta_tolerance = 0.0;
+  options.split_islands = false;
+  options.describe = false;
+  options.cfm = cfm;
+  return options;
+}
+
 std::vector<std::pair<std::string, std::string>> method_parameters(Method method,
                                                                    const MethodSettings& settings) {
   std::vector<std::pair<std::string, std::string>> parameters;

@@ -71,6 +71,12 @@ void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings);
 /// lcp` and `cbps profile` turn a spec into SolverOptions; callers change what they own after.
 SolverOptions solver_options(const SolverSpec& spec, int max_iterations, double tolerance);
 
+/// The options of one run of a study by `spec` (`cbps converge`, `cbps profile`):
+/// solver_options with tolerance 0 and no delta stop (the study stops the sweeps itself, in
+/// SolverOptions::after_sweep), the whole problem at once (after_sweep sees all of lambda), no
+/// message, and the stored problem's constraint-force mixing `cfm`, kg⁻¹.
+SolverOptions study_options(const SolverSpec& spec, int max_iterations, double cfm);
+
 /// A method's own parameters as key and value text, the way the grammar writes them
 /// (`apgd`: grow 2, shrink 0.9, restart on); none for the methods without.
 std::vector<std::pair<std::string, std::string>> method_parameters(Method method,
