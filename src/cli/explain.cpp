@@ -134,86 +134,51 @@ void print_vector(const std::string& title,
   }
 }
 
-int explain_command(const ExplainOptions& o) {
-  Scene scene = load_scene(o.scene);
-  apply_step_options(scene, o.step);
-  // An existing FILE is replaced when it is a teaching page cbps wrote, else only with --force.
-  if (!o.html.empty())
-    check_output_file(o.html,
-                      "--html " + o.html,
-                      o.force || is_teaching_page(o.html),
-                      "it is not a page cbps wrote; --force replaces it");
-  Simulation sim(scene);
-  for (long s = 0; s < o.at_step; ++s) sim.step();
-  if (!o.html.empty()) {
-    // The page shows pictures and statistics instead of dense tables above its limits, so it
-    // takes any size the step itself takes.
-    const System shown = sim.build_system();
-    std::vector<std::string> bodies;
-    for (int body : shown.body_of_block)
-      bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
-    const TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
-    write_output_file(o.html, "--html " + o.html, teaching_page_html(step));
-    std::printf("%s, step %ld: %s, %s; wrote %s\n",
-                scene.name.c_str(),
-                o.at_step,
-                count_text(shown.rows(), "row").c_str(),
-                count_text(shown.blocks(), "movable body", "movable bodies").c_str(),
-                o.html.c_str());
-    return 0;
-  }
+constexpr const char* kCoulombNote =
+    "Coulomb friction rows: bounds -mu lambda_n, +mu lambda_n at the fixed point lambda "
+    "satisfies (5.4)";
+constexpr const char* kCfmNote =
+    "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
 
-  System sys = sim.build_system();
-  // explain prints J, Minv and A densely: refuse, naming the sizes, what would not fit.
+/// What `cbps explain` shows of one step, as text or JSON: the system and the report of its
+/// solution (teaching_system, the same the teaching page draws).
+struct Explained {
+  std::string scene;
+  long step = 0;
+  double t = 0.0;
+  std::string method;  ///< the scene's solver
+  double cfm = 0.0;    ///< kg⁻¹
+  System sys;
+  std::vector<std::string> cols;  ///< J's column labels
+  TeachingSystem shown;           ///< the system shown, solved as the step solves it
+  /// The tolerance rows are judged within: the requested one, or w's rounding floor if larger.
+  double tol = 0.0;
+  bool all_satisfied = true;
+  bool coulomb = false;   ///< Coulomb friction rows: their bounds are those of the fixed point
+  bool improved = false;  ///< the improved push (8.1): the velocity system is shown
+  std::string A_unit, system_shown;
+  std::vector<std::string> v_units, f_units;  ///< of the columns (velocities, forces)
+};
+
+/// Refuses, naming the sizes, a system whose dense J, Minv and A would not fit the text.
+void check_printable(const System& sys, const std::string& scene, long at_step) {
   const double dense = static_cast<double>(sys.rows()) * 6.0 * sys.blocks() +
                        36.0 * sys.blocks() * sys.blocks() +
                        static_cast<double>(sys.rows()) * sys.rows();
-  if (dense > kMaxExplainEntries) {
-    std::ostringstream why;
-    why << scene.name << ", step " << o.at_step << ": " << sys.rows() << " rows and "
-        << sys.blocks() << " movable bodies make a dense J of " << sys.rows() << " x "
-        << 6 * sys.blocks() << ", Minv " << 6 * sys.blocks() << " x " << 6 * sys.blocks()
-        << " and A " << sys.rows() << " x " << sys.rows() << " (" << number_text(dense)
-        << " numbers); explain prints at most " << number_text(kMaxExplainEntries)
-        << "; use `cbps matrices`, which writes them sparse";
-    throw InputError(why.str());
-  }
-  VecX lambda = sim.initial_lambda(sys);
-  const SolverSummary summary = sim.solve_system(sys, lambda);
-  const VecX v2 = compute_v2(sys, lambda);
-  const std::vector<std::string> cols = column_labels(scene, sys);
-  const std::vector<std::string>& rows = sys.labels;
-  // The bounds lambda satisfies: with Coulomb friction (5.4) those of the fixed point, ±mu
-  // lambda_n, not the zeros the rows are built with.
-  VecX cmin, cmax;
-  coulomb_bounds(sys.problem(), sys.coulomb(), lambda, cmin, cmax);
-  const bool coulomb = sys.coulomb().any();
-  const char* const coulomb_note =
-      "Coulomb friction rows: bounds -mu lambda_n, +mu lambda_n at the fixed point lambda "
-      "satisfies (5.4)";
-  const double cfm = scene.solver.cfm;
-  const char* const cfm_note =
-      "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
+  if (dense <= kMaxExplainEntries) return;
+  std::ostringstream why;
+  why << scene << ", step " << at_step << ": " << sys.rows() << " rows and " << sys.blocks()
+      << " movable bodies make a dense J of " << sys.rows() << " x " << 6 * sys.blocks()
+      << ", Minv " << 6 * sys.blocks() << " x " << 6 * sys.blocks() << " and A " << sys.rows()
+      << " x " << sys.rows() << " (" << number_text(dense) << " numbers); explain prints at most "
+      << number_text(kMaxExplainEntries) << "; use `cbps matrices`, which writes them sparse";
+  throw InputError(why.str());
+}
 
-  // w = A lambda − b (6.2), of A itself (with cfm the solve met (A + eps E) lambda = b, so w
-  // of A is eps lambda off on free rows). "w ≈ 0" and "at a bound" mean within the tolerance
-  // the scene asks for (raised to the rounding floor of w, residual_floor, where it is below
-  // it), as the teaching page judges them: a solve that stopped short of it, such as PGS at its
-  // sweep limit, leaves rows missing their condition.
-  const VecX w = sys.A * lambda - sys.b;
-  const double tol = std::max(scene.solver.tolerance,
-                              residual_floor(BoxedProblem{sys.A, sys.b, cmin, cmax}, lambda));
-  std::vector<RowStatus> status;
-  for (Eigen::Index k = 0; k < w.size(); ++k) {
-    const double row_tol = tol + cfm * std::abs(lambda(k));
-    status.push_back(row_status(lambda(k), cmin(k), cmax(k), w(k), row_tol));
-  }
-  const bool all_satisfied =
-      std::all_of(status.begin(), status.end(), [](const RowStatus& s) { return s.satisfied; });
-
-  // Units (9): every row of this project is a force row (lambda in N: J's linear part a unit
-  // vector, its angular part r × n in m), so A is kg^-1 throughout. A row with no linear part
-  // would be a torque row (lambda in N m) and mix A's units; say so if one appears.
+/// Units (9): every row of this project is a force row (lambda in N: J's linear part a unit
+/// vector, its angular part r × n in m), so A is kg^-1 throughout. A row with no linear part
+/// would be a torque row (lambda in N m) and mix A's units; say so if one appears.
+std::string unit_of_A(const System& sys, const std::vector<std::string>& cols) {
   const SpMat Jt = SpMat(sys.J.transpose());
   bool torque_rows = false;
   for (Eigen::Index k = 0; k < Jt.outerSize(); ++k) {
@@ -225,140 +190,123 @@ int explain_command(const ExplainOptions& o) {
     }
     if (any && !linear) torque_rows = true;
   }
-  const std::string A_unit =
-      torque_rows ? "mixed units: kg^-1 between force rows, kg^-1 m^-1 between a force row and "
-                    "a torque row, kg^-1 m^-2 between torque rows"
-                  : "kg^-1 (every row is a force row, lambda in N)";
+  return torque_rows ? "mixed units: kg^-1 between force rows, kg^-1 m^-1 between a force row "
+                       "and a torque row, kg^-1 m^-2 between torque rows"
+                     : "kg^-1 (every row is a force row, lambda in N)";
+}
 
-  const bool improved = scene.world.push == PushMode::Improved;
-  const std::string system_shown =
-      improved ? "the velocity system of the improved push (8.1): upsilon holds restitution only "
-                 "(8.2); its v2 is kept. The position system (same J, Minv, A; upsilon_position "
-                 "adds the push term) is solved apart and only moves the positions this step"
-               : "the one system of the original push (5.2.3, 5.3): upsilon holds the Baumgarte "
-                 "push term and restitution; its v2 moves the bodies and is kept";
-
-  std::vector<std::string> v_units, f_units;
-  for (const std::string& c : cols) {
-    v_units.emplace_back(angular_column(c) ? "rad/s" : "m/s");
-    f_units.emplace_back(angular_column(c) ? "N m" : "N");
+Explained explain_step(const Scene& scene, const Simulation& sim, long at_step) {
+  Explained e;
+  e.scene = scene.name;
+  e.step = at_step;
+  e.t = sim.time();
+  e.method = std::string(to_string(scene.solver.method));
+  e.cfm = scene.solver.cfm;
+  e.sys = sim.build_system();
+  const System& sys = e.sys;
+  check_printable(sys, scene.name, at_step);
+  e.cols = column_labels(scene, sys);
+  // The system shown, solved from the step's warm start as the step solves it. "w ≈ 0" and
+  // "at a bound" mean within the tolerance the scene asks for (raised to w's rounding floor),
+  // as the teaching page judges them: a solve that stopped short of it, such as PGS at its
+  // sweep limit, leaves rows missing their condition.
+  e.shown = teaching_system(sim, sys, sys.upsilon, sim.initial_lambda(sys), false);
+  e.tol = std::max(e.shown.tolerance, e.shown.rounding_floor);
+  e.all_satisfied = std::all_of(
+      e.shown.status.begin(), e.shown.status.end(), [](const RowStatus& s) { return s.satisfied; });
+  e.coulomb = sys.coulomb().any();
+  e.improved = scene.world.push == PushMode::Improved;
+  e.A_unit = unit_of_A(sys, e.cols);
+  e.system_shown =
+      e.improved ? "the velocity system of the improved push (8.1): upsilon holds restitution only "
+                   "(8.2); its v2 is kept. The position system (same J, Minv, A; upsilon_position "
+                   "adds the push term) is solved apart and only moves the positions this step"
+                 : "the one system of the original push (5.2.3, 5.3): upsilon holds the Baumgarte "
+                   "push term and restitution; its v2 moves the bodies and is kept";
+  for (const std::string& c : e.cols) {
+    e.v_units.emplace_back(angular_column(c) ? "rad/s" : "m/s");
+    e.f_units.emplace_back(angular_column(c) ? "N m" : "N");
   }
+  return e;
+}
 
-  if (o.json) {
-    nlohmann::json out;
-    out["scene"] = scene.name;
-    out["step"] = o.at_step;
-    out["t"] = sim.time();
-    out["dt"] = sys.dt;
-    out["system"] = {{"push", improved ? "improved" : "original"},
-                     {"shown", improved ? "velocity" : "one"},
-                     {"note", system_shown}};
-    out["row_labels"] = rows;
-    out["column_labels"] = cols;
-    out["J"] = {{"equation", "6.1"},
-                {"unit", "1 (linear columns), m (angular columns)"},
-                {"value", dense_json(MatX(sys.J))}};
-    out["Minv"] = {{"equation", "6.1.2"},
-                   {"unit", "kg^-1 (linear block), kg^-1 m^-2 (angular block)"},
-                   {"value", dense_json(MatX(sys.Minv))}};
-    out["A"] = {{"equation", "6.2.9"}, {"unit", A_unit}, {"value", dense_json(MatX(sys.A))}};
-    out["b"] = {{"equation", "6.2.9"}, {"unit", "m/s^2"}, {"value", vector_json(sys.b)}};
-    out["upsilon"] = {{"equation", "5.1.2"}, {"unit", "m/s"}, {"value", vector_json(sys.upsilon)}};
-    if (improved)
-      out["upsilon_position"] = {{"equation", "8.1"},
-                                 {"unit", "m/s"},
-                                 {"note", "the position system's bias; not the system shown"},
-                                 {"value", vector_json(position_bias(sys))}};
-    out["cmin"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(cmin)}};
-    out["cmax"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(cmax)}};
-    if (coulomb) {
-      out["cmin"]["note"] = coulomb_note;
-      out["cmax"]["note"] = coulomb_note;
-    }
-    out["cfm"] = {{"value", cfm}, {"unit", "kg^-1"}, {"note", cfm_note}};
-    out["v1"] = {{"equation", "6.1.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(sys.v1)}};
-    out["fext"] = {{"equation", "6.1.3"}, {"unit", "N, N m"}, {"value", vector_json(sys.fext)}};
-    out["lambda"] = {{"equation", "7.1.1"}, {"unit", "N"}, {"value", vector_json(lambda)}};
-    out["w"] = {{"equation", "6.2"},
-                {"unit", "m/s^2"},
-                {"note", "w = A lambda - b, with A = J Minv J^T"},
-                {"value", vector_json(w)}};
-    nlohmann::json where = nlohmann::json::array(), satisfied = nlohmann::json::array();
-    for (const RowStatus& s : status) {
-      where.push_back(s.where);
-      satisfied.push_back(s.satisfied);
-    }
-    out["status"] = {{"equation", "6.2"},
-                     {"note",
-                      "free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; "
-                      "within tolerance (the requested solver tolerance, N, or the rounding floor "
-                      "of w where that is larger, plus eps |lambda|)"},
-                     {"tolerance", tol},
-                     {"value", where},
-                     {"satisfied", satisfied}};
-    out["v2"] = {{"equation", "12.3.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(v2)}};
-    out["solver"] = {{"method", std::string(to_string(scene.solver.method))},
-                     {"iterations", summary.iterations},
-                     {"residual", summary.residual},
-                     {"message", summary.message}};
-    std::cout << out.dump(2) << "\n";
-    return 0;
+void print_json(const Explained& e) {
+  const System& sys = e.sys;
+  const TeachingSystem& x = e.shown;
+  nlohmann::json out;
+  out["scene"] = e.scene;
+  out["step"] = e.step;
+  out["t"] = e.t;
+  out["dt"] = sys.dt;
+  out["system"] = {{"push", e.improved ? "improved" : "original"},
+                   {"shown", e.improved ? "velocity" : "one"},
+                   {"note", e.system_shown}};
+  out["row_labels"] = sys.labels;
+  out["column_labels"] = e.cols;
+  out["J"] = {{"equation", "6.1"},
+              {"unit", "1 (linear columns), m (angular columns)"},
+              {"value", dense_json(MatX(sys.J))}};
+  out["Minv"] = {{"equation", "6.1.2"},
+                 {"unit", "kg^-1 (linear block), kg^-1 m^-2 (angular block)"},
+                 {"value", dense_json(MatX(sys.Minv))}};
+  out["A"] = {{"equation", "6.2.9"}, {"unit", e.A_unit}, {"value", dense_json(MatX(sys.A))}};
+  out["b"] = {{"equation", "6.2.9"}, {"unit", "m/s^2"}, {"value", vector_json(sys.b)}};
+  out["upsilon"] = {{"equation", "5.1.2"}, {"unit", "m/s"}, {"value", vector_json(sys.upsilon)}};
+  if (e.improved)
+    out["upsilon_position"] = {{"equation", "8.1"},
+                               {"unit", "m/s"},
+                               {"note", "the position system's bias; not the system shown"},
+                               {"value", vector_json(position_bias(sys))}};
+  out["cmin"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(x.cmin)}};
+  out["cmax"] = {{"equation", "5.1"}, {"unit", "N"}, {"value", vector_json(x.cmax)}};
+  if (e.coulomb) {
+    out["cmin"]["note"] = kCoulombNote;
+    out["cmax"]["note"] = kCoulombNote;
   }
-  std::printf("%s, step %ld (t = %s s, dt = %s s): %s, %s\n",
-              scene.name.c_str(),
-              o.at_step,
-              num(sim.time()).c_str(),
-              num(sys.dt).c_str(),
-              count_text(sys.rows(), "row").c_str(),
-              count_text(sys.blocks(), "movable body", "movable bodies").c_str());
-  std::printf("System shown: %s.\n", system_shown.c_str());
-  std::printf("Numbers to %d significant digits.\n\n", kDigits);
-  print_matrix(
-      "J: constraint Jacobian, rows j_c (5.1.3, 5.2.1), 6.1; unit 1 in the linear "
-      "columns (vx, vy, vz), m in the angular ones (wx, wy, wz)",
-      MatX(sys.J),
-      rows,
-      cols);
-  std::printf("\n");
-  print_matrix(
-      "Minv = blockdiag(m^-1 E3, I^-1) (6.1.2); kg^-1 (linear block), kg^-1 m^-2 "
-      "(angular block)",
-      MatX(sys.Minv),
-      cols,
-      cols);
-  std::printf("\n");
-  print_matrix("A = J Minv J^T (6.2.9); " + A_unit, MatX(sys.A), rows, rows);
-  std::printf("\n");
-  print_vector("v1: velocities at the start of the step (6.1.1)", sys.v1, cols, v_units);
-  std::printf("\n");
-  print_vector(
-      "fext: external forces and torques, gravity included (6.1.3)", sys.fext, cols, f_units);
-  std::printf("\n");
-  const std::vector<std::string> ms(rows.size(), "m/s"), ms2(rows.size(), "m/s^2");
-  print_vector("upsilon: velocity bias (5.1.2, 5.2.3, 8.2)", sys.upsilon, rows, ms);
-  if (improved) {
-    std::printf("\n");
-    print_vector("upsilon_position: the position system's bias (8.1), not the system shown",
-                 position_bias(sys),
-                 rows,
-                 ms);
+  out["cfm"] = {{"value", e.cfm}, {"unit", "kg^-1"}, {"note", kCfmNote}};
+  out["v1"] = {{"equation", "6.1.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(sys.v1)}};
+  out["fext"] = {{"equation", "6.1.3"}, {"unit", "N, N m"}, {"value", vector_json(sys.fext)}};
+  out["lambda"] = {{"equation", "7.1.1"}, {"unit", "N"}, {"value", vector_json(x.lambda)}};
+  out["w"] = {{"equation", "6.2"},
+              {"unit", "m/s^2"},
+              {"note", "w = A lambda - b, with A = J Minv J^T"},
+              {"value", vector_json(x.w)}};
+  nlohmann::json where = nlohmann::json::array(), satisfied = nlohmann::json::array();
+  for (const RowStatus& s : x.status) {
+    where.push_back(s.where);
+    satisfied.push_back(s.satisfied);
   }
-  std::printf("\n");
-  print_vector("b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)", sys.b, rows, ms2);
-  std::printf("\n");
+  out["status"] = {{"equation", "6.2"},
+                   {"note",
+                    "free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; "
+                    "within tolerance (the requested solver tolerance, N, or the rounding floor "
+                    "of w where that is larger, plus eps |lambda|)"},
+                   {"tolerance", e.tol},
+                   {"value", where},
+                   {"satisfied", satisfied}};
+  out["v2"] = {{"equation", "12.3.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(x.v2)}};
+  out["solver"] = {{"method", e.method},
+                   {"iterations", x.summary.iterations},
+                   {"residual", x.summary.residual},
+                   {"message", x.summary.message}};
+  std::cout << out.dump(2) << "\n";
+}
 
-  // The solution with its bounds, w and each row's status, one row a line.
+/// lambda with its bounds, w and each row's status, one row a line (6.2, 7.1.1).
+void print_solution_table(const Explained& e) {
+  const TeachingSystem& x = e.shown;
+  const std::vector<std::string>& rows = e.sys.labels;
   std::printf("lambda (7.1.1) within [cmin, cmax] (5.1), and w = A lambda - b (6.2)  (%d)\n",
-              sys.rows());
+              e.sys.rows());
   std::vector<std::vector<std::string>> table;
   table.push_back({"row", "cmin (N)", "lambda (N)", "cmax (N)", "w (m/s^2)", "status"});
-  for (Eigen::Index k = 0; k < w.size(); ++k) {
-    const RowStatus& s = status[static_cast<std::size_t>(k)];
+  for (Eigen::Index k = 0; k < x.w.size(); ++k) {
+    const RowStatus& s = x.status[static_cast<std::size_t>(k)];
     table.push_back({rows[static_cast<std::size_t>(k)],
-                     num(cmin(k)),
-                     num(lambda(k)),
-                     num(cmax(k)),
-                     num(w(k)),
+                     num(x.cmin(k)),
+                     num(x.lambda(k)),
+                     num(x.cmax(k)),
+                     num(x.w(k)),
                      s.where + (s.satisfied ? "" : " (w violates it)")});
   }
   std::vector<int> col_w(6, 0);
@@ -373,22 +321,107 @@ int explain_command(const ExplainOptions& o) {
   std::printf(
       "  (free: cmin < lambda < cmax and w = 0; at cmin: w >= 0; at cmax: w <= 0; within "
       "%s N, the requested solver tolerance or the rounding floor of w if larger)\n",
-      num(tol).c_str());
-  if (!all_satisfied)
+      num(e.tol).c_str());
+  if (!e.all_satisfied)
     std::printf(
         "  (some rows miss their condition: the solver stopped at residual %s N, before "
         "it met them)\n",
-        num(summary.residual).c_str());
-  if (coulomb) std::printf("  (%s)\n", coulomb_note);
+        num(x.summary.residual).c_str());
+  if (e.coulomb) std::printf("  (%s)\n", kCoulombNote);
+}
+
+void print_text(const Explained& e) {
+  const System& sys = e.sys;
+  const std::vector<std::string>& rows = sys.labels;
+  std::printf("%s, step %ld (t = %s s, dt = %s s): %s, %s\n",
+              e.scene.c_str(),
+              e.step,
+              num(e.t).c_str(),
+              num(sys.dt).c_str(),
+              count_text(sys.rows(), "row").c_str(),
+              count_text(sys.blocks(), "movable body", "movable bodies").c_str());
+  std::printf("System shown: %s.\n", e.system_shown.c_str());
+  std::printf("Numbers to %d significant digits.\n\n", kDigits);
+  print_matrix(
+      "J: constraint Jacobian, rows j_c (5.1.3, 5.2.1), 6.1; unit 1 in the linear "
+      "columns (vx, vy, vz), m in the angular ones (wx, wy, wz)",
+      MatX(sys.J),
+      rows,
+      e.cols);
   std::printf("\n");
-  print_vector("v2 = v1 + dt Minv (J^T lambda + fext) (12.3.1)", v2, cols, v_units);
-  if (cfm > 0.0)
+  print_matrix(
+      "Minv = blockdiag(m^-1 E3, I^-1) (6.1.2); kg^-1 (linear block), kg^-1 m^-2 "
+      "(angular block)",
+      MatX(sys.Minv),
+      e.cols,
+      e.cols);
+  std::printf("\n");
+  print_matrix("A = J Minv J^T (6.2.9); " + e.A_unit, MatX(sys.A), rows, rows);
+  std::printf("\n");
+  print_vector("v1: velocities at the start of the step (6.1.1)", sys.v1, e.cols, e.v_units);
+  std::printf("\n");
+  print_vector(
+      "fext: external forces and torques, gravity included (6.1.3)", sys.fext, e.cols, e.f_units);
+  std::printf("\n");
+  const std::vector<std::string> ms(rows.size(), "m/s"), ms2(rows.size(), "m/s^2");
+  print_vector("upsilon: velocity bias (5.1.2, 5.2.3, 8.2)", sys.upsilon, rows, ms);
+  if (e.improved) {
+    std::printf("\n");
+    print_vector("upsilon_position: the position system's bias (8.1), not the system shown",
+                 position_bias(sys),
+                 rows,
+                 ms);
+  }
+  std::printf("\n");
+  print_vector("b = upsilon/dt - J (v1/dt + Minv fext) (6.2.9)", sys.b, rows, ms2);
+  std::printf("\n");
+  print_solution_table(e);
+  std::printf("\n");
+  print_vector("v2 = v1 + dt Minv (J^T lambda + fext) (12.3.1)", e.shown.v2, e.cols, e.v_units);
+  if (e.cfm > 0.0)
     std::printf("\neps = %s kg^-1: %s; w of A is eps lambda off on free rows\n",
-                num(cfm).c_str(),
-                cfm_note);
-  std::printf("\nsolver %s: %s\n",
-              std::string(to_string(scene.solver.method)).c_str(),
-              summary.message.c_str());
+                num(e.cfm).c_str(),
+                kCfmNote);
+  std::printf("\nsolver %s: %s\n", e.method.c_str(), e.shown.summary.message.c_str());
+}
+
+/// explain --html FILE: the teaching page of the step, which takes any size the step takes
+/// (pictures and statistics instead of dense tables above its limits).
+void write_page(const Scene& scene, const Simulation& sim, long at_step, const std::string& html) {
+  const System shown = sim.build_system();
+  std::vector<std::string> bodies;
+  for (int body : shown.body_of_block)
+    bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
+  const TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
+  write_output_file(html, "--html " + html, teaching_page_html(step));
+  std::printf("%s, step %ld: %s, %s; wrote %s\n",
+              scene.name.c_str(),
+              at_step,
+              count_text(shown.rows(), "row").c_str(),
+              count_text(shown.blocks(), "movable body", "movable bodies").c_str(),
+              html.c_str());
+}
+
+int explain_command(const ExplainOptions& o) {
+  Scene scene = load_scene(o.scene);
+  apply_step_options(scene, o.step);
+  // An existing FILE is replaced when it is a teaching page cbps wrote, else only with --force.
+  if (!o.html.empty())
+    check_output_file(o.html,
+                      "--html " + o.html,
+                      o.force || is_teaching_page(o.html),
+                      "it is not a page cbps wrote; --force replaces it");
+  Simulation sim(scene);
+  for (long s = 0; s < o.at_step; ++s) sim.step();
+  if (!o.html.empty()) {
+    write_page(scene, sim, o.at_step, o.html);
+    return 0;
+  }
+  const Explained e = explain_step(scene, sim, o.at_step);
+  if (o.json)
+    print_json(e);
+  else
+    print_text(e);
   return 0;
 }
 

@@ -52,26 +52,15 @@ namespace {
 
 /// Solves one system of the step (right-hand side b) from `guess` as the simulation does and
 /// fills in everything the page shows of it.
-TeachingSystem solve_one(const Simulation& sim,
-                         const System& sys,
-                         const VecX& upsilon,
-                         const VecX& guess,
-                         std::string name,
-                         std::string note) {
+/// The residual after every sweep of the step's method (PGS for the exact paths, which do not
+/// sweep) from the step's guess on the whole system, into out.sweep_residuals.
+void record_sweeps(const Simulation& sim,
+                   const System& sys,
+                   const VecX& guess,
+                   TeachingSystem& out) {
   const SolverSettings& settings = sim.scene().solver;
-  TeachingSystem out;
-  out.name = std::move(name);
-  out.note = std::move(note);
-  out.upsilon = upsilon;
-  out.b = compute_b(upsilon, sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
-  out.lambda = guess;
-  out.summary = sim.solve_system(sys, out.b, out.lambda);  // the step's own solve (7.1.1 / 6.2)
-
-  // The residual per sweep: the same method (PGS for the exact paths, which do not sweep) from
-  // the same guess on the whole system, recorded after every sweep.
   const BoxedProblem problem = sys.problem(out.b);
-  SolverOptions options = settings.options();
-  options.seed = settings.seed + static_cast<std::uint64_t>(sim.steps_done());
+  SolverOptions options = sim.step_options(settings);
   options.split_islands = false;  // one residual of the whole system per sweep
   options.describe = false;
   if (!is_iterative(options.method)) options.method = Method::Pgs;
@@ -83,6 +72,35 @@ TeachingSystem solve_one(const Simulation& sim,
   };
   VecX lambda = guess;
   if (sys.rows() > 0) solve_coulomb(problem, sys.coulomb(), lambda, options);
+}
+
+TeachingSystem solve_one(const Simulation& sim,
+                         const System& sys,
+                         const VecX& upsilon,
+                         const VecX& guess,
+                         std::string name,
+                         std::string note) {
+  TeachingSystem out = teaching_system(sim, sys, upsilon, guess, true);
+  out.name = std::move(name);
+  out.note = std::move(note);
+  return out;
+}
+
+}  // namespace
+
+TeachingSystem teaching_system(const Simulation& sim,
+                               const System& sys,
+                               const VecX& upsilon,
+                               const VecX& guess,
+                               bool sweep_history) {
+  const SolverSettings& settings = sim.scene().solver;
+  TeachingSystem out;
+  out.upsilon = upsilon;
+  out.b = compute_b(upsilon, sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
+  out.lambda = guess;
+  out.summary = sim.solve_system(sys, out.b, out.lambda);  // the step's own solve (7.1.1 / 6.2)
+  if (sweep_history) record_sweeps(sim, sys, guess, out);
+  const BoxedProblem problem = sys.problem(out.b);
 
   // The bounds lambda satisfies (Coulomb rows: ±mu lambda_n at the answer, 5.4) and w = A
   // lambda − b (6.2) of A itself. Each row is judged against the tolerance the scene asks for
@@ -103,8 +121,6 @@ TeachingSystem solve_one(const Simulation& sim,
   out.v2 = compute_v2(sys, out.lambda);  // (12.3.1)
   return out;
 }
-
-}  // namespace
 
 TeachingStep teaching_step(const Simulation& sim,
                            std::vector<std::string> columns,

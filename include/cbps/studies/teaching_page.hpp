@@ -52,6 +52,17 @@ struct TeachingSystem {
   std::string sweep_method;  ///< the scene's method if it sweeps, else "pgs" (7.1.1)
 };
 
+/// One system of the current step of `sim` solved as the step solves it (the same guess,
+/// method and settings; b from `upsilon`, 6.2.9), with what a reader checks: the bounds lambda
+/// satisfies, w of A, each row's status against the requested tolerance, v2. The one report of
+/// a solution that `cbps explain` prints and the teaching page draws. With `sweep_history` the
+/// residual after every sweep too (sweep_residuals, sweep_method): one more solve.
+TeachingSystem teaching_system(const Simulation& sim,
+                               const System& sys,
+                               const VecX& upsilon,
+                               const VecX& guess,
+                               bool sweep_history);
+
 /// Everything the page shows of one step.
 struct TeachingStep {
   std::string scene;
