@@ -11,6 +11,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/solvers/coulomb.hpp"
+#include "cbps/studies/run.hpp"
 #include "convert.hpp"
 
 namespace cbps::python {
@@ -178,6 +179,84 @@ py::array_t<double> states(const std::vector<double>& values,
   return a;
 }
 
+/// What run() returns, gathered step by step without the GIL: the trajectory (t = start and
+/// after every record_every-th step, as trajectory.csv) and one entry per step (as steps.csv).
+/// Every 0.1 s the GIL is taken for a moment to let Python see its signals (Ctrl-C stops the
+/// run).
+class RunArrays : public StepObserver {
+ public:
+  explicit RunArrays(long record_every) : record_every_(record_every) {}
+
+  void start(Simulation& sim) override {
+    bodies_ = static_cast<long>(sim.scene().bodies.size());
+    sample(sim);
+  }
+
+  bool after_step(const Simulation& sim, const StepReport& r, long done) override {
+    step_t_.push_back(sim.time());
+    rows_.push_back(r.rows);
+    warm_rows_.push_back(r.warm_rows);
+    contacts_.push_back(r.contacts);
+    iterations_.push_back(r.solver.iterations);
+    residual_.push_back(r.solver.residual);
+    constraint_error_.push_back(r.max_constraint_error);
+    energy_.push_back(sim.energy());
+    wall_.push_back(r.wall_time_s);
+    if (done % record_every_ == 0) sample(sim);
+    if (Clock::now() - checked_ > std::chrono::milliseconds(100)) {
+      checked_ = Clock::now();
+      const py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) interrupted = true;
+    }
+    return !interrupted;
+  }
+
+  /// {"t", "x", "q", "v", "omega", "steps": {...}} (Simulation.run's documentation).
+  py::dict dict() const {
+    const long samples = static_cast<long>(t_.size());
+    py::dict out;
+    out["t"] = py::array_t<double>(static_cast<py::ssize_t>(samples), t_.data());
+    out["x"] = states(x_, samples, bodies_, 3);
+    out["q"] = states(q_, samples, bodies_, 4);
+    out["v"] = states(v_, samples, bodies_, 3);
+    out["omega"] = states(omega_, samples, bodies_, 3);
+    py::dict per_step;
+    const auto count = static_cast<py::ssize_t>(step_t_.size());
+    per_step["t"] = py::array_t<double>(count, step_t_.data());
+    per_step["rows"] = py::array_t<long>(count, rows_.data());
+    per_step["warm_rows"] = py::array_t<long>(count, warm_rows_.data());
+    per_step["contacts"] = py::array_t<long>(count, contacts_.data());
+    per_step["iterations"] = py::array_t<long>(count, iterations_.data());
+    per_step["residual"] = py::array_t<double>(count, residual_.data());
+    per_step["max_constraint_error"] = py::array_t<double>(count, constraint_error_.data());
+    per_step["energy"] = py::array_t<double>(count, energy_.data());
+    per_step["wall_time_s"] = py::array_t<double>(count, wall_.data());
+    out["steps"] = per_step;
+    return out;
+  }
+
+  bool interrupted = false;
+
+ private:
+  void sample(const Simulation& sim) {
+    t_.push_back(sim.time());
+    for (const Body& b : sim.scene().bodies) {
+      const Vec3 vb = b.v(), wb = b.omega();
+      x_.insert(x_.end(), {b.x.x(), b.x.y(), b.x.z()});
+      q_.insert(q_.end(), {b.q.w(), b.q.x(), b.q.y(), b.q.z()});
+      v_.insert(v_.end(), {vb.x(), vb.y(), vb.z()});
+      omega_.insert(omega_.end(), {wb.x(), wb.y(), wb.z()});
+    }
+  }
+
+  long record_every_;
+  long bodies_ = 0;
+  std::vector<double> t_, x_, q_, v_, omega_;
+  std::vector<double> step_t_, residual_, constraint_error_, energy_, wall_;
+  std::vector<long> rows_, warm_rows_, contacts_, iterations_;
+  Clock::time_point checked_ = Clock::now();
+};
+
 py::dict PySimulation::run(const py::object& duration_in,
                            const py::object& steps_in,
                            const py::object& record_every_in) {
@@ -190,72 +269,30 @@ py::dict PySimulation::run(const py::object& duration_in,
   if (!steps_in.is_none())
     steps = static_cast<long>(whole_from_python(steps_in, "run: steps", 0, kMaxSteps));
   const long n = step_count(scene(), duration, steps);
-  // The trajectory (t = start and after every record_every-th step, as trajectory.csv) and one
-  // entry per step (as steps.csv), gathered without the GIL.
-  std::vector<double> t, x, q, v, omega;
-  std::vector<double> step_t, residual, constraint_error, energy, wall;
-  std::vector<long> rows, warm_rows, contacts, iterations;
-  long bodies = 0;
-  bool interrupted = false;
-  locked([&] {
-    bodies = static_cast<long>(sim_.bodies().size());
-    const auto sample = [&] {
-      t.push_back(sim_.time());
-      for (const Body& b : sim_.bodies()) {
-        const Vec3 vb = b.v(), wb = b.omega();
-        x.insert(x.end(), {b.x.x(), b.x.y(), b.x.z()});
-        q.insert(q.end(), {b.q.w(), b.q.x(), b.q.y(), b.q.z()});
-        v.insert(v.end(), {vb.x(), vb.y(), vb.z()});
-        omega.insert(omega.end(), {wb.x(), wb.y(), wb.z()});
-      }
-    };
-    sample();
-    auto checked = Clock::now();
-    for (long s = 0; s < n; ++s) {
-      const StepReport r = step_keeping(s == n - 1);  // the last step's system is kept
-      step_t.push_back(sim_.time());
-      rows.push_back(r.rows);
-      warm_rows.push_back(r.warm_rows);
-      contacts.push_back(r.contacts);
-      iterations.push_back(r.solver.iterations);
-      residual.push_back(r.solver.residual);
-      constraint_error.push_back(r.max_constraint_error);
-      energy.push_back(sim_.energy());
-      wall.push_back(r.wall_time_s);
-      if ((s + 1) % record_every == 0) sample();
-      // Ctrl-C: every 0.1 s the GIL is taken for a moment to let Python see its signals.
-      if (Clock::now() - checked > std::chrono::milliseconds(100)) {
-        checked = Clock::now();
-        const py::gil_scoped_acquire acquire;
-        if (PyErr_CheckSignals() != 0) {
-          interrupted = true;
-          break;
-        }
-      }
+  RunArrays arrays(record_every);
+  /// The last step's system is kept for system(), as step() keeps it.
+  class KeepLast : public StepObserver {
+   public:
+    KeepLast(PySimulation& owner, long steps) : owner_(owner), steps_(steps) {}
+    void before_step(Simulation&, long index) override { owner_.keep_ = index == steps_ - 1; }
+    bool after_step(const Simulation&, const StepReport& report, long) override {
+      if (owner_.keep_ && owner_.last_) owner_.last_->report = report;
+      owner_.keep_ = false;
+      return true;
     }
+
+   private:
+    PySimulation& owner_;
+    long steps_;
+  } keep_last(*this, n);
+  locked([&] {
+    const RunTotals totals = run_steps(sim_, n, {&keep_last, &arrays});
+    keep_ = false;
+    if (totals.diverged) throw *totals.diverged;
     return 0;
   });
-  if (interrupted) throw py::error_already_set();  // KeyboardInterrupt; the steps done stay
-  const long samples = static_cast<long>(t.size());
-  py::dict out;
-  out["t"] = py::array_t<double>(static_cast<py::ssize_t>(samples), t.data());
-  out["x"] = states(x, samples, bodies, 3);
-  out["q"] = states(q, samples, bodies, 4);
-  out["v"] = states(v, samples, bodies, 3);
-  out["omega"] = states(omega, samples, bodies, 3);
-  py::dict per_step;
-  const auto count = static_cast<py::ssize_t>(step_t.size());
-  per_step["t"] = py::array_t<double>(count, step_t.data());
-  per_step["rows"] = py::array_t<long>(count, rows.data());
-  per_step["warm_rows"] = py::array_t<long>(count, warm_rows.data());
-  per_step["contacts"] = py::array_t<long>(count, contacts.data());
-  per_step["iterations"] = py::array_t<long>(count, iterations.data());
-  per_step["residual"] = py::array_t<double>(count, residual.data());
-  per_step["max_constraint_error"] = py::array_t<double>(count, constraint_error.data());
-  per_step["energy"] = py::array_t<double>(count, energy.data());
-  per_step["wall_time_s"] = py::array_t<double>(count, wall.data());
-  out["steps"] = per_step;
-  return out;
+  if (arrays.interrupted) throw py::error_already_set();  // KeyboardInterrupt; the steps done stay
+  return arrays.dict();
 }
 
 }  // namespace

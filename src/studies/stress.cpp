@@ -11,6 +11,7 @@
 #include "cbps/base/numbers.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/studies/euler_reference.hpp"
+#include "cbps/studies/run.hpp"
 #include "cbps/studies/solver_spec.hpp"
 
 namespace cbps {
@@ -774,38 +775,46 @@ StressResult run_stress(const StressCase& c,
   const std::unique_ptr<StressProbe> probe = c.probe(scene);
   Simulation sim(std::move(scene));
   probe->start(sim);
-  r.energy_initial = sim.energy();
-  r.max_constraint_error = sim.max_constraint_error();
+  /// The probe after each step, progress, and the wall-time budget.
+  class Watch : public StepObserver {
+   public:
+    Watch(StressProbe& probe,
+          const std::function<void(long, long)>& progress,
+          long steps,
+          double budget_s)
+        : probe_(probe), progress_(progress), steps_(steps), budget_s_(budget_s) {}
+    bool after_step(const Simulation& sim, const StepReport& report, long done) override {
+      probe_.after_step(sim, report);
+      if (progress_) progress_(done, steps_);
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count() <=
+             budget_s_;
+    }
 
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  for (long k = 0; k < c.steps; ++k) {
-    StepReport report;
-    try {
-      report = sim.step();
-    } catch (const DivergenceError& e) {
-      r.status = "diverged";
-      r.note = e.what();
-      break;
-    }
-    r.steps_done = k + 1;
-    r.max_rows = std::max(r.max_rows, report.rows);
-    r.max_constraint_error = std::max(r.max_constraint_error, report.max_constraint_error);
-    r.max_penetration = std::max(r.max_penetration, report.max_penetration);
-    r.final_residual = report.solver.residual;
-    r.max_residual = std::max(r.max_residual, report.solver.residual);
-    r.cfm_acceleration_error = std::max(r.cfm_acceleration_error, report.cfm_acceleration_error);
-    probe->after_step(sim, report);
-    if (progress) progress(k + 1, c.steps);
-    const double spent = std::chrono::duration<double>(Clock::now() - start).count();
-    if (spent > budget_s && k + 1 < c.steps) {
-      r.status = "budget";
-      r.note = "stopped after " + std::to_string(k + 1) + " of " + std::to_string(c.steps) +
-               " steps: the wall-time budget of " + format(budget_s) + " s was spent";
-      break;
-    }
+   private:
+    StressProbe& probe_;
+    const std::function<void(long, long)>& progress_;
+    long steps_;
+    double budget_s_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  } watch(*probe, progress, c.steps, budget_s);
+  const RunTotals t = run_steps(sim, c.steps, {&watch});
+  r.steps_done = t.steps_done;
+  r.max_rows = t.max_rows;
+  r.max_constraint_error = t.max_constraint_error;
+  r.max_penetration = t.max_penetration;
+  r.final_residual = t.final_residual;
+  r.max_residual = t.max_residual;
+  r.cfm_acceleration_error = t.cfm_acceleration_error;
+  r.energy_initial = t.energy_initial;
+  r.wall_time_s = t.wall_time_s;
+  if (t.diverged) {
+    r.status = "diverged";
+    r.note = t.diverged->what();
+  } else if (t.stopped) {
+    r.status = "budget";
+    r.note = "stopped after " + std::to_string(t.steps_done) + " of " + std::to_string(c.steps) +
+             " steps: the wall-time budget of " + format(budget_s) + " s was spent";
   }
-  r.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
   r.energy_final = sim.energy();
   // of the matrix the solvers work on: A + eps E with constraint-force mixing
   r.condition = estimate_condition(with_cfm(sim.assemble().A, scene.solver.cfm));

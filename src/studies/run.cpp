@@ -1,0 +1,254 @@
+#include "cbps/studies/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/studies/solver_spec.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// Adds one step's report to the totals.
+void add_step(RunTotals& t, const Simulation& sim, const StepReport& r) {
+  ++t.steps_done;
+  t.cfm_acceleration_error = std::max(t.cfm_acceleration_error, r.cfm_acceleration_error);
+  t.iterations_total += r.solver.iterations;
+  t.final_residual = r.solver.residual;
+  t.max_residual = std::max(t.max_residual, r.solver.residual);
+  t.max_constraint_error = std::max(t.max_constraint_error, r.max_constraint_error);
+  t.max_rows = std::max(t.max_rows, r.rows);
+  t.max_contacts = std::max(t.max_contacts, r.contacts);
+  t.stage_times += r.times;
+  t.max_penetration = std::max(t.max_penetration, r.max_penetration);
+  for (const std::string& stage : sim.stages()) {
+    if (std::find(t.stages.begin(), t.stages.end(), stage) == t.stages.end())
+      t.stages.push_back(stage);
+  }
+}
+
+void record_bodies(CsvFile& csv, double t, const std::vector<Body>& bodies) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const Body& body = bodies[i];
+    const Vec3 v = body.v();
+    const Vec3 w = body.omega();
+    csv.num(t);
+    csv.integer(static_cast<long>(i));
+    for (double x : {body.x.x(),
+                     body.x.y(),
+                     body.x.z(),
+                     body.q.w(),
+                     body.q.x(),
+                     body.q.y(),
+                     body.q.z(),
+                     v.x(),
+                     v.y(),
+                     v.z(),
+                     w.x(),
+                     w.y(),
+                     w.z()}) {
+      csv.num(x);
+    }
+    csv.end_row();
+  }
+}
+
+}  // namespace
+
+RunTotals run_steps(Simulation& sim, long steps, const std::vector<StepObserver*>& observers) {
+  RunTotals t;
+  t.steps_requested = steps;
+  t.energy_initial = sim.energy();
+  t.max_constraint_error = sim.max_constraint_error();
+  for (StepObserver* o : observers) o->start(sim);
+  const auto start = std::chrono::steady_clock::now();
+  for (long s = 0; s < steps && !t.stopped; ++s) {
+    for (StepObserver* o : observers) o->before_step(sim, s);
+    StepReport r;
+    try {
+      r = sim.step();
+    } catch (const DivergenceError& e) {
+      t.diverged = e;
+      break;
+    }
+    add_step(t, sim, r);
+    for (StepObserver* o : observers) {
+      if (!o->after_step(sim, r, s + 1) && s + 1 < steps) t.stopped = true;
+    }
+  }
+  t.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  t.energy_final = sim.energy();
+  t.time = sim.time();
+  return t;
+}
+
+void CrossCheck::start(Simulation& sim) {
+  SolverSettings direct = sim.scene().solver;
+  direct.method = Method::Direct;
+  direct.tolerance = 0.0;  // the reference: to the direct path's rounding floor
+  const double cfm = sim.scene().solver.cfm;
+  sim.set_observer(
+      [this, &sim, direct, cfm](const System& sys, const VecX& lambda, const VecX& v2) {
+        VecX lambda_direct = lambda;
+        const SolverSummary s = sim.solve_system(sys, sys.b, lambda_direct, direct);
+        if (s.termination != Termination::Direct) ++direct_short;
+        // Verified as `cbps lcp` verifies: residual ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|).
+        if (!(s.residual <= kLcpSolvedTolerance * scale_of(sys.problem()))) ++direct_unverified;
+        const VecX v2_direct = compute_v2(sys, lambda_direct);
+        const double difference = v2.size() > 0 ? (v2 - v2_direct).lpNorm<Eigen::Infinity>() : 0.0;
+        max_velocity_difference = std::max(max_velocity_difference, difference);
+        if (tolerance_ >= 0.0 && !(difference <= tolerance_)) {
+          if (first_beyond < 0) {
+            first_beyond = sim.steps_done();
+            first_beyond_difference = difference;
+          }
+          ++steps_beyond;
+        }
+        max_residual =
+            std::max(max_residual, coulomb_residual(sys.problem(), sys.coulomb(), lambda, cfm));
+        max_direct_residual = std::max(max_direct_residual, s.residual);
+        ++steps_checked;
+      });
+}
+
+nlohmann::json CrossCheck::json() const {
+  nlohmann::json j = {{"max_velocity_difference", max_velocity_difference},
+                      {"max_pgs_residual", max_residual},
+                      {"max_direct_residual", max_direct_residual},
+                      {"direct_stopped_short", direct_short},
+                      {"direct_unverified", direct_unverified},
+                      {"steps_checked", steps_checked}};
+  if (tolerance_ >= 0.0) {
+    j["tolerance"] = tolerance_;
+    j["steps_beyond_tolerance"] = steps_beyond;
+    j["first_step_beyond_tolerance"] =
+        first_beyond >= 0 ? nlohmann::json(first_beyond) : nlohmann::json(nullptr);
+    j["passed"] = steps_beyond == 0;
+  }
+  return j;
+}
+
+TrajectoryRecorder::TrajectoryRecorder(const std::string& path, long every)
+    : csv_(path, "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"), every_(every) {}
+
+void TrajectoryRecorder::start(Simulation& sim) {
+  record_bodies(csv_, sim.time(), sim.scene().bodies);
+}
+
+bool TrajectoryRecorder::after_step(const Simulation& sim, const StepReport&, long done) {
+  if (done % every_ == 0) record_bodies(csv_, sim.time(), sim.scene().bodies);
+  return true;
+}
+
+StepsRecorder::StepsRecorder(const std::string& path, bool timing)
+    : csv_(path,
+           timing ? "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,wall_time_s"
+                  : "t,rows,warm_rows,iterations,residual,max_constraint_error,energy"),
+      timing_(timing) {}
+
+bool StepsRecorder::after_step(const Simulation& sim, const StepReport& r, long) {
+  csv_.num(sim.time());
+  csv_.integer(r.rows);
+  csv_.integer(r.warm_rows);
+  csv_.integer(r.solver.iterations);
+  csv_.num(r.solver.residual);
+  csv_.num(r.max_constraint_error);
+  csv_.num(sim.energy());
+  if (timing_) csv_.num(r.wall_time_s);
+  csv_.end_row();
+  return true;
+}
+
+nlohmann::json run_summary_json(const Scene& scene,
+                                const RunTotals& t,
+                                bool timing,
+                                const nlohmann::json& threads) {
+  nlohmann::json summary;
+  summary["scene"] = scene.name;
+  nlohmann::json params = nlohmann::json::object();
+  for (const auto& [name, value] : scene.parameters) params[name] = value;
+  summary["parameters"] = params;
+  summary["status"] = t.diverged ? "diverged" : "completed";
+  if (t.diverged) {
+    summary["divergence"] = {{"step", t.diverged->step()},
+                             {"body", t.diverged->body()},
+                             {"row", t.diverged->row()},
+                             {"message", t.diverged->what()}};
+  }
+  const SolverSettings& solver = scene.solver;
+  summary["bodies"] = scene.bodies.size();
+  summary["rows"] = t.max_rows;
+  summary["steps"] = t.steps_done;
+  summary["steps_requested"] = t.steps_requested;
+  summary["dt"] = scene.world.dt;
+  summary["beta"] = scene.world.beta;
+  summary["duration"] = t.time;
+  summary["solver"] = {
+      {"method", std::string(to_string(solver.method))},
+      {"iterations", solver.iterations},
+      {"tolerance", solver.tolerance},
+      {"warm_start", solver.warm > 0.0 || solver.warm_factor(RowKind::Friction) > 0.0},
+      {"warm", solver.warm},
+      {"warm_friction", solver.warm_factor(RowKind::Friction)},
+      {"relaxation", solver.relaxation},
+      {"order", to_string(solver.order)},
+      {"contacts_first", solver.contacts_first},
+      {"seed", solver.seed},
+      {"cfm", solver.cfm}};
+  for (const auto& [key, value] : method_parameters(solver.method, solver.methods))
+    summary["solver"]["parameters"][key] = value;
+  if (solver.cfm > 0.0) {
+    // CFM is never silent: how far the answer is from A lambda = b because of it.
+    summary["regularization"] = {{"cfm", solver.cfm},
+                                 {"max_acceleration_error", t.cfm_acceleration_error},
+                                 {"max_velocity_error", t.cfm_acceleration_error * scene.world.dt}};
+  }
+  summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
+  summary["contacts"] = {
+      {"mu", scene.world.mu},
+      {"friction", scene.world.friction == FrictionModel::Coulomb ? "coulomb" : "paper"},
+      {"restitution", scene.world.restitution},
+      {"persistence", scene.world.contact_persistence},
+      {"max_points", t.max_contacts}};
+  summary["max_penetration"] = t.max_penetration;
+  summary["iterations_total"] = t.iterations_total;
+  summary["max_residual"] = t.max_residual;
+  summary["max_constraint_error"] = t.max_constraint_error;
+  summary["energy_initial"] = t.energy_initial;
+  summary["energy_final"] = t.energy_final;
+  summary["stages"] = t.stages;
+  if (timing) {
+    const StageTimes& s = t.stage_times;
+    summary["wall_time_s"] = t.wall_time_s;
+    summary["threads"] = threads;
+    summary["stage_times_s"] = {{"broad_phase", s.broad_phase},
+                                {"narrow_phase", s.narrow_phase},
+                                {"rows", s.rows},
+                                {"assembly", s.assembly},
+                                {"solve", s.solve},
+                                {"integrate", s.integrate}};
+  }
+  return summary;
+}
+
+nlohmann::json bodies_json(const Scene& scene) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& body = scene.bodies[i];
+    const char* shape = body.shape.kind == Shape::Kind::Sphere ? "sphere"
+                        : body.shape.kind == Shape::Kind::Box  ? "box"
+                                                               : "plane";
+    nlohmann::json b = {
+        {"index", i}, {"name", body.name}, {"shape", shape}, {"static", body.is_static}};
+    if (!body.is_static) b["mass"] = body.m;
+    list.push_back(b);
+  }
+  return {{"about",
+           "the bodies of trajectory.csv: its column body is the index here (docs/outputs.md)"},
+          {"bodies", list}};
+}
+
+}  // namespace cbps
