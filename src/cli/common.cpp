@@ -558,12 +558,6 @@ nlohmann::json threads_json() {
           {"openmp_threads", r.openmp_threads}};
 }
 
-nlohmann::json number_json(double x) {
-  if (std::isnan(x)) return "nan";
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  return x;
-}
-
 nlohmann::json dense_json(const MatX& M) {
   nlohmann::json rows = nlohmann::json::array();
   for (Eigen::Index r = 0; r < M.rows(); ++r) {

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cbps/io/json_numbers.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/system/system.hpp"
@@ -131,9 +132,6 @@ void write_text(const std::string& path, const std::string& text);
 /// Check it first with check_output_file.
 void write_output_file(const std::string& path, const std::string& what, const std::string& text);
 
-/// A number for JSON, which has none of these: inf, -inf and NaN as the strings "inf", "-inf"
-/// and "nan".
-nlohmann::json number_json(double x);
 /// A dense matrix as nested JSON arrays (inf as the strings "inf"/"-inf").
 nlohmann::json dense_json(const MatX& M);
 nlohmann::json vector_json(const VecX& v);
