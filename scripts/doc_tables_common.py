@@ -15,7 +15,7 @@ import json
 import math
 import os
 
-from cbps_files import write_text  # scripts/cbps_files.py
+from cbps_files import read_number, write_text  # scripts/cbps_files.py
 
 
 # ---------------------------------------------------------------------------------------------
@@ -37,7 +37,13 @@ def generator(name, *sources):
 
 
 # ---------------------------------------------------------------------------------------------
-# Number formats shared by every table.
+# Number formats shared by every table. sci, num, dur and length also take a value that is not
+# finite as result files write it, the string "inf", "-inf" or "nan" (scripts/cbps_files.py), and
+# show it as inf, -inf or nan.
+
+
+def _float(x):
+    return read_number(x) if isinstance(x, str) else x
 
 
 def _exp(text):
@@ -50,6 +56,7 @@ def _exp(text):
 
 def sci(x, digits=2):
     """x with `digits` significant digits in scientific form: 2.9e-5; 0 is '0'."""
+    x = _float(x)
     if x == 0:
         return "0"
     return _exp(f"{x:.{digits - 1}e}")
@@ -64,6 +71,7 @@ def cg(x, digits=2):
 
 def num(x, digits=2):
     """`digits` significant digits, plain between 1e-3 and 1e5, else scientific."""
+    x = _float(x)
     if x == 0:
         return "0"
     a = abs(x)
@@ -76,6 +84,7 @@ def num(x, digits=2):
 
 def dur(seconds, digits=2):
     """A duration with two significant digits: 21 µs, 0.15 ms, 16 ms, 0.16 s, 3.5 s."""
+    seconds = _float(seconds)
     if seconds < 1e-4:
         return f"{num(seconds * 1e6, digits)} µs"
     if seconds < 0.1:
@@ -85,6 +94,7 @@ def dur(seconds, digits=2):
 
 def length(metres, digits=2):
     """A length in cm or mm when that reads better, else in m (scientific)."""
+    metres = _float(metres)
     a = abs(metres)
     if 0.01 <= a < 1:
         return f"{num(metres * 100, digits)} cm"
