@@ -33,7 +33,6 @@ Needs numpy and scipy (Debian's python3-numpy, python3-scipy).
 """
 
 import argparse
-import json
 import os
 import shutil
 import subprocess
@@ -43,6 +42,7 @@ import tempfile
 import numpy as np
 import scipy.io
 
+from cbps_files import write_json  # scripts/cbps_files.py
 from cbps_problem import natural_map_residual, scale_of  # scripts/cbps_problem.py
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -172,9 +172,7 @@ def main():
     work = tempfile.mkdtemp(prefix=".library-", dir=parent)
     try:
         index = build(cbps, work, args.quick)
-        with open(os.path.join(work, "library.json"), "w") as f:
-            json.dump(index, f, indent=2)
-            f.write("\n")
+        write_json(os.path.join(work, "library.json"), index, indent=2)
         if os.path.exists(out):
             shutil.rmtree(out)
         os.rename(work, out)

@@ -24,6 +24,7 @@ import sys
 import tempfile
 import time
 
+from cbps_files import write_json  # scripts/cbps_files.py, beside this script
 from cbps_problem import read_mtx  # scripts/cbps_problem.py, beside this script
 
 # (rows, ranks, TAO type). 10 rows measure an empty process; 4 ranks oversubscribe the 2 cores
@@ -149,10 +150,7 @@ def main():
         "lambda_max_difference": difference,
         "lambda_largest": float(max(abs(lam_direct)))}
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    with open(args.out + ".tmp", "w") as f:
-        json.dump(results, f, indent=1)
-        f.write("\n")
-    os.replace(args.out + ".tmp", args.out)
+    write_json(args.out, results)
     print(f"measure_generate: wrote {args.out}", file=sys.stderr)
     # The check the docs state: both paths solved the same problem.
     failed = [f"{x['rows']} rows at {x['ranks']} ranks ({x['type']}): {x['status']}"

@@ -20,6 +20,7 @@ import subprocess
 import sys
 import tempfile
 
+from cbps_files import write_json  # scripts/cbps_files.py
 from cbps_problem import PETSC_PROBLEMS as PROBLEMS  # scripts/cbps_problem.py
 
 TYPES = ("bqpip", "gpcg", "tron", "bncg", "bqnls", "blmvm", "bnls", "bntr")
@@ -71,9 +72,7 @@ def main():
                       f"{row['iterations']:6} {row['wall_time_s']:.3g} s "
                       f"{row['residual']:.3g} {row.get('reason', '')}", flush=True)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    with open(args.out, "w") as f:
-        json.dump(results, f, indent=1)
-        f.write("\n")
+    write_json(args.out, results)
     print(f"wrote {args.out}")
 
 

@@ -18,6 +18,7 @@ import sys
 import tempfile
 import time
 
+from cbps_files import write_json  # scripts/cbps_files.py
 from cbps_problem import PETSC_PROBLEMS as PROBLEMS  # scripts/cbps_problem.py
 
 CONVERGE = {
@@ -89,10 +90,7 @@ def main():
         "measurements": [{k: m[k] for k in ("problem", "solver", "status", "iterations",
                                             "residual_relative")} for m in s["measurements"]]}
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    with open(args.out + ".tmp", "w") as f:
-        json.dump(results, f, indent=1)
-        f.write("\n")
-    os.replace(args.out + ".tmp", args.out)
+    write_json(args.out, results)
     print(f"measure_tao_studies: wrote {args.out}", file=sys.stderr)
 
 

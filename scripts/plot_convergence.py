@@ -19,15 +19,15 @@ curves, so one exploding solver does not flatten the others. The sweep axis is l
 import argparse
 import csv
 import math
-import os
 import sys
-import tempfile
 
 import matplotlib
 
 matplotlib.use("Agg")  # non-interactive backend; must precede pyplot import
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+
+from cbps_files import save_figure  # noqa: E402  scripts/cbps_files.py, beside this script
 
 plt.rcParams["svg.fonttype"] = "none"  # SVG text stays text: searchable and editable
 
@@ -232,27 +232,12 @@ def plot(data, present, title, sweeps="auto"):
 
 
 def save_atomic(fig, prefix):
-    """Save PNG and SVG to temp files next to the targets, then rename both."""
-    outdir = os.path.dirname(os.path.abspath(prefix))
-    base = os.path.basename(prefix)
-    umask = os.umask(0)
-    os.umask(umask)  # mkstemp creates 0600; give outputs normal permissions
-    temps = []
+    """Save PNG and SVG to temporary files next to the targets, then rename both
+    (scripts/cbps_files.py)."""
     try:
-        for ext, kw in (("png", {"dpi": 150}), ("svg", {})):
-            fd, tmp = tempfile.mkstemp(dir=outdir, prefix=f".{base}.", suffix=f".{ext}.tmp")
-            temps.append((tmp, f"{prefix}.{ext}"))
-            os.chmod(tmp, 0o666 & ~umask)
-            with os.fdopen(fd, "wb") as f:
-                fig.savefig(f, format=ext, **kw)
-        for tmp, final in temps:
-            os.replace(tmp, final)
+        save_figure(fig, {f"{prefix}.png": {"dpi": 150}, f"{prefix}.svg": {}})
     except OSError as e:
         raise InputError(prefix, e.strerror or str(e))
-    finally:
-        for tmp, _ in temps:  # clean up anything not yet renamed
-            if os.path.exists(tmp):
-                os.unlink(tmp)
 
 
 def main():

@@ -4,7 +4,7 @@
 Usage: plot_profile.py PROFILE_JSON OUT_PREFIX
 
 Reads profile.json (docs/outputs.md, `cbps profile`) and writes OUT_PREFIX.png (dpi 150) and
-OUT_PREFIX.svg: one column per tolerance of the relative residual, time profiles above and sweep
+OUT_PREFIX.svg (each written to a temporary name and renamed): one column per tolerance of the relative residual, time profiles above and sweep
 profiles below. Each curve is rho_s(tau), the fraction of problems a solver solved within tau
 times the best solver's cost, against log2 tau; it is drawn from the ratios in profile.json,
 so the picture and the table say the same. A curve that ends below 1 on the right says on how
@@ -20,6 +20,8 @@ import matplotlib
 
 matplotlib.use("Agg")  # non-interactive backend; must precede pyplot import
 import matplotlib.pyplot as plt  # noqa: E402
+
+from cbps_files import save_figure  # noqa: E402  scripts/cbps_files.py, beside this script
 
 plt.rcParams["svg.fonttype"] = "none"  # SVG text stays text: searchable and editable
 
@@ -114,8 +116,7 @@ def main():
         with open(args.profile_json) as f:
             data = json.load(f)
         fig = plot(data)
-        fig.savefig(args.out_prefix + ".png", dpi=150)
-        fig.savefig(args.out_prefix + ".svg")
+        save_figure(fig, {args.out_prefix + ".png": {"dpi": 150}, args.out_prefix + ".svg": {}})
     except (OSError, ValueError, KeyError) as e:
         print(f"plot_profile: {args.profile_json}: {e}", file=sys.stderr)
         return 2

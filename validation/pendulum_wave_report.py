@@ -14,7 +14,9 @@ Reads OUTDIR/summary.json and OUTDIR/trajectory.csv and writes into OUTDIR:
   report.json                 the numbers report.md shows, machine-readable (format
                               "cbps-pendulum-report/1"; scripts/doc_tables.py reads the committed
                               copy in validation/results/pendulum-wave/).
-Every file is written to a temporary name and renamed. If OUTDIR holds a cbps-manifest.json (the
+Every file is written to a temporary name and renamed (scripts/cbps_files.py); in report.json
+a number that is not finite is the string "nan", "inf" or "-inf", as cbps writes them, and null
+means not measured (no phase error before the end of the cycle). If OUTDIR holds a cbps-manifest.json (the
 list of files cbps wrote there), the names of these four files are added to its "files" list, so
 that a later `cbps run ... --out OUTDIR` may replace them; without a manifest none is written. Exit status 0, 1 if the trajectory gives
 no measurable period, 2 if an input file is missing or malformed. Debian's numpy and matplotlib
@@ -32,6 +34,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.collections import PatchCollection  # noqa: E402
 from matplotlib.patches import Circle  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "scripts"))
+from cbps_files import json_ready, save_figure, write_json, write_text  # noqa: E402
 
 PROG = "pendulum_wave_report"
 HEADER = "t,body,x,y,z,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz"
@@ -322,11 +328,8 @@ def draw_figure(outdir, s, t, x, z):
     axes[-1, 0].set_xlim(z_pivot[0] - 2 * r, z_pivot[-1] + 2 * r)
     fig.suptitle(f"Pendulum wave seen from above (paper Figure 10): {s['n']} balls, "
                  f"attach={s['attach']}, θ0 = {math.degrees(s['theta0']):g}°", fontsize=10)
-    for ext in ("png", "svg"):
-        final = os.path.join(outdir, f"figure10.{ext}")
-        temp = os.path.join(outdir, f".figure10.{ext}.tmp")
-        fig.savefig(temp, format=ext, dpi=150)
-        os.replace(temp, final)
+    save_figure(fig, {os.path.join(outdir, f"figure10.{ext}"): {"dpi": 150}
+                      for ext in ("png", "svg")})
     plt.close(fig)
     return [(tt, t[int(np.argmin(np.abs(t - tt)))]) for tt in times]
 
@@ -449,18 +452,8 @@ def write_report(outdir, summary, s, balls, reached, snapshot_times, t):
              + (f" ({', '.join(f'{tt:g}' for tt in skipped)} s: beyond the run)" if skipped else "")
              + ".\n")
     L.append("![Pendulum wave, Figure 10](figure10.png)\n")
-    text = "\n".join(L)
-    final = os.path.join(outdir, "report.md")
-    temp = os.path.join(outdir, ".report.md.tmp")
-    with open(temp, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(temp, final)
+    write_text(os.path.join(outdir, "report.md"), "\n".join(L))
     return nanmax_abs(rel), nanmax_abs(phases) if reached else math.nan
-
-
-def json_number(v):
-    """A float for JSON: None for NaN (report.md shows "—" there)."""
-    return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
 
 
 def write_report_json(outdir, summary, s, balls, reached, t, steps_wall_s):
@@ -503,29 +496,26 @@ def write_report_json(outdir, summary, s, balls, reached, t, steps_wall_s):
         "cross_check": summary.get("cross_check"),
         "energy_initial": summary.get("energy_initial"),
         "energy_final": summary.get("energy_final"),
-        "max_abs_period_error": json_number(nanmax_abs(rel)),
-        "mean_abs_period_error": json_number(float(np.nanmean(np.abs(rel)))),
-        "max_abs_phase_deg": json_number(nanmax_abs(phases)) if reached else None,
-        "mean_abs_phase_deg": json_number(float(np.nanmean(np.abs(phases)))) if reached else None,
-        "balls": [{key: json_number(b.get(key)) if key not in ("k", "crossings", "phase_method")
-                   else b.get(key)
+        "max_abs_period_error": nanmax_abs(rel),
+        "mean_abs_period_error": float(np.nanmean(np.abs(rel))),
+        "max_abs_phase_deg": nanmax_abs(phases) if reached else None,
+        "mean_abs_phase_deg": float(np.nanmean(np.abs(phases))) if reached else None,
+        "balls": [{key: b.get(key)
                    for key in ("k", "L", "T_design", "T_measured", "rel", "crossings",
                                "phase_deg", "phase_method", "l", "T_double") if key in b}
                   for b in balls],
     }
     if s["attach"] == "top":
-        report["max_abs_double_error"] = json_number(nanmax_abs(
-            [(b["T_double"] - b["T_design"]) / b["T_design"] for b in balls]))
+        report["max_abs_double_error"] = nanmax_abs(
+            [(b["T_double"] - b["T_design"]) / b["T_design"] for b in balls])
+    report = json_ready(report)  # non-finite floats as "nan", "inf", "-inf"
     balls_json = report.pop("balls")
-    text = json.dumps(report, indent=1)  # then the balls, one line each: a small file
+    text = json.dumps(report, indent=1, allow_nan=False)  # then the balls, one line each
     text = (text[:-2] + ',\n "balls": [\n  '
-            + ",\n  ".join(json.dumps(b, separators=(",", ":")) for b in balls_json) + "\n ]\n}\n")
+            + ",\n  ".join(json.dumps(b, separators=(",", ":"), allow_nan=False)
+                            for b in balls_json) + "\n ]\n}\n")
     json.loads(text)  # still valid JSON
-    final = os.path.join(outdir, "report.json")
-    temp = os.path.join(outdir, ".report.json.tmp")
-    with open(temp, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(temp, final)
+    write_text(os.path.join(outdir, "report.json"), text)
 
 
 def steps_wall_time(path):
@@ -567,12 +557,7 @@ def add_to_manifest(outdir, manifest):
     for name in OUTPUT_FILES:
         if name not in manifest["files"]:
             manifest["files"].append(name)
-    final = os.path.join(outdir, MANIFEST)
-    temp = os.path.join(outdir, f".{MANIFEST}.tmp")
-    with open(temp, "w", encoding="utf-8") as f:
-        json.dump(manifest, f, indent=2)
-        f.write("\n")
-    os.replace(temp, final)
+    write_json(os.path.join(outdir, MANIFEST), manifest, indent=2)
 
 
 def main():

@@ -24,6 +24,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from matplotlib.patches import Polygon  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "scripts"))
+from cbps_files import save_figure  # noqa: E402  scripts/cbps_files.py
+
 PROG = "plot_contacts"
 
 
@@ -142,9 +146,7 @@ def main():
                  f"{figure.get('solver', '?')} solver", fontsize=10)
 
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-    temp = os.path.join(os.path.dirname(os.path.abspath(out)), f".{os.path.basename(out)}.tmp")
-    fig.savefig(temp, format="png", dpi=110)
-    os.replace(temp, out)
+    save_figure(fig, {out: {"format": "png", "dpi": 110}})  # a temporary name, renamed
     print(f"{PROG}: wrote {out} ({os.path.getsize(out) // 1024} kB)")
     for panel in panels[1:]:
         print(f"{PROG}: {panel['label']}: kinetic energy injected "

@@ -20,6 +20,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "scripts"))
+from cbps_files import save_figure  # noqa: E402  scripts/cbps_files.py
+
 PROG = "plot_validation"
 
 
@@ -59,14 +63,10 @@ def load(outdir):
 
 
 def save(fig, outdir, name):
-    """Writes name.png and name.svg through temporary names, then renames them."""
-    paths = []
-    for ext in ("png", "svg"):
-        final = os.path.join(outdir, f"{name}.{ext}")
-        temp = os.path.join(outdir, f".{name}.{ext}.tmp")
-        fig.savefig(temp, format=ext, dpi=150)
-        os.replace(temp, final)
-        paths.append(final)
+    """Writes name.png and name.svg through temporary names, then renames them
+    (scripts/cbps_files.py)."""
+    paths = [os.path.join(outdir, f"{name}.{ext}") for ext in ("png", "svg")]
+    save_figure(fig, {path: {"dpi": 150} for path in paths})
     return paths
 
 

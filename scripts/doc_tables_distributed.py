@@ -1,0 +1,194 @@
+"""The generated parts of docs/distributed.md (scripts/doc_tables.py): PETSc/TAO under MPI, the
+generated chain and its memory model, and TAO beside the library's solvers. The headline of the
+generated chain is README.md's (scripts/doc_tables_readme.py).
+"""
+from doc_tables_common import (  # scripts/doc_tables_common.py
+    GENERATE, SourceError, dur, generate_model, generator, minus, need, num, sci, table,
+    thousands)
+
+
+# ---------------------------------------------------------------------------------------------
+# PETSc/TAO under MPI (scripts/measure_tao.py: validation/results/distributed/tao.json).
+
+TAO = "validation/results/distributed/tao.json"
+
+
+@generator("tao-measured", TAO)
+def _tao_measured(src):
+    r = src.json(TAO)
+    rows = []
+    for run in need(r, "runs", where=TAO):
+        res = run["residual"]
+        rows.append((run["problem"], f"`{run['solver']}`", str(run["ranks"]), run["status"],
+                     thousands(run["iterations"]), dur(run["wall_time_s"]),
+                     "–" if res is None else sci(res), sci(1e-9 * run["scale"]),
+                     run.get("reason", "–")))
+    return table(("problem", "solver", "ranks", "status", "iterations", "wall time",
+                  "residual (N)", "solved at ≤ (N)", "TAO's reason"), rows, "lllllrrrl")
+
+
+# ---------------------------------------------------------------------------------------------
+# The generated chain (scripts/measure_generate.py: validation/results/distributed/generate.json).
+
+
+def _memory(run):
+    return ", ".join(str(round(m)) for m in run["rank_memory_mb"])
+
+
+@generator("generate-measured", GENERATE)
+def _generate_measured(src):
+    r = src.json(GENERATE)
+    rows = []
+    for run in need(r, "runs", where=GENERATE):
+        tao = run["log_view"]["events"].get("TaoSolve", {})
+        rows.append((thousands(run["rows"]), str(run["ranks"]), run["type"], run["status"],
+                     thousands(run["iterations"]), sci(run["residual"]),
+                     dur(run["generate_s"]), dur(run["solve_s"]), dur(run["job_s"]),
+                     _memory(run), thousands(tao.get("messages", 0)),
+                     thousands(tao.get("reductions", 0)), num(run["load_average"])))
+    return table(("rows", "ranks", "type", "status", "iterations", "residual (N)",
+                  "build rows", "solve", "job", "peak memory per rank (MB)",
+                  "messages in TaoSolve", "reductions in TaoSolve", "load"), rows,
+                 "rrllrrrrrlrrr")
+
+
+@generator("generate-model", GENERATE)
+def _generate_model(src):
+    base, per_row, checks, fit = generate_model(src.json(GENERATE))
+    rows = [(thousands(x["rows"]), str(x["ranks"]), str(round(p)), str(round(m)),
+             minus(f"{num(100 * (m - p) / p)} %")) for x, p, m in checks]
+    return (f"Fitted here: an empty rank {round(base)} MB (the 10-row job); {round(per_row)} "
+            f"bytes a row (bqpip; the slope between the {thousands(fit[0])}- and "
+            f"{thousands(fit[1])}-row jobs at 1 rank). Against "
+            f"every bqpip run of at least 100,000 rows:\n\n"
+            + table(("rows", "ranks", "model: base + bytes a row × rows / ranks (MB)",
+                     "measured, largest rank (MB)", "off by"), rows, "rrrrr"))
+
+
+@generator("generate-model-1e8", GENERATE)
+def _generate_model_1e8(src):
+    base, per_row, _, _ = generate_model(src.json(GENERATE))
+    parts = []
+    for ranks in (16, 64, 256):
+        mb = base + per_row * 1e8 / ranks / 2**20
+        parts.append(f"{ranks} ranks {num(mb / 1024, 2)} GB each" if mb >= 1024
+                     else f"{ranks} ranks {round(mb)} MB each")
+    total = per_row * 1e8 / 2**30
+    return (f"10⁸ rows need {num(total, 2)} GB of rows in all ({round(per_row)} bytes a row) "
+            f"plus {round(base)} MB a rank: " + ", ".join(parts))
+
+
+@generator("generate-messages", GENERATE)
+def _generate_messages(src):
+    r = src.json(GENERATE)
+    run = next(x for x in need(r, "runs", where=GENERATE)
+               if x["ranks"] == 2 and x["type"] == "bqpip" and x["rows"] == 1000000)
+    ev = run["log_view"]["events"]
+    tao, mult = ev["TaoSolve"], ev["MatMult"]
+    its = max(run["iterations"], 1)
+    return (f"1,000,000 rows at 2 ranks, bqpip, {its} iterations: `TaoSolve` sent "
+            f"{thousands(tao['messages'])} messages of {num(tao['average_bytes'])} bytes on "
+            f"average and made {thousands(tao['reductions'])} reductions "
+            f"({num(tao['reductions'] / its)} an iteration); the job's {thousands(mult['calls'])} "
+            f"`MatMult`s sent {thousands(mult['messages'])} messages "
+            f"({num(mult['messages'] / mult['calls'] / run['ranks'])} a rank a product)")
+
+
+@generator("read-rows", GENERATE)
+def _read_rows(src):
+    parts = []
+    for x in need(src.json(GENERATE), "read", where=GENERATE):
+        parts.append(f"{x['ranks']} rank{'s' if x['ranks'] > 1 else ''}: {x['status']}, read in "
+                     f"{dur(x['read_s'])}, solved in {dur(x['solve_s'])}, "
+                     f"{', '.join(str(round(m)) for m in x['rank_memory_mb'])} MB")
+    return "; ".join(parts)
+
+
+@generator("generate-exact", GENERATE)
+def _generate_exact(src):
+    e = need(src.json(GENERATE), "exact", where=GENERATE)
+    d, g = e["direct"], e["generated"]
+    return (f"{thousands(e['rows'])} rows: the direct path on the serial folder {d['status']} "
+            f"with residual {sci(d['residual'])} N, `mpirun -n 2` tao:bqpip on the generated "
+            f"problem {g['status']} with {sci(g['residual'])} N (solved at ≤ "
+            f"{sci(1e-9 * d['scale'])} N, scale {num(d['scale'])}); their λ differ by at most "
+            f"{sci(e['lambda_max_difference'])} N (largest |λ| {num(e['lambda_largest'])} N)")
+
+
+# ---------------------------------------------------------------------------------------------
+# TAO beside PGS (scripts/measure_tao_studies.py: validation/results/distributed/tao-studies.json).
+
+TAO_STUDIES = "validation/results/distributed/tao-studies.json"
+
+
+def _tao_reached(x, tol):
+    r = (x.get("reached") or {}).get(tol)
+    return "–" if r is None else f"{thousands(r['iterations'])} / {dur(r['time_s'])}"
+
+
+def _tao_converge(src, name, tolerances):
+    c = need(src.json(TAO_STUDIES), "converge", name, where=TAO_STUDIES)
+    rows = []
+    for x in c["solvers"]:
+        stopped = "" if x["stopped"] in ("residual tolerance", None) else f" ({x['stopped']})"
+        rows.append((f"`{x['solver']}`", thousands(x["iterations"]), dur(x["time_s"]) + stopped,
+                     sci(x["residual"]), sci(x["velocity_error"]))
+                    + tuple(_tao_reached(x, t) for t in tolerances))
+    return table(("solver", "sweeps", "time", "residual (N)", "v₂ − v₂ of direct (m/s)")
+                 + tuple(f"to {t} N (sweeps / time)" for t in tolerances), rows,
+                 "lrrrr" + "r" * len(tolerances))
+
+
+@generator("tao-converge-chain", TAO_STUDIES)
+def _tao_converge_chain(src):
+    return _tao_converge(src, "chain", ("1e-06", "1e-10"))
+
+
+@generator("tao-converge-stack", TAO_STUDIES)
+def _tao_converge_stack(src):
+    return _tao_converge(src, "stack", ("0.001", "1e-06"))
+
+
+@generator("tao-profile", TAO_STUDIES)
+def _tao_profile(src):
+    pr = need(src.json(TAO_STUDIES), "profile", where=TAO_STUDIES)
+    n = len(pr["problems"])
+
+    def rho(measure):
+        for p in pr["profiles"]:
+            if p["measure"] == measure and abs(p["tolerance"] - 1e-10) <= 1e-13:
+                return p["rho"]
+        raise SourceError(f"{TAO_STUDIES}: no {measure} profile at 1e-10")
+    time10, sweeps10 = rho("time"), rho("sweeps")
+    rows = []
+    for solver in pr["solvers"]:
+        name = solver["solver"]
+        t = time10[name]
+        sw = ("–", "–") if solver["exact"] else (num(sweeps10[name]["1"], 3),
+                                                 num(sweeps10[name]["10"], 3))
+        rows.append((f"`{name}`", f"{round(t['inf'] * n)}/{n}", num(t["1"], 3), num(t["10"], 3))
+                    + sw)
+    return table(("solver", "solved", "time ρ(1)", "time ρ(10)", "sweeps ρ(1)",
+                  "sweeps ρ(10)"), rows, "lrrrrr")
+
+
+@generator("tao-profile-unsolved", TAO_STUDIES)
+def _tao_profile_unsolved(src):
+    pr = need(src.json(TAO_STUDIES), "profile", where=TAO_STUDIES)
+    parts = []
+    for solver in pr["solvers"]:
+        if solver["method"] != "tao":
+            continue
+        missed = [f"{m['problem']} ({sci(m['residual_relative'])})"
+                  for m in pr["measurements"]
+                  if m["solver"] == solver["solver"] and m["status"] != "solved"]
+        parts.append(f"`{solver['solver']}` " + (", ".join(missed) if missed else "none"))
+    return "; ".join(parts)
+
+
+@generator("tao-profile-size", TAO_STUDIES)
+def _tao_profile_size(src):
+    pr = need(src.json(TAO_STUDIES), "profile", where=TAO_STUDIES)
+    rows = [p["rows"] for p in pr["problems"]]
+    return (f"{len(rows)} problems, {min(rows)} to {max(rows)} rows; "
+            f"{dur(pr['wall_time_s'])} in all")
