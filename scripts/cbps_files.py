@@ -8,7 +8,7 @@ Whole or not at all: every file goes to a hidden temporary file beside it, ".NAM
 is removed and NAME keeps its old content. The new file has the permissions a plain open()
 gives (0666 less the umask).
 
-Non-finite numbers in JSON, which has none: as `number_json` in src/cli/common.cpp writes them
+Non-finite numbers in JSON, which has none: as `number_json` (include/cbps/io/json_numbers.hpp) writes them
 (docs/outputs.md, "JSON numbers"), inf, -inf and NaN are the strings "inf", "-inf" and "nan".
 The writers here turn every non-finite float into those strings and never write Python's
 non-standard NaN/Infinity tokens (allow_nan=False); null keeps its meaning in each format (no

@@ -63,29 +63,6 @@ MODULES = {
 for _module in MODULES.values():
     importlib.import_module(_module)
 
-# The order --list prints the parts in: the order of the single doc_tables.py before it was split
-# per document (by result file), kept so that --list reads as before. A part not named here is
-# listed after these, in the order of MODULES.
-LIST_ORDER = (
-    "pendulum-wave", "pendulum-wave-center-error", "pendulum-wave-center-phase",
-    "pendulum-wave-runs", "validation-periods", "validation-periods-full",
-    "validation-asymptotic", "validation-beta", "validation-beta-zero",
-    "validation-elliptic-k", "bench-system", "bench-system-all", "bench-sweeps",
-    "bench-sweeps-bandwidth", "bench-sweeps-pyramid91", "bench-contacts", "bench-direct",
-    "bench-direct-stack", "bench-exact", "contacts-stack", "contacts-stack-spectrum",
-    "contacts-block-residual", "contacts-summary", "contacts-v-corner",
-    "contacts-v-corner-margin0", "contacts-bounce", "contacts-slide", "contacts-overlap",
-    "contacts-column", "contacts-wall", "contacts-slide-euler-gap", "contacts-slide-pgs",
-    "contacts-figure-energies", "contacts-column-coulomb-slip", "contacts-column-cost",
-    "stack-ingredients", "stack-ingredients-seeds", "profile-table", "profile-headline",
-    "profile-budget", "stress", "stress-counts", "convergence-chain", "convergence-stack",
-    "convergence-pyramid", "convergence-findings", "limits-stack-check",
-    "limits-pyramid-check", "limits-pyramid-direct", "tao-measured", "generate-measured",
-    "generate-model", "generate-model-1e8", "generate-messages", "generate-headline",
-    "read-rows", "generate-exact", "tao-converge-chain", "tao-converge-stack", "tao-profile",
-    "tao-profile-unsolved", "tao-profile-size",
-)
-
 BLOCK = re.compile(r"^(?P<indent>[ \t]*)<!-- table: (?P<name>[A-Za-z0-9_.:/+-]+)"
                    r"(?P<rest>[^\n]*?)-->\n(?P<body>.*?)[ \t]*<!-- /table -->", re.S | re.M)
 VALUE = re.compile(r"<!-- value: (?P<name>[A-Za-z0-9_.:/+-]+) -->(?P<body>[^\n]*?)<!-- /value -->")
@@ -161,8 +138,7 @@ def main(argv=None):
         os.path.abspath(__file__))), help="the repository (default: the script's)")
     args = parser.parse_args(argv)
     if args.list:
-        listed = [n for n in LIST_ORDER if n in GENERATORS]
-        for name in listed + [n for n in GENERATORS if n not in listed]:
+        for name in GENERATORS:  # document by document, in the order of MODULES
             print(f"{name}: {', '.join(GENERATORS[name][0])}")
         print(f"stress:CASE:SOLVER:FIELD:FORMAT: {STRESS}")
         return 0
