@@ -27,113 +27,8 @@ struct StressOptions {
   bool quiet = false;
 };
 
-std::string sci(double x) {
-  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g", x);
-  return buf;
-}
-
-nlohmann::json result_json(const StressResult& r) {
-  nlohmann::json j;
-  j["case"] = r.case_name;
-  j["solver"] = r.solver;
-  j["status"] = r.status;
-  if (!r.note.empty()) j["note"] = r.note;
-  if (r.status == "skipped") return j;
-  j["steps"] = r.steps;
-  j["steps_done"] = r.steps_done;
-  j["max_rows"] = r.max_rows;
-  j["max_constraint_error_m"] = number_json(r.max_constraint_error);
-  j["max_penetration_m"] = number_json(r.max_penetration);
-  j["energy_initial_J"] = number_json(r.energy_initial);
-  j["energy_final_J"] = number_json(r.energy_final);
-  j["energy_change_J"] = number_json(r.energy_final - r.energy_initial);
-  j["final_residual_N"] = number_json(r.final_residual);
-  j["max_residual_N"] = number_json(r.max_residual);
-  j["condition"] = {{"value", number_json(r.condition.condition)},
-                    {"lambda_max", number_json(r.condition.lambda_max)},
-                    {"lambda_min", number_json(r.condition.lambda_min)},
-                    {"range_condition", number_json(r.condition.range_condition)},
-                    {"nullity", r.condition.nullity},
-                    {"exact", r.condition.exact},
-                    {"method", r.condition.method}};
-  if (r.cfm > 0.0) {
-    j["regularization"] = {{"cfm", r.cfm},
-                           {"max_acceleration_error", number_json(r.cfm_acceleration_error)}};
-  }
-  j["wall_time_s"] = r.wall_time_s;
-  j["stable"] = r.status == "stable";
-  j["measure"] = r.verdict.measure;
-  nlohmann::json extra = nlohmann::json::object();
-  for (const auto& [name, value] : r.verdict.extra) extra[name] = number_json(value);
-  j["measured"] = extra;
-  return j;
-}
-
-/// A divergence message without its "step N (t = …), system:" head (the table shows the step).
-std::string short_divergence(const std::string& message) {
-  const auto colon = message.find("): ");
-  return colon == std::string::npos ? message : "guard: " + message.substr(colon + 3);
-}
-
-/// One Markdown table row per run; the same text goes to stdout and stress.md.
-std::string table(const std::vector<StressResult>& results) {
-  const std::vector<std::string> header = {"case",
-                                           "solver",
-                                           "stable",
-                                           "max |c| m",
-                                           "max pen. m",
-                                           "ΔE J",
-                                           "residual N",
-                                           "cond(A)",
-                                           "wall s",
-                                           "judged on"};
-  std::vector<std::vector<std::string>> rows;
-  for (const StressResult& r : results) {
-    if (r.status == "skipped") {
-      rows.push_back({r.case_name, r.solver, "skipped", "", "", "", "", "", "", r.note});
-      continue;
-    }
-    std::string stable = r.status == "stable" ? "yes" : r.status == "unstable" ? "NO" : r.status;
-    if (r.status == "diverged" || r.status == "budget")
-      stable += " @" + std::to_string(r.steps_done);
-    std::string cond = sci(r.condition.condition);
-    if (!r.condition.exact) cond += "~";
-    if (r.condition.nullity > 0) cond += " (null " + std::to_string(r.condition.nullity) + ")";
-    rows.push_back({r.case_name,
-                    r.solver,
-                    stable,
-                    sci(r.max_constraint_error),
-                    sci(r.max_penetration),
-                    sci(r.energy_final - r.energy_initial),
-                    sci(r.final_residual),
-                    cond,
-                    sci(r.wall_time_s),
-                    r.status == "diverged" ? short_divergence(r.note) : r.verdict.measure});
-  }
-  std::ostringstream out;
-  const auto line = [&](const std::vector<std::string>& cells) {
-    out << "|";
-    for (const std::string& cell : cells) {
-      out << " ";
-      for (const char ch : cell) {
-        if (ch == '|') out << '\\';  // a Markdown table cell keeps its |c| and |ΔL|
-        out << ch;
-      }
-      out << " |";
-    }
-    out << "\n";
-  };
-  line(header);
-  out << "|";
-  for (std::size_t k = 0; k < header.size(); ++k) out << (k >= 3 && k <= 8 ? "---:|" : "---|");
-  out << "\n";
-  for (const auto& row : rows) line(row);
-  return out.str();
-}
-
-int stress_command(const StressOptions& o) {
+/// The cases --case selects (all without it).
+std::vector<StressCase> selected_cases(const StressOptions& o) {
   std::vector<StressCase> cases = stress_catalogue();
   if (!o.cases.empty()) {
     std::regex pattern;
@@ -145,6 +40,26 @@ int stress_command(const StressOptions& o) {
     std::erase_if(cases, [&](const StressCase& c) { return !std::regex_search(c.name, pattern); });
     if (cases.empty()) throw InputError("--case '" + o.cases + "': matches no case (see --list)");
   }
+  return cases;
+}
+
+/// --list: each case, what stable means, its solvers.
+void print_cases(const std::vector<StressCase>& cases) {
+  for (const StressCase& c : cases) {
+    std::printf("%s [%s], %ld steps: %s\n  stable means: %s\n  solvers:",
+                c.name.c_str(),
+                c.group.c_str(),
+                c.steps,
+                c.description.c_str(),
+                c.stable_means.c_str());
+    for (const std::string& s : c.solvers) std::printf(" %s", s.c_str());
+    for (const auto& [s, why] : c.skipped) std::printf(" (%s skipped: %s)", s.c_str(), why.c_str());
+    std::printf("\n");
+  }
+}
+
+int stress_command(const StressOptions& o) {
+  const std::vector<StressCase> cases = selected_cases(o);
   std::vector<std::string> keep;
   if (!o.solvers.empty()) {
     for (const SolverSpec& spec : parse_solver_list(o.solvers, "--solver"))
@@ -154,122 +69,67 @@ int stress_command(const StressOptions& o) {
     return keep.empty() || solver == "-" ||
            std::find(keep.begin(), keep.end(), solver) != keep.end();
   };
-
   if (o.list) {
-    for (const StressCase& c : cases) {
-      std::printf("%s [%s], %ld steps: %s\n  stable means: %s\n  solvers:",
-                  c.name.c_str(),
-                  c.group.c_str(),
-                  c.steps,
-                  c.description.c_str(),
-                  c.stable_means.c_str());
-      for (const std::string& s : c.solvers) std::printf(" %s", s.c_str());
-      for (const auto& [s, why] : c.skipped)
-        std::printf(" (%s skipped: %s)", s.c_str(), why.c_str());
-      std::printf("\n");
-    }
+    print_cases(cases);
     return 0;
   }
 
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
-
-  std::size_t total = 0;
-  for (const StressCase& c : cases)
-    total += static_cast<std::size_t>(std::count_if(c.solvers.begin(), c.solvers.end(), kept));
-  std::vector<StressResult> results;
   const auto start = std::chrono::steady_clock::now();
-  std::size_t done = 0;
-  for (const StressCase& c : cases) {
-    for (const std::string& solver : c.solvers) {
-      if (!kept(solver)) continue;
-      ++done;
-      auto last = std::chrono::steady_clock::now();
-      const auto progress = [&](long step, long steps) {
-        const auto now = std::chrono::steady_clock::now();
-        if (o.quiet || now - last < std::chrono::seconds(5)) return;
-        last = now;
-        std::fprintf(stderr,
-                     "cbps stress: [%zu/%zu] %s %s: step %ld/%ld\n",
-                     done,
-                     total,
-                     c.name.c_str(),
-                     solver.c_str(),
-                     step,
-                     steps);
-      };
-      StressResult r = run_stress(c, solver, o.budget, progress);
-      if (!o.quiet) {
-        std::fprintf(
-            stderr,
-            "cbps stress: [%zu/%zu] %s %s: %s, %.2f s (%.0f s in all)\n",
-            done,
-            total,
-            c.name.c_str(),
-            solver.c_str(),
-            r.status.c_str(),
-            r.wall_time_s,
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-      }
-      results.push_back(std::move(r));
+  auto last = start;
+  const auto progress = [&](std::size_t done,
+                            std::size_t total,
+                            const StressCase& c,
+                            const std::string& solver,
+                            long step,
+                            long steps,
+                            const StressResult* r) {
+    const auto now = std::chrono::steady_clock::now();
+    if (o.quiet || (r == nullptr && now - last < std::chrono::seconds(5))) return;
+    if (r == nullptr) {
+      last = now;
+      std::fprintf(stderr,
+                   "cbps stress: [%zu/%zu] %s %s: step %ld/%ld\n",
+                   done,
+                   total,
+                   c.name.c_str(),
+                   solver.c_str(),
+                   step,
+                   steps);
+      return;
     }
-    for (const auto& [solver, why] : c.skipped) {
-      if (!kept(solver)) continue;
-      StressResult r;
-      r.case_name = c.name;
-      r.solver = solver;
-      r.status = "skipped";
-      r.note = why;
-      results.push_back(std::move(r));
-    }
-  }
-
-  nlohmann::json report;
-  report["cases"] = nlohmann::json::array();
-  for (const StressCase& c : cases) {
-    report["cases"].push_back({{"name", c.name},
-                               {"group", c.group},
-                               {"description", c.description},
-                               {"stable_means", c.stable_means},
-                               {"steps", c.steps}});
-  }
-  report["results"] = nlohmann::json::array();
-  int stable = 0, unstable = 0, diverged = 0, other = 0;
-  for (const StressResult& r : results) {
-    report["results"].push_back(result_json(r));
-    if (r.status == "stable")
-      ++stable;
-    else if (r.status == "unstable")
-      ++unstable;
-    else if (r.status == "diverged")
-      ++diverged;
-    else
-      ++other;
-  }
-  report["counts"] = {
-      {"stable", stable}, {"unstable", unstable}, {"diverged", diverged}, {"other", other}};
-  report["wall_time_s"] =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  const std::string text = table(results);
+    last = now;
+    std::fprintf(stderr,
+                 "cbps stress: [%zu/%zu] %s %s: %s, %.2f s (%.0f s in all)\n",
+                 done,
+                 total,
+                 c.name.c_str(),
+                 solver.c_str(),
+                 r->status.c_str(),
+                 r->wall_time_s,
+                 std::chrono::duration<double>(now - start).count());
+  };
+  const std::vector<StressResult> results = run_stress_catalogue(cases, kept, o.budget, progress);
+  const nlohmann::json report = stress_report_json(
+      cases,
+      results,
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   if (dir) {
-    std::ostringstream md;
-    md << "# cbps stress\n\n" << text << "\n## What stable means\n\n";
-    for (const StressCase& c : cases)
-      md << "- **" << c.name << "** (" << c.description << "): " << c.stable_means << "\n";
-    write_text(dir->file("stress.md"), md.str());
+    write_text(dir->file("stress.md"), stress_markdown(cases, results));
     write_text(dir->file("summary.json"), report.dump(2) + "\n");
     dir->commit();
   }
   if (o.json) {
     std::cout << report.dump(2) << "\n";
   } else {
-    std::cout << text;
+    const nlohmann::json& counts = report["counts"];
+    std::cout << stress_table(results);
     std::printf("%d stable, %d unstable, %d diverged, %d skipped or out of budget; %.0f s\n",
-                stable,
-                unstable,
-                diverged,
-                other,
+                counts["stable"].get<int>(),
+                counts["unstable"].get<int>(),
+                counts["diverged"].get<int>(),
+                counts["other"].get<int>(),
                 report["wall_time_s"].get<double>());
     if (dir) std::printf("wrote %s\n", o.out.c_str());
   }

@@ -9,6 +9,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
+#include "cbps/io/json_numbers.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/studies/euler_reference.hpp"
 #include "cbps/studies/run.hpp"
@@ -821,6 +822,187 @@ StressResult run_stress(const StressCase& c,
   r.verdict = probe->finish(sim);
   if (r.status.empty()) r.status = r.verdict.stable ? "stable" : "unstable";
   return r;
+}
+
+namespace {
+
+std::string sci(double x) {
+  if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g", x);
+  return buf;
+}
+
+/// A divergence message without its "step N (t = …), system:" head (the table shows the step).
+std::string short_divergence(const std::string& message) {
+  const auto colon = message.find("): ");
+  return colon == std::string::npos ? message : "guard: " + message.substr(colon + 3);
+}
+
+}  // namespace
+
+nlohmann::json stress_result_json(const StressResult& r) {
+  nlohmann::json j;
+  j["case"] = r.case_name;
+  j["solver"] = r.solver;
+  j["status"] = r.status;
+  if (!r.note.empty()) j["note"] = r.note;
+  if (r.status == "skipped") return j;
+  j["steps"] = r.steps;
+  j["steps_done"] = r.steps_done;
+  j["max_rows"] = r.max_rows;
+  j["max_constraint_error_m"] = number_json(r.max_constraint_error);
+  j["max_penetration_m"] = number_json(r.max_penetration);
+  j["energy_initial_J"] = number_json(r.energy_initial);
+  j["energy_final_J"] = number_json(r.energy_final);
+  j["energy_change_J"] = number_json(r.energy_final - r.energy_initial);
+  j["final_residual_N"] = number_json(r.final_residual);
+  j["max_residual_N"] = number_json(r.max_residual);
+  j["condition"] = {{"value", number_json(r.condition.condition)},
+                    {"lambda_max", number_json(r.condition.lambda_max)},
+                    {"lambda_min", number_json(r.condition.lambda_min)},
+                    {"range_condition", number_json(r.condition.range_condition)},
+                    {"nullity", r.condition.nullity},
+                    {"exact", r.condition.exact},
+                    {"method", r.condition.method}};
+  if (r.cfm > 0.0) {
+    j["regularization"] = {{"cfm", r.cfm},
+                           {"max_acceleration_error", number_json(r.cfm_acceleration_error)}};
+  }
+  j["wall_time_s"] = r.wall_time_s;
+  j["stable"] = r.status == "stable";
+  j["measure"] = r.verdict.measure;
+  nlohmann::json extra = nlohmann::json::object();
+  for (const auto& [name, value] : r.verdict.extra) extra[name] = number_json(value);
+  j["measured"] = extra;
+  return j;
+}
+
+std::string stress_table(const std::vector<StressResult>& results) {
+  const std::vector<std::string> header = {"case",
+                                           "solver",
+                                           "stable",
+                                           "max |c| m",
+                                           "max pen. m",
+                                           "ΔE J",
+                                           "residual N",
+                                           "cond(A)",
+                                           "wall s",
+                                           "judged on"};
+  std::vector<std::vector<std::string>> rows;
+  for (const StressResult& r : results) {
+    if (r.status == "skipped") {
+      rows.push_back({r.case_name, r.solver, "skipped", "", "", "", "", "", "", r.note});
+      continue;
+    }
+    std::string stable = r.status == "stable" ? "yes" : r.status == "unstable" ? "NO" : r.status;
+    if (r.status == "diverged" || r.status == "budget")
+      stable += " @" + std::to_string(r.steps_done);
+    std::string cond = sci(r.condition.condition);
+    if (!r.condition.exact) cond += "~";
+    if (r.condition.nullity > 0) cond += " (null " + std::to_string(r.condition.nullity) + ")";
+    rows.push_back({r.case_name,
+                    r.solver,
+                    stable,
+                    sci(r.max_constraint_error),
+                    sci(r.max_penetration),
+                    sci(r.energy_final - r.energy_initial),
+                    sci(r.final_residual),
+                    cond,
+                    sci(r.wall_time_s),
+                    r.status == "diverged" ? short_divergence(r.note) : r.verdict.measure});
+  }
+  std::ostringstream out;
+  const auto line = [&](const std::vector<std::string>& cells) {
+    out << "|";
+    for (const std::string& cell : cells) {
+      out << " ";
+      for (const char ch : cell) {
+        if (ch == '|') out << '\\';  // a Markdown table cell keeps its |c| and |ΔL|
+        out << ch;
+      }
+      out << " |";
+    }
+    out << "\n";
+  };
+  line(header);
+  out << "|";
+  for (std::size_t k = 0; k < header.size(); ++k) out << (k >= 3 && k <= 8 ? "---:|" : "---|");
+  out << "\n";
+  for (const auto& row : rows) line(row);
+  return out.str();
+}
+
+std::vector<StressResult> run_stress_catalogue(const std::vector<StressCase>& cases,
+                                               const std::function<bool(const std::string&)>& kept,
+                                               double budget_s,
+                                               const StressProgress& progress) {
+  std::size_t total = 0;
+  for (const StressCase& c : cases)
+    total += static_cast<std::size_t>(std::count_if(c.solvers.begin(), c.solvers.end(), kept));
+  std::vector<StressResult> results;
+  std::size_t done = 0;
+  for (const StressCase& c : cases) {
+    for (const std::string& solver : c.solvers) {
+      if (!kept(solver)) continue;
+      ++done;
+      const auto step_progress = [&](long step, long steps) {
+        if (progress) progress(done, total, c, solver, step, steps, nullptr);
+      };
+      results.push_back(run_stress(c, solver, budget_s, step_progress));
+      if (progress) progress(done, total, c, solver, c.steps, c.steps, &results.back());
+    }
+    for (const auto& [solver, why] : c.skipped) {
+      if (!kept(solver)) continue;
+      StressResult r;
+      r.case_name = c.name;
+      r.solver = solver;
+      r.status = "skipped";
+      r.note = why;
+      results.push_back(std::move(r));
+    }
+  }
+  return results;
+}
+
+nlohmann::json stress_report_json(const std::vector<StressCase>& cases,
+                                  const std::vector<StressResult>& results,
+                                  double wall_time_s) {
+  nlohmann::json report;
+  report["cases"] = nlohmann::json::array();
+  for (const StressCase& c : cases) {
+    report["cases"].push_back({{"name", c.name},
+                               {"group", c.group},
+                               {"description", c.description},
+                               {"stable_means", c.stable_means},
+                               {"steps", c.steps}});
+  }
+  report["results"] = nlohmann::json::array();
+  int stable = 0, unstable = 0, diverged = 0, other = 0;
+  for (const StressResult& r : results) {
+    report["results"].push_back(stress_result_json(r));
+    if (r.status == "stable")
+      ++stable;
+    else if (r.status == "unstable")
+      ++unstable;
+    else if (r.status == "diverged")
+      ++diverged;
+    else
+      ++other;
+  }
+  report["counts"] = {
+      {"stable", stable}, {"unstable", unstable}, {"diverged", diverged}, {"other", other}};
+  report["wall_time_s"] = wall_time_s;
+  return report;
+}
+
+std::string stress_markdown(const std::vector<StressCase>& cases,
+                            const std::vector<StressResult>& results) {
+  std::ostringstream md;
+  md << "# cbps stress\n\n" << stress_table(results) << "\n## What stable means\n\n";
+  for (const StressCase& c : cases)
+    md << "- **" << c.name << "** (" << c.description << "): " << c.stable_means << "\n";
+  return md.str();
 }
 
 }  // namespace cbps

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
@@ -78,5 +79,35 @@ StressResult run_stress(const StressCase& c,
                         const std::string& solver,
                         double budget_s,
                         const std::function<void(long, long)>& progress = {});
+
+/// Progress of run_stress_catalogue: run `done` of `total` (case c, solver spec), at `step` of
+/// `steps`; `result` is set once the run has ended, null while it runs.
+using StressProgress = std::function<void(std::size_t done,
+                                          std::size_t total,
+                                          const StressCase& c,
+                                          const std::string& solver,
+                                          long step,
+                                          long steps,
+                                          const StressResult* result)>;
+
+/// Every case with every solver of its list that `kept` keeps ("-" for a case without rows),
+/// in the catalogue's order, each followed by the solvers the case leaves out (status
+/// "skipped", with the reason).
+std::vector<StressResult> run_stress_catalogue(const std::vector<StressCase>& cases,
+                                               const std::function<bool(const std::string&)>& kept,
+                                               double budget_s,
+                                               const StressProgress& progress = {});
+
+/// One result as summary.json's "results" show it (docs/stress.md).
+nlohmann::json stress_result_json(const StressResult& r);
+/// summary.json of `cbps stress --out`: the cases, the results, counts by status, wall time.
+nlohmann::json stress_report_json(const std::vector<StressCase>& cases,
+                                  const std::vector<StressResult>& results,
+                                  double wall_time_s);
+/// The Markdown table, one row per run: what `cbps stress` prints and stress.md holds.
+std::string stress_table(const std::vector<StressResult>& results);
+/// stress.md: the table and what stable means for each case.
+std::string stress_markdown(const std::vector<StressCase>& cases,
+                            const std::vector<StressResult>& results);
 
 }  // namespace cbps
