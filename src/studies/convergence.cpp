@@ -1,0 +1,232 @@
+#include "cbps/studies/convergence.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include "cbps/base/error.hpp"
+#include "cbps/scene/scene.hpp"
+#include "cbps/solvers/direct.hpp"
+
+namespace cbps {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/// A number of convergence.csv: 9 significant digits, empty for NaN (not measured).
+std::string csv_number(double x) {
+  if (std::isnan(x)) return "";
+  std::ostringstream out;
+  out.precision(9);
+  out << x;
+  return out.str();
+}
+
+nlohmann::json json_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+std::string milestone_key(double residual) { return csv_number(residual); }
+
+ConvergenceSystem convergence_system(const std::string& path) {
+  ConvergenceSystem s;
+  s.name = path;
+  s.stored = read_problem(path);
+  // The direct path (the reference) solves the QP of 6.2, which needs a symmetric A.
+  require_symmetric(s.stored, "converge " + path);
+  s.previous_lambda = VecX::Zero(s.stored.rows());
+  return s;
+}
+
+ConvergenceSystem convergence_system(
+    const std::string& name, long step, const System& sys, double cfm, VecX previous_lambda) {
+  ConvergenceSystem s;
+  s.name = name;
+  s.step = step;
+  s.stored = stored_problem(sys, cfm);
+  s.previous_lambda = std::move(previous_lambda);
+  return s;
+}
+
+SolverSummary solve_reference(ConvergenceSystem& s) {
+  s.lambda_star = VecX::Zero(s.stored.rows());
+  // Handed J and Minv, the direct path factors in body space (M + Jᵀ D⁻¹ J); on A alone it
+  // would factor A + D in row space, 100× slower on the base-20 pyramid (0.2 s against 22 s).
+  SolverOptions options;
+  options.method = Method::Direct;
+  options.cfm = s.stored.cfm;
+  const SolverSummary d = solve(s.problem(), s.lambda_star, options);
+  s.lambda_unique = cholesky_rcond(with_cfm(s.stored.A, s.stored.cfm)) >= kDefiniteRcond;
+  if (s.has_bodies()) s.v2_star = s.v2(s.lambda_star);
+  return d;
+}
+
+ConvergenceSample measure(const ConvergenceSystem& s,
+                          const VecX& lambda,
+                          int iteration,
+                          double time_s) {
+  ConvergenceSample m;
+  m.iteration = iteration;
+  m.time_s = time_s;
+  const VecX Alambda = s.stored.A * lambda + s.stored.cfm * lambda;  // (A + eps E) λ
+  m.residual = s.residual(lambda);
+  m.objective = 0.5 * lambda.dot(Alambda) - s.stored.b.dot(lambda);  // (6.2)
+  if (s.lambda_unique) m.lambda_error = (lambda - s.lambda_star).lpNorm<Eigen::Infinity>();
+  if (s.has_bodies()) m.velocity_error = (s.v2(lambda) - s.v2_star).lpNorm<Eigen::Infinity>();
+  return m;
+}
+
+ConvergenceRun run_iterative(const ConvergenceSystem& s,
+                             const SolverSpec& spec,
+                             const ConvergenceLimits& limits) {
+  if (needs_jacobian(spec.method) && !s.stored.has_jacobian())
+    throw InputError("--solvers " + spec.text + ": " + s.name +
+                     " has no J and Minv (a Siconos file); " + std::string(to_string(spec.method)) +
+                     " needs them");
+  if (spec.contacts_first && s.stored.kinds.empty())
+    throw InputError("--solvers " + spec.text + ": " + s.name +
+                     " has no row kinds (no labels.json); contacts_first needs a scene or a "
+                     "`cbps matrices` folder");
+  ConvergenceRun run;
+  run.spec = spec;
+  // The spec's warm-start factors on the previous step's lambda (7), row by row, as `cbps run
+  // --solver SPEC` starts the step: the spec's factors replace the scene's (apply_solver_spec).
+  SolverSettings factors;
+  apply_solver_spec(spec, factors);
+  VecX lambda = VecX::Zero(s.stored.rows());
+  for (std::size_t k = 0; k < s.stored.kinds.size(); ++k) {
+    const auto row = static_cast<Eigen::Index>(k);
+    lambda(row) = warm_guess(s.previous_lambda(row), factors.warm_factor(s.stored.kinds[k]));
+  }
+  run.samples.push_back(measure(s, lambda, 0, 0.0));
+  run.reach(0, 0.0, run.samples.back().residual);
+  // The last sweep's iterate when it was not recorded, to record it at the end.
+  VecX last_lambda;
+  int last_k = 0;
+  double last_time = 0.0;
+  SolverOptions options = study_options(spec, limits.iterations, s.stored.cfm);
+  options.seed = limits.seed;
+  options.after_sweep = [&](int k, const VecX& l, double time_s) {
+    const double residual = s.residual(l);
+    run.reach(k, time_s, residual);
+    if (!std::isfinite(residual)) run.stopped = "non-finite values";
+    if (residual <= limits.tolerance) run.stopped = "residual tolerance";
+    if (run.stopped.empty() && time_s >= limits.time_limit) run.stopped = "time limit";
+    const bool record =
+        k % limits.record_every == 0 || !run.stopped.empty() || k >= limits.iterations;
+    if (record)
+      run.samples.push_back(measure(s, l, k, time_s));
+    else
+      last_lambda = l;
+    last_k = k;
+    last_time = time_s;
+    if (limits.progress && k % 1000 == 0) limits.progress(spec, k, time_s, residual);
+    return run.stopped.empty();
+  };
+  solve(s.problem(), lambda, options);
+  if (run.stopped.empty()) run.stopped = "iteration limit";
+  if (run.samples.back().iteration != last_k)  // the solver stopped on its own
+    run.samples.push_back(measure(s, last_lambda, last_k, last_time));
+  return run;
+}
+
+ConvergenceRun run_exact(const ConvergenceSystem& s, const SolverSpec& spec) {
+  ConvergenceRun run;
+  run.spec = spec;
+  VecX lambda = VecX::Zero(s.stored.rows());
+  const auto start = Clock::now();
+  // solve() applies the cfm and hands on J and Minv (body space).
+  const SolverSummary d = solve(s.problem(), lambda, study_options(spec, 1, s.stored.cfm));
+  const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
+  run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);
+  run.stopped = to_string(d.termination);
+  return run;
+}
+
+std::string solved_by_guess_warning(const ConvergenceSystem& s,
+                                    const std::vector<ConvergenceRun>& runs,
+                                    double tolerance) {
+  // A step its guess already solves (step 0 of a chain released from rest: b = 0, lambda = 0)
+  // shows nothing: every solver "converges" in 0 sweeps.
+  std::string names;
+  for (const ConvergenceRun& run : runs) {
+    if (!is_iterative(run.spec.method) || !(run.samples.front().residual <= tolerance)) continue;
+    names += (names.empty() ? "" : ", ") + run.spec.text;
+  }
+  if (names.empty()) return "";
+  const std::string where = s.step ? s.name + " step " + std::to_string(*s.step) : s.name;
+  return where + " is already solved by the initial guess of " + names +
+         " (residual at the guess <= tolerance " + number_text(tolerance) +
+         " N), so they reach it at sweep 0 and show no convergence" +
+         (s.step ? "; study a later --step (e.g. --step 10)" : "");
+}
+
+nlohmann::json convergence_summary(const ConvergenceSystem& s,
+                                   const SolverSummary& reference,
+                                   const std::vector<ConvergenceRun>& runs,
+                                   const ConvergenceLimits& limits,
+                                   const std::string& warning) {
+  nlohmann::json summary;
+  summary["problem"] = s.name;
+  summary["rows"] = s.stored.rows();
+  summary["cfm"] = s.stored.cfm;  // the problem studied is A + eps E (kg^-1; 0: A itself)
+  summary["step"] = s.step ? nlohmann::json(*s.step) : nlohmann::json(nullptr);
+  summary["lambda_unique"] = s.lambda_unique;
+  summary["reference"] = {{"residual", reference.residual},
+                          {"termination", to_string(reference.termination)}};
+  summary["tolerance"] = limits.tolerance;
+  summary["record_every"] = limits.record_every;
+  summary["solved_by_initial_guess"] = !warning.empty();
+  summary["warnings"] = nlohmann::json::array();
+  if (!warning.empty()) summary["warnings"].push_back(warning);
+  summary["solvers"] = nlohmann::json::array();
+  for (const ConvergenceRun& run : runs) {
+    nlohmann::json j;
+    const ConvergenceSample& last = run.samples.back();
+    j["solver"] = run.spec.text;
+    j["method"] = run.spec.tao.empty() ? std::string(to_string(run.spec.method)) : "tao";
+    j["relaxation"] = run.spec.relaxation;
+    j["order"] = to_string(run.spec.order);
+    j["warm_start"] = run.spec.warm > 0.0 || run.spec.warm_friction.value_or(run.spec.warm) > 0.0;
+    j["warm"] = run.spec.warm;
+    j["warm_friction"] = run.spec.warm_friction.value_or(run.spec.warm);
+    j["contacts_first"] = run.spec.contacts_first;
+    j["stopped"] = run.stopped;
+    j["guess_residual"] = json_or_null(run.samples.front().residual);
+    j["samples"] = run.samples.size();
+    j["iterations"] = last.iteration;
+    j["time_s"] = last.time_s;
+    j["residual"] = json_or_null(last.residual);
+    j["lambda_error"] = json_or_null(last.lambda_error);
+    j["velocity_error"] = json_or_null(last.velocity_error);
+    nlohmann::json reached = nlohmann::json::object();
+    for (std::size_t i = 0; i < std::size(kConvergenceMilestones); ++i) {
+      const ConvergenceMilestone& at = run.reached[i];
+      reached[milestone_key(kConvergenceMilestones[i])] =
+          at.iteration < 0 ? nlohmann::json(nullptr)
+                           : nlohmann::json({{"iterations", at.iteration}, {"time_s", at.time_s}});
+    }
+    j["reached"] = reached;
+    summary["solvers"].push_back(j);
+  }
+  return summary;
+}
+
+std::string convergence_csv(const std::vector<ConvergenceRun>& runs) {
+  std::ostringstream csv;
+  csv << "solver,iteration,time_s,residual,lambda_error,velocity_error,objective\n";
+  for (const ConvergenceRun& run : runs) {
+    for (const ConvergenceSample& m : run.samples) {
+      csv << run.spec.text << ',' << m.iteration << ',' << csv_number(m.time_s) << ','
+          << csv_number(m.residual) << ',' << csv_number(m.lambda_error) << ','
+          << csv_number(m.velocity_error) << ',' << csv_number(m.objective) << '\n';
+    }
+  }
+  return csv.str();
+}
+
+}  // namespace cbps
