@@ -36,11 +36,15 @@ SpMat with_cfm(const SpMat& A, double eps) {
   return regularised;
 }
 
-double scale_of(const BoxedProblem& problem) {
+double scale_of(const BoxedProblem& problem, double cfm) {
   double s = 1.0;
   if (problem.b.size() > 0) s = std::max(s, problem.b.lpNorm<Eigen::Infinity>());
-  for (Eigen::Index j = 0; j < problem.A.outerSize(); ++j)
-    for (SpMat::InnerIterator it(problem.A, j); it; ++it) s = std::max(s, std::abs(it.value()));
+  // eps itself where A has no diagonal entry (a diagonal of J Minv Jᵀ is ≥ 0: |A_kk + eps| ≥ eps)
+  if (cfm != 0.0 && problem.rows() > 0) s = std::max(s, std::abs(cfm));
+  for (Eigen::Index j = 0; j < problem.A.outerSize(); ++j) {
+    for (SpMat::InnerIterator it(problem.A, j); it; ++it)
+      s = std::max(s, std::abs(it.value() + (it.row() == it.col() ? cfm : 0.0)));
+  }
   return s;
 }
 

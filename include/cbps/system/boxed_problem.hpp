@@ -107,6 +107,7 @@ SpMat with_cfm(const SpMat& A, double eps);
 
 /// The scale residuals are judged against, max(1, ‖b‖∞, max |A_ij|): a residual is small when
 /// it is small beside the data. `cbps lcp`, `--check` and the tests use this one definition.
-double scale_of(const BoxedProblem& problem);
+/// With constraint-force mixing eps (kg⁻¹) it is that of A + eps E.
+double scale_of(const BoxedProblem& problem, double cfm = 0.0);
 
 }  // namespace cbps

@@ -1,0 +1,147 @@
+// Performance profiles (Dolan & Moré, Math. Program. 91, 2002) of solvers over a problem
+// library (scripts/make_problem_library.py): the study behind `cbps profile`.
+//
+// Every solver runs on every problem from lambda = 0. After each sweep the natural-map residual
+// (6.2) is divided by the problem's scale, scale_of(A + eps E, b) = max(1, ‖b‖∞, max |A_ij|), the
+// one scale `cbps lcp` and the tests judge residuals by; the first sweep and time at which this
+// relative residual falls to 1e-3, 1e-6 and 1e-10 are the solver's costs there (not reached
+// within the budget: a failure, ratio ∞). Time is the wall time from the call of solve() to the
+// end of that sweep less the time spent measuring, so a method's setup (ADMM's factorization)
+// counts. The exact paths (direct, active-set) are one solve each: their cost at a tolerance is
+// the solve's time if its final residual meets it. They have no sweeps, so they are in the time
+// profiles only.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/studies/performance_profile.hpp"
+#include "cbps/studies/solver_spec.hpp"
+
+namespace cbps {
+
+/// The relative residuals whose first sweep and time are the costs (of scale_of).
+inline constexpr double kProfileTolerances[] = {1e-3, 1e-6, 1e-10};
+inline constexpr std::size_t kProfileTolerancesCount = std::size(kProfileTolerances);
+/// The tau at which the summary reports rho_s(tau).
+inline constexpr double kProfileTaus[] = {1.0, 2.0, 10.0};
+
+/// One problem of the library as its index (library.json) describes it.
+struct ProfileEntry {
+  std::string name;
+  std::string path;   ///< absolute: a `cbps matrices` folder or a Siconos .dat file
+  std::string exact;  ///< absolute: the direct path's lambda (lambda.mtx)
+  nlohmann::json index;
+};
+
+/// The index of LIBRARY (a folder holding library.json, or that file): its problems, only the
+/// quick ones with `quick`. InputError naming the file for anything missing or malformed.
+std::vector<ProfileEntry> read_library(const std::string& library, bool quick);
+
+/// A problem loaded for the solvers, with what is known about its answer. With a cfm.txt the
+/// problem is that of A + eps E (the one the step solved); A stays J Minv Jᵀ and eps travels in
+/// the solvers' options (study_options).
+struct ProfileProblem {
+  StoredProblem stored;
+  VecX exact;             ///< the library's lambda*, N
+  bool definite = false;  ///< rank A = rows: lambda* unique, so ‖λ − λ*‖ means something
+  double scale = 1.0;     ///< scale_of(A + eps E, b)
+  /// With the row kinds and manifolds of the folder's labels.json (read_problem).
+  BoxedProblem problem() const { return stored.problem(); }
+  /// The natural-map residual of lambda for the problem of A + eps E (6.2), N.
+  double residual(const VecX& lambda) const {
+    return natural_map_residual(problem(), lambda, stored.cfm);
+  }
+};
+
+/// Reads an entry's problem and lambda*; InputError when A is not symmetric or lambda* does not
+/// fit.
+ProfileProblem load_profile_problem(const ProfileEntry& e);
+
+/// The first sweep and time at which the relative residual reached a tolerance; −1: never.
+struct ProfileReached {
+  long iterations = -1;
+  double time_s = 0.0;
+};
+
+/// One solver on one problem.
+struct ProfileMeasurement {
+  std::string status;  ///< "solved" (1e-10 reached) or why it stopped short
+  long iterations = 0;
+  double time_s = 0.0;
+  double residual = NAN;      ///< relative, at the end
+  double lambda_error = NAN;  ///< ‖λ − λ*‖∞ at the end, N, where lambda* is unique
+  ProfileReached reached[kProfileTolerancesCount];
+  void reach(long iteration, double time, double relative_residual) {
+    for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
+      if (reached[i].iterations < 0 && relative_residual <= kProfileTolerances[i])
+        reached[i] = {iteration, time};
+  }
+};
+
+/// The budget of one solver on one problem.
+struct ProfileLimits {
+  int budget_iterations = 100000;  ///< sweeps (TAO's iterations for tao:TYPE)
+  double time_limit = 1.0;         ///< s
+};
+
+/// The final relative residual and lambda error of lambda.
+void finish_measurement(ProfileMeasurement& m, const ProfileProblem& p, const VecX& lambda);
+/// An iterative spec from lambda = 0, sweep by sweep, within the limits.
+ProfileMeasurement profile_iterative(const ProfileProblem& p,
+                                     const SolverSpec& spec,
+                                     const ProfileLimits& o);
+/// An exact spec: one solve.
+ProfileMeasurement profile_exact(const ProfileProblem& p, const SolverSpec& spec);
+
+/// One profile: a tolerance, a cost (time or sweeps) and the solvers it compares.
+struct Profile {
+  double tolerance = 0.0;
+  std::string measure;               ///< "time" or "sweeps"
+  std::vector<std::size_t> solvers;  ///< indices into the specs
+  CostTable ratios;                  ///< [problem][position in solvers]
+};
+
+/// The profile at tolerance index t of time (or sweeps) over runs[problem][spec].
+Profile make_profile(double tolerance,
+                     std::size_t t,
+                     bool sweeps,
+                     const std::vector<SolverSpec>& specs,
+                     const std::vector<std::vector<ProfileMeasurement>>& runs);
+
+/// summary.txt: per tolerance, per solver the problems solved and rho_s(tau) at 1, 2, 10 for
+/// time and sweeps.
+std::string profile_summary_text(const std::vector<ProfileEntry>& entries,
+                                 const std::vector<SolverSpec>& specs,
+                                 const std::vector<Profile>& profiles,
+                                 const ProfileLimits& o,
+                                 double wall_time_s);
+
+/// profile.json's entry of one profile.
+nlohmann::json profile_json(const Profile& profile, const std::vector<SolverSpec>& specs);
+
+/// profile.json (format cbps-profile/1, docs/outputs.md) and profile.csv of a finished study.
+struct ProfileReport {
+  nlohmann::json json;
+  std::string csv;
+};
+ProfileReport profile_report(const std::string& library,
+                             bool quick,
+                             const ProfileLimits& limits,
+                             double wall_time_s,
+                             const std::vector<ProfileEntry>& entries,
+                             const std::vector<ProfileProblem>& problems,
+                             const std::vector<SolverSpec>& specs,
+                             const std::vector<std::vector<ProfileMeasurement>>& runs,
+                             const std::vector<Profile>& profiles);
+
+/// InputError (exit 2) when two specs of --solvers would draw the same curve: the same text
+/// twice (`pgs,pgs`) or two texts for the same solver (`pgs,psor:1`, `pgs,pgs:warm=off`).
+void refuse_duplicates(const std::vector<SolverSpec>& specs, const std::string& list);
+
+}  // namespace cbps

@@ -1,0 +1,410 @@
+#include "cbps/studies/profile.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "cbps/base/error.hpp"
+#include "cbps/io/matrix_market.hpp"
+
+namespace cbps {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kLibraryFormat = "cbps-problem-library/1";
+
+std::string text_field(const nlohmann::json& j,
+                       const char* key,
+                       const std::string& file,
+                       const std::string& where) {
+  if (!j.contains(key) || !j[key].is_string())
+    throw InputError(file + ": " + where + "/" + key + ": missing or not a string");
+  return j[key].get<std::string>();
+}
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+/// Why a spec cannot run on a problem (empty: it can): what `cbps converge` refuses.
+std::string not_applicable(const SolverSpec& spec, const ProfileProblem& p) {
+  if (needs_jacobian(spec.method) && !p.stored.has_jacobian())
+    return "not applicable: no J and Minv (a Siconos file)";
+  if (spec.contacts_first && p.stored.kinds.empty())
+    return "not applicable: no row kinds (contacts_first needs labels.json)";
+  if (spec.method == Method::Lemke && p.stored.rows() > kMaxDenseLemkeRows)
+    return "not applicable: more than " + std::to_string(kMaxDenseLemkeRows) +
+           " rows (dense Lemke)";
+  return "";
+}
+
+std::string tolerance_key(double tolerance) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%g", tolerance);
+  return text;
+}
+
+std::string csv_number(double x) {
+  if (!std::isfinite(x)) return "";
+  std::ostringstream out;
+  out.precision(9);
+  out << x;
+  return out.str();
+}
+
+nlohmann::json json_or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
+}
+
+/// What decides a spec's curve here: every solve starts from lambda = 0, so the warm-start
+/// factors (warm, warm_friction) never act; the method, omega, row order, contacts_first, the
+/// method's own parameters and the TAO type do. Two specs with the same key draw the same curve.
+std::string curve_key(const SolverSpec& spec) {
+  if (!spec.tao.empty()) return "tao:" + spec.tao;
+  std::ostringstream key;
+  key.precision(17);
+  key << static_cast<int>(spec.method) << ' ' << spec.relaxation << ' '
+      << static_cast<int>(spec.order) << ' ' << spec.contacts_first;
+  for (const auto& [name, value] : method_parameters(spec.method, spec.methods))
+    key << ' ' << name << '=' << value;
+  return key.str();
+}
+
+}  // namespace
+
+/// The index of LIBRARY (a folder holding library.json, or that file): its problems, only the
+/// quick ones with `quick`. InputError naming the file for anything missing or malformed.
+std::vector<ProfileEntry> read_library(const std::string& library, bool quick) {
+  std::error_code ec;
+  const fs::path file =
+      fs::is_directory(library, ec) ? fs::path(library) / "library.json" : fs::path(library);
+  std::ifstream in(file);
+  if (!in)
+    throw InputError(file.string() +
+                     ": cannot read the problem library's index (write a library with "
+                     "scripts/make_problem_library.py CBPS DIR)");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file.string() + ": not JSON: " + e.what());
+  }
+  if (!j.is_object() || j.value("format", "") != kLibraryFormat)
+    throw InputError(file.string() + ": /format: not a problem library (expected \"" +
+                     kLibraryFormat + "\")");
+  if (!j.contains("problems") || !j["problems"].is_array())
+    throw InputError(file.string() + ": /problems: missing or not an array");
+  const fs::path folder = file.parent_path();
+  std::vector<ProfileEntry> entries;
+  for (std::size_t k = 0; k < j["problems"].size(); ++k) {
+    const nlohmann::json& p = j["problems"][k];
+    const std::string where = "/problems/" + std::to_string(k);
+    if (!p.is_object()) throw InputError(file.string() + ": " + where + ": not an object");
+    if (quick && !p.value("quick", false)) continue;
+    ProfileEntry e;
+    e.name = text_field(p, "name", file.string(), where);
+    e.path = (folder / text_field(p, "path", file.string(), where)).string();
+    e.exact = (folder / text_field(p, "exact", file.string(), where)).string();
+    e.index = p;
+    entries.push_back(std::move(e));
+  }
+  if (entries.empty())
+    throw InputError(file.string() + ": no problems" + (quick ? " marked quick" : ""));
+  return entries;
+}
+
+ProfileProblem load_profile_problem(const ProfileEntry& e) {
+  ProfileProblem p;
+  p.stored = read_problem(e.path);
+  require_symmetric(p.stored, "profile " + e.path);
+  p.scale = scale_of(p.problem(), p.stored.cfm);
+  p.exact = read_matrix_market_vector(e.exact);
+  if (p.exact.size() != p.stored.rows())
+    throw InputError(e.exact + ": " + std::to_string(p.exact.size()) + " values for a problem of " +
+                     std::to_string(p.stored.rows()) + " rows (" + e.path + ")");
+  p.definite = e.index.value("definite", false);
+  return p;
+}
+
+void finish_measurement(ProfileMeasurement& m, const ProfileProblem& p, const VecX& lambda) {
+  m.residual = p.residual(lambda) / p.scale;
+  if (p.definite && lambda.size() == p.exact.size())
+    m.lambda_error = (lambda - p.exact).lpNorm<Eigen::Infinity>();
+}
+
+ProfileMeasurement profile_iterative(const ProfileProblem& p,
+                                     const SolverSpec& spec,
+                                     const ProfileLimits& o) {
+  ProfileMeasurement m;
+  m.status = not_applicable(spec, p);
+  if (!m.status.empty()) return m;
+  VecX lambda = VecX::Zero(p.stored.rows());
+  m.reach(0, 0.0, p.residual(lambda) / p.scale);
+  SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
+  const auto start = Clock::now();
+  double measuring = 0.0;  // s spent in after_sweep so far, taken off the times
+  options.after_sweep = [&](int k, const VecX& l, double) {
+    const auto entered = Clock::now();
+    const double time_s = std::chrono::duration<double>(entered - start).count() - measuring;
+    const double relative = p.residual(l) / p.scale;
+    m.reach(k, time_s, relative);
+    m.iterations = k;
+    m.time_s = time_s;
+    if (!std::isfinite(relative)) m.status = "non-finite";
+    if (m.reached[kProfileTolerancesCount - 1].iterations >= 0) m.status = "solved";
+    if (m.status.empty() && time_s >= o.time_limit) m.status = "time limit";
+    measuring += seconds_since(entered);
+    return m.status.empty();
+  };
+  const SolverSummary summary = solve(p.problem(), lambda, options);
+  if (m.status.empty())
+    m.status = summary.termination == Termination::MaxIterations ? "iteration budget"
+                                                                 : to_string(summary.termination);
+  finish_measurement(m, p, lambda);
+  return m;
+}
+
+ProfileMeasurement profile_exact(const ProfileProblem& p, const SolverSpec& spec) {
+  ProfileMeasurement m;
+  m.status = not_applicable(spec, p);
+  if (!m.status.empty()) return m;
+  VecX lambda = VecX::Zero(p.stored.rows());
+  SolverOptions options = study_options(spec, 1, p.stored.cfm);
+  const auto start = Clock::now();
+  const SolverSummary summary = solve(p.problem(), lambda, options);
+  m.time_s = seconds_since(start);
+  m.iterations = summary.iterations;
+  finish_measurement(m, p, lambda);
+  for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
+    if (m.residual <= kProfileTolerances[i]) m.reached[i] = {1, m.time_s};
+  m.status = m.reached[kProfileTolerancesCount - 1].iterations >= 0
+                 ? "solved"
+                 : to_string(summary.termination);
+  return m;
+}
+
+Profile make_profile(double tolerance,
+                     std::size_t t,
+                     bool sweeps,
+                     const std::vector<SolverSpec>& specs,
+                     const std::vector<std::vector<ProfileMeasurement>>& runs) {
+  Profile profile;
+  profile.tolerance = tolerance;
+  profile.measure = sweeps ? "sweeps" : "time";
+  for (std::size_t s = 0; s < specs.size(); ++s)
+    if (!sweeps || is_iterative(specs[s].method) || !specs[s].tao.empty())
+      profile.solvers.push_back(s);
+  CostTable cost;
+  for (const std::vector<ProfileMeasurement>& problem_runs : runs) {
+    std::vector<double> row;
+    for (const std::size_t s : profile.solvers) {
+      const ProfileReached& at = problem_runs[s].reached[t];
+      row.push_back(at.iterations < 0 ? std::numeric_limits<double>::infinity()
+                    : sweeps          ? static_cast<double>(at.iterations)
+                                      : at.time_s);
+    }
+    cost.push_back(std::move(row));
+  }
+  profile.ratios = performance_ratios(cost);
+  return profile;
+}
+
+/// The summary table: per tolerance, per solver the problems solved and rho_s(tau) at 1, 2, 10
+/// for time and sweeps.
+std::string profile_summary_text(const std::vector<ProfileEntry>& entries,
+                                 const std::vector<SolverSpec>& specs,
+                                 const std::vector<Profile>& profiles,
+                                 const ProfileLimits& o,
+                                 double wall_time_s) {
+  std::ostringstream out;
+  char line[256];
+  std::snprintf(line,
+                sizeof line,
+                "cbps profile: %zu problems x %zu solvers from lambda = 0; budget %d sweeps and "
+                "%g s per problem and solver; %.3g s in all\n",
+                entries.size(),
+                specs.size(),
+                o.budget_iterations,
+                o.time_limit,
+                wall_time_s);
+  out << line;
+  out << "residual relative to scale_of = max(1, |b|inf, max |A_ij|); rho(tau): fraction of "
+         "problems within tau x the best solver's cost (Dolan & More 2002); exact paths have "
+         "no sweeps\n";
+  for (std::size_t t = 0; t < kProfileTolerancesCount; ++t) {
+    const Profile& time = profiles[2 * t];
+    const Profile& sweeps = profiles[2 * t + 1];
+    std::snprintf(line,
+                  sizeof line,
+                  "\nrelative residual <= %g\n%-24s %7s   %-23s   %-23s\n",
+                  kProfileTolerances[t],
+                  "",
+                  "",
+                  "------- time: rho -----",
+                  "------ sweeps: rho ----");
+    out << line;
+    std::snprintf(line,
+                  sizeof line,
+                  "%-24s %7s   %7s %7s %7s   %7s %7s %7s\n",
+                  "solver",
+                  "solved",
+                  "tau=1",
+                  "2",
+                  "10",
+                  "tau=1",
+                  "2",
+                  "10");
+    out << line;
+    for (std::size_t s = 0; s < specs.size(); ++s) {
+      std::size_t solved = 0;
+      for (const std::vector<double>& r : time.ratios)
+        if (std::isfinite(r[s])) ++solved;
+      std::snprintf(line,
+                    sizeof line,
+                    "%-24s %3zu/%-3zu   %7.3f %7.3f %7.3f",
+                    specs[s].text.c_str(),
+                    solved,
+                    entries.size(),
+                    performance_fraction(time.ratios, s, kProfileTaus[0]),
+                    performance_fraction(time.ratios, s, kProfileTaus[1]),
+                    performance_fraction(time.ratios, s, kProfileTaus[2]));
+      out << line;
+      const auto at = std::find(sweeps.solvers.begin(), sweeps.solvers.end(), s);
+      if (at == sweeps.solvers.end()) {
+        std::snprintf(line, sizeof line, "   %7s %7s %7s\n", "-", "-", "-");
+      } else {
+        const auto k = static_cast<std::size_t>(at - sweeps.solvers.begin());
+        std::snprintf(line,
+                      sizeof line,
+                      "   %7.3f %7.3f %7.3f\n",
+                      performance_fraction(sweeps.ratios, k, kProfileTaus[0]),
+                      performance_fraction(sweeps.ratios, k, kProfileTaus[1]),
+                      performance_fraction(sweeps.ratios, k, kProfileTaus[2]));
+      }
+      out << line;
+    }
+  }
+  return out.str();
+}
+
+nlohmann::json profile_json(const Profile& profile, const std::vector<SolverSpec>& specs) {
+  nlohmann::json j;
+  j["tolerance"] = profile.tolerance;
+  j["measure"] = profile.measure;
+  j["solvers"] = nlohmann::json::array();
+  for (const std::size_t s : profile.solvers) j["solvers"].push_back(specs[s].text);
+  j["ratios"] = nlohmann::json::array();
+  for (const std::vector<double>& r : profile.ratios) {
+    nlohmann::json row = nlohmann::json::array();
+    for (const double x : r) row.push_back(json_or_null(x));
+    j["ratios"].push_back(row);
+  }
+  j["rho"] = nlohmann::json::object();
+  for (std::size_t k = 0; k < profile.solvers.size(); ++k) {
+    nlohmann::json rho = nlohmann::json::object();
+    for (const double tau : kProfileTaus)
+      rho[tolerance_key(tau)] = performance_fraction(profile.ratios, k, tau);
+    rho["inf"] = performance_fraction(profile.ratios, k, std::numeric_limits<double>::infinity());
+    j["rho"][specs[profile.solvers[k]].text] = rho;
+  }
+  return j;
+}
+
+ProfileReport profile_report(const std::string& library,
+                             bool quick,
+                             const ProfileLimits& limits,
+                             double wall_time_s,
+                             const std::vector<ProfileEntry>& entries,
+                             const std::vector<ProfileProblem>& problems,
+                             const std::vector<SolverSpec>& specs,
+                             const std::vector<std::vector<ProfileMeasurement>>& runs,
+                             const std::vector<Profile>& profiles) {
+  nlohmann::json j;
+  j["format"] = "cbps-profile/1";
+  j["library"] = library;
+  j["quick"] = quick;
+  j["tolerances"] = nlohmann::json::array();
+  for (const double t : kProfileTolerances) j["tolerances"].push_back(t);
+  j["budget_iterations"] = limits.budget_iterations;
+  j["time_limit_s"] = limits.time_limit;
+  j["wall_time_s"] = wall_time_s;
+  j["problems"] = nlohmann::json::array();
+  for (std::size_t p = 0; p < entries.size(); ++p) {
+    nlohmann::json e = entries[p].index;
+    e["scale"] = problems[p].scale;
+    j["problems"].push_back(e);
+  }
+  j["solvers"] = nlohmann::json::array();
+  for (const SolverSpec& spec : specs)
+    j["solvers"].push_back(
+        {{"solver", spec.text},
+         {"method", spec.tao.empty() ? std::string(to_string(spec.method)) : "tao"},
+         {"exact", !is_iterative(spec.method) && spec.tao.empty()}});
+  j["measurements"] = nlohmann::json::array();
+  std::ostringstream csv;
+  csv << "problem,solver,rows,status,iterations,time_s,residual_relative,lambda_error";
+  for (const double t : kProfileTolerances)
+    csv << ",sweeps_to_" << tolerance_key(t) << ",time_to_" << tolerance_key(t);
+  csv << '\n';
+  for (std::size_t p = 0; p < entries.size(); ++p) {
+    for (std::size_t s = 0; s < specs.size(); ++s) {
+      const ProfileMeasurement& m = runs[p][s];
+      const bool exact = !is_iterative(specs[s].method) && specs[s].tao.empty();
+      nlohmann::json mj;
+      mj["problem"] = entries[p].name;
+      mj["solver"] = specs[s].text;
+      mj["status"] = m.status;
+      mj["iterations"] = m.iterations;
+      mj["time_s"] = m.time_s;
+      mj["residual_relative"] = json_or_null(m.residual);
+      mj["lambda_error"] = json_or_null(m.lambda_error);
+      mj["reached"] = nlohmann::json::object();
+      csv << entries[p].name << ',' << specs[s].text << ',' << problems[p].stored.rows() << ','
+          << m.status << ',' << m.iterations << ',' << csv_number(m.time_s) << ','
+          << csv_number(m.residual) << ',' << csv_number(m.lambda_error);
+      for (std::size_t t = 0; t < kProfileTolerancesCount; ++t) {
+        const ProfileReached& at = m.reached[t];
+        const bool reached = at.iterations >= 0;
+        mj["reached"][tolerance_key(kProfileTolerances[t])] =
+            !reached
+                ? nlohmann::json(nullptr)
+                : nlohmann::json({{"iterations",
+                                   exact ? nlohmann::json(nullptr) : nlohmann::json(at.iterations)},
+                                  {"time_s", at.time_s}});
+        csv << ',' << (reached && !exact ? std::to_string(at.iterations) : "") << ','
+            << (reached ? csv_number(at.time_s) : "");
+      }
+      csv << '\n';
+      j["measurements"].push_back(mj);
+    }
+  }
+  j["profiles"] = nlohmann::json::array();
+  for (const Profile& profile : profiles) j["profiles"].push_back(profile_json(profile, specs));
+  return {j, csv.str()};
+}
+
+/// InputError (exit 2) when two specs of --solvers would draw the same curve: the same text
+/// twice (`pgs,pgs`) or two texts for the same solver (`pgs,psor:1`, `pgs,pgs:warm=off`).
+void refuse_duplicates(const std::vector<SolverSpec>& specs, const std::string& list) {
+  for (std::size_t i = 0; i < specs.size(); ++i)
+    for (std::size_t k = 0; k < i; ++k) {
+      if (specs[i].text == specs[k].text)
+        throw InputError("--solvers '" + list + "': '" + specs[i].text +
+                         "' is listed twice; give each solver once");
+      if (curve_key(specs[i]) == curve_key(specs[k]))
+        throw InputError("--solvers '" + list + "': '" + specs[i].text +
+                         "' is the same solver as '" + specs[k].text +
+                         "' (same method and settings; every solve starts from lambda = 0, so "
+                         "warm factors do not count) and would draw the same curve; give it once");
+    }
+}
+
+}  // namespace cbps
