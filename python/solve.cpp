@@ -288,8 +288,9 @@ py::tuple solve_py(const py::object& A,
   // The per-sweep history (iterative methods on the whole problem: with split_islands each
   // island sweeps apart, so there is no whole iterate to measure).
   const bool per_sweep = history && is_iterative(spec.method) && !split_islands;
-  const SpMat A_solved = with_cfm(in.p.A, cfm);  // the matrix the residual is of (A + eps E)
-  const BoxedProblem solved{A_solved, in.p.b, in.p.cmin, in.p.cmax};
+  // The residual is that of the problem solved, A + eps E (6.2).
+  const BoxedProblem problem = in.problem();
+  const auto residual = [&](const VecX& l) { return natural_map_residual(problem, l, cfm); };
   History h;
   h.limit = static_cast<std::size_t>(history_limit);
   if (per_sweep) {
@@ -309,7 +310,7 @@ py::tuple solve_py(const py::object& A,
   if (is_iterative(spec.method))
     options.after_sweep = [&](int k, const VecX& lambda, double time_s) {
       if (per_sweep) {
-        if (h.wants(k)) h.add(k, natural_map_residual(solved, lambda), time_s);
+        if (h.wants(k)) h.add(k, residual(lambda), time_s);
         last_k = k;
         last_time = time_s;
       }
@@ -324,18 +325,18 @@ py::tuple solve_py(const py::object& A,
   SolverSummary summary;
   {
     const py::gil_scoped_release release;
-    const double guess = natural_map_residual(solved, lambda);
+    const double guess = residual(lambda);
     if (per_sweep) h.add(0, guess, 0.0);
     summary = solve(in.problem(), lambda, options);
     if (interrupted) {
       // KeyboardInterrupt (set by PyErr_CheckSignals), raised below with the GIL back
     } else if (per_sweep) {
       if (last_k > 0 && h.iteration.back() != last_k)
-        h.finish(last_k, natural_map_residual(solved, lambda), last_time);
+        h.finish(last_k, residual(lambda), last_time);
     } else if (history && !split_islands) {
       h.add(0, guess, 0.0);
       h.add(std::max(1, summary.iterations),
-            natural_map_residual(solved, lambda),
+            residual(lambda),
             summary.wall_time_s);
     }
   }
