@@ -142,16 +142,80 @@ class InteriorSolver {
     return ok;
   }
 
+  /// The interior point's iterate, slacks s = λ − cmin and t = cmax − λ (N) with their
+  /// multipliers z and y (m/s²), and its work vectors: the residual, the Newton systems'
+  /// diagonal and right-hand side, the predictor's direction (the _aff ones), the direction,
+  /// and a corrector with the corrected direction.
+  struct Interior {
+    VecX s, t, z, y;
+    VecX w, r_d, d, rhs;
+    VecX dl_aff, dz_aff, dy_aff, dl, dz, dy;
+    VecX dc, cdl, cz, cy;
+  };
+
   /// Mehrotra's predictor-corrector on min ½ λᵀAλ − bᵀλ over the box, from the box's centre.
   void interior(VecX& lambda) {
     const Eigen::Index c = A_.rows();
-    const VecX& lo = p_.cmin;
-    const VecX& hi = p_.cmax;
     const double b_norm = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
     const double lambda_scale = b_norm > 0.0 ? b_norm / max_diagonal_ : 1.0;  // N
     const double w_scale = b_norm > 0.0 ? b_norm : max_diagonal_;             // m/s²
     const double rho = options_.direct.proximal * max_diagonal_;
-    VecX s = VecX::Zero(c), t = VecX::Zero(c), z = VecX::Zero(c), y = VecX::Zero(c);
+    Interior v;
+    start(lambda, v, lambda_scale, w_scale);
+    const std::vector<char> dropped(fixed_.begin(), fixed_.end());
+    const double mu_stop = options_.direct.interior_mu * scale_of(p_) * std::max(1.0, lambda_scale);
+    // Stationarity only to the square root of that: the proximal term ρ and rounding hold it
+    // near 1e-11 · scale on singular A, and the crossover settles the rest.
+    const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
+    v.r_d.resize(c);
+    v.d.resize(c);
+    v.rhs.resize(c);
+    for (VecX* x : {&v.dz, &v.dy, &v.dz_aff, &v.dy_aff, &v.cdl, &v.cz, &v.cy}) x->resize(c);
+    double r_before = std::numeric_limits<double>::infinity();  // the last iteration's residual
+    for (int it = 0; it < options_.direct.max_interior; ++it) {
+      newton_->times_A(lambda, v.w);
+      v.w -= b_;
+      double mu = 0.0;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        v.r_d(k) = fixed_[std::size_t(k)] ? 0.0 : v.w(k) - v.z(k) + v.y(k);
+        mu += v.s(k) * v.z(k) + v.t(k) * v.y(k);
+      }
+      mu /= std::max(bounds_, 1);
+      const double r_norm = v.r_d.size() > 0 ? v.r_d.lpNorm<Eigen::Infinity>() : 0.0;
+      if (!std::isfinite(mu) || !std::isfinite(r_norm)) break;
+      // An interior point that already meets the tolerance needs no crossover.
+      const double r_natural = natural_map_residual(v.w, lambda, p_.cmin, p_.cmax);
+      if (may_stop(r_natural, r_before, options_.tolerance, floor(lambda))) {
+        solved_ = true;
+        break;
+      }
+      r_before = r_natural;
+      if (mu <= mu_stop && r_norm <= r_stop) break;
+      ++stats_.iterations;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        v.d(k) = rho;
+        if (lower_[std::size_t(k)]) v.d(k) += v.z(k) / v.s(k);
+        if (upper_[std::size_t(k)]) v.d(k) += v.y(k) / v.t(k);
+      }
+      if (!factor(v.d, dropped)) break;
+      double sigma = 0.0;
+      if (!mehrotra(v, dropped, mu, sigma)) break;
+      const double alpha = gondzio(v, dropped, sigma, mu);
+      take_step(lambda, v, alpha);
+    }
+    suggest_partition(v, lambda_scale);
+  }
+
+  /// The starting point: λ at the box's centre (or lambda_scale inside a single bound), the
+  /// slacks from it, each multiplier w_scale beyond what w at λ asks of it.
+  void start(VecX& lambda, Interior& v, double lambda_scale, double w_scale) {
+    const Eigen::Index c = A_.rows();
+    const VecX& lo = p_.cmin;
+    const VecX& hi = p_.cmax;
+    v.s = VecX::Zero(c);
+    v.t = VecX::Zero(c);
+    v.z = VecX::Zero(c);
+    v.y = VecX::Zero(c);
     lambda.resize(c);
     for (Eigen::Index k = 0; k < c; ++k) {
       const std::size_t K = std::size_t(k);
@@ -166,142 +230,127 @@ class InteriorSolver {
       } else {
         lambda(k) = 0.0;
       }
-      if (lower_[K]) s(k) = lambda(k) - lo(k);
-      if (upper_[K]) t(k) = hi(k) - lambda(k);
+      if (lower_[K]) v.s(k) = lambda(k) - lo(k);
+      if (upper_[K]) v.t(k) = hi(k) - lambda(k);
     }
-    VecX w;
-    newton_->times_A(lambda, w);
-    w -= b_;
+    newton_->times_A(lambda, v.w);
+    v.w -= b_;
     for (Eigen::Index k = 0; k < c; ++k) {
       const std::size_t K = std::size_t(k);
-      if (lower_[K]) z(k) = std::max(w(k), 0.0) + w_scale;
-      if (upper_[K]) y(k) = std::max(-w(k), 0.0) + w_scale;
+      if (lower_[K]) v.z(k) = std::max(v.w(k), 0.0) + w_scale;
+      if (upper_[K]) v.y(k) = std::max(-v.w(k), 0.0) + w_scale;
     }
-    std::vector<char> dropped(fixed_.begin(), fixed_.end());
-    const double mu_stop = options_.direct.interior_mu * scale_of(p_) * std::max(1.0, lambda_scale);
-    // Stationarity only to the square root of that: the proximal term ρ and rounding hold it
-    // near 1e-11 · scale on singular A, and the crossover settles the rest.
-    const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
-    VecX d(c), r_d(c), rhs(c), dl_aff, dl, dz(c), dy(c), dz_aff(c), dy_aff(c);
-    VecX dc, cdl(c), cz(c), cy(c);  // a corrector and the corrected direction
-    double r_before = std::numeric_limits<double>::infinity();  // the last iteration's residual
-    for (int it = 0; it < options_.direct.max_interior; ++it) {
-      newton_->times_A(lambda, w);
-      w -= b_;
-      double mu = 0.0;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        r_d(k) = fixed_[std::size_t(k)] ? 0.0 : w(k) - z(k) + y(k);
-        mu += s(k) * z(k) + t(k) * y(k);
+  }
+
+  /// Mehrotra's predictor (σ = 0) and corrector (centring σμ and his second-order term) on the
+  /// factored system: the direction (dl, dz, dy) and σ; false when a solve fails.
+  bool mehrotra(Interior& v, const std::vector<char>& dropped, double mu, double& sigma) {
+    const Eigen::Index c = A_.rows();
+    const VecX &s = v.s, &t = v.t, &z = v.z, &y = v.y;
+    v.rhs = -v.r_d - z + y;
+    if (!newton_solve(v.d, dropped, v.rhs, v.dl_aff)) return false;
+    for (Eigen::Index k = 0; k < c; ++k) {
+      v.dz_aff(k) = lower_[std::size_t(k)] ? -z(k) - z(k) / s(k) * v.dl_aff(k) : 0.0;
+      v.dy_aff(k) = upper_[std::size_t(k)] ? -y(k) + y(k) / t(k) * v.dl_aff(k) : 0.0;
+    }
+    const double a_aff = step_length(s, t, z, y, v.dl_aff, v.dz_aff, v.dy_aff, 1.0);
+    double mu_aff = 0.0;
+    for (Eigen::Index k = 0; k < c; ++k) {
+      if (lower_[std::size_t(k)])
+        mu_aff += (s(k) + a_aff * v.dl_aff(k)) * (z(k) + a_aff * v.dz_aff(k));
+      if (upper_[std::size_t(k)])
+        mu_aff += (t(k) - a_aff * v.dl_aff(k)) * (y(k) + a_aff * v.dy_aff(k));
+    }
+    mu_aff /= std::max(bounds_, 1);
+    sigma = std::pow(std::clamp(mu_aff / mu, 0.0, 1.0), 3);
+    for (Eigen::Index k = 0; k < c; ++k) {
+      v.rhs(k) = -v.r_d(k);
+      if (lower_[std::size_t(k)]) {
+        const double cl = sigma * mu - s(k) * z(k) - v.dl_aff(k) * v.dz_aff(k);
+        v.rhs(k) += cl / s(k);
+        v.dz(k) = cl;  // completed below
       }
-      mu /= std::max(bounds_, 1);
-      const double r_norm = r_d.size() > 0 ? r_d.lpNorm<Eigen::Infinity>() : 0.0;
-      if (!std::isfinite(mu) || !std::isfinite(r_norm)) break;
-      // An interior point that already meets the tolerance needs no crossover.
-      const double r_natural = natural_map_residual(w, lambda, lo, hi);
-      if (may_stop(r_natural, r_before, options_.tolerance, floor(lambda))) {
-        solved_ = true;
-        break;
-      }
-      r_before = r_natural;
-      if (mu <= mu_stop && r_norm <= r_stop) break;
-      ++stats_.iterations;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        d(k) = rho;
-        if (lower_[std::size_t(k)]) d(k) += z(k) / s(k);
-        if (upper_[std::size_t(k)]) d(k) += y(k) / t(k);
-      }
-      if (!factor(d, dropped)) break;
-      // Predictor (σ = 0).
-      rhs = -r_d - z + y;
-      if (!newton_solve(d, dropped, rhs, dl_aff)) break;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        dz_aff(k) = lower_[std::size_t(k)] ? -z(k) - z(k) / s(k) * dl_aff(k) : 0.0;
-        dy_aff(k) = upper_[std::size_t(k)] ? -y(k) + y(k) / t(k) * dl_aff(k) : 0.0;
-      }
-      const double a_aff = step_length(s, t, z, y, dl_aff, dz_aff, dy_aff, 1.0);
-      double mu_aff = 0.0;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        if (lower_[std::size_t(k)])
-          mu_aff += (s(k) + a_aff * dl_aff(k)) * (z(k) + a_aff * dz_aff(k));
-        if (upper_[std::size_t(k)])
-          mu_aff += (t(k) - a_aff * dl_aff(k)) * (y(k) + a_aff * dy_aff(k));
-      }
-      mu_aff /= std::max(bounds_, 1);
-      const double sigma = std::pow(std::clamp(mu_aff / mu, 0.0, 1.0), 3);
-      // Corrector: centring σμ and Mehrotra's second-order term.
-      for (Eigen::Index k = 0; k < c; ++k) {
-        rhs(k) = -r_d(k);
-        if (lower_[std::size_t(k)]) {
-          const double cl = sigma * mu - s(k) * z(k) - dl_aff(k) * dz_aff(k);
-          rhs(k) += cl / s(k);
-          dz(k) = cl;  // completed below
-        }
-        if (upper_[std::size_t(k)]) {
-          const double cu = sigma * mu - t(k) * y(k) + dl_aff(k) * dy_aff(k);
-          rhs(k) -= cu / t(k);
-          dy(k) = cu;
-        }
-      }
-      if (!newton_solve(d, dropped, rhs, dl)) break;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        dz(k) = lower_[std::size_t(k)] ? (dz(k) - z(k) * dl(k)) / s(k) : 0.0;
-        dy(k) = upper_[std::size_t(k)] ? (dy(k) + y(k) * dl(k)) / t(k) : 0.0;
-      }
-      double alpha = step_length(s, t, z, y, dl, dz, dy, kStepToBoundary);
-      // Gondzio's centrality correctors: the factor is the cost here, a solve is cheap, so
-      // each corrector that lengthens the step saves part of an iteration.
-      for (int corrector = 0; corrector < kCorrectors && alpha < 1.0; ++corrector) {
-        const double reach = std::min(1.0, kCorrectorAspiration * alpha);
-        const double low = kCorrectorBand * sigma * mu, high = sigma * mu / kCorrectorBand;
-        const auto target = [&](double v) {  // the move of a product v towards [low, high]
-          return std::max(std::clamp(v, low, high) - v, -high);
-        };
-        for (Eigen::Index k = 0; k < c; ++k) {
-          const std::size_t K = std::size_t(k);
-          rhs(k) = 0.0;
-          cz(k) = lower_[K] ? target((s(k) + reach * dl(k)) * (z(k) + reach * dz(k))) : 0.0;
-          cy(k) = upper_[K] ? target((t(k) - reach * dl(k)) * (y(k) + reach * dy(k))) : 0.0;
-          if (lower_[K]) rhs(k) += cz(k) / s(k);
-          if (upper_[K]) rhs(k) -= cy(k) / t(k);
-        }
-        if (!newton_solve(d, dropped, rhs, dc)) break;
-        for (Eigen::Index k = 0; k < c; ++k) {
-          const std::size_t K = std::size_t(k);
-          cdl(k) = dl(k) + dc(k);
-          cz(k) = lower_[K] ? dz(k) + (cz(k) - z(k) * dc(k)) / s(k) : 0.0;
-          cy(k) = upper_[K] ? dy(k) + (cy(k) + y(k) * dc(k)) / t(k) : 0.0;
-        }
-        const double corrected = step_length(s, t, z, y, cdl, cz, cy, kStepToBoundary);
-        if (!(corrected >= alpha + kCorrectorGain * (reach - alpha))) break;
-        alpha = corrected;
-        dl.swap(cdl);
-        dz.swap(cz);
-        dy.swap(cy);
-      }
-      for (Eigen::Index k = 0; k < c; ++k) {
-        if (fixed_[std::size_t(k)]) continue;
-        lambda(k) += alpha * dl(k);
-        if (lower_[std::size_t(k)]) {
-          s(k) += alpha * dl(k);
-          z(k) += alpha * dz(k);
-        }
-        if (upper_[std::size_t(k)]) {
-          t(k) -= alpha * dl(k);
-          y(k) += alpha * dy(k);
-        }
+      if (upper_[std::size_t(k)]) {
+        const double cu = sigma * mu - t(k) * y(k) + v.dl_aff(k) * v.dy_aff(k);
+        v.rhs(k) -= cu / t(k);
+        v.dy(k) = cu;
       }
     }
-    // The partition the interior point suggests: a row is at its bound when its multiplier
-    // outweighs its slack (z > A_kk s, units m/s² against kg⁻¹ N) or its slack is near 0.
+    if (!newton_solve(v.d, dropped, v.rhs, v.dl)) return false;
+    for (Eigen::Index k = 0; k < c; ++k) {
+      v.dz(k) = lower_[std::size_t(k)] ? (v.dz(k) - z(k) * v.dl(k)) / s(k) : 0.0;
+      v.dy(k) = upper_[std::size_t(k)] ? (v.dy(k) + y(k) * v.dl(k)) / t(k) : 0.0;
+    }
+    return true;
+  }
+
+  /// Gondzio's centrality correctors on the direction: the factor is the cost here, a solve is
+  /// cheap, so each corrector that lengthens the step saves part of an iteration. The step
+  /// length along the (corrected) direction.
+  double gondzio(Interior& v, const std::vector<char>& dropped, double sigma, double mu) {
+    const Eigen::Index c = A_.rows();
+    const VecX &s = v.s, &t = v.t, &z = v.z, &y = v.y;
+    double alpha = step_length(s, t, z, y, v.dl, v.dz, v.dy, kStepToBoundary);
+    for (int corrector = 0; corrector < kCorrectors && alpha < 1.0; ++corrector) {
+      const double reach = std::min(1.0, kCorrectorAspiration * alpha);
+      const double low = kCorrectorBand * sigma * mu, high = sigma * mu / kCorrectorBand;
+      const auto target = [&](double x) {  // the move of a product x towards [low, high]
+        return std::max(std::clamp(x, low, high) - x, -high);
+      };
+      for (Eigen::Index k = 0; k < c; ++k) {
+        const std::size_t K = std::size_t(k);
+        v.rhs(k) = 0.0;
+        v.cz(k) = lower_[K] ? target((s(k) + reach * v.dl(k)) * (z(k) + reach * v.dz(k))) : 0.0;
+        v.cy(k) = upper_[K] ? target((t(k) - reach * v.dl(k)) * (y(k) + reach * v.dy(k))) : 0.0;
+        if (lower_[K]) v.rhs(k) += v.cz(k) / s(k);
+        if (upper_[K]) v.rhs(k) -= v.cy(k) / t(k);
+      }
+      if (!newton_solve(v.d, dropped, v.rhs, v.dc)) break;
+      for (Eigen::Index k = 0; k < c; ++k) {
+        const std::size_t K = std::size_t(k);
+        v.cdl(k) = v.dl(k) + v.dc(k);
+        v.cz(k) = lower_[K] ? v.dz(k) + (v.cz(k) - z(k) * v.dc(k)) / s(k) : 0.0;
+        v.cy(k) = upper_[K] ? v.dy(k) + (v.cy(k) + y(k) * v.dc(k)) / t(k) : 0.0;
+      }
+      const double corrected = step_length(s, t, z, y, v.cdl, v.cz, v.cy, kStepToBoundary);
+      if (!(corrected >= alpha + kCorrectorGain * (reach - alpha))) break;
+      alpha = corrected;
+      v.dl.swap(v.cdl);
+      v.dz.swap(v.cz);
+      v.dy.swap(v.cy);
+    }
+    return alpha;
+  }
+
+  /// λ, the slacks and the multipliers a step alpha along the direction.
+  void take_step(VecX& lambda, Interior& v, double alpha) const {
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      if (fixed_[std::size_t(k)]) continue;
+      lambda(k) += alpha * v.dl(k);
+      if (lower_[std::size_t(k)]) {
+        v.s(k) += alpha * v.dl(k);
+        v.z(k) += alpha * v.dz(k);
+      }
+      if (upper_[std::size_t(k)]) {
+        v.t(k) -= alpha * v.dl(k);
+        v.y(k) += alpha * v.dy(k);
+      }
+    }
+  }
+
+  /// The partition the interior point suggests: a row is at its bound when its multiplier
+  /// outweighs its slack (z > A_kk s, units m/s² against kg⁻¹ N) or its slack is near 0.
+  void suggest_partition(const Interior& v, double lambda_scale) {
+    const Eigen::Index c = A_.rows();
     const double near = kNearBound * lambda_scale;
     place_.assign(std::size_t(c), Place::Free);
     for (Eigen::Index k = 0; k < c; ++k) {
       const std::size_t K = std::size_t(k);
       if (fixed_[K])
         place_[K] = Place::Fixed;
-      else if (lower_[K] && (z(k) > a_(k) * s(k) || s(k) <= near))
+      else if (lower_[K] && (v.z(k) > a_(k) * v.s(k) || v.s(k) <= near))
         place_[K] = Place::Lower;
-      else if (upper_[K] && (y(k) > a_(k) * t(k) || t(k) <= near))
+      else if (upper_[K] && (v.y(k) > a_(k) * v.t(k) || v.t(k) <= near))
         place_[K] = Place::Upper;
     }
   }
