@@ -101,6 +101,33 @@ dl.stats dt{color:#444}dl.stats dd{margin:0;font-variant-numeric:tabular-nums}
 )";
 
 /// Builds the page into one stream.
+/// A panel of the bounds picture: every row (nullopt) or one kind's.
+using Panel = std::optional<RowKind>;
+
+bool in_panel(const System& sys, const Panel& panel, Eigen::Index k) {
+  return !panel || kind_of(sys, k) == *panel;
+}
+
+/// A panel's λ axis: 0, λ and the finite bounds of its rows, with its three labels.
+struct BoundsAxis {
+  double lo = 0.0, hi = 0.0;
+  std::vector<std::string> labels;  // lo, 0, hi
+};
+
+BoundsAxis bounds_axis(const System& sys, const Panel& panel, const TeachingSystem& t) {
+  BoundsAxis a;
+  for (Eigen::Index k = 0; k < t.lambda.size(); ++k)
+    if (in_panel(sys, panel, k))
+      for (double v : {t.lambda(k), t.cmin(k), t.cmax(k)})
+        if (std::isfinite(v)) {
+          a.lo = std::min(a.lo, v);
+          a.hi = std::max(a.hi, v);
+        }
+  if (a.hi - a.lo <= 0.0) a.hi = a.lo + 1.0;
+  for (double v : {a.lo, 0.0, a.hi}) a.labels.push_back(num(v) + " N");
+  return a;
+}
+
 class Page {
  public:
   Page(const TeachingStep& step, const TeachingLimits& limits)
@@ -117,6 +144,12 @@ class Page {
   void one_system(const TeachingSystem& t, const std::string& id);
   /// λ against its bounds, w and the residual per sweep of one system.
   void solution(const TeachingSystem& t, const std::string& id);
+  /// How many rows are free, at a bound, missing their condition; the tolerance and residual.
+  void solution_stats(const TeachingSystem& t, const std::string& id);
+  /// cmin, λ, cmax, w and the status of every row (small systems).
+  void solution_table(const TeachingSystem& t, const std::string& id);
+  /// The residual after each sweep from the step's guess.
+  void residual_per_sweep(const TeachingSystem& t, const std::string& id);
   void footer();
 
   void equation(const std::string& html) { o_ << "<p class=\"eq\">" << html << "</p>\n"; }
@@ -160,7 +193,22 @@ class Page {
                 double floor_value,
                 double mark_value,
                 const std::string& mark_name);
+  /// λ of every row against its bounds: one bar per row, or binned in one panel per row kind.
   void bounds_picture(const std::string& id, const TeachingSystem& t);
+  /// Where bounds_picture draws: bars of `bin` rows each, `w` px wide between `left` and
+  /// `right`; each panel a title line, a plot `plot` px high, `panel_height` in all.
+  struct BoundsLayout {
+    Eigen::Index bin = 1, bars = 1;
+    double font = 11.0, left = 60.0, right = 560.0, w = 1.0;
+    double title = 0.0, plot = 188.0, panel_height = 200.0;
+  };
+  /// One panel's axis lines and bars; counts the rows at a bound by kind into at_bound.
+  void bounds_panel(const BoundsLayout& l,
+                    const std::optional<RowKind>& panel,
+                    const BoundsAxis& a,
+                    double top,
+                    const TeachingSystem& t,
+                    std::array<long, 3>& at_bound);
   void body_table(const std::string& id,
                   const std::vector<const VecX*>& vectors,
                   const std::vector<std::string>& names,
@@ -366,130 +414,64 @@ void Page::bounds_picture(const std::string& id, const TeachingSystem& t) {
   // stays small at any size. Binned, the picture has one panel per row kind (same bins, each on
   // its own λ scale): a bin mixes kinds (a contact's normal row beside its two friction rows),
   // and one colour per bin would hide the kinds with fewer rows.
+  BoundsLayout l;
   const Eigen::Index bars_max = std::max(1, l_.bar_rows);
-  const Eigen::Index bin = (c + bars_max - 1) / bars_max;
-  const Eigen::Index bars = (c + bin - 1) / bin;
+  l.bin = (c + bars_max - 1) / bars_max;
+  l.bars = (c + l.bin - 1) / l.bin;
   std::array<long, 3> rows_of_kind{};
   for (Eigen::Index k = 0; k < c; ++k) ++rows_of_kind[static_cast<std::size_t>(kind_of(sys_, k))];
   // The panels: every kind together (one bar per row), or one per kind present (binned).
-  std::vector<std::optional<RowKind>> panels;
-  if (bin == 1) {
+  std::vector<Panel> panels;
+  if (l.bin == 1) {
     panels.push_back(std::nullopt);
   } else {
     for (RowKind kind : {RowKind::Distance, RowKind::Contact, RowKind::Friction})
       if (rows_of_kind[static_cast<std::size_t>(kind)] > 0) panels.push_back(kind);
   }
-  auto in_panel = [&](const std::optional<RowKind>& panel, Eigen::Index k) {
-    return !panel || kind_of(sys_, k) == *panel;
-  };
-  // Each panel's λ axis: 0, λ and the finite bounds of its rows, with its three labels.
-  struct Axis {
-    double lo = 0.0, hi = 0.0;
-    std::vector<std::string> labels;  // lo, 0, hi
-  };
-  std::vector<Axis> axes;
+  std::vector<BoundsAxis> axes;
   std::size_t longest = 0;
-  for (const auto& panel : panels) {
-    Axis a;
-    for (Eigen::Index k = 0; k < c; ++k)
-      if (in_panel(panel, k))
-        for (double v : {t.lambda(k), t.cmin(k), t.cmax(k)})
-          if (std::isfinite(v)) {
-            a.lo = std::min(a.lo, v);
-            a.hi = std::max(a.hi, v);
-          }
-    if (a.hi - a.lo <= 0.0) a.hi = a.lo + 1.0;
-    for (double v : {a.lo, 0.0, a.hi}) {
-      a.labels.push_back(num(v) + " N");
-      longest = std::max(longest, a.labels.back().size());
-    }
-    axes.push_back(a);
+  for (const Panel& panel : panels) {
+    axes.push_back(bounds_axis(sys_, panel, t));
+    for (const std::string& label : axes.back().labels) longest = std::max(longest, label.size());
   }
   // Room at the left for the longest label, a minus sign included: 0.65 em a character is wider
   // than the digits of the usual sans-serif fonts (DejaVu Sans 0.64 em, Roboto 0.56 em).
-  const double font = 11.0;
-  const double left = std::max(60.0, std::ceil(0.65 * font * static_cast<double>(longest)) + 8.0);
-  const double right = left + 500.0, width = right + 20.0;
-  const double title = bin == 1 ? 0.0 : 18.0;    // a panel's title line
-  const double plot = bin == 1 ? 188.0 : 130.0;  // a panel's λ axis, px
-  const double panel_height = title + plot + (bin == 1 ? 12.0 : 20.0);
-  const double height = 12.0 + panel_height * static_cast<double>(panels.size()) + 18.0;
-  const double w = (right - left) / static_cast<double>(bars);
+  l.left = std::max(60.0, std::ceil(0.65 * l.font * static_cast<double>(longest)) + 8.0);
+  l.right = l.left + 500.0;
+  const double width = l.right + 20.0;
+  l.title = l.bin == 1 ? 0.0 : 18.0;    // a panel's title line
+  l.plot = l.bin == 1 ? 188.0 : 130.0;  // a panel's λ axis, px
+  l.panel_height = l.title + l.plot + (l.bin == 1 ? 12.0 : 20.0);
+  const double height = 12.0 + l.panel_height * static_cast<double>(panels.size()) + 18.0;
+  l.w = (l.right - l.left) / static_cast<double>(l.bars);
   o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 " << px(width) << " "
      << px(height) << "\" width=\"" << px(width) << "\" height=\"" << px(height)
      << "\" xmlns=\"http://www.w3.org/2000/svg\"><title>lambda per row within its bounds"
-     << (bin == 1 ? "" : ", one panel per row kind") << "</title>\n";
+     << (l.bin == 1 ? "" : ", one panel per row kind") << "</title>\n";
   std::array<long, 3> at_bound{};
   for (std::size_t p = 0; p < panels.size(); ++p) {
-    const auto& panel = panels[p];
-    const Axis& a = axes[p];
-    const double top = 12.0 + panel_height * static_cast<double>(p) + title;
-    const double bottom = top + plot;
-    auto y_of = [&](double v) { return bottom - (bottom - top) * (v - a.lo) / (a.hi - a.lo); };
-    if (panel) {
-      const auto n = rows_of_kind[static_cast<std::size_t>(*panel)];
-      o_ << "<text class=\"panel\" x=\"" << px(left) << "\" y=\"" << px(top - 6.0)
-         << "\" font-size=\"12\" font-weight=\"600\" fill=\"" << kind_colour(*panel) << "\">"
-         << to_string(*panel) << " rows: " << n << " of " << c << "</text>";
+    const double top = 12.0 + l.panel_height * static_cast<double>(p) + l.title;
+    if (panels[p]) {
+      const auto n = rows_of_kind[static_cast<std::size_t>(*panels[p])];
+      o_ << "<text class=\"panel\" x=\"" << px(l.left) << "\" y=\"" << px(top - 6.0)
+         << "\" font-size=\"12\" font-weight=\"600\" fill=\"" << kind_colour(*panels[p]) << "\">"
+         << to_string(*panels[p]) << " rows: " << n << " of " << c << "</text>";
     }
-    const std::array<double, 3> ticks{a.lo, 0.0, a.hi};
-    for (std::size_t i = 0; i < ticks.size(); ++i) {
-      if (i > 0 && ticks[i] == ticks[i - 1]) continue;  // 0 at an end of the axis: once
-      o_ << "<line x1=\"" << px(left) << "\" x2=\"" << px(right) << "\" y1=\"" << px(y_of(ticks[i]))
-         << "\" y2=\"" << px(y_of(ticks[i])) << "\" stroke=\""
-         << (ticks[i] == 0.0 ? "#333" : "#ddd") << "\"/><text x=\"" << px(left - 4) << "\" y=\""
-         << px(y_of(ticks[i]) + 4) << "\" font-size=\"" << font << "\" text-anchor=\"end\">"
-         << a.labels[i] << "</text>";
-    }
-    for (Eigen::Index j = 0; j < bars; ++j) {
-      const Eigen::Index first = j * bin, last = std::min(c, first + bin);
-      double l_lo = 0.0, l_hi = 0.0, b_lo = INFINITY, b_hi = -INFINITY;
-      bool any = false, bound = false;
-      for (Eigen::Index k = first; k < last; ++k) {
-        if (!in_panel(panel, k)) continue;
-        any = true;
-        l_lo = std::min(l_lo, t.lambda(k));
-        l_hi = std::max(l_hi, t.lambda(k));
-        if (std::isfinite(t.cmin(k))) b_lo = std::min(b_lo, t.cmin(k));
-        if (std::isfinite(t.cmax(k))) b_hi = std::max(b_hi, t.cmax(k));
-        if (t.status[static_cast<std::size_t>(k)].at_bound()) {
-          bound = true;
-          ++at_bound[static_cast<std::size_t>(kind_of(sys_, k))];
-        }
-      }
-      if (!any) continue;  // no row of this panel's kind in the bin
-      const RowKind kind = panel ? *panel : kind_of(sys_, first);
-      // One row: its bar runs from 0 to λ; a bin: over the range of its λ and 0.
-      const double x = left + w * static_cast<double>(j);
-      const double y_top = y_of(bin == 1 ? std::max(0.0, t.lambda(first)) : l_hi);
-      const double y_bottom = y_of(bin == 1 ? std::min(0.0, t.lambda(first)) : l_lo);
-      o_ << "<rect x=\"" << px(x + 0.1 * w) << "\" y=\"" << px(y_top) << "\" width=\""
-         << px(0.8 * w) << "\" height=\"" << px(std::max(0.5, y_bottom - y_top)) << "\" fill=\""
-         << kind_colour(kind) << "\"/>";
-      for (double b : {b_lo, b_hi})
-        if (std::isfinite(b))
-          o_ << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + w) << "\" y1=\"" << px(y_of(b))
-             << "\" y2=\"" << px(y_of(b)) << "\" stroke=\"#000\" stroke-width=\"1.5\"/>";
-      if (bound)
-        o_ << "<circle cx=\"" << px(x + w / 2) << "\" cy=\""
-           << px(bin == 1 ? y_of(t.lambda(first)) : y_top) << "\" r=\""
-           << px(std::clamp(w / 3, 1.5, 5.0)) << "\" fill=\"#ffd23f\" stroke=\"#000\"/>";
-    }
-    o_ << "\n";
+    bounds_panel(l, panels[p], axes[p], top, t, at_bound);
   }
-  o_ << "<text x=\"" << px((left + right) / 2) << "\" y=\"" << px(height - 8.0)
+  o_ << "<text x=\"" << px((l.left + l.right) / 2) << "\" y=\"" << px(height - 8.0)
      << "\" font-size=\"12\" text-anchor=\"middle\">row k (0 … " << c - 1
      << ")</text></svg><figcaption class=\"note\">";
-  if (bin == 1) {
+  if (l.bin == 1) {
     o_ << "Bars: λ per row, coloured by kind; black dashes: finite bounds cmin, cmax; yellow "
        << "dots: rows at a bound.";
   } else {
-    o_ << "One bar per " << bin << " consecutive rows (" << bars << " bars), in one panel per "
+    o_ << "One bar per " << l.bin << " consecutive rows (" << l.bars << " bars), in one panel per "
        << "row kind, each on its own scale: the range of λ and 0 over the bin's rows of that "
        << "kind; black dashes: the lowest finite cmin and highest finite cmax among them; yellow "
        << "dots: bins with a row of that kind at a bound (";
     bool first = true;
-    for (const auto& panel : panels) {
+    for (const Panel& panel : panels) {
       o_ << (first ? "" : ", ") << at_bound[static_cast<std::size_t>(*panel)] << " "
          << to_string(*panel);
       first = false;
@@ -497,6 +479,63 @@ void Page::bounds_picture(const std::string& id, const TeachingSystem& t) {
     o_ << " rows in all).";
   }
   o_ << "</figcaption></figure>\n";
+}
+
+void Page::bounds_panel(const BoundsLayout& l,
+                        const std::optional<RowKind>& panel,
+                        const BoundsAxis& a,
+                        double top,
+                        const TeachingSystem& t,
+                        std::array<long, 3>& at_bound) {
+  const Eigen::Index c = t.lambda.size();
+  const double bottom = top + l.plot;
+  auto y_of = [&](double v) { return bottom - (bottom - top) * (v - a.lo) / (a.hi - a.lo); };
+  const std::array<double, 3> ticks{a.lo, 0.0, a.hi};
+  for (std::size_t i = 0; i < ticks.size(); ++i) {
+    if (i > 0 && ticks[i] == ticks[i - 1]) continue;  // 0 at an end of the axis: once
+    o_ << "<line x1=\"" << px(l.left) << "\" x2=\"" << px(l.right) << "\" y1=\""
+       << px(y_of(ticks[i])) << "\" y2=\"" << px(y_of(ticks[i])) << "\" stroke=\""
+       << (ticks[i] == 0.0 ? "#333" : "#ddd") << "\"/><text x=\"" << px(l.left - 4) << "\" y=\""
+       << px(y_of(ticks[i]) + 4) << "\" font-size=\"" << l.font << "\" text-anchor=\"end\">"
+       << a.labels[i] << "</text>";
+  }
+  const Eigen::Index bin = l.bin;
+  const double w = l.w;
+  for (Eigen::Index j = 0; j < l.bars; ++j) {
+    const Eigen::Index first = j * bin, last = std::min(c, first + bin);
+    double l_lo = 0.0, l_hi = 0.0, b_lo = INFINITY, b_hi = -INFINITY;
+    bool any = false, bound = false;
+    for (Eigen::Index k = first; k < last; ++k) {
+      if (!in_panel(sys_, panel, k)) continue;
+      any = true;
+      l_lo = std::min(l_lo, t.lambda(k));
+      l_hi = std::max(l_hi, t.lambda(k));
+      if (std::isfinite(t.cmin(k))) b_lo = std::min(b_lo, t.cmin(k));
+      if (std::isfinite(t.cmax(k))) b_hi = std::max(b_hi, t.cmax(k));
+      if (t.status[static_cast<std::size_t>(k)].at_bound()) {
+        bound = true;
+        ++at_bound[static_cast<std::size_t>(kind_of(sys_, k))];
+      }
+    }
+    if (!any) continue;  // no row of this panel's kind in the bin
+    const RowKind kind = panel ? *panel : kind_of(sys_, first);
+    // One row: its bar runs from 0 to λ; a bin: over the range of its λ and 0.
+    const double x = l.left + w * static_cast<double>(j);
+    const double y_top = y_of(bin == 1 ? std::max(0.0, t.lambda(first)) : l_hi);
+    const double y_bottom = y_of(bin == 1 ? std::min(0.0, t.lambda(first)) : l_lo);
+    o_ << "<rect x=\"" << px(x + 0.1 * w) << "\" y=\"" << px(y_top) << "\" width=\"" << px(0.8 * w)
+       << "\" height=\"" << px(std::max(0.5, y_bottom - y_top)) << "\" fill=\"" << kind_colour(kind)
+       << "\"/>";
+    for (double b : {b_lo, b_hi})
+      if (std::isfinite(b))
+        o_ << "<line x1=\"" << px(x) << "\" x2=\"" << px(x + w) << "\" y1=\"" << px(y_of(b))
+           << "\" y2=\"" << px(y_of(b)) << "\" stroke=\"#000\" stroke-width=\"1.5\"/>";
+    if (bound)
+      o_ << "<circle cx=\"" << px(x + w / 2) << "\" cy=\""
+         << px(bin == 1 ? y_of(t.lambda(first)) : y_top) << "\" r=\""
+         << px(std::clamp(w / 3, 1.5, 5.0)) << "\" fill=\"#ffd23f\" stroke=\"#000\"/>";
+  }
+  o_ << "\n";
 }
 
 void Page::body_table(const std::string& id,
@@ -763,14 +802,24 @@ void Page::one_system(const TeachingSystem& t, const std::string& id) {
 }
 
 void Page::solution(const TeachingSystem& t, const std::string& id) {
-  const Eigen::Index c = t.lambda.size();
-  const bool dense = c <= l_.dense_rows;
   o_ << "<h3>λ within its bounds, and w = Aλ − b</h3>\n";
   equation(
       "cmin ≤ λ ≤ cmax (5.1); w = Aλ − b (6.2): λ<sub>k</sub> = cmin<sub>k</sub> ⇒ "
       "w<sub>k</sub> ≥ 0, λ<sub>k</sub> = cmax<sub>k</sub> ⇒ w<sub>k</sub> ≤ 0, "
       "cmin<sub>k</sub> &lt; λ<sub>k</sub> &lt; cmax<sub>k</sub> ⇒ w<sub>k</sub> = 0");
   unit("λ, cmin, cmax in N; w in m/s²");
+  solution_stats(t, id);
+  bounds_picture("svg-lambda-" + id, t);
+  solution_table(t, id);
+  if (sys_.coulomb().any())
+    note(
+        "Coulomb friction rows: their bounds are ∓μ λ<sub>n</sub> at the fixed point λ "
+        "satisfies (5.4).");
+
+  residual_per_sweep(t, id);
+}
+
+void Page::solution_stats(const TeachingSystem& t, const std::string& id) {
   int at_min = 0, at_max = 0, fixed = 0, free = 0, missed = 0;
   for (const RowStatus& s : t.status) {
     if (s.where == "at cmin") ++at_min;
@@ -803,7 +852,11 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
                 : std::string()));
   stat("solver", html_escape(s_.method) + ": " + html_escape(t.summary.message));
   o_ << "</dl>\n";
-  bounds_picture("svg-lambda-" + id, t);
+}
+
+void Page::solution_table(const TeachingSystem& t, const std::string& id) {
+  const Eigen::Index c = t.lambda.size();
+  const bool dense = c <= l_.dense_rows;
   if (dense) {
     o_ << "<div class=\"scroll\"><table id=\"table-lambda-" << id << "\"><thead><tr>"
        << "<th>row</th><th>cmin (N)</th><th>λ (N)</th><th>cmax (N)</th><th>w (m/s²)</th>"
@@ -825,11 +878,9 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
     limit("The table of λ, bounds and w is shown up to " + std::to_string(l_.dense_rows) +
           " rows; this system has " + std::to_string(c) + ": the picture and counts above.");
   }
-  if (sys_.coulomb().any())
-    note(
-        "Coulomb friction rows: their bounds are ∓μ λ<sub>n</sub> at the fixed point λ "
-        "satisfies (5.4).");
+}
 
+void Page::residual_per_sweep(const TeachingSystem& t, const std::string& id) {
   o_ << "<h3>Residual per sweep</h3>\n";
   equation(
       "r = ‖λ − clamp(λ − w, cmin, cmax)‖<sub>∞</sub> (the natural-map residual, zero "
