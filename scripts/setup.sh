@@ -26,6 +26,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev catch2 libgsl-dev nlohmann-json3-dev libcli11-dev
   libbenchmark-dev python3 python3-matplotlib python3-numpy python3-scipy python3-dev
   pybind11-dev python3-pytest python3-nbclient python3-ipykernel clang-format
+  universal-ctags  # function lengths in tests/test_layers.py
   python3-venv python3-pip python3-setuptools python3-wheel  # pip install . (docs/python.md)
   python3-setuptools-whl python3-wheel-whl  # the same with build isolation, offline
   clang libclang-rt-14-dev llvm-14

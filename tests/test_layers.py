@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The library's folders are layers: a file includes headers of its own folder and of the
-layers below it, never of a layer above (README, "The code follows the step"); and no script in
-scripts/ imports a test.
+layers below it, never of a layer above (README, "The code follows the step"); no script in
+scripts/ imports a test; and no function in src/ is longer than 100 lines, tables aside.
 
     /usr/bin/python3 tests/test_layers.py SOURCE_DIR
 
@@ -9,10 +9,22 @@ Reads every #include "..." of include/cbps/ and src/ (a cbps/<folder>/... includ
 relative one such as "../solvers/x.hpp", by the folder it lands in) and every import of
 scripts/*.py. Exit 0 when every arrow points down and no file reaches into another folder's
 private headers (a relative include out of its folder), 1 listing each that does.
+Function lengths are read with Universal Ctags (`ctags`, Debian's universal-ctags, which
+scripts/setup.sh installs): from a definition's first line to its closing brace.
 """
+import json
 import os
 import re
+import subprocess
 import sys
+
+# The longest function src/ may hold, lines from its first line to its closing brace: a longer
+# one does several things the reader should see named.
+MAX_FUNCTION_LINES = 100
+# Tables: one entry after another, nothing to name apart.
+TABLES = {
+    ("src/scene/builtin/registry.cpp", "builtin_scenes"),  # the built-in scenes and parameters
+}
 
 # Layer of each folder, lowest first; a folder may include its own layer and any lower one.
 # io/ reads and writes the boxed problem (system/) beside the solvers; scene/ names the solver
@@ -50,6 +62,29 @@ def include_arrows(source_dir):
                     yield os.path.relpath(path, source_dir), folder_of(path, top), header, target
 
 
+def long_functions(source_dir):
+    """(path, line, name, lines) of every function of src/ longer than MAX_FUNCTION_LINES."""
+    try:
+        out = subprocess.run(
+            ["ctags", "-R", "--languages=C++", "--kinds-C++=f", "--fields=+ne",
+             "--output-format=json", "-o", "-", "src"],
+            cwd=source_dir, check=True, capture_output=True, text=True).stdout
+    except (OSError, subprocess.CalledProcessError) as e:
+        raise SystemExit(f"test_layers: cannot run Universal Ctags ({e}); scripts/setup.sh "
+                         "installs it (universal-ctags)")
+    found = 0
+    for line in out.splitlines():
+        tag = json.loads(line)
+        if tag.get("_type") != "tag" or "end" not in tag:
+            continue
+        found += 1
+        lines = tag["end"] - tag["line"] + 1
+        if lines > MAX_FUNCTION_LINES and (tag["path"], tag["name"]) not in TABLES:
+            yield tag["path"], tag["line"], tag["name"], lines
+    if found < 500:
+        raise SystemExit(f"test_layers: ctags found only {found} functions in src/")
+
+
 def main():
     source_dir = sys.argv[1]
     failures = []
@@ -76,6 +111,9 @@ def main():
         if re.search(r'^\s*(from|import)\s+test_\w*', text, re.MULTILINE) or \
                 re.search(r'sys\.path\.\w+\(.*"tests"', text):
             failures.append(f"scripts/{name} imports from tests/: scripts import scripts/ only")
+    for path, line, name, lines in long_functions(source_dir):
+        failures.append(f"{path}:{line}: {name} is {lines} lines, more than "
+                        f"{MAX_FUNCTION_LINES}: split it into named steps")
     for failure in failures:
         print("FAILED:", failure, file=sys.stderr)
     print(f"{seen} includes checked; {len(failures)} failures")
