@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cbps/io/json_numbers.hpp"
+#include "cbps/io/output_dir.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/system/system.hpp"
@@ -65,56 +66,6 @@ void apply_step_options(Scene& scene, const StepOptions& o);
 /// the duration gives no step or more than kMaxSteps.
 long step_count(const Scene& scene, const StepOptions& o);
 
-/// The file in every output folder that lists the files cbps wrote there (kManifestFormat).
-inline constexpr const char* kManifestName = "cbps-manifest.json";
-inline constexpr const char* kManifestFormat = "cbps-output/1";
-
-/// An output folder (--out) that never loses a user's file. The files are written into a hidden
-/// temporary folder inside it (.cbps-tmp-PID) and moved into place by commit(), so nothing
-/// changes unless the command succeeds; without commit() the temporary folder is removed, and
-/// so is the output folder if this made it and it is still empty. cbps-manifest.json lists the
-/// files cbps wrote: commit() replaces and removes only files listed there (and its own new
-/// ones). A folder holding anything else is refused up front (InputError naming those files),
-/// so nothing is ever deleted that cbps did not write. "DIR", "DIR/" and "DIR/." are the same.
-/// SIGINT and SIGTERM remove every temporary folder (install_interrupt_cleanup); a later OutputDir
-/// in the same folder removes those a process left that no longer runs (killed by SIGKILL).
-class OutputDir {
- public:
-  explicit OutputDir(const std::string& final_path);
-  ~OutputDir();
-  OutputDir(const OutputDir&) = delete;
-  OutputDir& operator=(const OutputDir&) = delete;
-  /// Where to write the output file `name` (inside the temporary folder until commit()).
-  std::string file(const std::string& name) const;
-  void commit();
-
- private:
-  std::string option_;  ///< as given, for messages
-  std::string final_;   ///< absolute, normalised, no trailing separator
-  std::string temp_;
-  bool created_final_ = false;
-  bool committed_ = false;
-};
-
-/// The files a cbps output folder's manifest lists (relative paths), or InputError if it is not
-/// a cbps manifest; empty when the folder has none.
-std::vector<std::string> read_manifest(const std::string& folder);
-
-/// Records the command line for the manifests (main calls this first).
-void set_command_line(int argc, char** argv);
-
-/// Handles SIGINT and SIGTERM in the whole process, whichever thread the kernel gives them to
-/// (a threaded BLAS starts threads before main): the handler only writes the signal to a pipe,
-/// and a thread of its own removes every OutputDir's temporary folder (and output folders made
-/// for them), says so on stderr and exits with 128 + the signal (130, 143). A signal the parent
-/// ignores stays ignored. main calls this before anything else.
-void install_interrupt_cleanup();
-
-/// `code`, or never returns once a signal arrived: the cleanup thread then ends the process
-/// with the signal's exit code (main returns through this, so that a command failing because
-/// its output was removed under it does not exit 1 first).
-int wait_if_interrupted(int code);
-
 /// The threads the libraries run with (set_threads, from --threads) as summaries report them:
 /// {"requested", "blas", "blas_kind", "blas_threads", "openmp_threads"}.
 nlohmann::json threads_json();
@@ -123,14 +74,6 @@ nlohmann::json threads_json();
 /// "scripts/plot_convergence.py"), under CBPS_PLOT_PYTHON (Debian's python3, which has
 /// matplotlib) with the arguments given; true if it exited 0.
 bool run_python_script(const std::string& script, std::vector<std::string> args);
-
-/// Writes text to a file, throwing on failure.
-void write_text(const std::string& path, const std::string& text);
-
-/// Writes one output file whole or not at all (cbps/io/output_file.hpp: a temporary file
-/// beside it, renamed into place), its temporary file removed on Ctrl-C as --out's folders are.
-/// Check it first with check_output_file.
-void write_output_file(const std::string& path, const std::string& what, const std::string& text);
 
 /// A dense matrix as nested JSON arrays (inf as the strings "inf"/"-inf").
 nlohmann::json dense_json(const MatX& M);

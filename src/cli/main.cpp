@@ -37,7 +37,7 @@ bool runs_distributed(const CLI::App& app) {
 }
 
 int run(int argc, char** argv) {
-  cbps::cli::set_command_line(argc, argv);
+  cbps::set_command_line(argc, argv);
   CLI::App app{
       "cbps: the constraint-based rigid-body solver of Tamis & Maggiore (2015), built from the "
       "paper's matrices: J, Minv, A = J Minv J^T, b, solved by projected Gauss-Seidel."};
@@ -122,6 +122,6 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  cbps::cli::install_interrupt_cleanup();  // Ctrl-C and SIGTERM leave nothing behind
-  return cbps::cli::wait_if_interrupted(run(argc, argv));
+  cbps::install_interrupt_cleanup();  // Ctrl-C and SIGTERM leave nothing behind
+  return cbps::wait_if_interrupted(run(argc, argv));
 }
