@@ -215,20 +215,4 @@ nlohmann::json threads_json() {
           {"openmp_threads", r.openmp_threads}};
 }
 
-nlohmann::json dense_json(const MatX& M) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (Eigen::Index r = 0; r < M.rows(); ++r) {
-    nlohmann::json row = nlohmann::json::array();
-    for (Eigen::Index c = 0; c < M.cols(); ++c) row.push_back(number_json(M(r, c)));
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-nlohmann::json vector_json(const VecX& v) {
-  nlohmann::json a = nlohmann::json::array();
-  for (Eigen::Index k = 0; k < v.size(); ++k) a.push_back(number_json(v(k)));
-  return a;
-}
-
 }  // namespace cbps::cli

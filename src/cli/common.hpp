@@ -75,10 +75,6 @@ nlohmann::json threads_json();
 /// matplotlib) with the arguments given; true if it exited 0.
 bool run_python_script(const std::string& script, std::vector<std::string> args);
 
-/// A dense matrix as nested JSON arrays (inf as the strings "inf"/"-inf").
-nlohmann::json dense_json(const MatX& M);
-nlohmann::json vector_json(const VecX& v);
-
 /// Registration of each command: adds the subcommand and sets `run` to its action.
 using Action = std::function<int()>;
 void register_scenes(CLI::App& app, Action& run);

@@ -1,10 +1,8 @@
 // cbps lcp PROBLEM [--solver NAME] [--json] [--out DIR]: solves a stored boxed LCP, either a
 // folder written by `cbps matrices` (A, b, cmin, cmax) or a Siconos .dat file (LCP or relay).
 //
-// Both are held in the paper's convention (6.2): w = A lambda − b, cmin ≤ lambda ≤ cmax, which
-// is Siconos' w = M z + q, lb ≤ z ≤ ub with M = A, q = −b, lb = cmin, ub = cmax. The command
-// measures the natural-map residual of the returned lambda itself, and prints "solved" only if
-// it is ≤ kLcpSolvedTolerance · max(1, ‖q‖∞, max |M_ij|), whatever the solver claims.
+// The solve and cbps's verdict on it are studies/lcp.hpp; here the options, the distributed path
+// and the report.
 //
 // `--solver tao:TYPE` (a build with PETSc, docs/distributed.md) solves the same problem by TAO
 // under MPI, alone or as `mpirun -n N cbps lcp ...`: every rank holds only its own rows (a
@@ -15,6 +13,8 @@
 // `--generate chain --rows N --solver tao:TYPE` builds the problem instead of reading it, each
 // rank only its own rows (distributed/generate.hpp, docs/distributed.md#generated-problems),
 // and reports through the same report(); no rank holds the whole problem.
+#include "cbps/studies/lcp.hpp"
+
 #include <sys/resource.h>
 
 #include <chrono>
@@ -62,20 +62,13 @@ struct LcpOptions {
 /// object carries.
 constexpr long kMaxGatheredRows = 100000;
 
-/// What the solver returned, before the command's own check.
-struct Outcome {
-  VecX lambda;
-  int iterations = 0;
-  bool no_solution = false;  ///< Lemke's ray termination
-  bool pivots = false;       ///< iterations are Lemke's pivots
-  std::string message;
-  /// Where the exact path factored: "body", "row" or empty (no factorization: the sweeps,
-  /// Lemke, or the active set of a small problem on blocks of A), and why.
-  std::string space;
-  std::string space_reason;
-};
+std::string format_number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", x);
+  return buf;
+}
 
-/// What the distributed path adds to its Outcome: it measures the residual itself and says
+/// What the distributed path adds to its LcpOutcome: it measures the residual itself and says
 /// more in the JSON object.
 struct OutcomeExtras {
   /// The natural-map residual as the solver measured it (TAO: on its distributed vectors);
@@ -85,155 +78,21 @@ struct OutcomeExtras {
   nlohmann::json fields = nlohmann::json::object();
 };
 
-std::string format_number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
-}
-
-/// Refuses (InputError, exit 2) a spec that cannot run on this problem: the methods that read J
-/// on a problem without J and Minv, contacts_first without row kinds, the exact paths on a
-/// non-symmetric A (they solve the QP of 6.2).
-void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path) {
-  const std::string what = "--solver " + spec.text;
-  if (needs_jacobian(spec.method) && !p.has_jacobian())
-    throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
-                     std::string(to_string(spec.method)) +
-                     (spec.method == Method::MatrixFree
-                          ? " sweeps on J and Minv (7.1.1 without A)"
-                          : " takes its levels from the bodies of J's rows") +
-                     ", so it needs a `cbps matrices` folder with J.mtx and Minv.mtx");
-  if (spec.contacts_first && p.kinds.empty())
-    throw InputError(what + ": " + path +
-                     ": contacts_first needs each row's kind, which only a `cbps matrices` "
-                     "folder's labels.json gives; drop it or use `cbps converge SCENE`");
-  if (spec.method == Method::Direct || spec.method == Method::ActiveSet) require_symmetric(p, what);
-  if (spec.method == Method::Lemke && p.rows() > kMaxDenseLemkeRows)
-    throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
-                     " rows; the dense Lemke solver takes at most " +
-                     std::to_string(kMaxDenseLemkeRows) + " (use --solver pgs or direct)");
-}
-
-/// Where the exact path factored and why (the summary's `space`, what the problem carries).
-void explain_space(const SolverSpec& spec,
-                   const StoredProblem& p,
-                   const SolverSummary& s,
-                   Outcome& r) {
-  r.space = s.space;
-  const std::string method(to_string(spec.method));
-  if (s.space == "body") {
-    r.space_reason = "body: J and Minv present";
-  } else if (s.space == "row") {
-    r.space_reason = p.has_jacobian() ? "row: J and Minv present, but Minv is not block diagonal "
-                                        "with definite 6 x 6 blocks or A is not J Minv J^T"
-                                      : "row: " + p.without_jacobian;
-  } else if (spec.method == Method::Direct) {
-    r.space_reason = "none: " + std::to_string(p.rows()) +
-                     " rows, fewer than 500 or no bounded row: the active-set path on A "
-                     "itself (" +
-                     (p.has_jacobian() ? "J and Minv present" : p.without_jacobian) + ")";
-  } else if (spec.method == Method::ActiveSet) {
-    r.space_reason = "none: the active-set path factors blocks of A itself";
-  } else {
-    r.space_reason = "none: " + method + " factors no Newton system";
-  }
-}
-
-/// Every method but tao:TYPE: solve() with the options solver_options() builds from the spec
-/// (the ones a scene's solver block with this spec would give), --iterations and --tolerance.
-/// The problem is the stored A with its cfm applied by solve() (A + eps E, as converge does).
-Outcome run_solver(const SolverSpec& spec, const StoredProblem& p, const LcpOptions& o) {
-  if (is_iterative(spec.method)) {
-    // The sweeps divide by (A + eps E)_kk (7.1.1).
-    for (long k = 0; k < p.rows(); ++k) {
-      const double a_kk = p.A.coeff(k, k) + p.cfm;
-      if (!(a_kk > 0.0)) {
-        Outcome r;
-        r.lambda = VecX::Zero(p.rows());
-        r.message = spec.text + ": not run, it needs a positive diagonal; A[" + std::to_string(k) +
-                    "," + std::to_string(k) + "] = " + std::to_string(a_kk);
-        r.space_reason = "none: not run";
-        return r;
-      }
-    }
-  }
-  SolverOptions options = solver_options(spec, o.iterations, o.tolerance);
-  options.cfm = p.cfm;
-  VecX lambda = VecX::Zero(p.rows());
-  const SolverSummary s = solve(p.problem(), lambda, options);
-  Outcome r;
-  r.lambda = lambda;
-  r.iterations = s.iterations;
-  r.no_solution = s.termination == Termination::NoSolution;
-  r.pivots = spec.method == Method::Lemke;
-  r.message = s.message;
-  explain_space(spec, p, s, r);
-  return r;
-}
-
-/// What report() says of the problem: from a StoredProblem, or from a generated one (which no
-/// rank holds whole: its residual and scale come measured on the distributed vectors).
-struct ProblemFacts {
-  long rows = 0;
-  double cfm = 0.0;
-  std::string kind;  ///< "cbps matrices folder", "Siconos file", "generated on N ranks"
-  /// The problem, when one process holds it (solved as A + eps E with a cfm.txt).
-  const StoredProblem* stored = nullptr;
-  double scale = 0.0;          ///< without `stored`: scale_of measured elsewhere
-  bool lambda_in_json = true;  ///< false: "lambda": null (too large to print)
-};
-
-ProblemFacts facts_of(const StoredProblem& p) {
-  ProblemFacts f;
-  f.rows = p.rows();
-  f.cfm = p.cfm;
-  f.kind = p.folder ? "cbps matrices folder" : "Siconos file";
-  f.stored = &p;
-  return f;
-}
-
-/// The command's verdict on what a solver returned and its report: the residual check (6.2),
-/// the JSON object, the text on stdout, --out (result.json, lambda.mtx, only when solved).
-/// Every solver's result goes through here, TAO's included (on rank 0 alone). Returns the exit
-/// code: 0 solved, 1 not.
+/// The report of what a solver returned: cbps's verdict (judge), the JSON object, the text on
+/// stdout, --out (result.json, lambda.mtx, only when solved). Every solver's result goes
+/// through here, TAO's included (on rank 0 alone). Returns the exit code: 0 solved, 1 not.
 int report(const LcpOptions& o,
-           const ProblemFacts& p,
+           const LcpFacts& p,
            const std::string& solver,
-           const Outcome& r,
+           const LcpOutcome& r,
            double wall,
            OutputDir* dir,
            const OutcomeExtras& extras = {}) {
-  // The command's own check of the returned lambda (6.2), independent of the solver's claim.
-  const bool sized = r.lambda.size() == p.rows;
-  const double residual = !sized            ? kInf
-                          : extras.residual ? *extras.residual
-                          : p.stored != nullptr
-                              ? natural_map_residual(p.stored->problem(), r.lambda, p.stored->cfm)
-                              : kInf;
-  const double scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
-  const bool solved = sized && r.lambda.allFinite() && std::isfinite(residual) &&
-                      residual <= kLcpSolvedTolerance * scale;
-  const std::string status = solved ? "solved" : r.no_solution ? "no_solution" : "failed";
-
-  nlohmann::json j;
-  j["problem"] = o.problem;
-  j["rows"] = p.rows;
-  j["cfm"] = p.cfm;
-  j["solver"] = solver;
-  j["status"] = status;
-  j["iterations"] = r.iterations;
-  j["wall_time_s"] = wall;
-  j["residual"] = std::isfinite(residual) ? nlohmann::json(residual) : nlohmann::json(nullptr);
-  j["scale"] = scale;
-  j["message"] = r.message;
-  j["space"] = r.space.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.space);
-  j["space_reason"] = r.space_reason;
-  j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
-                : sized           ? vector_json(r.lambda)
-                                  : nlohmann::json::array();
+  const LcpVerdict v = judge(p, r, extras.residual);
+  nlohmann::json j = lcp_result_json(o.problem, p, solver, r, v, wall);
   j.update(extras.fields);
 
-  if (solved && dir) {
+  if (v.solved && dir) {
     write_text(dir->file("result.json"), j.dump(2) + "\n");
     write_matrix_market(dir->file("lambda.mtx"),
                         r.lambda,
@@ -249,21 +108,21 @@ int report(const LcpOptions& o,
                   number_text(p.cfm).c_str());
     std::printf("%s: %s, %d %s, %s s\n",
                 solver.c_str(),
-                status.c_str(),
+                v.status.c_str(),
                 r.iterations,
                 r.pivots ? "pivots" : "iterations",
                 format_number(wall).c_str());
     std::printf("residual %s (natural map, infinity norm; scale %s)\n",
-                format_number(residual).c_str(),
-                format_number(scale).c_str());
+                format_number(v.residual).c_str(),
+                format_number(v.scale).c_str());
     std::printf("%s\n", r.message.c_str());
     if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
-    if (solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
+    if (v.solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }
-  if (!solved && !o.out.empty())
+  if (!v.solved && !o.out.empty())
     std::fprintf(
         stderr, "cbps: --out %s: not written, the problem was not solved\n", o.out.c_str());
-  return solved ? 0 : 1;
+  return v.solved ? 0 : 1;
 }
 
 /// --out must not be the problem's own folder.
@@ -398,7 +257,7 @@ int report_tao(const LcpOptions& o,
   if (system_dir != nullptr) write_gathered(t.gathered, local.description, *system_dir);
   const std::string ranks =
       std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
-  Outcome r;
+  LcpOutcome r;
   r.lambda = t.lambda;
   r.iterations = t.iterations;
   r.space_reason = "none: TAO " + at.type + " factors no Newton system";
@@ -422,7 +281,7 @@ int report_tao(const LcpOptions& o,
   else
     extras.fields["read_wall_time_s"] = at.read_wall;
   extras.fields["rank_memory_mb"] = at.memory;
-  ProblemFacts facts;
+  LcpFacts facts;
   facts.rows = at.rows;
   facts.cfm = local.cfm;
   facts.kind = at.kind + " on " + ranks;
@@ -535,10 +394,10 @@ int lcp_command(const LcpOptions& o) {
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
 
   const auto start = std::chrono::steady_clock::now();
-  const Outcome r = run_solver(spec, p, o);
+  const LcpOutcome r = solve_stored(spec, p, o.iterations, o.tolerance);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return report(o, facts_of(p), spec.text, r, wall, dir.get());
+  return report(o, lcp_facts(p), spec.text, r, wall, dir.get());
 }
 
 }  // namespace

@@ -1,0 +1,80 @@
+// `cbps lcp`: a stored problem (a `cbps matrices` folder or a Siconos file) solved by one
+// method and judged by cbps's own residual, whatever the method claims.
+//
+// Both are held in the paper's convention (6.2): w = A lambda − b, cmin ≤ lambda ≤ cmax, which
+// is Siconos' w = M z + q, lb ≤ z ≤ ub with M = A, q = −b, lb = cmin, ub = cmax. The verdict is
+// "solved" only if the natural-map residual of the returned lambda is ≤ kLcpSolvedTolerance ·
+// max(1, ‖q‖∞, max |M_ij|) (with a cfm.txt, of A + eps E).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/studies/solver_spec.hpp"
+
+namespace cbps {
+
+/// What a solver returned, before cbps's own check.
+struct LcpOutcome {
+  VecX lambda;
+  int iterations = 0;
+  bool no_solution = false;  ///< Lemke's ray termination
+  bool pivots = false;       ///< iterations are Lemke's pivots
+  std::string message;
+  /// Where the exact path factored: "body", "row" or empty (no factorization: the sweeps,
+  /// Lemke, or the active set of a small problem on blocks of A), and why.
+  std::string space;
+  std::string space_reason;
+};
+
+/// What the verdict and the report say of the problem: from a StoredProblem, or from a generated
+/// one (which no rank holds whole: its residual and scale come measured on the distributed
+/// vectors).
+struct LcpFacts {
+  long rows = 0;
+  double cfm = 0.0;
+  std::string kind;  ///< "cbps matrices folder", "Siconos file", "generated on N ranks"
+  /// The problem, when one process holds it (solved as A + eps E with a cfm.txt).
+  const StoredProblem* stored = nullptr;
+  double scale = 0.0;          ///< without `stored`: scale_of measured elsewhere
+  bool lambda_in_json = true;  ///< false: "lambda": null (too large to print)
+};
+
+/// The facts of a problem this process holds.
+LcpFacts lcp_facts(const StoredProblem& p);
+
+/// Refuses (InputError, exit 2) a spec that cannot run on this problem: the methods that read J
+/// on a problem without J and Minv, contacts_first without row kinds, the exact paths on a
+/// non-symmetric A (they solve the QP of 6.2). `path` names the problem in the message.
+void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path);
+
+/// Every method but tao:TYPE: solve() with the options solver_options() builds from the spec
+/// (the ones a scene's solver block with this spec would give), iterations and tolerance, from
+/// lambda = 0, with the problem's cfm in the options (solve() applies it: A + eps E).
+LcpOutcome solve_stored(const SolverSpec& spec,
+                        const StoredProblem& p,
+                        int iterations,
+                        double tolerance);
+
+/// cbps's verdict on a returned lambda.
+struct LcpVerdict {
+  double residual = 0.0;  ///< natural map, ∞-norm, N (∞ when lambda has the wrong size)
+  double scale = 1.0;     ///< scale_of
+  bool solved = false;    ///< residual ≤ kLcpSolvedTolerance · scale, lambda finite
+  std::string status;     ///< "solved", "no_solution" (Lemke's ray) or "failed"
+};
+/// The verdict; `measured`: the residual as the solver measured it on vectors no process holds
+/// whole (TAO), else measured here on lambda.
+LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> measured = {});
+
+/// result.json (docs/outputs.md) of `problem` solved by `solver` in `wall` s.
+nlohmann::json lcp_result_json(const std::string& problem,
+                               const LcpFacts& p,
+                               const std::string& solver,
+                               const LcpOutcome& r,
+                               const LcpVerdict& v,
+                               double wall);
+
+}  // namespace cbps

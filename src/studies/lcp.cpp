@@ -1,0 +1,144 @@
+#include "cbps/studies/lcp.hpp"
+
+#include <cmath>
+
+#include "cbps/base/error.hpp"
+#include "cbps/io/json_numbers.hpp"
+#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/solver.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// Where the exact path factored and why (the summary's `space`, what the problem carries).
+void explain_space(const SolverSpec& spec,
+                   const StoredProblem& p,
+                   const SolverSummary& s,
+                   LcpOutcome& r) {
+  r.space = s.space;
+  const std::string method(to_string(spec.method));
+  if (s.space == "body") {
+    r.space_reason = "body: J and Minv present";
+  } else if (s.space == "row") {
+    r.space_reason = p.has_jacobian() ? "row: J and Minv present, but Minv is not block diagonal "
+                                        "with definite 6 x 6 blocks or A is not J Minv J^T"
+                                      : "row: " + p.without_jacobian;
+  } else if (spec.method == Method::Direct) {
+    r.space_reason = "none: " + std::to_string(p.rows()) +
+                     " rows, fewer than 500 or no bounded row: the active-set path on A "
+                     "itself (" +
+                     (p.has_jacobian() ? "J and Minv present" : p.without_jacobian) + ")";
+  } else if (spec.method == Method::ActiveSet) {
+    r.space_reason = "none: the active-set path factors blocks of A itself";
+  } else {
+    r.space_reason = "none: " + method + " factors no Newton system";
+  }
+}
+
+}  // namespace
+
+LcpFacts lcp_facts(const StoredProblem& p) {
+  LcpFacts f;
+  f.rows = p.rows();
+  f.cfm = p.cfm;
+  f.kind = p.folder ? "cbps matrices folder" : "Siconos file";
+  f.stored = &p;
+  return f;
+}
+
+void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path) {
+  const std::string what = "--solver " + spec.text;
+  if (needs_jacobian(spec.method) && !p.has_jacobian())
+    throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
+                     std::string(to_string(spec.method)) +
+                     (spec.method == Method::MatrixFree
+                          ? " sweeps on J and Minv (7.1.1 without A)"
+                          : " takes its levels from the bodies of J's rows") +
+                     ", so it needs a `cbps matrices` folder with J.mtx and Minv.mtx");
+  if (spec.contacts_first && p.kinds.empty())
+    throw InputError(what + ": " + path +
+                     ": contacts_first needs each row's kind, which only a `cbps matrices` "
+                     "folder's labels.json gives; drop it or use `cbps converge SCENE`");
+  if (spec.method == Method::Direct || spec.method == Method::ActiveSet) require_symmetric(p, what);
+  if (spec.method == Method::Lemke && p.rows() > kMaxDenseLemkeRows)
+    throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
+                     " rows; the dense Lemke solver takes at most " +
+                     std::to_string(kMaxDenseLemkeRows) + " (use --solver pgs or direct)");
+}
+
+LcpOutcome solve_stored(const SolverSpec& spec,
+                        const StoredProblem& p,
+                        int iterations,
+                        double tolerance) {
+  if (is_iterative(spec.method)) {
+    // The sweeps divide by (A + eps E)_kk (7.1.1).
+    for (long k = 0; k < p.rows(); ++k) {
+      const double a_kk = p.A.coeff(k, k) + p.cfm;
+      if (!(a_kk > 0.0)) {
+        LcpOutcome r;
+        r.lambda = VecX::Zero(p.rows());
+        r.message = spec.text + ": not run, it needs a positive diagonal; A[" + std::to_string(k) +
+                    "," + std::to_string(k) + "] = " + std::to_string(a_kk);
+        r.space_reason = "none: not run";
+        return r;
+      }
+    }
+  }
+  SolverOptions options = solver_options(spec, iterations, tolerance);
+  options.cfm = p.cfm;
+  VecX lambda = VecX::Zero(p.rows());
+  const SolverSummary s = solve(p.problem(), lambda, options);
+  LcpOutcome r;
+  r.lambda = lambda;
+  r.iterations = s.iterations;
+  r.no_solution = s.termination == Termination::NoSolution;
+  r.pivots = spec.method == Method::Lemke;
+  r.message = s.message;
+  explain_space(spec, p, s, r);
+  return r;
+}
+
+LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> measured) {
+  // cbps's own check of the returned lambda (6.2), independent of the solver's claim.
+  LcpVerdict v;
+  const bool sized = r.lambda.size() == p.rows;
+  v.residual = !sized     ? kInf
+               : measured ? *measured
+               : p.stored != nullptr
+                   ? natural_map_residual(p.stored->problem(), r.lambda, p.stored->cfm)
+                   : kInf;
+  v.scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
+  v.solved = sized && r.lambda.allFinite() && std::isfinite(v.residual) &&
+             v.residual <= kLcpSolvedTolerance * v.scale;
+  v.status = v.solved ? "solved" : r.no_solution ? "no_solution" : "failed";
+  return v;
+}
+
+nlohmann::json lcp_result_json(const std::string& problem,
+                               const LcpFacts& p,
+                               const std::string& solver,
+                               const LcpOutcome& r,
+                               const LcpVerdict& v,
+                               double wall) {
+  const bool sized = r.lambda.size() == p.rows;
+  nlohmann::json j;
+  j["problem"] = problem;
+  j["rows"] = p.rows;
+  j["cfm"] = p.cfm;
+  j["solver"] = solver;
+  j["status"] = v.status;
+  j["iterations"] = r.iterations;
+  j["wall_time_s"] = wall;
+  j["residual"] = std::isfinite(v.residual) ? nlohmann::json(v.residual) : nlohmann::json(nullptr);
+  j["scale"] = v.scale;
+  j["message"] = r.message;
+  j["space"] = r.space.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.space);
+  j["space_reason"] = r.space_reason;
+  j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
+                : sized           ? vector_json(r.lambda)
+                                  : nlohmann::json::array();
+  return j;
+}
+
+}  // namespace cbps
