@@ -36,14 +36,33 @@ namespace fs = std::filesystem;
 
 namespace cbps::cli {
 
-void add_scene_options(CLI::App* cmd, SceneOptions& o) {
-  cmd->add_option("SCENE", o.scene, "built-in scene name (see `cbps scenes`) or JSON scene file")
-      ->required();
+void add_scene_options(CLI::App* cmd, SceneOptions& o, const std::string& what) {
+  cmd->add_option("SCENE", o.scene, what)->required();
   cmd->add_option("--param", o.params, "NAME=VALUE: a built-in scene's parameter (repeatable)");
 }
 
-void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
+void add_world_options(CLI::App* cmd, StepOptions& o) {
   cmd->add_option("--dt", o.dt, "time step in s (fractions such as 1/240 accepted)");
+  cmd->add_option("--cfm",
+                  o.cfm,
+                  "constraint-force mixing eps in kg^-1: solve (A + eps E) lambda = b; the "
+                  "summary reports its effect eps max|lambda| (default: the scene's, 0)")
+      ->check(non_negative());
+  cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--push",
+                  o.push,
+                  "push factor form: original (Baumgarte in the one system, 5.2.3, 5.3) | "
+                  "improved (velocity and position systems, 8.1); default: the scene's")
+      ->check(CLI::IsMember({"original", "improved"}));
+}
+
+void add_seed_option(CLI::App* cmd, StepOptions& o) {
+  cmd->add_option("--seed", o.seed, "seed of the random row order (order=random), >= 0")
+      ->check(non_negative());
+}
+
+void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
   if (run_length) {
     auto* steps =
         cmd->add_option("--steps", o.steps, "number of steps (default: the scene's duration)")
@@ -59,8 +78,7 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
                   "NAME one of the solvers listed below, e.g. psor:1.3 (default: the scene's, "
                   "pgs)");
   cmd->footer(solver_spec_help());
-  cmd->add_option("--seed", o.seed, "seed of the random row order (order=random), >= 0")
-      ->check(non_negative());
+  add_seed_option(cmd, o);
   cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")->check(positive());
   cmd->add_option("--tolerance",
                   o.tolerance,
@@ -69,18 +87,11 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
                   "stops there once its steps no longer reduce the residual; default: the "
                   "scene's, 1e-10)")
       ->check(non_negative());
-  cmd->add_option("--cfm",
-                  o.cfm,
-                  "constraint-force mixing eps in kg^-1: solve (A + eps E) lambda = b; the "
-                  "summary reports its effect eps max|lambda| (default: the scene's, 0)")
-      ->check(non_negative());
-  cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--push",
-                  o.push,
-                  "push factor form: original (Baumgarte in the one system, 5.2.3, 5.3) | "
-                  "improved (velocity and position systems, 8.1); default: the scene's")
-      ->check(CLI::IsMember({"original", "improved"}));
+  add_world_options(cmd, o);
+}
+
+bool world_options_given(const StepOptions& o) {
+  return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty();
 }
 
 std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params) {

@@ -36,10 +36,19 @@ struct StepOptions {
   double cfm = -1.0;    ///< --cfm; negative keeps the scene's
 };
 
-void add_scene_options(CLI::App* cmd, SceneOptions& o);
-/// --dt, --solver, --seed, --iterations, --tolerance, --cfm, --beta, --push; with run_length
-/// also --steps and --duration (commands that run a scene; explain and matrices take --step).
+void add_scene_options(
+    CLI::App* cmd,
+    SceneOptions& o,
+    const std::string& what = "built-in scene name (see `cbps scenes`) or JSON scene file");
+/// --dt, --cfm, --beta, --push: the scene's world and constraint-force mixing.
+void add_world_options(CLI::App* cmd, StepOptions& o);
+/// --seed of random row orders.
+void add_seed_option(CLI::App* cmd, StepOptions& o);
+/// --solver, --seed, --iterations, --tolerance and the world options; with run_length also
+/// --steps and --duration (commands that run a scene; explain and matrices take --step).
 void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
+/// Any of --dt, --cfm, --beta, --push given (they apply to scenes only).
+bool world_options_given(const StepOptions& o);
 
 /// Option checks whose messages show the value as given (CLI11's own print DBL_MAX in full).
 CLI::Validator positive();      ///< a finite number > 0

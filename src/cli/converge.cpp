@@ -190,6 +190,9 @@ int converge_command(const ConvergeOptions& o) {
   if (problem && !o.scene.params.empty())
     throw InputError("--param: parameters apply to built-in scenes, not to the problem " +
                      o.scene.scene);
+  if (problem && world_options_given(o.step))
+    throw InputError("--dt, --cfm, --beta, --push: they apply to scenes, not to the problem " +
+                     o.scene.scene + " (its cfm.txt gives its cfm)");
   ConvergenceSystem s = problem ? convergence_system(o.scene.scene) : system_of_scene(o);
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
@@ -251,11 +254,9 @@ void register_converge(CLI::App& app, Action& run) {
       "error against iterations and run time for each solver on one system (a scene's step or "
       "a stored problem): convergence.csv, summary.json, convergence.png/.svg");
   auto o = std::make_shared<ConvergeOptions>();
-  cmd->add_option("SCENE",
-                  o->scene.scene,
-                  "built-in scene, JSON scene file, `cbps matrices` folder or Siconos .dat file")
-      ->required();
-  cmd->add_option("--param", o->scene.params, "NAME=VALUE: a built-in scene's parameter");
+  add_scene_options(cmd,
+                    o->scene,
+                    "built-in scene, JSON scene file, `cbps matrices` folder or Siconos .dat file");
   cmd->add_option("--solvers",
                   o->solvers,
                   "comma-separated solver specs (the solvers listed below), e.g. "
@@ -269,9 +270,7 @@ void register_converge(CLI::App& app, Action& run) {
                   "scenes: study the system of this step (0: the first; later steps start "
                   "from the previous step's lambda unless a spec says warm=off)")
       ->transform(step_index());
-  cmd->add_option("--dt", o->step.dt, "scenes: time step in s");
-  cmd->add_option("--push", o->step.push, "scenes: original | improved")
-      ->check(CLI::IsMember({"original", "improved"}));
+  add_world_options(cmd, o->step);
   cmd->add_option("--iterations",
                   o->iterations,
                   "max sweeps per solver; TAO's iterations for tao:TYPE (default 100000)")
@@ -285,8 +284,7 @@ void register_converge(CLI::App& app, Action& run) {
       ->check(positive());
   cmd->add_option("--time-limit", o->time_limit, "max sweep time per solver, s (default 10)")
       ->check(positive());
-  cmd->add_option("--seed", o->step.seed, "seed of random row orders, >= 0 (default 0)")
-      ->check(non_negative());
+  add_seed_option(cmd, o->step);
   cmd->add_option("--out", o->out, "write convergence.csv, summary.json and the plot here");
   cmd->add_flag("--json", o->json, "print the summary as JSON");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");

@@ -106,6 +106,35 @@ TEST_CASE("cbps converge on a stored problem and on a singular contact system", 
   }
 }
 
+TEST_CASE("cbps converge --cfm studies A + eps E, as a folder with cfm.txt does",
+          "[cli][converge][cfm]") {
+  // The scene's step with --cfm and the same step written by `cbps matrices --cfm` (A = J Minv
+  // J^T, eps in cfm.txt) are the same problem: the same summary, sweep for sweep.
+  const auto dir = scratch_dir("converge_cfm");
+  const std::string folder = (dir / "m").string();
+  REQUIRE(run_cli("matrices chain --step 5 --cfm 1e-3 --out " + folder).code == 0);
+  // warm=off: the folder has no previous lambda to start from.
+  const std::string specs =
+      " --solvers pgs:warm=off,direct --iterations 40 --quiet --no-plot --json";
+  const auto scene = run_cli("converge chain --step 5 --cfm 1e-3" + specs);
+  const auto stored = run_cli("converge " + folder + specs);
+  INFO(scene.err << stored.err);
+  REQUIRE(scene.code == 0);
+  REQUIRE(stored.code == 0);
+  const auto a = nlohmann::json::parse(scene.out);
+  const auto b = nlohmann::json::parse(stored.out);
+  CHECK(a["cfm"] == 1e-3);
+  CHECK(b["cfm"] == 1e-3);
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(a["solvers"][k]["residual"] == b["solvers"][k]["residual"]);
+    CHECK(a["solvers"][k]["iterations"] == b["solvers"][k]["iterations"]);
+  }
+  // The world options shape a scene's step; a stored problem has its own (cfm.txt).
+  const auto refused = run_cli("converge " + folder + " --dt 0.01" + specs);
+  CHECK(refused.code == 2);
+  CHECK(refused.err.find("apply to scenes, not to the problem") != std::string::npos);
+}
+
 TEST_CASE("cbps converge refuses bad solver lists and writes nothing", "[cli][converge]") {
   const auto dir = scratch_dir("converge_bad");
   const std::string out = (dir / "c").string();
