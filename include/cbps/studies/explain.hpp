@@ -1,0 +1,60 @@
+// What `cbps explain` shows of one step: the system with its labels and units, and the report of
+// its solution (teaching_system, the same the teaching page draws), as text or JSON.
+//
+// Everything needed to redo the step by hand is there: J, Minv, v1, fext, upsilon and dt give
+// A = J Minv J^T and b = upsilon/dt − J (v1/dt + Minv fext) (6.2.9); lambda with cmin, cmax and
+// w = A lambda − b shows which rows are free and which sit at a bound (6.2); v2 follows by
+// 12.3.1.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/teaching_page.hpp"
+
+namespace cbps {
+
+/// The most matrix entries explain prints (its dense J, Minv and A together; 8 bytes each, and
+/// several copies as text and JSON).
+inline constexpr double kMaxExplainEntries = 4e6;
+
+/// What the bounds of Coulomb friction rows are, and what CFM is, in explain's words.
+inline constexpr const char* kCoulombNote =
+    "Coulomb friction rows: bounds -mu lambda_n, +mu lambda_n at the fixed point lambda "
+    "satisfies (5.4)";
+inline constexpr const char* kCfmNote =
+    "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
+
+/// The coordinate of a column label "<body>.vx" … "<body>.wz": true for wx, wy, wz.
+bool angular_column(const std::string& label);
+
+/// What `cbps explain` shows of one step, as text or JSON: the system and the report of its
+/// solution (teaching_system, the same the teaching page draws).
+struct Explained {
+  std::string scene;
+  long step = 0;
+  double t = 0.0;
+  std::string method;  ///< the scene's solver
+  double cfm = 0.0;    ///< kg⁻¹
+  System sys;
+  std::vector<std::string> cols;  ///< J's column labels
+  TeachingSystem shown;           ///< the system shown, solved as the step solves it
+  /// The tolerance rows are judged within: the requested one, or w's rounding floor if larger.
+  double tol = 0.0;
+  bool all_satisfied = true;
+  bool coulomb = false;   ///< Coulomb friction rows: their bounds are those of the fixed point
+  bool improved = false;  ///< the improved push (8.1): the velocity system is shown
+  std::string A_unit, system_shown;
+  std::vector<std::string> v_units, f_units;  ///< of the columns (velocities, forces)
+};
+
+/// The explanation of the step `at_step` the simulation is at; InputError, naming the sizes,
+/// when its dense J, Minv and A would be more than kMaxExplainEntries numbers.
+Explained explain_step(const Scene& scene, const Simulation& sim, long at_step);
+
+/// `cbps explain --json`: every block with its equation, unit and value.
+nlohmann::json explain_json(const Explained& e);
+
+}  // namespace cbps
