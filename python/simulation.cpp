@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "cbps/base/error.hpp"
-#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/studies/run.hpp"
 #include "convert.hpp"
 

@@ -15,7 +15,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "convert.hpp"
 
@@ -331,13 +331,10 @@ py::tuple solve_py(const py::object& A,
     if (interrupted) {
       // KeyboardInterrupt (set by PyErr_CheckSignals), raised below with the GIL back
     } else if (per_sweep) {
-      if (last_k > 0 && h.iteration.back() != last_k)
-        h.finish(last_k, residual(lambda), last_time);
+      if (last_k > 0 && h.iteration.back() != last_k) h.finish(last_k, residual(lambda), last_time);
     } else if (history && !split_islands) {
       h.add(0, guess, 0.0);
-      h.add(std::max(1, summary.iterations),
-            residual(lambda),
-            summary.wall_time_s);
+      h.add(std::max(1, summary.iterations), residual(lambda), summary.wall_time_s);
     }
   }
   if (interrupted) throw py::error_already_set();

@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "cbps/scene/builtin.hpp"
-#include "cbps/solvers/direct.hpp"
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/system/system.hpp"
 

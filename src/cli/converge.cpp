@@ -15,7 +15,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/stored_problem.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/convergence.hpp"

@@ -15,8 +15,8 @@
 #include <sstream>
 
 #include "cbps/base/error.hpp"
-#include "cbps/solvers/coulomb.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/push.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/teaching_page.hpp"

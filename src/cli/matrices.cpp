@@ -9,7 +9,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/stored_problem.hpp"
-#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/simulation.hpp"
 #include "common.hpp"
 

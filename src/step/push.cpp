@@ -1,7 +1,7 @@
 // The improved push factor (paper 8.1): the position system. push.hpp explains the two systems.
 #include "cbps/step/push.hpp"
 
-#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 
 namespace cbps {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "cbps/rows/build_rows.hpp"
-#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/guard.hpp"
 #include "cbps/step/push.hpp"
 #include "stage_timer.hpp"

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "cbps/solvers/cholmod_factor.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/cholmod_factor.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 
 namespace cbps {
 

@@ -6,7 +6,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/scene/scene.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 
 namespace cbps {
 

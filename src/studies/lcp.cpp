@@ -4,7 +4,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/json_numbers.hpp"
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps {

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
-#include "cbps/solvers/coulomb.hpp"
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/solver_spec.hpp"
 

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <limits>
 
-#include "cbps/solvers/coulomb.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/push.hpp"
 #include "cbps/step/simulation.hpp"
 

@@ -9,9 +9,9 @@
 #include <map>
 #include <string>
 
-#include "cbps/solvers/admm.hpp"
-#include "cbps/solvers/pgs.hpp"
-#include "cbps/solvers/rbgs.hpp"
+#include "cbps/solvers/compared/admm.hpp"
+#include "cbps/solvers/compared/rbgs.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"

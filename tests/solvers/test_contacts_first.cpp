@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "cbps/solvers/coulomb.hpp"
-#include "cbps/solvers/pgs.hpp"
-#include "cbps/solvers/pgs_matrix_free.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
+#include "cbps/solvers/paper/pgs_matrix_free.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"

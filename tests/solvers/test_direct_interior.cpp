@@ -16,9 +16,9 @@
 #include <utility>
 #include <vector>
 
-#include "cbps/solvers/active_set.hpp"
-#include "cbps/solvers/direct.hpp"
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/active_set.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/system/boxed_problem.hpp"

@@ -12,7 +12,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 #include "fixture.hpp"
 
 using namespace cbps;

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "cbps/base/error.hpp"
-#include "cbps/solvers/active_set.hpp"
-#include "cbps/solvers/direct.hpp"
-#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/exact/active_set.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "cbps/system/boxed_problem.hpp"

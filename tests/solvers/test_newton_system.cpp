@@ -1,4 +1,4 @@
-// The exact path's Newton systems (src/solvers/newton_system.hpp, private to the library):
+// The exact path's Newton systems (src/solvers/exact/newton_system.hpp, private to the library):
 // body space's factor of H = M + Jᵀ D⁻¹ J kept through rank-one updates as rows join or leave
 // must solve exactly what a fresh factorization solves, its product A x = J Minv Jᵀ x must be
 // A's, and a stored A that is not J Minv Jᵀ must not be solved in body space. Expected values:
@@ -7,7 +7,7 @@
 #include <catch2/catch.hpp>
 #include <vector>
 
-#include "../src/solvers/newton_system.hpp"
+#include "../src/solvers/exact/newton_system.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/system/system.hpp"
 #include "fixture.hpp"

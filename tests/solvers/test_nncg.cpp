@@ -7,8 +7,8 @@
 #include <map>
 #include <string>
 
-#include "cbps/solvers/nncg.hpp"
-#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/compared/nncg.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "cbps/scene/builtin.hpp"
-#include "cbps/solvers/direct.hpp"
-#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/system/boxed_problem.hpp"

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "cbps/solvers/pgs.hpp"
-#include "cbps/solvers/pgs_matrix_free.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
+#include "cbps/solvers/paper/pgs_matrix_free.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"

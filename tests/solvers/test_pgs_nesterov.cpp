@@ -8,9 +8,9 @@
 #include <limits>
 #include <vector>
 
-#include "cbps/solvers/apgd.hpp"
-#include "cbps/solvers/pgs.hpp"
-#include "cbps/solvers/pgs_nesterov.hpp"
+#include "cbps/solvers/compared/apgd.hpp"
+#include "cbps/solvers/compared/pgs_nesterov.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "cbps/solvers/pgs.hpp"
-#include "cbps/solvers/rbgs.hpp"
+#include "cbps/solvers/compared/rbgs.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"

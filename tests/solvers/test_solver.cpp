@@ -7,7 +7,7 @@
 
 #include "cbps/rows/distance.hpp"
 #include "cbps/scene/builtin.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/solver_spec.hpp"

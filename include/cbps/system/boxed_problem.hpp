@@ -58,7 +58,7 @@ struct BoxedProblem {
 /// Which rows are Coulomb friction rows (5.4 with bounds ±mu lambda_n): normal_row[k] is the
 /// contact row bounding row k (−1 for every other row) and mu[k] its coefficient. Their bounds
 /// move with lambda, so a problem with such rows is a fixed point of boxed problems
-/// (solvers/coulomb.hpp); the bounds in the BoxedProblem are then only the other rows'.
+/// (solvers/paper/coulomb.hpp); the bounds in the BoxedProblem are then only the other rows'.
 struct CoulombRows {
   const std::vector<int>& normal_row;
   const VecX& mu;

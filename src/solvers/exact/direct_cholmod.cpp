@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "cbps/base/error.hpp"
-#include "cbps/solvers/cholmod_factor.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/cholmod_factor.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 
 namespace cbps {
 

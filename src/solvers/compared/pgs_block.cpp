@@ -1,14 +1,14 @@
 // Block projected Gauss-Seidel: contact manifolds solved as blocks by Lemke's method.
-#include "cbps/solvers/pgs_block.hpp"
+#include "cbps/solvers/compared/pgs_block.hpp"
 
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
-#include "cbps/solvers/lemke.hpp"
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 

@@ -1,14 +1,14 @@
 // ADMM on the box QP of 6.2 with one CHOLMOD factor of A + rho E kept while rho stays. The
 // method, its parameters and its sources are described at solve_admm() in admm.hpp.
-#include "cbps/solvers/admm.hpp"
+#include "cbps/solvers/compared/admm.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "cbps/solvers/cholmod_factor.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/exact/cholmod_factor.hpp"
 
 namespace cbps {
 

@@ -1,13 +1,13 @@
 // Shock propagation order: the layers of the contact graph from J's pattern, and 7.1.1 over the
 // rows level by level from the ground up. The method and its sources are described in shock.hpp.
-#include "cbps/solvers/shock.hpp"
+#include "cbps/solvers/compared/shock.hpp"
 
 #include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 

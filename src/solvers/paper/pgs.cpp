@@ -1,12 +1,12 @@
 // Projected Gauss-Seidel (paper 7.1.1), PSOR, symmetric Gauss-Seidel and projected Jacobi over
 // the explicit A.
-#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
 
-#include "sweep.hpp"
+#include "../sweep.hpp"
 
 namespace cbps {
 

@@ -1,11 +1,11 @@
 // Red-black (multicolour) projected Gauss-Seidel: a greedy colouring of A's rows and 7.1.1 over
 // the rows colour by colour. The method and its sources are described in rbgs.hpp.
-#include "cbps/solvers/rbgs.hpp"
+#include "cbps/solvers/compared/rbgs.hpp"
 
 #include <sstream>
 
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 

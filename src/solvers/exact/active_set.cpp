@@ -2,7 +2,7 @@
 // method on the free rows, CHOLMOD's sparse Cholesky for each free block, islands apart.
 // The method, its parameters and its sources are described at solve_active_set() in
 // active_set.hpp.
-#include "cbps/solvers/active_set.hpp"
+#include "cbps/solvers/exact/active_set.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,10 +12,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cbps/solvers/cholmod_factor.hpp"
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/cholmod_factor.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/islands.hpp"
-#include "cbps/solvers/pgs.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "newton_system.hpp"
 
 namespace cbps {

@@ -24,7 +24,7 @@
 // basis, re-solved once with a fresh full-pivoting LU of the basic columns of [I, −M] (the
 // tableau accumulates rounding over many pivots), and the better of the two is kept; Solved
 // only if its natural-map residual is ≤ kLcpSolvedTolerance · lcp_scale.
-#include "cbps/solvers/lemke.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 
 #include <Eigen/LU>
 #include <algorithm>

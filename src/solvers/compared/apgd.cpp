@@ -1,12 +1,12 @@
 // Accelerated projected gradient descent (Mazhar, Heyn, Negrut, Tasora, ACM TOG 2015) on the
 // boxed problem of 6.2; apgd.hpp states the iteration and its choices.
-#include "cbps/solvers/apgd.hpp"
+#include "cbps/solvers/compared/apgd.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "sweep.hpp"
+#include "../sweep.hpp"
 
 namespace cbps {
 

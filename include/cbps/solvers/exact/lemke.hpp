@@ -54,8 +54,8 @@ double lcp_scale(const MatX& M, const VecX& q);
 LcpResult solve_lemke(const MatX& M, const VecX& q);
 
 /// The boxed LCP by Lemke's method on an equivalent standard LCP (the transformation is written
-/// out in src/solvers/lemke.cpp). Throws InputError if sizes differ, a bound is NaN, or lb_i >
-/// ub_i.
+/// out in src/solvers/exact/lemke.cpp). Throws InputError if sizes differ, a bound is NaN, or lb_i
+/// > ub_i.
 LcpResult solve_boxed_lemke(const MatX& M, const VecX& q, const VecX& lb, const VecX& ub);
 
 std::string to_string(LcpResult::Status s);

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "cbps/solvers/cholmod_factor.hpp"
+#include "cbps/solvers/exact/cholmod_factor.hpp"
 #include "cbps/solvers/islands.hpp"
 
 namespace cbps {

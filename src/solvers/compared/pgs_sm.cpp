@@ -1,7 +1,7 @@
 // PGS-SM (Silcowitz, Niebe and Erleben, GRAPP 2010; Morales, Nocedal and Smelyanskiy, Numer.
 // Math. 2008): PGS phases that choose the active set, subspace phases that solve the free rows by
 // conjugate gradients. The method and its cost are described in pgs_sm.hpp.
-#include "cbps/solvers/pgs_sm.hpp"
+#include "cbps/solvers/compared/pgs_sm.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 

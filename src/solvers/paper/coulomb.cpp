@@ -1,5 +1,5 @@
 // Coulomb friction bounds ±mu lambda_n (5.4) around any method: a fixed point of boxed problems.
-#include "cbps/solvers/coulomb.hpp"
+#include "cbps/solvers/paper/coulomb.hpp"
 
 #include <algorithm>
 #include <cmath>

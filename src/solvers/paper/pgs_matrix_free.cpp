@@ -1,13 +1,13 @@
 // The matrix-free form of projected Gauss-Seidel (paper 7.1.1 without A): sequential impulses.
-#include "cbps/solvers/pgs_matrix_free.hpp"
+#include "cbps/solvers/paper/pgs_matrix_free.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
 
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 

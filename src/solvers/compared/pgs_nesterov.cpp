@@ -1,14 +1,14 @@
 // Projected Gauss-Seidel (7.1.1) with Nesterov momentum and the gradient restart of O'Donoghue &
 // Candès (2015); pgs_nesterov.hpp states the iteration.
-#include "cbps/solvers/pgs_nesterov.hpp"
+#include "cbps/solvers/compared/pgs_nesterov.hpp"
 
 #include <cmath>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 

@@ -2,7 +2,7 @@
 // predictor-corrector) with its Newton systems factored in body space, then a crossover to the
 // exact active set. The method, its parameters and its sources are described at solve_direct()
 // in direct.hpp.
-#include "cbps/solvers/direct.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cbps/solvers/active_set.hpp"
+#include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "newton_system.hpp"
 

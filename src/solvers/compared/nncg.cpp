@@ -1,12 +1,12 @@
 // NNCG (Silcowitz-Hansen, Niebe and Erleben, The Visual Computer 2010): PGS sweeps (7.1.1) with
 // a Fletcher–Reeves momentum and restarts. The formulas are listed in nncg.hpp.
-#include "cbps/solvers/nncg.hpp"
+#include "cbps/solvers/compared/nncg.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "cbps/solvers/pgs.hpp"
-#include "sweep.hpp"
+#include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 
