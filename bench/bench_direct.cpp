@@ -112,112 +112,121 @@ std::vector<PgsReach> pgs_reach(const cbps::System& sys, double budget_s) {
   return out;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+struct Options {
   std::string out_path;
   long max_n = 100000;
   double budget_s = 10.0;
   int repeats = 5;
+};
+
+/// The command line; false on a bad one.
+bool parse_options(int argc, char** argv, Options& o) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool has_value = i + 1 < argc;
     if (a == "--out" && has_value) {
-      out_path = argv[++i];
+      o.out_path = argv[++i];
     } else if (a == "--max-n" && has_value) {
-      max_n = std::atol(argv[++i]);
+      o.max_n = std::atol(argv[++i]);
     } else if (a == "--budget-s" && has_value) {
-      budget_s = std::atof(argv[++i]);
+      o.budget_s = std::atof(argv[++i]);
     } else if (a == "--repeats" && has_value) {
-      repeats = std::max(1, std::atoi(argv[++i]));
+      o.repeats = std::max(1, std::atoi(argv[++i]));
     } else {
-      std::cerr << "usage: bench_direct [--out FILE] [--max-n N] [--budget-s S] [--repeats K]\n";
-      return 2;
+      return false;
     }
   }
+  return true;
+}
 
-  nlohmann::json result = nlohmann::json::array();
-  std::printf(
-      "| links | direct (s) | residual (N) | factorizations | 1 PGS sweep (s) | direct / sweep "
-      "| PGS to 1e-3 N | PGS to 1e-6 N | PGS to 1e-10 N "
-      "|\n|---|---|---|---|---|---|---|---|---|\n");
-  std::vector<long> sizes;
-  for (long n = 100; n <= max_n; n *= 10) sizes.push_back(n);
-  sizes.push_back(1000000);
-  for (const long n : sizes) {
-    std::fprintf(stderr, "chain n = %ld: building\n", n);
-    const cbps::System sys = chain_system(n);
-    std::vector<double> direct_s;
-    cbps::SolverSummary summary;
-    for (int r = 0; r < repeats; ++r) {
-      cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
-      summary = cbps::solve_direct(sys.problem(), lambda);
-      direct_s.push_back(summary.wall_time_s);
-    }
-    std::vector<double> sweep_s;
+/// The direct path from λ = 0, `repeats` times: the wall times and the last run's summary.
+std::vector<double> time_direct(const cbps::System& sys, int repeats, cbps::SolverSummary& last) {
+  std::vector<double> seconds;
+  for (int r = 0; r < repeats; ++r) {
     cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
-    const int sweeps_timed = static_cast<int>(std::max<long>(1, 1000000 / n));
-    for (int r = 0; r < repeats; ++r) {
-      const auto start = Clock::now();
-      for (int k = 0; k < sweeps_timed; ++k) cbps::pgs_sweep(sys.problem(), lambda);
-      sweep_s.push_back(seconds_since(start) / sweeps_timed);
-    }
-    const bool run_pgs = n <= max_n;  // the 10⁶ chain: direct and one sweep only
-    std::fprintf(stderr,
-                 "chain n = %ld: direct %.3g s; PGS%s\n",
-                 n,
-                 median(direct_s),
-                 run_pgs ? " to tolerance" : " skipped");
-    const std::vector<PgsReach> reach =
-        run_pgs ? pgs_reach(sys, budget_s) : std::vector<PgsReach>{};
-
-    nlohmann::json row{{"links", n},
-                       {"rows", sys.rows()},
-                       {"nnz_A", sys.A.nonZeros()},
-                       {"direct_s", median(direct_s)},
-                       {"direct_residual", summary.residual},
-                       {"direct_factorizations", summary.factorizations},
-                       {"direct_message", summary.message},
-                       {"pgs_sweep_s", median(sweep_s)}};
-    std::printf("| %ld | %.3g | %.2g | %d | %.3g | %.1f |",
-                n,
-                median(direct_s),
-                summary.residual,
-                summary.factorizations,
-                median(sweep_s),
-                median(direct_s) / median(sweep_s));
-    for (const PgsReach& r : reach) {
-      row["pgs"].push_back({{"tolerance", r.tolerance},
-                            {"reached", r.reached},
-                            {"sweeps", r.sweeps},
-                            {"seconds", r.seconds},
-                            {"final_residual", r.residual}});
-      if (r.reached) {
-        std::printf(" %.3g s (%ld sweeps) |", r.seconds, r.sweeps);
-      } else {
-        std::printf(" not in %.3g s (%ld sweeps; %.2g N) |", r.seconds, r.sweeps, r.residual);
-      }
-    }
-    if (!run_pgs) std::printf(" — | — | — |");
-    std::printf("\n");
-    std::fflush(stdout);
-    result.push_back(row);
+    last = cbps::solve_direct(sys.problem(), lambda);
+    seconds.push_back(last.wall_time_s);
   }
-  // The stack: the direct path from zero against PGS from zero.
+  return seconds;
+}
+
+/// One PGS sweep's time, `repeats` times, each the mean over 10⁶/n sweeps.
+std::vector<double> time_sweep(const cbps::System& sys, long n, int repeats) {
+  std::vector<double> sweep_s;
+  cbps::VecX lambda = cbps::VecX::Zero(sys.rows());
+  const int sweeps_timed = static_cast<int>(std::max<long>(1, 1000000 / n));
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = Clock::now();
+    for (int k = 0; k < sweeps_timed; ++k) cbps::pgs_sweep(sys.problem(), lambda);
+    sweep_s.push_back(seconds_since(start) / sweeps_timed);
+  }
+  return sweep_s;
+}
+
+nlohmann::json reach_json(const PgsReach& r) {
+  return {{"tolerance", r.tolerance},
+          {"reached", r.reached},
+          {"sweeps", r.sweeps},
+          {"seconds", r.seconds},
+          {"final_residual", r.residual}};
+}
+
+/// The chain of n links: its row of the first table on stdout, and its JSON.
+nlohmann::json bench_chain(long n, const Options& o) {
+  std::fprintf(stderr, "chain n = %ld: building\n", n);
+  const cbps::System sys = chain_system(n);
+  cbps::SolverSummary summary;
+  const std::vector<double> direct_s = time_direct(sys, o.repeats, summary);
+  const std::vector<double> sweep_s = time_sweep(sys, n, o.repeats);
+  const bool run_pgs = n <= o.max_n;  // the 10⁶ chain: direct and one sweep only
+  std::fprintf(stderr,
+               "chain n = %ld: direct %.3g s; PGS%s\n",
+               n,
+               median(direct_s),
+               run_pgs ? " to tolerance" : " skipped");
+  const std::vector<PgsReach> reach =
+      run_pgs ? pgs_reach(sys, o.budget_s) : std::vector<PgsReach>{};
+
+  nlohmann::json row{{"links", n},
+                     {"rows", sys.rows()},
+                     {"nnz_A", sys.A.nonZeros()},
+                     {"direct_s", median(direct_s)},
+                     {"direct_residual", summary.residual},
+                     {"direct_factorizations", summary.factorizations},
+                     {"direct_message", summary.message},
+                     {"pgs_sweep_s", median(sweep_s)}};
+  std::printf("| %ld | %.3g | %.2g | %d | %.3g | %.1f |",
+              n,
+              median(direct_s),
+              summary.residual,
+              summary.factorizations,
+              median(sweep_s),
+              median(direct_s) / median(sweep_s));
+  for (const PgsReach& r : reach) {
+    row["pgs"].push_back(reach_json(r));
+    if (r.reached) {
+      std::printf(" %.3g s (%ld sweeps) |", r.seconds, r.sweeps);
+    } else {
+      std::printf(" not in %.3g s (%ld sweeps; %.2g N) |", r.seconds, r.sweeps, r.residual);
+    }
+  }
+  if (!run_pgs) std::printf(" — | — | — |");
+  std::printf("\n");
+  std::fflush(stdout);
+  return row;
+}
+
+/// The stack: the direct path from zero against PGS from zero; its table on stdout, its JSON.
+nlohmann::json bench_stack(const Options& o) {
   std::fprintf(stderr, "stack of 1000 boxes: building\n");
   const cbps::System stack = stack_system();
-  std::vector<double> stack_s;
   cbps::SolverSummary stack_summary;
-  for (int r = 0; r < repeats; ++r) {
-    cbps::VecX lambda = cbps::VecX::Zero(stack.rows());
-    stack_summary = cbps::solve_direct(stack.problem(), lambda);
-    stack_s.push_back(stack_summary.wall_time_s);
-  }
+  const std::vector<double> stack_s = time_direct(stack, o.repeats, stack_summary);
   std::fprintf(stderr,
                "stack: direct %.3g s (%s); PGS to tolerance\n",
                median(stack_s),
                stack_summary.message.c_str());
-  const std::vector<PgsReach> stack_reach = pgs_reach(stack, budget_s * 6);
+  const std::vector<PgsReach> stack_reach = pgs_reach(stack, o.budget_s * 6);
   std::printf(
       "\n| stack (rows) | direct (s) | residual (N) | islands | factorizations | PGS to 1e-3 N "
       "| PGS to 1e-6 N | PGS to 1e-10 N |\n|---|---|---|---|---|---|---|---|\n");
@@ -233,11 +242,7 @@ int main(int argc, char** argv) {
                             {"direct_residual", stack_summary.residual},
                             {"direct_message", stack_summary.message}};
   for (const PgsReach& r : stack_reach) {
-    stack_json["pgs"].push_back({{"tolerance", r.tolerance},
-                                 {"reached", r.reached},
-                                 {"sweeps", r.sweeps},
-                                 {"seconds", r.seconds},
-                                 {"final_residual", r.residual}});
+    stack_json["pgs"].push_back(reach_json(r));
     if (r.reached) {
       std::printf(
           " %.3g s (%ld sweeps; %.0f× direct) |", r.seconds, r.sweeps, r.seconds / median(stack_s));
@@ -246,18 +251,39 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("\n");
+  return stack_json;
+}
 
-  if (!out_path.empty()) {
-    std::ofstream f(out_path);
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (!parse_options(argc, argv, o)) {
+    std::cerr << "usage: bench_direct [--out FILE] [--max-n N] [--budget-s S] [--repeats K]\n";
+    return 2;
+  }
+  nlohmann::json result = nlohmann::json::array();
+  std::printf(
+      "| links | direct (s) | residual (N) | factorizations | 1 PGS sweep (s) | direct / sweep "
+      "| PGS to 1e-3 N | PGS to 1e-6 N | PGS to 1e-10 N "
+      "|\n|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<long> sizes;
+  for (long n = 100; n <= o.max_n; n *= 10) sizes.push_back(n);
+  sizes.push_back(1000000);
+  for (const long n : sizes) result.push_back(bench_chain(n, o));
+  const nlohmann::json stack_json = bench_stack(o);
+
+  if (!o.out_path.empty()) {
+    std::ofstream f(o.out_path);
     f << nlohmann::json{{"bench", "direct vs PGS on the chain and the 1000-box stack"},
-                        {"budget_s", budget_s},
-                        {"repeats", repeats},
+                        {"budget_s", o.budget_s},
+                        {"repeats", o.repeats},
                         {"chains", result},
                         {"stack", stack_json}}
              .dump(2)
       << "\n";
     if (!f) {
-      std::cerr << "bench_direct: cannot write " << out_path << "\n";
+      std::cerr << "bench_direct: cannot write " << o.out_path << "\n";
       return 1;
     }
   }

@@ -26,13 +26,9 @@
 #include <gsl/gsl_sf_ellint.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -42,6 +38,7 @@
 #include "cbps/base/numbers.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
+#include "harness.hpp"
 
 namespace {
 
@@ -64,14 +61,8 @@ struct Options {
   std::map<std::string, std::string> params;
 };
 
-[[noreturn]] void usage_error(const std::string& why) {
-  std::cerr << "validate_pendulum: " << why << " (see --help)\n";
-  std::exit(2);
-}
-
-void print_help() {
-  std::cout <<
-      R"(validate_pendulum: the pendulum wave (attach=center) against the exact period
+constexpr const char* kHelp =
+    R"(validate_pendulum: the pendulum wave (attach=center) against the exact period
   T = 4 sqrt(L/g) K(sin(theta0/2)), K from GSL, at several time steps
 
 Options:
@@ -83,7 +74,6 @@ Options:
   --help             this text
 Exit status: 0 all checks pass, 1 a check failed, 2 bad usage.
 )";
-}
 
 std::vector<std::string> split(const std::string& text, char sep) {
   std::vector<std::string> parts;
@@ -95,48 +85,39 @@ std::vector<std::string> split(const std::string& text, char sep) {
 
 Options parse_options(int argc, char** argv) {
   Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      print_help();
-      std::exit(0);
+  validation::CommandLine cli("validate_pendulum", kHelp);
+  cli.option("--out", [&o](const std::string& value) { o.out = value; });
+  cli.option("--dts", [&o, &cli](const std::string& value) {
+    o.dt_inv = split(value, ',');
+    if (o.dt_inv.size() < 2) cli.fail("--dts: need at least two step sizes");
+    std::vector<double> seen;
+    for (const std::string& d : o.dt_inv) {
+      double number = 0.0;
+      if (!cbps::parse_number(d, number) || !(number > 0.0)) {
+        cli.fail("--dts: '" + d + "' is not a positive number");
+      }
+      if (std::find(seen.begin(), seen.end(), number) != seen.end()) {
+        cli.fail("--dts: '" + d + "' is given twice");
+      }
+      seen.push_back(number);
     }
-    if (i + 1 >= argc) usage_error(arg + ": unknown option or missing value");
-    const std::string value = argv[++i];
-    double number = 0.0;
-    if (arg == "--out") {
-      o.out = value;
-    } else if (arg == "--dts") {
-      o.dt_inv = split(value, ',');
-      if (o.dt_inv.size() < 2) usage_error("--dts: need at least two step sizes");
-      std::vector<double> seen;
-      for (const std::string& d : o.dt_inv) {
-        if (!cbps::parse_number(d, number) || !(number > 0.0)) {
-          usage_error("--dts: '" + d + "' is not a positive number");
-        }
-        if (std::find(seen.begin(), seen.end(), number) != seen.end()) {
-          usage_error("--dts: '" + d + "' is given twice");
-        }
-        seen.push_back(number);
-      }
-    } else if (arg == "--n") {
-      o.n = value;
-    } else if (arg == "--duration") {
-      if (!cbps::parse_number(value, o.duration) || !(o.duration > 0.0)) {
-        usage_error("--duration: '" + value + "' is not a positive number");
-      }
-    } else if (arg == "--param") {
-      const auto eq = value.find('=');
-      if (eq == std::string::npos) usage_error("--param: expected NAME=VALUE, got '" + value + "'");
-      const std::string name = value.substr(0, eq);
-      if (name == "attach" || name == "dt" || name == "n" || name == "duration") {
-        usage_error("--param: '" + name + "' is set by the validation itself");
-      }
-      o.params[name] = value.substr(eq + 1);
-    } else {
-      usage_error(arg + ": unknown option");
+  });
+  cli.option("--n", [&o](const std::string& value) { o.n = value; });
+  cli.option("--duration", [&o, &cli](const std::string& value) {
+    if (!cbps::parse_number(value, o.duration) || !(o.duration > 0.0)) {
+      cli.fail("--duration: '" + value + "' is not a positive number");
     }
-  }
+  });
+  cli.option("--param", [&o, &cli](const std::string& value) {
+    const auto eq = value.find('=');
+    if (eq == std::string::npos) cli.fail("--param: expected NAME=VALUE, got '" + value + "'");
+    const std::string name = value.substr(0, eq);
+    if (name == "attach" || name == "dt" || name == "n" || name == "duration") {
+      cli.fail("--param: '" + name + "' is set by the validation itself");
+    }
+    o.params[name] = value.substr(eq + 1);
+  });
+  cli.parse(argc, argv);
   return o;
 }
 
@@ -274,7 +255,9 @@ struct Settings {
   long n = 0, n0 = 0;
 };
 
-Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
+/// The pendulum wave at 1/dt = dt_inv with the options' parameters (attach=center), and what
+/// the validation reads of it into `settings`.
+cbps::Scene pendulum_scene(const Options& o, const std::string& dt_inv, Settings& settings) {
   std::map<std::string, std::string> values = o.params;
   values["attach"] = "center";
   values["n"] = o.n;
@@ -297,67 +280,76 @@ Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
   const double T_longest =
       exact_period(probe.distances.front().length, settings.g, settings.theta0);
   settings.duration = o.duration > 0.0 ? o.duration : settings.cycle + T_longest;
+  return probe;
+}
 
-  Run run;
-  run.dt_inv_text = dt_inv;
-  run.dt = probe.world.dt;
-  run.steps = std::max(1L, std::lround(settings.duration / run.dt));
-  cbps::Simulation sim(std::move(probe));
-  const std::size_t n = sim.bodies().size();
-
-  std::vector<std::vector<double>> x(n);  // x(i dt) of every ball, m
-  for (std::size_t k = 0; k < n; ++k) {
-    x[k].reserve(static_cast<std::size_t>(run.steps) + 1);
-    x[k].push_back(sim.bodies()[k].x.x());
-  }
-  double E_swing = 0.0;  // J
-  for (std::size_t k = 0; k < n; ++k) {
-    E_swing += sim.bodies()[k].m * settings.g * sim.scene().distances[k].length *
-               (1.0 - std::cos(settings.theta0));
-  }
-  const double E_initial = sim.energy();
-  std::vector<double> stretch(n, 0.0);  // Σ over the steps of c = |x − pivot| − L, m
-  const auto start = std::chrono::steady_clock::now();
-  for (long s = 0; s < run.steps; ++s) {
-    const cbps::StepReport report = sim.step();
-    run.max_constraint_error = std::max(run.max_constraint_error, report.max_constraint_error);
-    for (std::size_t k = 0; k < n; ++k) {
+/// Every ball's x(i dt), at the start and after each step; the sum over the steps of its
+/// string stretch c = |x − pivot| − L (5.2.2); the largest constraint error of the steps.
+class Sampling : public cbps::StepObserver {
+ public:
+  Sampling(Run& run, std::size_t n) : run_(run), x(n), stretch(n, 0.0) {}
+  void start(cbps::Simulation& sim) override {
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      x[k].reserve(static_cast<std::size_t>(run_.steps) + 1);
       x[k].push_back(sim.bodies()[k].x.x());
-      stretch[k] += cbps::distance_violation(sim.scene().distances[k], sim.scene().bodies);
     }
   }
-  run.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  run.energy_change = (sim.energy() - E_initial) / E_swing;
-
-  const bool reached_cycle = settings.duration >= settings.cycle;
-  for (std::size_t k = 0; k < n; ++k) {
-    Ball b;
-    b.k = static_cast<int>(k);
-    b.L = sim.scene().distances[k].length;
-    b.T_exact = exact_period(b.L, settings.g, settings.theta0);
-    b.T_design = settings.cycle / static_cast<double>(settings.n0 + static_cast<long>(k));
-    const std::vector<double> up = upward_crossings(x[k], run.dt);
-    b.crossings = static_cast<int>(up.size());
-    b.T_measured = up.size() >= 2 ? (up.back() - up.front()) / static_cast<double>(up.size() - 1)
-                                  : std::nan("");
-    b.rel_error = (b.T_measured - b.T_exact) / b.T_exact;
-    b.time_offset = up.empty() ? std::nan("") : up.front() - 0.75 * b.T_exact;
-    const Extremum end =
-        reached_cycle ? extremum_near(x[k], run.dt, settings.cycle, 0.5 * b.T_exact) : Extremum{};
-    b.t_extremum = end.t;
-    b.phase_error_deg = 360.0 * (end.t - settings.cycle) / b.T_exact;
-    b.drift_phase_deg = 360.0 * (end.t + 0.5 * run.dt - settings.cycle) / b.T_exact;
-    b.amplitude_change = (end.x - x[k].front()) / x[k].front();
-    b.mean_stretch = stretch[k] / static_cast<double>(run.steps) / b.L;
-    run.design_error = std::max(run.design_error, std::abs(b.T_exact - b.T_design) / b.T_design);
-    run.balls.push_back(b);
+  bool after_step(const cbps::Simulation& sim, const cbps::StepReport& report, long) override {
+    run_.max_constraint_error = std::max(run_.max_constraint_error, report.max_constraint_error);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      x[k].push_back(sim.scene().bodies[k].x.x());
+      stretch[k] += cbps::distance_violation(sim.scene().distances[k], sim.scene().bodies);
+    }
+    return true;
   }
+
+ private:
+  Run& run_;
+
+ public:
+  std::vector<std::vector<double>> x;  ///< per ball, m
+  std::vector<double> stretch;         ///< per ball, m
+};
+
+/// Ball k's period, its error and the phase at the end of the cycle from its samples x (README,
+/// "How periods and phases are measured").
+Ball measure_ball(const Run& run,
+                  const Settings& settings,
+                  std::size_t k,
+                  double L,
+                  const std::vector<double>& x,
+                  double stretch) {
+  Ball b;
+  b.k = static_cast<int>(k);
+  b.L = L;
+  b.T_exact = exact_period(b.L, settings.g, settings.theta0);
+  b.T_design = settings.cycle / static_cast<double>(settings.n0 + static_cast<long>(k));
+  const std::vector<double> up = upward_crossings(x, run.dt);
+  b.crossings = static_cast<int>(up.size());
+  b.T_measured =
+      up.size() >= 2 ? (up.back() - up.front()) / static_cast<double>(up.size() - 1) : std::nan("");
+  b.rel_error = (b.T_measured - b.T_exact) / b.T_exact;
+  b.time_offset = up.empty() ? std::nan("") : up.front() - 0.75 * b.T_exact;
+  const bool reached_cycle = settings.duration >= settings.cycle;
+  const Extremum end =
+      reached_cycle ? extremum_near(x, run.dt, settings.cycle, 0.5 * b.T_exact) : Extremum{};
+  b.t_extremum = end.t;
+  b.phase_error_deg = 360.0 * (end.t - settings.cycle) / b.T_exact;
+  b.drift_phase_deg = 360.0 * (end.t + 0.5 * run.dt - settings.cycle) / b.T_exact;
+  b.amplitude_change = (end.x - x.front()) / x.front();
+  b.mean_stretch = stretch / static_cast<double>(run.steps) / b.L;
+  return b;
+}
+
+/// The run's maxima and means over the balls.
+void summarize_balls(Run& run) {
   // max that keeps a NaN (std::max would drop it), so the finiteness check sees it.
   const auto nan_max = [](double a, double b) {
     return std::isnan(a) || std::isnan(b) ? std::nan("") : std::max(a, b);
   };
-  const double count = static_cast<double>(n);
+  const double count = static_cast<double>(run.balls.size());
   for (const Ball& b : run.balls) {
+    run.design_error = std::max(run.design_error, std::abs(b.T_exact - b.T_design) / b.T_design);
     run.max_rel_error = nan_max(run.max_rel_error, std::abs(b.rel_error));
     run.mean_rel_error += std::abs(b.rel_error) / count;
     run.mean_signed_error += b.rel_error / count;
@@ -368,6 +360,30 @@ Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
     run.mean_amplitude_change += b.amplitude_change / count;
     run.max_mean_stretch = nan_max(run.max_mean_stretch, b.mean_stretch);
   }
+}
+
+Run simulate(const Options& o, const std::string& dt_inv, Settings& settings) {
+  cbps::Scene probe = pendulum_scene(o, dt_inv, settings);
+  Run run;
+  run.dt_inv_text = dt_inv;
+  run.dt = probe.world.dt;
+  run.steps = std::max(1L, std::lround(settings.duration / run.dt));
+  cbps::Simulation sim(std::move(probe));
+  const std::size_t n = sim.bodies().size();
+  double E_swing = 0.0;  // J
+  for (std::size_t k = 0; k < n; ++k) {
+    E_swing += sim.bodies()[k].m * settings.g * sim.scene().distances[k].length *
+               (1.0 - std::cos(settings.theta0));
+  }
+  Sampling sampling(run, n);
+  const cbps::RunTotals totals = validation::run_steps(sim, run.steps, {&sampling});
+  run.wall_time_s = totals.wall_time_s;
+  run.energy_change = (totals.energy_final - totals.energy_initial) / E_swing;
+  for (std::size_t k = 0; k < n; ++k) {
+    run.balls.push_back(measure_ball(
+        run, settings, k, sim.scene().distances[k].length, sampling.x[k], sampling.stretch[k]));
+  }
+  summarize_balls(run);
   return run;
 }
 
@@ -420,26 +436,6 @@ EllipticCheck check_elliptic_K() {
   return c;
 }
 
-/// JSON number, or null when not finite.
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
-/// Writes text to path through a temporary name, so no half-written file is left.
-void write_file(const fs::path& path, const std::string& text) {
-  const fs::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp");
-  {
-    std::ofstream out(temp);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error(temp.string() + ": write failed");
-  }
-  fs::rename(temp, path);
-}
-
 std::string period_csv(const std::vector<Run>& runs) {
   std::ostringstream csv;
   csv << "dt_inv,dt,k,length_m,period_exact_s,period_design_s,period_measured_s,rel_error,"
@@ -462,56 +458,50 @@ std::string validation_json(const Settings& s,
                             const std::vector<Run>& runs,
                             const EllipticCheck& ek,
                             const std::vector<std::string>& failures) {
+  using validation::json_number_or_null;
   std::ostringstream j;
   j << "{\n  \"case\": \"pendulum-wave attach=center vs 4 sqrt(L/g) K(sin(theta0/2)) (GSL)\",\n"
     << "  \"scene\": {\"n\": " << s.n << ", \"n0\": " << s.n0
-    << ", \"cycle_s\": " << json_number(s.cycle)
-    << ", \"theta0_deg\": " << json_number(s.theta0 * 180.0 / cbps::kPi)
-    << ", \"g\": " << json_number(s.g) << ", \"beta\": " << json_number(s.beta)
-    << ", \"duration_s\": " << json_number(s.duration) << "},\n  \"runs\": [\n";
+    << ", \"cycle_s\": " << json_number_or_null(s.cycle)
+    << ", \"theta0_deg\": " << json_number_or_null(s.theta0 * 180.0 / cbps::kPi)
+    << ", \"g\": " << json_number_or_null(s.g) << ", \"beta\": " << json_number_or_null(s.beta)
+    << ", \"duration_s\": " << json_number_or_null(s.duration) << "},\n  \"runs\": [\n";
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const Run& r = runs[i];
-    j << "    {\"dt_inv\": \"" << r.dt_inv_text << "\", \"dt\": " << json_number(r.dt)
-      << ", \"steps\": " << r.steps << ", \"max_rel_error\": " << json_number(r.max_rel_error)
-      << ", \"mean_rel_error\": " << json_number(r.mean_rel_error)
-      << ", \"mean_signed_rel_error\": " << json_number(r.mean_signed_error)
-      << ", \"order_max\": " << json_number(r.order_max)
-      << ", \"order_mean\": " << json_number(r.order_mean)
-      << ", \"max_phase_error_deg\": " << json_number(r.max_phase_deg)
-      << ", \"mean_phase_error_deg\": " << json_number(r.mean_phase_deg)
-      << ", \"max_drift_phase_deg\": " << json_number(r.max_drift_deg)
-      << ", \"mean_time_offset_over_dt\": " << json_number(r.mean_offset_dt)
-      << ", \"mean_amplitude_change\": " << json_number(r.mean_amplitude_change)
-      << ", \"max_mean_stretch\": " << json_number(r.max_mean_stretch)
-      << ", \"max_constraint_error_m\": " << json_number(r.max_constraint_error)
-      << ", \"energy_change_rel_swing\": " << json_number(r.energy_change)
-      << ", \"design_period_rel_diff\": " << json_number(r.design_error)
-      << ", \"wall_time_s\": " << json_number(r.wall_time_s) << "}"
+    j << "    {\"dt_inv\": \"" << r.dt_inv_text << "\", \"dt\": " << json_number_or_null(r.dt)
+      << ", \"steps\": " << r.steps
+      << ", \"max_rel_error\": " << json_number_or_null(r.max_rel_error)
+      << ", \"mean_rel_error\": " << json_number_or_null(r.mean_rel_error)
+      << ", \"mean_signed_rel_error\": " << json_number_or_null(r.mean_signed_error)
+      << ", \"order_max\": " << json_number_or_null(r.order_max)
+      << ", \"order_mean\": " << json_number_or_null(r.order_mean)
+      << ", \"max_phase_error_deg\": " << json_number_or_null(r.max_phase_deg)
+      << ", \"mean_phase_error_deg\": " << json_number_or_null(r.mean_phase_deg)
+      << ", \"max_drift_phase_deg\": " << json_number_or_null(r.max_drift_deg)
+      << ", \"mean_time_offset_over_dt\": " << json_number_or_null(r.mean_offset_dt)
+      << ", \"mean_amplitude_change\": " << json_number_or_null(r.mean_amplitude_change)
+      << ", \"max_mean_stretch\": " << json_number_or_null(r.max_mean_stretch)
+      << ", \"max_constraint_error_m\": " << json_number_or_null(r.max_constraint_error)
+      << ", \"energy_change_rel_swing\": " << json_number_or_null(r.energy_change)
+      << ", \"design_period_rel_diff\": " << validation::number_text(r.design_error)
+      << ", \"wall_time_s\": " << json_number_or_null(r.wall_time_s) << "}"
       << (i + 1 < runs.size() ? ",\n" : "\n");
   }
   j << "  ],\n  \"elliptic_K\": {\"samples\": " << ek.samples
-    << ", \"max_rel_diff_vs_kcomp\": " << json_number(ek.vs_kcomp)
-    << ", \"worst_k_kcomp\": " << json_number(ek.worst_k_kcomp)
-    << ", \"tolerance_kcomp\": " << json_number(kKcompTolerance)
-    << ", \"max_rel_diff_vs_carlson_rf\": " << json_number(ek.vs_carlson)
-    << ", \"worst_k_carlson_rf\": " << json_number(ek.worst_k_carlson)
-    << ", \"tolerance_carlson_rf\": " << json_number(kCarlsonTolerance)
-    << ", \"kcomp_tail_loss\": " << json_number(ek.kcomp_tail_loss)
-    << "},\n  \"passed\": " << (failures.empty() ? "true" : "false") << ",\n  \"failures\": [";
-  for (std::size_t i = 0; i < failures.size(); ++i) {
-    std::string escaped;
-    for (char c : failures[i])
-      escaped += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
-    j << (i ? ", " : "") << '"' << escaped << '"';
-  }
-  j << "]\n}\n";
+    << ", \"max_rel_diff_vs_kcomp\": " << validation::number_text(ek.vs_kcomp)
+    << ", \"worst_k_kcomp\": " << json_number_or_null(ek.worst_k_kcomp)
+    << ", \"tolerance_kcomp\": " << json_number_or_null(kKcompTolerance)
+    << ", \"max_rel_diff_vs_carlson_rf\": " << validation::number_text(ek.vs_carlson)
+    << ", \"worst_k_carlson_rf\": " << json_number_or_null(ek.worst_k_carlson)
+    << ", \"tolerance_carlson_rf\": " << json_number_or_null(kCarlsonTolerance)
+    << ", \"kcomp_tail_loss\": " << json_number_or_null(ek.kcomp_tail_loss)
+    << "},\n  \"passed\": " << (failures.empty() ? "true" : "false")
+    << ",\n  \"failures\": " << validation::json_strings(failures) << "\n}\n";
   return j.str();
 }
 
-int run_validation(const Options& o) {
-  gsl_set_error_handler_off();  // GSL errors come back as NaN, checked below
-  std::vector<std::string> failures;
-
+/// check_elliptic_K() printed and checked against its tolerances.
+EllipticCheck report_elliptic_K(std::vector<std::string>& failures) {
   const EllipticCheck ek = check_elliptic_K();
   std::printf(
       "elliptic_K (AGM) vs GSL, %d values of k:\n"
@@ -530,12 +520,18 @@ int run_validation(const Options& o) {
       ek.kcomp_tail_loss);
   if (!(ek.vs_kcomp <= kKcompTolerance)) {
     failures.push_back("elliptic_K differs from gsl_sf_ellint_Kcomp by " +
-                       json_number(ek.vs_kcomp));
+                       validation::number_text(ek.vs_kcomp));
   }
   if (!(ek.vs_carlson <= kCarlsonTolerance)) {
-    failures.push_back("elliptic_K differs from gsl_sf_ellint_RF by " + json_number(ek.vs_carlson));
+    failures.push_back("elliptic_K differs from gsl_sf_ellint_RF by " +
+                       validation::number_text(ek.vs_carlson));
   }
+  return ek;
+}
 
+/// The runs at every step size, coarsest first, each with its observed order against the one
+/// before, and their checks.
+std::vector<Run> run_all(const Options& o, Settings& settings, std::vector<std::string>& failures) {
   // Coarsest step first, so consecutive runs halve dt (for the default list).
   std::vector<std::string> dts = o.dt_inv;
   std::sort(dts.begin(), dts.end(), [](const std::string& a, const std::string& b) {
@@ -544,7 +540,6 @@ int run_validation(const Options& o) {
     cbps::parse_number(b, vb);
     return va < vb;
   });
-  Settings settings;
   std::vector<Run> runs;
   for (const std::string& d : dts) {
     runs.push_back(simulate(o, d, settings));
@@ -570,7 +565,7 @@ int run_validation(const Options& o) {
     }
     if (!(r.design_error <= kDesignTolerance)) {
       failures.push_back("scene lengths L_k miss T_k = cycle/(n0+k) by " +
-                         json_number(r.design_error));
+                         validation::number_text(r.design_error));
     }
     std::fprintf(stderr,
                  "validate_pendulum: dt = 1/%s done (%ld steps, %.1f s)\n",
@@ -578,7 +573,11 @@ int run_validation(const Options& o) {
                  r.steps,
                  r.wall_time_s);
   }
+  return runs;
+}
 
+/// The table of the runs on stdout.
+void print_runs(const Settings& settings, const std::vector<Run>& runs) {
   std::printf(
       "\npendulum wave, attach=center: n = %ld, n0 = %ld, cycle = %g s, theta0 = %g deg, "
       "beta = %g, %g s simulated\n",
@@ -620,29 +619,28 @@ int run_validation(const Options& o) {
       "dt/2; "
       "offset = (first upward crossing "
       "- 3T/4)/dt;\ndA/A = amplitude change at t = cycle; |c| = constraint violation\n");
+}
 
+int run_validation(const Options& o) {
+  gsl_set_error_handler_off();  // GSL errors come back as NaN, checked below
+  std::vector<std::string> failures;
+  const EllipticCheck ek = report_elliptic_K(failures);
+  Settings settings;
+  const std::vector<Run> runs = run_all(o, settings, failures);
+  print_runs(settings, runs);
   if (!o.out.empty()) {
-    fs::create_directories(o.out);
-    write_file(fs::path(o.out) / "period_errors.csv", period_csv(runs));
-    write_file(fs::path(o.out) / "validation.json", validation_json(settings, runs, ek, failures));
+    const fs::path out(o.out);
+    validation::write_result(out / "period_errors.csv", period_csv(runs));
+    validation::write_result(out / "validation.json",
+                             validation_json(settings, runs, ek, failures));
     std::printf("wrote %s/validation.json and period_errors.csv\n", o.out.c_str());
   }
-  for (const std::string& f : failures) std::printf("FAIL: %s\n", f.c_str());
-  std::printf("%s\n", failures.empty() ? "PASS" : "FAILED");
-  return failures.empty() ? 0 : 1;
+  return validation::report_failures(failures);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const Options o = parse_options(argc, argv);
-  try {
-    return run_validation(o);
-  } catch (const cbps::InputError& e) {
-    std::cerr << "validate_pendulum: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "validate_pendulum: " << e.what() << "\n";
-    return 1;
-  }
+  return validation::run_main("validate_pendulum", [&o] { return run_validation(o); });
 }

@@ -28,19 +28,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "harness.hpp"
 
 namespace {
 
@@ -49,37 +44,15 @@ using cbps::Vec3;
 constexpr int kSeeds = 5;         ///< seeds of each random-order configuration
 constexpr double kTarget = 0.02;  ///< m: the issue's target at 20 sweeps
 
-struct Options {
-  std::string out = "validation/results/stack-ingredients.json";
-};
-
-[[noreturn]] void usage_error(const std::string& why) {
-  std::cerr << "validate_stack: " << why << " (see --help)\n";
-  std::exit(2);
-}
-
-Options parse_options(int argc, char** argv) {
-  Options o;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << "validate_stack: the 10-box stack under row-by-row PGS with the engines'\n"
-                   "ingredients (contact persistence, warm-start factors, random order,\n"
-                   "contacts first) switched on and off, at 10, 20 and 50 sweeps\n\n"
-                   "Options:\n"
-                   "  --out FILE   JSON results (default "
-                   "validation/results/stack-ingredients.json)\n"
-                   "  --help       this text\n"
-                   "Exit status: 0 the check passes, 1 it fails, 2 bad usage.\n";
-      std::exit(0);
-    }
-    if (arg != "--out") usage_error(arg + ": unknown option");
-    if (i + 1 >= argc) usage_error("--out: missing value");
-    o.out = argv[++i];
-  }
-  return o;
-}
-
+constexpr const char* kHelp =
+    "validate_stack: the 10-box stack under row-by-row PGS with the engines'\n"
+    "ingredients (contact persistence, warm-start factors, random order,\n"
+    "contacts first) switched on and off, at 10, 20 and 50 sweeps\n\n"
+    "Options:\n"
+    "  --out FILE   JSON results (default "
+    "validation/results/stack-ingredients.json)\n"
+    "  --help       this text\n"
+    "Exit status: 0 the check passes, 1 it fails, 2 bad usage.\n";
 /// The four ingredients, each on or off.
 struct Ingredients {
   bool persistence = false;
@@ -129,6 +102,32 @@ struct Run {
   double wall_time_s = 0.0;
 };
 
+/// The top box's drift after every step, the deepest penetration, and the rows that started
+/// cold (without last step's lambda) after the first step.
+class Drifting : public cbps::StepObserver {
+ public:
+  explicit Drifting(Run& r) : r_(r) {}
+  void start(cbps::Simulation& sim) override { top0_ = sim.bodies().back().x; }
+  bool after_step(const cbps::Simulation& sim, const cbps::StepReport& report, long done) override {
+    r_.max_penetration = std::max(r_.max_penetration, report.max_penetration);
+    r_.wall_time_s += report.wall_time_s;
+    if (done > 1) {
+      rows += report.rows;
+      cold += report.rows - report.warm_rows;
+    }
+    const Vec3 d = sim.scene().bodies.back().x - top0_;
+    r_.drift = std::hypot(d.x(), d.z());
+    r_.max_drift = std::max(r_.max_drift, r_.drift);
+    return true;
+  }
+
+  long rows = 0, cold = 0;
+
+ private:
+  Run& r_;
+  Vec3 top0_ = Vec3::Zero();
+};
+
 Run run_stack(const Config& c, int sweeps, int seed) {
   Run r;
   r.config = c.name;
@@ -143,32 +142,13 @@ Run run_stack(const Config& c, int sweeps, int seed) {
   scene.solver.seed = static_cast<std::uint64_t>(seed);
   const long steps = std::lround(scene.duration / scene.world.dt);
   cbps::Simulation sim(std::move(scene));
-  const Vec3 top0 = sim.bodies().back().x;
-  long rows = 0, cold = 0;
-  for (long i = 0; i < steps; ++i) {
-    const cbps::StepReport report = sim.step();
-    r.max_penetration = std::max(r.max_penetration, report.max_penetration);
-    r.wall_time_s += report.wall_time_s;
-    if (i > 0) {
-      rows += report.rows;
-      cold += report.rows - report.warm_rows;
-    }
-    const Vec3 d = sim.bodies().back().x - top0;
-    r.drift = std::hypot(d.x(), d.z());
-    r.max_drift = std::max(r.max_drift, r.drift);
-  }
-  r.cold_fraction = rows > 0 ? static_cast<double>(cold) / static_cast<double>(rows) : 0.0;
+  Drifting drifting(r);
+  validation::run_steps(sim, steps, {&drifting});
+  r.cold_fraction = drifting.rows > 0
+                        ? static_cast<double>(drifting.cold) / static_cast<double>(drifting.rows)
+                        : 0.0;
   return r;
 }
-
-std::string json_number(double v) {
-  if (!std::isfinite(v)) return "null";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-
-std::string quoted(const std::string& s) { return "\"" + s + "\""; }
 
 /// The median of a non-empty list (the mean of the middle two for an even count).
 double median(std::vector<double> v) {
@@ -177,8 +157,8 @@ double median(std::vector<double> v) {
   return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-int run_study(const Options& o) {
-  const auto start = std::chrono::steady_clock::now();
+/// Every configuration at 10, 20 and 50 sweeps, kSeeds seeds where the order is random.
+std::vector<Run> run_all() {
   std::vector<Run> runs;
   for (const Config& c : configs())
     for (const int sweeps : {10, 20, 50}) {
@@ -186,10 +166,12 @@ int run_study(const Options& o) {
       for (int seed = 0; seed < seeds; ++seed) runs.push_back(run_stack(c, sweeps, seed));
       std::fprintf(stderr, "validate_stack: %s, %d sweeps done\n", c.name.c_str(), sweeps);
     }
-  const double wall =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return runs;
+}
 
-  // The table: per configuration and sweep count, the median (and largest) final drift.
+/// The table: per configuration and sweep count, the median (and largest) final drift. Returns
+/// the failed checks.
+std::vector<std::string> print_table(const std::vector<Run>& runs) {
   std::vector<std::string> failures;
   std::printf("| configuration | spec | persistence | 10 sweeps | 20 sweeps | 50 sweeps |\n");
   std::printf("|---|---|---|---:|---:|---:|\n");
@@ -207,12 +189,19 @@ int run_study(const Options& o) {
         std::printf(" %.2f cm |", 100.0 * d.front());
       }
       if (c.name == "all four" && sweeps == 20 && !(worst <= kTarget))
-        failures.push_back("all four at 20 sweeps: top box drifts " + json_number(worst) +
-                           " m, above the 0.02 m target");
+        failures.push_back("all four at 20 sweeps: top box drifts " +
+                           validation::number_text(worst) + " m, above the 0.02 m target");
     }
     std::printf("\n");
   }
+  return failures;
+}
 
+std::string study_json(const std::vector<Run>& runs,
+                       double wall,
+                       const std::vector<std::string>& failures) {
+  using validation::json_number;
+  using validation::json_string;
   std::ostringstream j;
   j << "{\n  \"scene\": \"stack n=10, dt=1/60, mu=0.5, push improved, 10 s\",\n"
     << "  \"seeds\": " << kSeeds << ",\n  \"persistence_m\": " << cbps::kSceneContactPersistence
@@ -220,7 +209,7 @@ int run_study(const Options& o) {
     << ",\n  \"runs\": [\n";
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const Run& r = runs[i];
-    j << "    {\"config\": " << quoted(r.config) << ", \"spec\": " << quoted(r.spec)
+    j << "    {\"config\": " << json_string(r.config) << ", \"spec\": " << json_string(r.spec)
       << ", \"persistence\": " << (r.persistence ? "true" : "false") << ", \"sweeps\": " << r.sweeps
       << ", \"seed\": " << r.seed << ", \"drift\": " << json_number(r.drift)
       << ", \"max_drift\": " << json_number(r.max_drift)
@@ -229,35 +218,27 @@ int run_study(const Options& o) {
       << ", \"wall_time_s\": " << json_number(r.wall_time_s) << "}"
       << (i + 1 < runs.size() ? ",\n" : "\n");
   }
-  j << "  ],\n  \"failures\": [";
-  for (std::size_t i = 0; i < failures.size(); ++i) j << (i > 0 ? ", " : "") << quoted(failures[i]);
-  j << "]\n}\n";
-  const std::filesystem::path out(o.out);
-  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
-  const std::filesystem::path tmp = out.string() + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << j.str();
-    if (!f) throw std::runtime_error(tmp.string() + ": cannot write");
-  }
-  std::filesystem::rename(tmp, out);
-  std::printf("\nwrote %s (%.1f s)\n", o.out.c_str(), wall);
-  for (const std::string& f : failures) std::printf("FAIL: %s\n", f.c_str());
-  std::printf("%s\n", failures.empty() ? "PASS" : "FAILED");
-  return failures.empty() ? 0 : 1;
+  j << "  ],\n  \"failures\": " << validation::json_strings(failures) << "\n}\n";
+  return j.str();
+}
+
+int run_study(const std::string& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<Run> runs = run_all();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::vector<std::string> failures = print_table(runs);
+  validation::write_result(out, study_json(runs, wall, failures));
+  std::printf("\nwrote %s (%.1f s)\n", out.c_str(), wall);
+  return validation::report_failures(failures);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  const Options o = parse_options(argc, argv);
-  try {
-    return run_study(o);
-  } catch (const cbps::InputError& e) {
-    std::cerr << "validate_stack: " << e.what() << "\n";
-    return 2;
-  } catch (const std::exception& e) {
-    std::cerr << "validate_stack: " << e.what() << "\n";
-    return 1;
-  }
+  std::string out = "validation/results/stack-ingredients.json";
+  validation::CommandLine cli("validate_stack", kHelp);
+  cli.option("--out", [&out](const std::string& value) { out = value; });
+  cli.parse(argc, argv);
+  return validation::run_main("validate_stack", [&out] { return run_study(out); });
 }
