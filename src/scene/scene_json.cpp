@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -22,6 +23,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
+#include "cbps/solvers/methods.hpp"
 
 namespace cbps {
 namespace {
@@ -250,6 +252,41 @@ World read_world(const Node& node) {
   return world;
 }
 
+/// /solver/parameters: the method's own parameters, each key one of the table's (methods.hpp)
+/// for /solver/method, its value a number, "on"/"off" (or true/false) or a word the key takes,
+/// checked as `--solver NAME:key=value` checks it.
+void read_method_parameters(const Node& node, SolverSettings& solver) {
+  if (!node.json.is_object())
+    fail(node,
+         "expected an object of the method's parameters (got " +
+             std::string(node.json.type_name()) + ")");
+  const std::string method(to_string(solver.method));
+  std::string valid;
+  for (const auto& [key, value] : method_parameters(solver.method, solver.methods))
+    valid += (valid.empty() ? "" : ", ") + key;
+  for (const auto& item : node.json.items()) {
+    const Node value = child(node, item.key());
+    const MethodKey* key = find_method_key(solver.method, item.key());
+    if (key == nullptr)
+      fail(value,
+           valid.empty()
+               ? "method " + in_quotes(method) + " has no parameters of its own"
+               : "unknown parameter for method " + in_quotes(method) + " (valid: " + valid + ")");
+    std::string written;
+    if (value.json.is_boolean()) {
+      written = value.json.get<bool>() ? "on" : "off";
+    } else if (value.json.is_number()) {
+      char digits[32];
+      std::snprintf(digits, sizeof digits, "%.17g", value.json.get<double>());
+      written = digits;
+    } else if (value.json.is_string()) {
+      written = value.json.get<std::string>();
+    }
+    if (written.empty() || !key->set(written, solver.methods))
+      fail(value, "must be " + std::string(key->accepts) + got(value));
+  }
+}
+
 SolverSettings read_solver(const Node& node) {
   check_object(node,
                {"method",
@@ -264,7 +301,8 @@ SolverSettings read_solver(const Node& node) {
                 "warm_friction",
                 "contacts_first",
                 "split_islands",
-                "cfm"});
+                "cfm",
+                "parameters"});
   SolverSettings solver;
   if (has(node, "method")) {
     const Node method = child(node, "method");
@@ -309,6 +347,7 @@ SolverSettings read_solver(const Node& node) {
   }
   if (has(node, "split_islands")) solver.split_islands = boolean(child(node, "split_islands"));
   if (has(node, "cfm")) solver.cfm = nonnegative(child(node, "cfm"));
+  if (has(node, "parameters")) read_method_parameters(child(node, "parameters"), solver);
   return solver;
 }
 
@@ -897,6 +936,13 @@ std::string scene_to_json(const Scene& scene) {
   solver["contacts_first"] = scene.solver.contacts_first;
   solver["split_islands"] = scene.solver.split_islands;
   solver["cfm"] = scene.solver.cfm;
+  // The method's own parameters, numbers as numbers, words as the grammar writes them.
+  Json parameters = Json::object();
+  for (const auto& [key, value] : method_parameters(scene.solver.method, scene.solver.methods)) {
+    double x = 0.0;
+    parameters[key] = parse_number(value, x) ? Json(x) : Json(value);
+  }
+  if (!parameters.empty()) solver["parameters"] = parameters;
   root["solver"] = solver;
 
   Json bodies = Json::array();

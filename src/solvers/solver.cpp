@@ -20,49 +20,24 @@
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/islands.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/paper/pgs_matrix_free.hpp"
 #include "exact/newton_system.hpp"
 
 namespace cbps {
 
-namespace {
-
-struct MethodName {
-  Method method;
-  std::string_view name;
-};
-constexpr MethodName kMethodNames[] = {{Method::Pgs, "pgs"},
-                                       {Method::BlockPgs, "block-pgs"},
-                                       {Method::Sgs, "sgs"},
-                                       {Method::Jacobi, "jacobi"},
-                                       {Method::MatrixFree, "matrix-free"},
-                                       {Method::Direct, "direct"},
-                                       {Method::ActiveSet, "active-set"},
-                                       {Method::PgsNesterov, "pgs-nesterov"},
-                                       {Method::Apgd, "apgd"},
-                                       {Method::Nncg, "nncg"},
-                                       {Method::PgsSm, "pgs-sm"},
-                                       {Method::Admm, "admm"},
-                                       {Method::Rbgs, "rbgs"},
-                                       {Method::Shock, "shock"},
-                                       {Method::Lemke, "lemke"}};
-
-}  // namespace
-
 std::string_view to_string(Method method) {
-  for (const MethodName& entry : kMethodNames)
+  for (const MethodName& entry : method_table())  // a method's first name is its own
     if (entry.method == method) return entry.name;
   return "?";
 }
 
 bool method_from_string(std::string_view name, Method& method) {
-  for (const MethodName& entry : kMethodNames) {
-    if (entry.name != name) continue;
-    method = entry.method;
-    return true;
-  }
-  return false;
+  const MethodName* entry = find_method_name(name);
+  if (entry == nullptr || to_string(entry->method) != name) return false;  // not an alias
+  method = entry->method;
+  return true;
 }
 
 Method method_of(std::string_view name) {
@@ -75,7 +50,8 @@ Method method_of(std::string_view name) {
 
 std::string method_names() {
   std::string names;
-  for (const MethodName& entry : kMethodNames) {
+  for (const MethodName& entry : method_table()) {
+    if (to_string(entry.method) != entry.name) continue;  // an alias
     if (!names.empty()) names += ", ";
     names += entry.name;
   }

@@ -11,6 +11,8 @@
 #include "cbps/rows/distance.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
+#include "cbps/solvers/methods.hpp"
+#include "cbps/studies/solver_spec.hpp"
 
 using namespace cbps;
 
@@ -409,7 +411,18 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
       {R"({"world": {"beta": 1.5}, "bodies": []})",
        "scene.json: /world/beta: must be in [0, 1] (got 1.5)"},
       {R"({"solver": {"method": "cg"}, "bodies": []})",
-       R"(scene.json: /solver/method: unknown method "cg" (valid: pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set, pgs-nesterov, apgd, nncg, pgs-sm, admm, rbgs, shock)"},
+       R"(scene.json: /solver/method: unknown method "cg" (valid: pgs, sgs, jacobi, block-pgs, matrix-free, pgs-nesterov, apgd, nncg, pgs-sm, admm, rbgs, shock, direct, active-set, lemke)"},
+      {R"({"solver": {"method": "apgd", "parameters": {"grow": 3, "speed": 2}}, "bodies": []})",
+       "scene.json: /solver/parameters/speed: unknown parameter for method \"apgd\" (valid: "
+       "restart, grow, shrink)"},
+      {R"({"solver": {"method": "apgd", "parameters": {"shrink": 1.5}}, "bodies": []})",
+       "scene.json: /solver/parameters/shrink: must be a number in (0, 1] (got 1.5)"},
+      {R"({"solver": {"method": "admm", "parameters": {"adapt": "sometimes"}}, "bodies": []})",
+       "scene.json: /solver/parameters/adapt: must be on or off (got \"sometimes\")"},
+      {R"({"solver": {"parameters": {"grow": 3}}, "bodies": []})",
+       "scene.json: /solver/parameters/grow: method \"pgs\" has no parameters of its own"},
+      {R"({"solver": {"method": "apgd", "parameters": [3]}, "bodies": []})",
+       "scene.json: /solver/parameters: expected an object of the method's parameters"},
       {R"({"solver": {"iterations": 0}, "bodies": []})",
        "scene.json: /solver/iterations: must be >= 1 (got 0)"},
       {R"({"solver": {"iterations": 2.5}, "bodies": []})",
@@ -534,6 +547,35 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
   CAPTURE(bad.text);
   REQUIRE_THROWS_AS(parse_scene(bad.text, "scene.json"), InputError);
   REQUIRE_THROWS_WITH(parse_scene(bad.text, "scene.json"), Catch::Contains(bad.message));
+}
+
+TEST_CASE("a scene file takes every method's own parameters, as --solver NAME:key=value does",
+          "[scene_json]") {
+  // The same settings by both roads: the scene file's /solver/parameters and the grammar.
+  const Scene scene = parse_scene(
+      R"({"solver": {"method": "admm", "parameters": {"rho": 0.5, "alpha": 1.2, "adapt": false,
+                                                      "rho_min": 1e-6}},
+          "bodies": []})",
+      "scene.json");
+  SolverSettings grammar;
+  apply_solver_spec(parse_solver_spec("admm:rho=0.5:alpha=1.2:adapt=off:rho_min=1e-6", "test"),
+                    grammar);
+  CHECK(scene.solver.method == Method::Admm);
+  CHECK(scene.solver.methods.admm.rho == 0.5);
+  CHECK(scene.solver.methods.admm.alpha == 1.2);
+  CHECK_FALSE(scene.solver.methods.admm.adapt_rho);
+  CHECK(scene.solver.methods.admm.rho_min == 1e-6);
+  CHECK(method_parameters(Method::Admm, scene.solver.methods) ==
+        method_parameters(Method::Admm, grammar.methods));
+  // Written and read back: the same parameters, and the file says them.
+  const std::string text = scene_to_json(scene);
+  CHECK(text.find("\"parameters\"") != std::string::npos);
+  CHECK(method_parameters(Method::Admm, parse_scene(text, "back").solver.methods) ==
+        method_parameters(Method::Admm, scene.solver.methods));
+  // A method without parameters of its own writes none.
+  Scene pgs = scene;
+  pgs.solver.method = Method::Pgs;
+  CHECK(scene_to_json(pgs).find("\"parameters\"") == std::string::npos);
 }
 
 TEST_CASE("the solver's row order and seed are read and written, relaxation ranges per method",

@@ -31,7 +31,7 @@
 namespace cbps {
 
 /// The methods, each one name on the command line, in scene files and in summaries
-/// (to_string / method_from_string are the one name table).
+/// (to_string / method_from_string read the one table of methods, methods.hpp).
 enum class Method {
   Pgs,          ///< "pgs": projected Gauss-Seidel (7.1.1), PSOR with relaxation ≠ 1
   BlockPgs,     ///< "block-pgs": contact manifolds solved as blocks (pgs_block.hpp)

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cbps/scene/scene.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps {
@@ -76,11 +77,6 @@ SolverOptions solver_options(const SolverSpec& spec, int max_iterations, double 
 /// SolverOptions::after_sweep), the whole problem at once (after_sweep sees all of lambda), no
 /// message, and the stored problem's constraint-force mixing `cfm`, kg⁻¹.
 SolverOptions study_options(const SolverSpec& spec, int max_iterations, double cfm);
-
-/// A method's own parameters as key and value text, the way the grammar writes them
-/// (`apgd`: grow 2, shrink 0.9, restart on); none for the methods without.
-std::vector<std::pair<std::string, std::string>> method_parameters(Method method,
-                                                                   const MethodSettings& settings);
 
 /// Every name the grammar accepts with one line on what it is and its keys, for --help.
 std::string solver_spec_help();
