@@ -1,8 +1,27 @@
-"""The generated parts of README.md (scripts/doc_tables.py): the main job's table (the
-pendulum wave) and the headline of the generated chain under MPI (docs/distributed.md).
+"""The generated parts of README.md (scripts/doc_tables.py): the test suite's time, the main
+job's table (the pendulum wave) and the headline of the generated chain under MPI
+(docs/distributed.md).
 """
 from doc_tables_common import (  # scripts/doc_tables_common.py
     GENERATE, PW, dur, generate_model, generator, need, num, sci, table, thousands)
+
+
+# ---------------------------------------------------------------------------------------------
+# The test suite's time (scripts/measure_suite.py's committed measurement).
+
+SUITE = "validation/results/test-suite/release.json"
+
+
+@generator("suite-release", SUITE)
+def _suite_release(src):
+    r = src.json(SUITE)
+    labels = need(r, "labels", where=SUITE)
+    petsc = labels.get("petsc")
+    text = (f"{r['tests']} tests in {dur(r['wall_time_s'])} of wall time with "
+            f"`ctest -j{r['jobs']}` on {r['cores']} cores")
+    if petsc:  # CTest's label times are summed over the tests, not wall time
+        text += f" (the {petsc['tests']} PETSc tests {dur(petsc['seconds'])} of test time)"
+    return text + f", {r['date']}" + (f"; {r['note']}" if r.get("note") else "")
 
 
 # ---------------------------------------------------------------------------------------------
