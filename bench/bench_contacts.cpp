@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cbps/io/output_dir.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/step/simulation.hpp"
 
@@ -80,16 +81,19 @@ int main(int argc, char** argv) {
                         {"step", ms(total)}}}});
   }
   if (!out_path.empty()) {
-    std::ofstream f(out_path);
-    f << nlohmann::json{{"bench", "pyramid step by stage"},
-                        {"solver", solver},
-                        {"steps", steps},
-                        {"settle", settle},
-                        {"pyramids", result}}
-             .dump(2)
-      << "\n";
-    if (!f) {
-      std::cerr << "bench_contacts: cannot write " << out_path << "\n";
+    // Whole or not at all (a temporary file beside it, renamed into place).
+    try {
+      cbps::write_output_file(out_path,
+                              "--out " + out_path,
+                              nlohmann::json{{"bench", "pyramid step by stage"},
+                                             {"solver", solver},
+                                             {"steps", steps},
+                                             {"settle", settle},
+                                             {"pyramids", result}}
+                                      .dump(2) +
+                                  "\n");
+    } catch (const std::exception& e) {
+      std::cerr << "bench_contacts: " << e.what() << "\n";
       return 1;
     }
   }

@@ -274,16 +274,20 @@ int main(int argc, char** argv) {
   const nlohmann::json stack_json = bench_stack(o);
 
   if (!o.out_path.empty()) {
-    std::ofstream f(o.out_path);
-    f << nlohmann::json{{"bench", "direct vs PGS on the chain and the 1000-box stack"},
-                        {"budget_s", o.budget_s},
-                        {"repeats", o.repeats},
-                        {"chains", result},
-                        {"stack", stack_json}}
-             .dump(2)
-      << "\n";
-    if (!f) {
-      std::cerr << "bench_direct: cannot write " << o.out_path << "\n";
+    // Whole or not at all (a temporary file beside it, renamed into place).
+    try {
+      cbps::write_output_file(
+          o.out_path,
+          "--out " + o.out_path,
+          nlohmann::json{{"bench", "direct vs PGS on the chain and the 1000-box stack"},
+                         {"budget_s", o.budget_s},
+                         {"repeats", o.repeats},
+                         {"chains", result},
+                         {"stack", stack_json}}
+                  .dump(2) +
+              "\n");
+    } catch (const std::exception& e) {
+      std::cerr << "bench_direct: " << e.what() << "\n";
       return 1;
     }
   }

@@ -742,10 +742,13 @@ int main(int argc, char** argv) {
     if (o.out_path.empty()) return true;
     doc["total_s"] = seconds_since(bench_start);
     doc["load_average_end"] = load_average();
-    std::ofstream f(o.out_path);
-    f << doc.dump(2) << "\n";
-    if (!f) std::cerr << "bench_exact: cannot write " << o.out_path << "\n";
-    return static_cast<bool>(f);
+    try {  // whole or not at all: a temporary file beside it, renamed into place
+      cbps::write_output_file(o.out_path, "--out " + o.out_path, doc.dump(2) + "\n");
+      return true;
+    } catch (const std::exception& e) {
+      std::cerr << "bench_exact: " << e.what() << "\n";
+      return false;
+    }
   };
   bool saved = true;
   std::vector<std::string> direct_table, compare_table;

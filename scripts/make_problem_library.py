@@ -24,8 +24,8 @@ wrote: it is then replaced). OUT receives, all or nothing (written beside OUT an
 Rank and condition are of the matrix the solvers work on, A + eps I with the folder's cfm.txt
 (eps = 0 without one), from dense eigenvalues (numpy.linalg.eigvalsh): an eigenvalue at most
 n u lambda_max (u the unit round-off) counts as zero, the rule of `estimate_condition`
-(include/cbps/studies/conditioning.hpp); condition = lambda_max / lambda_min (null, i.e.
-infinite, when A is singular), range_condition = lambda_max / the smallest nonzero eigenvalue.
+(include/cbps/studies/conditioning.hpp); condition = lambda_max / lambda_min ("inf" when A is
+singular), range_condition = lambda_max / the smallest nonzero eigenvalue (null for A = 0).
 
 --quick writes only the problems marked quick (8 small ones, for tests); every entry of the full
 library says whether it is one of them, and `cbps profile --quick` runs only those.
@@ -33,6 +33,7 @@ Needs numpy and scipy (Debian's python3-numpy, python3-scipy).
 """
 
 import argparse
+import math
 import os
 import shutil
 import subprocess
@@ -149,7 +150,7 @@ def describe(A, b, cmin, cmax, lam):
         "definite": rank == n,
         "lambda_max": lam_max,
         "lambda_min": float(eig[0]),
-        "condition": lam_max / float(eig[0]) if rank == n else None,
+        "condition": lam_max / float(eig[0]) if rank == n else math.inf,  # written "inf"
         "range_condition": lam_max / float(nonzero[0]) if rank > 0 else None,
         "scale": scale,
         "guess_residual_relative": guess_residual / scale,

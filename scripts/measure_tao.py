@@ -20,7 +20,7 @@ import subprocess
 import sys
 import tempfile
 
-from cbps_files import write_json  # scripts/cbps_files.py
+from cbps_files import read_number, write_json  # scripts/cbps_files.py
 from cbps_problem import PETSC_PROBLEMS as PROBLEMS  # scripts/cbps_problem.py
 
 TYPES = ("bqpip", "gpcg", "tron", "bncg", "bqnls", "blmvm", "bnls", "bntr")
@@ -70,7 +70,7 @@ def main():
                 results["runs"].append(row)
                 print(f"{name:6} {solver:10} {row['ranks']} {row['status']:7} "
                       f"{row['iterations']:6} {row['wall_time_s']:.3g} s "
-                      f"{row['residual']:.3g} {row.get('reason', '')}", flush=True)
+                      f"{read_number(row['residual']):.3g} {row.get('reason', '')}", flush=True)
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
     write_json(args.out, results)
     print(f"wrote {args.out}")

@@ -26,10 +26,16 @@ from cbps_files import save_figure  # noqa: E402  scripts/cbps_files.py, beside 
 plt.rcParams["svg.fonttype"] = "none"  # SVG text stays text: searchable and editable
 
 
+def solved(r):
+    """A ratio of profile.json that stands for a solved problem: a number (a failure is "inf";
+    files written before that convention hold null)."""
+    return isinstance(r, (int, float)) and math.isfinite(r)
+
+
 def curve(ratios, k):
     """The step function rho(tau) of solver k as (log2 tau, rho) points, from tau = 1."""
     n = len(ratios)
-    finite = sorted(r[k] for r in ratios if r[k] is not None)
+    finite = sorted(r[k] for r in ratios if solved(r[k]))
     x, y = [0.0], [0.0]
     for i, r in enumerate(finite):
         x.append(math.log2(max(r, 1.0)))
@@ -64,7 +70,7 @@ def plot(data):
     for p in profiles:
         for row in p["ratios"]:
             for r in row:
-                if r is not None:
+                if solved(r):
                     right = max(right, math.log2(max(r, 1.0)))
     right *= 1.05
     for p in profiles:

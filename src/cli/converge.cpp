@@ -147,7 +147,7 @@ void print_table(const ConvergenceSystem& s,
                 j["solver"].get<std::string>().c_str(),
                 j["iterations"].get<int>(),
                 j["time_s"].get<double>(),
-                j["residual"].is_null() ? NAN : j["residual"].get<double>());
+                number_of_json(j["residual"]));
     for (const double target : kConvergenceMilestones) {
       const nlohmann::json& at = j["reached"][milestone_key(target)];
       char cell[64] = "-";

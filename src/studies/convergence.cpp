@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cbps/base/error.hpp"
+#include "cbps/io/json_numbers.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 
@@ -21,10 +22,6 @@ std::string csv_number(double x) {
   out.precision(9);
   out << x;
   return out.str();
-}
-
-nlohmann::json json_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
 }  // namespace
@@ -196,13 +193,15 @@ nlohmann::json convergence_summary(const ConvergenceSystem& s,
     j["warm_friction"] = run.spec.warm_friction.value_or(run.spec.warm);
     j["contacts_first"] = run.spec.contacts_first;
     j["stopped"] = run.stopped;
-    j["guess_residual"] = json_or_null(run.samples.front().residual);
+    j["guess_residual"] = number_json(run.samples.front().residual);
     j["samples"] = run.samples.size();
     j["iterations"] = last.iteration;
     j["time_s"] = last.time_s;
-    j["residual"] = json_or_null(last.residual);
-    j["lambda_error"] = json_or_null(last.lambda_error);
-    j["velocity_error"] = json_or_null(last.velocity_error);
+    j["residual"] = number_json(last.residual);
+    // null: not measured (lambda not unique; no bodies to form v2 of)
+    j["lambda_error"] = s.lambda_unique ? number_json(last.lambda_error) : nlohmann::json(nullptr);
+    j["velocity_error"] =
+        s.has_bodies() ? number_json(last.velocity_error) : nlohmann::json(nullptr);
     nlohmann::json reached = nlohmann::json::object();
     for (std::size_t i = 0; i < std::size(kConvergenceMilestones); ++i) {
       const ConvergenceMilestone& at = run.reached[i];

@@ -145,7 +145,7 @@ nlohmann::json explain_json(const Explained& e) {
   out["v2"] = {{"equation", "12.3.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(x.v2)}};
   out["solver"] = {{"method", e.method},
                    {"iterations", x.summary.iterations},
-                   {"residual", x.summary.residual},
+                   {"residual", number_json(x.summary.residual)},
                    {"message", x.summary.message}};
   return out;
 }

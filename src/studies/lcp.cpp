@@ -130,7 +130,7 @@ nlohmann::json lcp_result_json(const std::string& problem,
   j["status"] = v.status;
   j["iterations"] = r.iterations;
   j["wall_time_s"] = wall;
-  j["residual"] = std::isfinite(v.residual) ? nlohmann::json(v.residual) : nlohmann::json(nullptr);
+  j["residual"] = number_json(v.residual);
   j["scale"] = v.scale;
   j["message"] = r.message;
   j["space"] = r.space.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.space);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cbps/base/error.hpp"
+#include "cbps/io/json_numbers.hpp"
 #include "cbps/io/matrix_market.hpp"
 
 namespace cbps {
@@ -58,10 +59,6 @@ std::string csv_number(double x) {
   out.precision(9);
   out << x;
   return out.str();
-}
-
-nlohmann::json json_or_null(double x) {
-  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr);
 }
 
 /// What decides a spec's curve here: every solve starts from lambda = 0, so the warm-start
@@ -304,7 +301,7 @@ nlohmann::json profile_json(const Profile& profile, const std::vector<SolverSpec
   j["ratios"] = nlohmann::json::array();
   for (const std::vector<double>& r : profile.ratios) {
     nlohmann::json row = nlohmann::json::array();
-    for (const double x : r) row.push_back(json_or_null(x));
+    for (const double x : r) row.push_back(number_json(x));  // a failure: "inf"
     j["ratios"].push_back(row);
   }
   j["rho"] = nlohmann::json::object();
@@ -364,8 +361,11 @@ ProfileReport profile_report(const std::string& library,
       mj["status"] = m.status;
       mj["iterations"] = m.iterations;
       mj["time_s"] = m.time_s;
-      mj["residual_relative"] = json_or_null(m.residual);
-      mj["lambda_error"] = json_or_null(m.lambda_error);
+      // null: not measured (the spec did not run; lambda* not unique where A is singular)
+      const bool ran = m.status.rfind("not applicable", 0) != 0;
+      mj["residual_relative"] = ran ? number_json(m.residual) : nlohmann::json(nullptr);
+      mj["lambda_error"] =
+          ran && problems[p].definite ? number_json(m.lambda_error) : nlohmann::json(nullptr);
       mj["reached"] = nlohmann::json::object();
       csv << entries[p].name << ',' << specs[s].text << ',' << problems[p].stored.rows() << ','
           << m.status << ',' << m.iterations << ',' << csv_number(m.time_s) << ','

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "cbps/io/json_numbers.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
@@ -115,9 +116,9 @@ void CrossCheck::start(Simulation& sim) {
 }
 
 nlohmann::json CrossCheck::json() const {
-  nlohmann::json j = {{"max_velocity_difference", max_velocity_difference},
-                      {"max_pgs_residual", max_residual},
-                      {"max_direct_residual", max_direct_residual},
+  nlohmann::json j = {{"max_velocity_difference", number_json(max_velocity_difference)},
+                      {"max_pgs_residual", number_json(max_residual)},
+                      {"max_direct_residual", number_json(max_direct_residual)},
                       {"direct_stopped_short", direct_short},
                       {"direct_unverified", direct_unverified},
                       {"steps_checked", steps_checked}};
@@ -185,7 +186,7 @@ nlohmann::json run_summary_json(const Scene& scene,
   summary["steps_requested"] = t.steps_requested;
   summary["dt"] = scene.world.dt;
   summary["beta"] = scene.world.beta;
-  summary["duration"] = t.time;
+  summary["duration"] = number_json(t.time);
   summary["solver"] = {
       {"method", std::string(to_string(solver.method))},
       {"iterations", solver.iterations},
@@ -202,9 +203,10 @@ nlohmann::json run_summary_json(const Scene& scene,
     summary["solver"]["parameters"][key] = value;
   if (solver.cfm > 0.0) {
     // CFM is never silent: how far the answer is from A lambda = b because of it.
-    summary["regularization"] = {{"cfm", solver.cfm},
-                                 {"max_acceleration_error", t.cfm_acceleration_error},
-                                 {"max_velocity_error", t.cfm_acceleration_error * scene.world.dt}};
+    summary["regularization"] = {
+        {"cfm", solver.cfm},
+        {"max_acceleration_error", number_json(t.cfm_acceleration_error)},
+        {"max_velocity_error", number_json(t.cfm_acceleration_error * scene.world.dt)}};
   }
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
   summary["contacts"] = {
@@ -213,12 +215,12 @@ nlohmann::json run_summary_json(const Scene& scene,
       {"restitution", scene.world.restitution},
       {"persistence", scene.world.contact_persistence},
       {"max_points", t.max_contacts}};
-  summary["max_penetration"] = t.max_penetration;
+  summary["max_penetration"] = number_json(t.max_penetration);
   summary["iterations_total"] = t.iterations_total;
-  summary["max_residual"] = t.max_residual;
-  summary["max_constraint_error"] = t.max_constraint_error;
-  summary["energy_initial"] = t.energy_initial;
-  summary["energy_final"] = t.energy_final;
+  summary["max_residual"] = number_json(t.max_residual);
+  summary["max_constraint_error"] = number_json(t.max_constraint_error);
+  summary["energy_initial"] = number_json(t.energy_initial);
+  summary["energy_final"] = number_json(t.energy_final);
   summary["stages"] = t.stages;
   if (timing) {
     const StageTimes& s = t.stage_times;

@@ -14,7 +14,7 @@ spec.loader.exec_module(plot_profile)
 
 
 def profile_json(solvers, problems=6):
-    """A profile.json as `cbps profile` writes it (docs/outputs.md): ratios >= 1 or None
+    """A profile.json as `cbps profile` writes it (docs/outputs.md): ratios >= 1 or "inf"
     (failed); `direct` has no sweeps, so it is in the time profiles only."""
     rng = random.Random(3)
     tolerances = [1e-3, 1e-6, 1e-10]
@@ -22,7 +22,7 @@ def profile_json(solvers, problems=6):
     for measure in ("time", "sweeps"):
         for tol in tolerances:
             names = [s for s in solvers if measure == "time" or s != "direct"]
-            ratios = [[None if rng.random() < 0.1 else 1.0 + rng.expovariate(0.1) for _ in names]
+            ratios = [["inf" if rng.random() < 0.1 else 1.0 + rng.expovariate(0.1) for _ in names]
                       for _ in range(problems)]
             profiles.append({"measure": measure, "tolerance": tol, "solvers": names,
                              "ratios": ratios, "rho": {}})
@@ -30,6 +30,14 @@ def profile_json(solvers, problems=6):
             "solvers": [{"solver": s} for s in solvers],
             "problems": [{"name": f"p{k}"} for k in range(problems)],
             "budget_iterations": 100000, "time_limit_s": 1.0}
+
+
+def test_a_failure_is_inf_and_older_files_null():
+    """rho(tau) counts only the solved problems: a failure's ratio is "inf" (null in files
+    written before the JSON convention); 2 of 4 solved, at ratios 1 and 2."""
+    x, y = plot_profile.curve([[1.0], ["inf"], [2.0], [None]], 0)
+    assert x == [0.0, 0.0, 1.0]
+    assert y == [0.0, 0.25, 0.5]
 
 
 # The methods `cbps profile --help` lists, and specs as long as the grammar allows.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "cbps/base/types.hpp"
 
@@ -14,6 +15,18 @@ inline nlohmann::json number_json(double x) {
   if (std::isnan(x)) return "nan";
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
   return x;
+}
+
+/// The number number_json wrote: a JSON number, or "inf", "-inf", "nan" as those; NaN for null
+/// (no value) and anything else.
+inline double number_of_json(const nlohmann::json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const std::string& s = j.get_ref<const std::string&>();
+    if (s == "inf") return INFINITY;
+    if (s == "-inf") return -INFINITY;
+  }
+  return NAN;
 }
 
 /// A vector as a JSON array of number_json.
