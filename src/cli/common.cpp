@@ -90,6 +90,18 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
   add_world_options(cmd, o);
 }
 
+CLI::Option* add_json_flag(CLI::App* cmd, bool& json, const std::string& what) {
+  return cmd->add_flag("--json", json, "print " + what + " as JSON on stdout");
+}
+
+CLI::Option* add_out_option(CLI::App* cmd, std::string& out, const std::string& holds) {
+  return cmd->add_option("--out", out, "output folder: " + holds + " (docs/outputs.md)");
+}
+
+CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet, const std::string& what) {
+  return cmd->add_flag("--quiet", quiet, what);
+}
+
 bool world_options_given(const StepOptions& o) {
   return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty();
 }

@@ -50,6 +50,16 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
 /// Any of --dt, --cfm, --beta, --push given (they apply to scenes only).
 bool world_options_given(const StepOptions& o);
 
+/// --json: print `what` as JSON on stdout instead of the text.
+CLI::Option* add_json_flag(CLI::App* cmd, bool& json, const std::string& what);
+/// --out DIR: the output folder, written whole or not at all (OutputDir); `holds` says what
+/// the command writes there.
+CLI::Option* add_out_option(CLI::App* cmd, std::string& out, const std::string& holds);
+/// --quiet: `what` (default: no progress lines on stderr).
+CLI::Option* add_quiet_flag(CLI::App* cmd,
+                            bool& quiet,
+                            const std::string& what = "no progress lines on stderr");
+
 /// Option checks whose messages show the value as given (CLI11's own print DBL_MAX in full).
 CLI::Validator positive();      ///< a finite number > 0
 CLI::Validator non_negative();  ///< a finite number >= 0

@@ -285,9 +285,9 @@ void register_converge(CLI::App& app, Action& run) {
   cmd->add_option("--time-limit", o->time_limit, "max sweep time per solver, s (default 10)")
       ->check(positive());
   add_seed_option(cmd, o->step);
-  cmd->add_option("--out", o->out, "write convergence.csv, summary.json and the plot here");
-  cmd->add_flag("--json", o->json, "print the summary as JSON");
-  cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
+  add_out_option(cmd, o->out, "convergence.csv, summary.json and the plot");
+  add_json_flag(cmd, o->json, "the summary");
+  add_quiet_flag(cmd, o->quiet);
   cmd->add_flag_callback(
       "--no-plot", [o] { o->plot = false; }, "write no convergence.png/.svg");
   cmd->callback([&run, o] { run = [o] { return converge_command(*o); }; });

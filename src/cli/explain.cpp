@@ -273,10 +273,10 @@ void register_explain(CLI::App& app, Action& run) {
   add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "explain the system of step K (after K steps)")
       ->transform(step_index());
-  cmd->add_flag("--json",
+  add_json_flag(cmd,
                 o->json,
                 "full-precision dense arrays with row and column labels, units, w and per-row "
-                "status, as JSON");
+                "status");
   cmd->add_option("--html",
                   o->html,
                   "write the teaching page to FILE instead: one self-contained HTML file with "

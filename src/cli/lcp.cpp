@@ -456,11 +456,9 @@ void register_lcp(CLI::App& app, Action& run) {
                   "--generate: also write the generated A, b, cmin, cmax here, gathered onto "
                   "rank 0 (a debugging aid, at most " +
                       std::to_string(kMaxGatheredRows) + " rows)");
-  cmd->add_flag("--json", o->json, "print the result as JSON");
-  cmd->add_option("--out",
-                  o->out,
-                  "write result.json and lambda.mtx here (only if solved; under mpirun rank 0 "
-                  "writes)");
+  add_json_flag(cmd, o->json, "the result");
+  add_out_option(
+      cmd, o->out, "result.json and lambda.mtx, only if solved (under mpirun rank 0 writes)");
   cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->callback([&run, o] { run = [o] { return lcp_command(*o); }; });
 }

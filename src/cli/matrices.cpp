@@ -102,8 +102,12 @@ void register_matrices(CLI::App& app, Action& run) {
   add_step_options(cmd, o->step, false);
   cmd->add_option("--step", o->at_step, "the system of step K (after K steps)")
       ->transform(step_index());
-  cmd->add_option("--out", o->out, "output folder")->required();
-  cmd->add_flag("--quiet", o->quiet, "print nothing on success (errors still go to stderr)");
+  add_out_option(cmd,
+                 o->out,
+                 "J, Minv, A, b and the rest of the step's system as Matrix Market "
+                 "files")
+      ->required();
+  add_quiet_flag(cmd, o->quiet, "print nothing on success (errors still go to stderr)");
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });
 }
 

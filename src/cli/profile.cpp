@@ -167,8 +167,8 @@ void register_profile(CLI::App& app, Action& run) {
       ->check(positive());
   cmd->add_option(
       "--out", o->out, "write profile.json, profile.csv, summary.txt and the plot here");
-  cmd->add_flag("--json", o->json, "print profile.json on stdout instead of the table");
-  cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
+  add_json_flag(cmd, o->json, "profile.json instead of the table");
+  add_quiet_flag(cmd, o->quiet);
   cmd->add_flag_callback(
       "--no-plot", [o] { o->plot = false; }, "write no profile.png/.svg");
   cmd->callback([&run, o] { run = [o] { return profile_command(*o); }; });

@@ -182,13 +182,13 @@ void register_run(CLI::App& app, Action& run) {
   auto o = std::make_shared<RunOptions>();
   add_scene_options(cmd, o->scene);
   add_step_options(cmd, o->step);
-  cmd->add_option("--out",
-                  o->out,
-                  "folder for summary.json, trajectory.csv, steps.csv, bodies.json (the body "
-                  "names of trajectory.csv) and cbps-manifest.json (docs/outputs.md)");
+  add_out_option(cmd,
+                 o->out,
+                 "summary.json, trajectory.csv, steps.csv, bodies.json (the body names of "
+                 "trajectory.csv) and cbps-manifest.json");
   cmd->add_option("--record-every", o->record_every, "record the trajectory every K steps")
       ->check(positive());
-  cmd->add_flag("--json", o->json, "print the summary as JSON on stdout");
+  add_json_flag(cmd, o->json, "the summary");
   cmd->add_flag(
       "--check",
       o->check,
@@ -199,7 +199,7 @@ void register_run(CLI::App& app, Action& run) {
                   "with --check: exit 1, naming the first step, when a step's max |v2 - "
                   "v2_direct| exceeds this, m/s (the run still completes and writes --out)")
       ->check(non_negative());
-  cmd->add_flag("--quiet", o->quiet, "no progress lines on stderr");
+  add_quiet_flag(cmd, o->quiet);
   cmd->add_flag("--no-timing",
                 o->no_timing,
                 "leave wall times out of summary.json and steps.csv, so that the same inputs "

@@ -109,7 +109,7 @@ void register_scenes(CLI::App& app, Action& run) {
                               "beside FILE, then renamed)")
                   ->type_name("FILE");
   cmd->add_flag("--force", o->force, "with --export: replace an existing FILE")->needs(exp);
-  cmd->add_flag("--json", o->json, "print as JSON");
+  add_json_flag(cmd, o->json, "the scenes");
   cmd->callback([&run, o] { run = [o] { return scenes_command(*o); }; });
 }
 

@@ -152,10 +152,10 @@ void register_stress(CLI::App& app, Action& run) {
                   "pgs,direct");
   cmd->add_option("--budget", o->budget, "wall-time budget of one run, s (default 90)")
       ->check(positive());
-  cmd->add_option("--out", o->out, "folder for summary.json (all numbers) and stress.md (table)");
-  cmd->add_flag("--json", o->json, "print the results as JSON on stdout instead of the table");
+  add_out_option(cmd, o->out, "summary.json (all numbers) and stress.md (the table)");
+  add_json_flag(cmd, o->json, "the results instead of the table");
   cmd->add_flag("--list", o->list, "list the cases, what stable means for each, and exit");
-  cmd->add_flag("--quiet", o->quiet, "no progress lines on stderr");
+  add_quiet_flag(cmd, o->quiet);
   cmd->callback([&run, o] { run = [o] { return stress_command(*o); }; });
 }
 

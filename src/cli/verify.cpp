@@ -12,7 +12,7 @@ namespace cbps::cli {
 void register_verify(CLI::App& app, Action& run) {
   auto* cmd = app.add_subcommand("verify", "numerical checks of the paper's derivations");
   auto json = std::make_shared<bool>(false);
-  cmd->add_flag("--json", *json, "print as JSON");
+  add_json_flag(cmd, *json, "the checks");
   cmd->callback([&run, json] {
     run = [json] {
       const std::vector<Check> checks = run_derivation_checks();
