@@ -216,6 +216,14 @@ py::dict summary_dict(const SolverSummary& s) {
   d["factor_nnz"] = s.factor_nnz;
   d["updates"] = s.updates;
   d["space"] = s.space;
+  // A peer's own word and times (siconos:NAME, bullet:NAME); None for cbps's methods.
+  const bool peer = !s.peer_status.empty();
+  d["peer_status"] = peer ? py::object(py::str(s.peer_status)) : py::none();
+  d["peer_said_ok"] = peer ? py::object(py::bool_(s.peer_said_ok)) : py::none();
+  d["peer_iterations"] =
+      peer && s.peer_iterations >= 0 ? py::object(py::int_(s.peer_iterations)) : py::none();
+  d["convert_time_s"] = peer ? py::object(py::float_(s.convert_time_s)) : py::none();
+  d["peer_solve_time_s"] = peer ? py::object(py::float_(s.peer_solve_time_s)) : py::none();
   return d;
 }
 

@@ -16,6 +16,7 @@
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "convert.hpp"
 
@@ -185,6 +186,11 @@ void require_method_inputs(const SolverSpec& spec, const Inputs& in) {
                      "levels from J's bodies); pass J= and Minv=");
   if (spec.contacts_first && in.kinds.empty())
     throw InputError(what + ": contacts_first needs each row's kind; pass kinds=");
+  if (is_peer(spec.method)) {  // a peer meets the problem as it is, or says why it cannot
+    const std::string refusal = peer_refusal(spec.method, in.problem());
+    if (!refusal.empty()) throw InputError(what + ": " + refusal);
+    return;
+  }
   if (!is_iterative(spec.method)) {
     require_symmetric(in.p, what);  // the exact paths solve the QP of 6.2
     return;
@@ -287,7 +293,8 @@ py::tuple solve_py(const py::object& A,
   SolverOptions options = settings.options();
   // The per-sweep history (iterative methods on the whole problem: with split_islands each
   // island sweeps apart, so there is no whole iterate to measure).
-  const bool per_sweep = history && is_iterative(spec.method) && !split_islands;
+  const bool per_sweep =
+      history && is_iterative(spec.method) && !is_peer(spec.method) && !split_islands;
   // The residual is that of the problem solved, A + eps E (6.2).
   const BoxedProblem problem = in.problem();
   const auto residual = [&](const VecX& l) { return natural_map_residual(problem, l, cfm); };

@@ -31,6 +31,9 @@ packages=(
   python3-setuptools-whl python3-wheel-whl  # the same with build isolation, offline
   clang libclang-rt-14-dev llvm-14
   chromium  # headless, for the teaching page's tests (tests/test_teaching_page_browser.py)
+  # The peers, siconos:NAME and bullet:NAME (docs/peers.md): Siconos numerics' C API and
+  # Bullet's MLCP solvers in double precision (libBulletDynamics-float64).
+  libsiconos-numerics-dev libbullet-dev
 )
 if [ "$with_petsc" -eq 1 ]; then
   # PETSc 3.18 (pkg-config PETSc) with Open MPI's headers and its mpirun; and OpenBLAS's

@@ -16,6 +16,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/convergence.hpp"
@@ -207,6 +208,7 @@ int converge_command(const ConvergeOptions& o) {
   std::vector<ConvergenceRun> runs;
   for (const SolverSpec& spec : specs) {
     runs.push_back(!spec.tao.empty()            ? run_tao(s, spec, o, tao)
+                   : is_peer(spec.method)       ? run_peer(s, spec, limits)
                    : !is_iterative(spec.method) ? run_exact(s, spec)
                                                 : run_iterative(s, spec, limits));
     if (!o.quiet) {

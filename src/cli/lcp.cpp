@@ -116,6 +116,7 @@ int report(const LcpOptions& o,
                 format_number(v.residual).c_str(),
                 format_number(v.scale).c_str());
     std::printf("%s\n", r.message.c_str());
+    if (!v.peer_disagrees.empty()) std::printf("%s\n", v.peer_disagrees.c_str());
     if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
     if (v.solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }

@@ -23,6 +23,7 @@
 #include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/paper/pgs_matrix_free.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "exact/newton_system.hpp"
 
 namespace cbps {
@@ -97,6 +98,8 @@ std::string to_string(Termination t) {
       return "stopped by the caller";
     case Termination::NoSolution:
       return "no solution found";
+    case Termination::PeerUnsolved:
+      return "not solved by cbps's residual";
   }
   return "?";
 }
@@ -180,6 +183,14 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_shock(problem, lambda, options, options.methods.shock);
     case Method::Lemke:
       return solve_lemke_method(problem, lambda);
+    case Method::SiconosLemke:
+    case Method::SiconosPgs:
+    case Method::SiconosEnum:
+    case Method::SiconosAvi:
+    case Method::BulletDantzig:
+    case Method::BulletLemke:
+    case Method::BulletPgs:
+      return solve_peer(problem, lambda, options);
   }
   throw std::invalid_argument("solve: unknown method");
 }
@@ -247,7 +258,9 @@ SolverSummary solve_split(const BoxedProblem& problem, VecX& lambda, const Solve
   // run whole (an island's problem carries no J): the matrix-free rows of different islands
   // never meet, and the shock order's sweep treats islands apart anyway; only the stopping is
   // common.
-  if (!options.split_islands || !is_iterative(options.method) || needs_jacobian(options.method)) {
+  // The peers are handed the problem whole, as an engine hands it to them.
+  if (!options.split_islands || !is_iterative(options.method) || needs_jacobian(options.method) ||
+      is_peer(options.method)) {
     return solve_whole(problem, lambda, options);
   }
   const auto islands = find_islands(problem.A);

@@ -144,6 +144,28 @@ ConvergenceRun run_exact(const ConvergenceSystem& s, const SolverSpec& spec) {
   return run;
 }
 
+ConvergenceRun run_peer(const ConvergenceSystem& s,
+                        const SolverSpec& spec,
+                        const ConvergenceLimits& limits) {
+  ConvergenceRun run;
+  run.spec = spec;
+  run.final_point_only = true;
+  VecX lambda = VecX::Zero(s.stored.rows());
+  run.samples.push_back(measure(s, lambda, 0, 0.0));
+  SolverOptions options = study_options(spec, limits.iterations, s.stored.cfm);
+  options.tolerance = limits.tolerance;
+  const SolverSummary d = solve(s.problem(), lambda, options);
+  // The peer's own conversion and solve, without cbps's verdict or the process around Siconos.
+  const double time_s = d.convert_time_s + d.peer_solve_time_s;
+  run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
+  run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);
+  run.stopped = "final point only (the peer exposes no iterates): " + to_string(d.termination) +
+                "; peer: " + d.peer_status;
+  run.peer_status = d.peer_status;
+  run.convert_time_s = d.convert_time_s;
+  return run;
+}
+
 std::string solved_by_guess_warning(const ConvergenceSystem& s,
                                     const std::vector<ConvergenceRun>& runs,
                                     double tolerance) {
@@ -151,7 +173,9 @@ std::string solved_by_guess_warning(const ConvergenceSystem& s,
   // shows nothing: every solver "converges" in 0 sweeps.
   std::string names;
   for (const ConvergenceRun& run : runs) {
-    if (!is_iterative(run.spec.method) || !(run.samples.front().residual <= tolerance)) continue;
+    if (!is_iterative(run.spec.method) || run.final_point_only ||
+        !(run.samples.front().residual <= tolerance))
+      continue;
     names += (names.empty() ? "" : ", ") + run.spec.text;
   }
   if (names.empty()) return "";
@@ -193,6 +217,11 @@ nlohmann::json convergence_summary(const ConvergenceSystem& s,
     j["warm_friction"] = run.spec.warm_friction.value_or(run.spec.warm);
     j["contacts_first"] = run.spec.contacts_first;
     j["stopped"] = run.stopped;
+    j["final_point_only"] = run.final_point_only;
+    j["peer_status"] =
+        run.peer_status.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.peer_status);
+    j["convert_time_s"] =
+        run.final_point_only ? nlohmann::json(run.convert_time_s) : nlohmann::json(nullptr);
     j["guess_residual"] = number_json(run.samples.front().residual);
     j["samples"] = run.samples.size();
     j["iterations"] = last.iteration;

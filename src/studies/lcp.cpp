@@ -3,8 +3,10 @@
 #include <cmath>
 
 #include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps {
@@ -65,14 +67,18 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
     throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
                      " rows; the dense Lemke solver takes at most " +
                      std::to_string(kMaxDenseLemkeRows) + " (use --solver pgs or direct)");
+  if (is_peer(spec.method)) {
+    const std::string refusal = peer_refusal(spec.method, p.problem());
+    if (!refusal.empty()) throw InputError(what + ": " + path + ": " + refusal);
+  }
 }
 
 LcpOutcome solve_stored(const SolverSpec& spec,
                         const StoredProblem& p,
                         int iterations,
                         double tolerance) {
-  if (is_iterative(spec.method)) {
-    // The sweeps divide by (A + eps E)_kk (7.1.1).
+  if (is_iterative(spec.method) && !is_peer(spec.method)) {
+    // The sweeps divide by (A + eps E)_kk (7.1.1); a peer meets the problem as it is.
     for (long k = 0; k < p.rows(); ++k) {
       const double a_kk = p.A.coeff(k, k) + p.cfm;
       if (!(a_kk > 0.0)) {
@@ -96,6 +102,14 @@ LcpOutcome solve_stored(const SolverSpec& spec,
   r.pivots = spec.method == Method::Lemke;
   r.message = s.message;
   explain_space(spec, p, s, r);
+  if (is_peer(spec.method)) {
+    r.peer = true;
+    r.peer_status = s.peer_status;
+    r.peer_said_ok = s.peer_said_ok;
+    r.peer_iterations = s.peer_iterations;
+    r.convert_time_s = s.convert_time_s;
+    r.peer_solve_time_s = s.peer_solve_time_s;
+  }
   return r;
 }
 
@@ -112,6 +126,13 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
   v.solved = sized && r.lambda.allFinite() && std::isfinite(v.residual) &&
              v.residual <= kLcpSolvedTolerance * v.scale;
   v.status = v.solved ? "solved" : r.no_solution ? "no_solution" : "failed";
+  if (r.peer && r.peer_said_ok != v.solved) {
+    const double criterion = kLcpSolvedTolerance * v.scale;
+    v.peer_disagrees = std::string(r.peer_said_ok ? "peer said ok" : "peer said failed") +
+                       "; residual " + number_text(v.residual) + " N " + (v.solved ? "<= " : "> ") +
+                       number_text(criterion) + " N (" + number_text(kLcpSolvedTolerance) +
+                       " x scale)";
+  }
   return v;
 }
 
@@ -135,6 +156,19 @@ nlohmann::json lcp_result_json(const std::string& problem,
   j["message"] = r.message;
   j["space"] = r.space.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.space);
   j["space_reason"] = r.space_reason;
+  if (r.peer) {
+    j["peer"] = {
+        {"status", r.peer_status},
+        {"said_ok", r.peer_said_ok},
+        {"iterations",
+         r.peer_iterations < 0 ? nlohmann::json(nullptr) : nlohmann::json(r.peer_iterations)},
+        {"convert_time_s", r.convert_time_s},
+        {"solve_time_s", r.peer_solve_time_s},
+        {"disagrees",
+         v.peer_disagrees.empty() ? nlohmann::json(nullptr) : nlohmann::json(v.peer_disagrees)}};
+  } else {
+    j["peer"] = nullptr;
+  }
   j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
                 : sized           ? vector_json(r.lambda)
                                   : nlohmann::json::array();

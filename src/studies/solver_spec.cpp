@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cbps/base/error.hpp"
@@ -42,11 +43,20 @@ std::string solver_names() {
   return names;
 }
 
+namespace {
+
+/// The method name that starts a spec: its first part, or its first two for a peer's
+/// (siconos:lemke, bullet:pgs); how many parts it took.
+std::pair<std::string, std::size_t> spec_name(const std::vector<std::string>& parts) {
+  if (parts.size() >= 2 && find_method_name(parts[0] + ":" + parts[1]) != nullptr)
+    return {parts[0] + ":" + parts[1], 2};
+  return {parts.front(), 1};
+}
+
+}  // namespace
+
 bool is_solver_name(const std::string& text) {
-  const std::string name = text.substr(0, text.find(':'));
-  for (const MethodName& n : method_table())
-    if (n.name == name) return true;
-  return false;
+  return find_method_name(spec_name(split(text, ':')).first) != nullptr;
 }
 
 SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
@@ -56,12 +66,12 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
   const std::vector<std::string> parts = split(text, ':');
   SolverSpec spec;
   spec.text = text;
-  const std::string& name = parts.front();
+  const auto [name, first] = spec_name(parts);
   const MethodName* entry = find_method_name(name);
   if (entry == nullptr) fail("unknown solver (valid: " + solver_names() + ")");
   spec.method = entry->method;
   bool have_omega = false;
-  for (std::size_t k = 1; k < parts.size(); ++k) {
+  for (std::size_t k = first; k < parts.size(); ++k) {
     const std::string& p = parts[k];
     const auto eq = p.find('=');
     if (eq == std::string::npos) {
@@ -76,7 +86,7 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
       continue;
     }
     const std::string key = p.substr(0, eq), value = p.substr(eq + 1);
-    for (std::size_t j = 1; j < k; ++j)
+    for (std::size_t j = first; j < k; ++j)
       if (parts[j].substr(0, parts[j].find('=')) == key) fail("'" + key + "=' given twice");
     if (key == "order") {
       if (!entry->order) fail("order= applies to pgs, psor, pgs-nesterov and matrix-free");

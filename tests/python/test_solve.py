@@ -78,6 +78,8 @@ def test_every_method_is_reachable(chain_folder):
     names = cbps.methods()
     assert {"pgs", "direct", "matrix-free", "apgd", "shock", "admm"} <= set(names)
     for name in names:
+        if name.startswith(("siconos:", "bullet:")):
+            continue  # the peers are judged, not required to solve: test_peers.py
         spec = "jacobi:0.5" if name == "jacobi" else name
         lam, summary = cbps.solve(A, b, cmin, cmax, spec, iterations=20000, tolerance=1e-9,
                                   J=p.J, Minv=p.Minv, blocks=[-1] * len(b))

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
@@ -107,6 +108,9 @@ TEST_CASE(
   }));
   const Method method = GENERATE(from_range(std::begin(kMethods), std::end(kMethods)));
   INFO(problem.name << " after " << problem.steps << " steps, solved by " << to_string(method));
+  // The peers are judged by cbps's residual, not required to agree (test_peers.cpp: where one
+  // solves, the direct path agrees with it to a bound from both residuals).
+  if (is_peer(method)) return;
   if (method == Method::Lemke && problem.name == "stack") {
     // Lemke's pivoting (lemke.cpp) ends on this singular A in a complementary basis that fails
     // its own verification (residual 2.45 N after 49 pivots; `cbps lcp --solver lemke` on the

@@ -17,6 +17,7 @@
 //   lemke.hpp            Lemke's method, a dense pivoting reference
 //   islands.hpp          independent blocks of A, solved apart
 //   coulomb.hpp          friction bounds ±mu lambda_n (5.4) around any method: a fixed point
+//   peers/peers.hpp      the field's own solvers as methods: Siconos numerics and Bullet
 #pragma once
 
 #include <cstdint>
@@ -47,25 +48,25 @@ enum class Method {
   Admm,         ///< "admm": ADMM with one factor of A + rho E (admm.hpp)
   Rbgs,         ///< "rbgs": red-black (graph-coloured) PGS (rbgs.hpp)
   Shock,        ///< "shock": PGS level by level from the ground up (shock.hpp)
-  Lemke         ///< "lemke": Lemke's complementary pivoting, dense, any square A (lemke.hpp)
+  Lemke,        ///< "lemke": Lemke's complementary pivoting, dense, any square A (lemke.hpp)
+  // The peers (peers/peers.hpp): the field's own solvers, judged by cbps's residual.
+  SiconosLemke,   ///< "siconos:lemke": Siconos' lexicographic Lemke (LCP, relay, MLCP)
+  SiconosPgs,     ///< "siconos:pgs": Siconos' projected Gauss-Seidel (LCP, relay, MLCP)
+  SiconosEnum,    ///< "siconos:enum": Siconos' enumeration (small problems)
+  SiconosAvi,     ///< "siconos:avi": Siconos' AVI solver of Cao & Ferris (LCP, relay)
+  BulletDantzig,  ///< "bullet:dantzig": Bullet's Dantzig solver (ODE's)
+  BulletLemke,    ///< "bullet:lemke": Bullet's Lemke solver
+  BulletPgs       ///< "bullet:pgs": Bullet's projected Gauss-Seidel on the dense A
 };
 
 /// Every method, in the order of the enum.
-inline constexpr Method kMethods[] = {Method::Pgs,
-                                      Method::BlockPgs,
-                                      Method::Sgs,
-                                      Method::Jacobi,
-                                      Method::MatrixFree,
-                                      Method::Direct,
-                                      Method::ActiveSet,
-                                      Method::PgsNesterov,
-                                      Method::Apgd,
-                                      Method::Nncg,
-                                      Method::PgsSm,
-                                      Method::Admm,
-                                      Method::Rbgs,
-                                      Method::Shock,
-                                      Method::Lemke};
+inline constexpr Method kMethods[] = {
+    Method::Pgs,         Method::BlockPgs,    Method::Sgs,        Method::Jacobi,
+    Method::MatrixFree,  Method::Direct,      Method::ActiveSet,  Method::PgsNesterov,
+    Method::Apgd,        Method::Nncg,        Method::PgsSm,      Method::Admm,
+    Method::Rbgs,        Method::Shock,       Method::Lemke,      Method::SiconosLemke,
+    Method::SiconosPgs,  Method::SiconosEnum, Method::SiconosAvi, Method::BulletDantzig,
+    Method::BulletLemke, Method::BulletPgs};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
@@ -74,10 +75,22 @@ bool method_from_string(std::string_view name, Method& method);
 Method method_of(std::string_view name);
 /// "pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set", for messages and help.
 std::string method_names();
-/// True for the methods that sweep (all but the exact paths and Lemke's pivoting): they run to
-/// a sweep limit.
+/// True for the methods that sweep (all but the exact paths and the pivoting methods, cbps's and
+/// the peers'): they run to a sweep limit.
 inline bool is_iterative(Method method) {
-  return method != Method::Direct && method != Method::ActiveSet && method != Method::Lemke;
+  switch (method) {
+    case Method::Direct:
+    case Method::ActiveSet:
+    case Method::Lemke:
+    case Method::SiconosLemke:
+    case Method::SiconosEnum:
+    case Method::SiconosAvi:
+    case Method::BulletDantzig:
+    case Method::BulletLemke:
+      return false;
+    default:
+      return true;
+  }
 }
 /// The largest problem Method::Lemke takes: its dense tableau is c × 2c (for 3000 rows 144 MB,
 /// and a boxed problem doubles its rows); a larger one is an InputError.
@@ -175,8 +188,11 @@ enum class Termination {
   Direct,
   NotConverged,
   NonFinite,
-  Stopped,    ///< SolverOptions::after_sweep returned false
-  NoSolution  ///< Lemke's ray termination: no solution found (none exists if A is copositive-plus)
+  Stopped,     ///< SolverOptions::after_sweep returned false
+  NoSolution,  ///< Lemke's ray termination: no solution found (none exists if A is copositive-plus)
+  /// A peer (peers/peers.hpp) returned a lambda whose natural-map residual is above
+  /// kLcpSolvedTolerance · scale_of, whatever it said of it
+  PeerUnsolved
 };
 std::string to_string(Termination t);
 
@@ -196,6 +212,14 @@ struct SolverSummary {
   long factor_nnz = 0;    ///< direct: nonzeros of its Cholesky factor
   long updates = 0;       ///< direct: rows added to or removed from a factor by updates
   std::string space;      ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
+  /// A peer's own word on its answer ("info 0", "returned true"; peers.hpp), empty for cbps's
+  /// methods; whether that word was success; and the seconds spent converting the problem to
+  /// the peer's storage (in wall_time_s, reported apart: the dense peers' conversion).
+  std::string peer_status;
+  bool peer_said_ok = false;
+  double convert_time_s = 0.0;
+  double peer_solve_time_s = 0.0;  ///< the peer's own call, s
+  int peer_iterations = -1;        ///< as the peer reports them; −1: not exposed
   double wall_time_s = 0.0;
   Termination termination = Termination::MaxIterations;
   std::string message;  ///< one line with the numbers

@@ -84,6 +84,10 @@ struct ConvergenceRun {
   SolverSpec spec;
   std::vector<ConvergenceSample> samples;  ///< the guess, every K-th sweep, the last
   std::string stopped;                     ///< why the sweeps ended
+  /// A peer (peers.hpp) exposes no iterates: its samples are the guess and its final point.
+  bool final_point_only = false;
+  std::string peer_status;      ///< the peer's own word on its answer, empty for cbps's methods
+  double convert_time_s = 0.0;  ///< a peer's conversion to its storage (in the final time)
   ConvergenceMilestone reached[std::size(kConvergenceMilestones)];
   void reach(int iteration, double time_s, double residual) {
     for (std::size_t i = 0; i < std::size(kConvergenceMilestones); ++i)
@@ -117,6 +121,12 @@ ConvergenceRun run_iterative(const ConvergenceSystem& s,
                              const ConvergenceLimits& limits);
 /// An exact spec (direct, active set, Lemke) from lambda = 0: one point.
 ConvergenceRun run_exact(const ConvergenceSystem& s, const SolverSpec& spec);
+/// A peer (siconos:NAME, bullet:NAME) from lambda = 0 with the limits' iterations and
+/// tolerance: the guess and its final point, marked final_point_only (none of them hands out its
+/// iterates), with its conversion and solve time.
+ConvergenceRun run_peer(const ConvergenceSystem& s,
+                        const SolverSpec& spec,
+                        const ConvergenceLimits& limits);
 
 /// The specs whose own guess already solves the system (residual ≤ tolerance): they show no
 /// convergence. The message for it, empty when none.

@@ -27,6 +27,14 @@ struct LcpOutcome {
   /// Lemke, or the active set of a small problem on blocks of A), and why.
   std::string space;
   std::string space_reason;
+  /// A peer (siconos:NAME, bullet:NAME; peers.hpp): its own word, whether that word was
+  /// success, its iterations as it reports them (−1: not exposed), and its conversion to its
+  /// storage apart from its solve, s.
+  bool peer = false;
+  std::string peer_status;
+  bool peer_said_ok = false;
+  int peer_iterations = -1;
+  double convert_time_s = 0.0, peer_solve_time_s = 0.0;
 };
 
 /// What the verdict and the report say of the problem: from a StoredProblem, or from a generated
@@ -64,6 +72,9 @@ struct LcpVerdict {
   double scale = 1.0;     ///< scale_of
   bool solved = false;    ///< residual ≤ kLcpSolvedTolerance · scale, lambda finite
   std::string status;     ///< "solved", "no_solution" (Lemke's ray) or "failed"
+  /// A peer whose word disagrees with cbps's verdict: "peer said ok; residual R N > T N" (or
+  /// "peer said failed; residual ... <= ..."); empty otherwise.
+  std::string peer_disagrees;
 };
 /// The verdict; `measured`: the residual as the solver measured it on vectors no process holds
 /// whole (TAO), else measured here on lambda.

@@ -1,0 +1,85 @@
+// Bullet 3.24's MLCP solvers (double precision, libBulletDynamics-float64) on cbps's boxed
+// problem: btMLCPSolverInterface::solveMLCP(A, b, x, lo, hi) is 6.2's problem itself
+// (w = A x − b, lo ≤ x ≤ hi), with A dense. Infinite bounds pass as they are (BT_INFINITY is
+// IEEE infinity in a double build).
+#include "cbps/solvers/peers/peers.hpp"
+
+#ifdef CBPS_HAVE_BULLET
+
+#include <BulletDynamics/MLCPSolvers/btDantzigSolver.h>
+#include <BulletDynamics/MLCPSolvers/btLemkeSolver.h>
+#include <BulletDynamics/MLCPSolvers/btSolveProjectedGaussSeidel.h>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+
+static_assert(sizeof(btScalar) == sizeof(double),
+              "cbps's Bullet peers need Bullet's double-precision build (BT_USE_DOUBLE_PRECISION)");
+
+namespace cbps {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+PeerRun run_bullet(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const int c = static_cast<int>(problem.rows());
+  PeerRun run;
+  run.problem_class = "boxed MLCP";
+  btMatrixXu A(c, c);
+  A.setZero();
+  for (int k = 0; k < problem.A.outerSize(); ++k)
+    for (SpMat::InnerIterator it(problem.A, k); it; ++it)
+      A.setElem(static_cast<int>(it.row()), static_cast<int>(it.col()), it.value());
+  btVectorXu b(c), x(c), lo(c), hi(c);
+  for (int k = 0; k < c; ++k) {
+    b[k] = problem.b[k];
+    x[k] = lambda[k];
+    lo[k] = problem.cmin[k];
+    hi[k] = problem.cmax[k];
+  }
+  btAlignedObjectArray<int> limit_dependency;  // no row's bound scales with another's
+  limit_dependency.resize(c, -1);
+
+  std::unique_ptr<btMLCPSolverInterface> solver;
+  int iterations = options.max_iterations;
+  if (options.method == Method::BulletDantzig) {
+    solver = std::make_unique<btDantzigSolver>();
+  } else if (options.method == Method::BulletLemke) {
+    auto lemke = std::make_unique<btLemkeSolver>();
+    // Its plain LCP path for an LCP (every row [0, inf)), its bounded path otherwise (which
+    // inverts A); a pivot limit of at least 10 per unknown.
+    lemke->m_useLoHighBounds = peer_class(problem) != PeerClass::Lcp;
+    lemke->m_maxLoops = std::max(lemke->m_maxLoops, 10 * c);
+    solver = std::move(lemke);
+  } else {
+    auto pgs = std::make_unique<btSolveProjectedGaussSeidel>();
+    // It stops when the sum of squared changes of a sweep is below its threshold: cbps's change
+    // tolerance squared (0: every sweep).
+    pgs->m_leastSquaresResidualThreshold = options.delta_tolerance * options.delta_tolerance;
+    solver = std::move(pgs);
+  }
+  run.convert_s = seconds_since(start);
+  const auto solve_start = std::chrono::steady_clock::now();
+  run.said_ok = solver->solveMLCP(A, b, x, lo, hi, limit_dependency, iterations, true);
+  run.solve_s = seconds_since(solve_start);
+  run.status = run.said_ok ? "returned true" : "returned false";
+  for (int k = 0; k < c; ++k) lambda[k] = x[k];
+  return run;
+}
+
+}  // namespace cbps
+
+#else  // a build without Bullet: solve_peer refuses before it gets here
+
+namespace cbps {
+PeerRun run_bullet(const BoxedProblem&, VecX&, const SolverOptions&) { return {}; }
+}  // namespace cbps
+
+#endif

@@ -1,0 +1,144 @@
+// The peers as methods (peers.hpp): which problems each takes, and cbps's verdict on what it
+// returns. The conversions and calls are siconos.cpp and bullet.cpp.
+#include "cbps/solvers/peers/peers.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
+
+namespace cbps {
+
+namespace {
+
+bool is_siconos(Method m) {
+  return m == Method::SiconosLemke || m == Method::SiconosPgs || m == Method::SiconosEnum ||
+         m == Method::SiconosAvi;
+}
+bool is_bullet(Method m) {
+  return m == Method::BulletDantzig || m == Method::BulletLemke || m == Method::BulletPgs;
+}
+
+}  // namespace
+
+bool is_peer(Method method) { return is_siconos(method) || is_bullet(method); }
+
+bool peer_available(Method method) {
+#ifdef CBPS_HAVE_SICONOS
+  if (is_siconos(method)) return true;
+#endif
+#ifdef CBPS_HAVE_BULLET
+  if (is_bullet(method)) return true;
+#endif
+  return false;
+}
+
+std::string peer_library(Method method) {
+  return is_siconos(method) ? "Siconos numerics" : is_bullet(method) ? "Bullet" : "cbps";
+}
+
+PeerClass peer_class(const BoxedProblem& problem) {
+  if ((problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all())
+    return PeerClass::Lcp;
+  if (problem.cmin.allFinite() && problem.cmax.allFinite()) return PeerClass::Relay;
+  return PeerClass::Mlcp;
+}
+
+std::string to_string(PeerClass c) {
+  switch (c) {
+    case PeerClass::Lcp:
+      return "LCP";
+    case PeerClass::Relay:
+      return "relay";
+    case PeerClass::Mlcp:
+      return "MLCP";
+  }
+  return "?";
+}
+
+long peer_max_rows(Method method) {
+  switch (method) {
+    case Method::SiconosEnum:
+      return 20;  // 2^c complementarity cases (2^(2c) for a boxed row pair): 10^6 at 20 rows
+    case Method::BulletLemke:
+      return 1000;  // a dense inverse of A and a 2c x 4c tableau (64 MB at 1000 rows)
+    default:
+      return 3000;  // a dense A: 72 MB at 3000 rows, as cbps's own dense Lemke (lemke.hpp)
+  }
+}
+
+std::string peer_refusal(Method method, const BoxedProblem& problem) {
+  const std::string name(to_string(method));
+  if (!peer_available(method)) {
+    return is_siconos(method)
+               ? name +
+                     ": this build has no Siconos numerics; install libsiconos-numerics-dev "
+                     "(scripts/setup.sh installs it) and configure again (cmake --preset release)"
+               : name +
+                     ": this build has no Bullet; install libbullet-dev (scripts/setup.sh "
+                     "installs it) and configure again (cmake --preset release)";
+  }
+  const long c = problem.rows();
+  if (c > peer_max_rows(method))
+    return name + ": the problem has " + std::to_string(c) + " rows; " + name +
+           " is run on at most " + std::to_string(peer_max_rows(method)) +
+           (method == Method::SiconosEnum ? " (it enumerates 2^rows cases)"
+                                          : " (it works on a dense copy of A)");
+  if (method == Method::SiconosAvi) {
+    // Without free rows an MLCP is an LCP (its boxed rows split in two, siconos.cpp).
+    for (long k = 0; k < c; ++k)
+      if (!std::isfinite(problem.cmin[k]) && !std::isfinite(problem.cmax[k]))
+        return name + ": Siconos' AVI solver (Cao & Ferris) takes an LCP or a relay problem, " +
+               "and row " + std::to_string(k) +
+               " is free (both bounds infinite: an equality of an MLCP, which it does not take)";
+  }
+  if (method == Method::BulletDantzig) {
+    for (long k = 0; k < c; ++k)
+      if (!(problem.cmin[k] <= 0.0 && problem.cmax[k] >= 0.0))
+        return name + ": Dantzig's method (ODE's, as Bullet ships it) needs cmin <= 0 <= cmax on " +
+               "every row; row " + std::to_string(k) + " has [" + number_text(problem.cmin[k]) +
+               ", " + number_text(problem.cmax[k]) + "]";
+  }
+  return "";
+}
+
+SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string refusal = peer_refusal(options.method, problem);
+  if (!refusal.empty()) throw InputError(refusal);
+  if (lambda.size() != problem.rows()) lambda = VecX::Zero(problem.rows());
+  const PeerRun run = is_siconos(options.method) ? run_siconos(problem, lambda, options)
+                                                 : run_bullet(problem, lambda, options);
+  SolverSummary s;
+  s.iterations = run.iterations < 0 ? 0 : run.iterations;
+  s.peer_status = run.status;
+  s.peer_said_ok = run.said_ok;
+  s.convert_time_s = run.convert_s;
+  s.peer_solve_time_s = run.solve_s;
+  s.peer_iterations = run.iterations;
+  s.residual = natural_map_residual(problem, lambda);
+  const double scale = scale_of(problem);
+  const bool solved = lambda.allFinite() && s.residual <= kLcpSolvedTolerance * scale;
+  s.termination = !lambda.allFinite()            ? Termination::NonFinite
+                  : !solved                      ? Termination::PeerUnsolved
+                  : is_iterative(options.method) ? Termination::ResidualTolerance
+                                                 : Termination::Direct;
+  std::ostringstream msg;
+  msg << to_string(options.method) << " on the " << run.problem_class << ": peer "
+      << (run.said_ok ? "said ok" : "said failed") << " (" << run.status << ")";
+  if (run.iterations >= 0) msg << " after " << run.iterations << " iterations";
+  msg << "; residual " << s.residual << " N, " << (solved ? "<=" : ">") << " "
+      << kLcpSolvedTolerance << " x scale " << scale << ": "
+      << (solved        ? "solved"
+          : run.said_ok ? "not solved, although the peer said ok"
+                        : "not solved")
+      << "; conversion " << run.convert_s << " s, solve " << run.solve_s << " s";
+  if (options.describe) s.message = msg.str();
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
+
+}  // namespace cbps
