@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "cbps/base/error.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
 #include "tao_solvers.hpp"
@@ -83,7 +84,8 @@ int profile_command(const ProfileOptions& o) {
   for (std::size_t p = 0; p < problems.size(); ++p) {
     runs.emplace_back();
     for (const SolverSpec& spec : specs) {
-      runs.back().push_back(!spec.tao.empty() ? run_tao(problems[p], spec, limits, tao)
+      runs.back().push_back(!spec.tao.empty()      ? run_tao(problems[p], spec, limits, tao)
+                            : is_peer(spec.method) ? profile_peer(problems[p], spec, limits)
                             : is_iterative(spec.method)
                                 ? profile_iterative(problems[p], spec, limits)
                                 : profile_exact(problems[p], spec));

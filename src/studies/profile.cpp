@@ -12,6 +12,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/io/matrix_market.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 
 namespace cbps {
 
@@ -44,6 +45,10 @@ std::string not_applicable(const SolverSpec& spec, const ProfileProblem& p) {
   if (spec.method == Method::Lemke && p.stored.rows() > kMaxDenseLemkeRows)
     return "not applicable: more than " + std::to_string(kMaxDenseLemkeRows) +
            " rows (dense Lemke)";
+  if (is_peer(spec.method)) {
+    const std::string refusal = peer_refusal(spec.method, p.problem());
+    if (!refusal.empty()) return "not applicable: " + refusal;
+  }
   return "";
 }
 
@@ -185,6 +190,33 @@ ProfileMeasurement profile_exact(const ProfileProblem& p, const SolverSpec& spec
   m.status = m.reached[kProfileTolerancesCount - 1].iterations >= 0
                  ? "solved"
                  : to_string(summary.termination);
+  return m;
+}
+
+ProfileMeasurement profile_peer(const ProfileProblem& p,
+                                const SolverSpec& spec,
+                                const ProfileLimits& o) {
+  ProfileMeasurement m;
+  m.status = not_applicable(spec, p);
+  if (!m.status.empty()) return m;
+  m.final_point_only = true;
+  VecX lambda = VecX::Zero(p.stored.rows());
+  SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
+  options.tolerance = kProfileTolerances[kProfileTolerancesCount - 1] * p.scale;
+  const SolverSummary summary = solve(p.problem(), lambda, options);
+  m.time_s = summary.convert_time_s + summary.peer_solve_time_s;
+  m.iterations = summary.iterations;
+  m.peer_status = summary.peer_status;
+  m.convert_time_s = summary.convert_time_s;
+  finish_measurement(m, p, lambda);
+  const long at = is_iterative(spec.method) ? std::max(1L, m.iterations) : 1;
+  for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
+    if (m.residual <= kProfileTolerances[i]) m.reached[i] = {at, m.time_s};
+  const bool solved = m.reached[kProfileTolerancesCount - 1].iterations >= 0;
+  m.status = solved ? "solved"
+             : summary.peer_said_ok
+                 ? "peer said ok; residual " + number_text(m.residual) + " of the scale"
+                 : "peer said failed: " + summary.peer_status;
   return m;
 }
 
@@ -359,6 +391,11 @@ ProfileReport profile_report(const std::string& library,
       mj["problem"] = entries[p].name;
       mj["solver"] = specs[s].text;
       mj["status"] = m.status;
+      mj["final_point_only"] = m.final_point_only;
+      mj["peer_status"] =
+          m.peer_status.empty() ? nlohmann::json(nullptr) : nlohmann::json(m.peer_status);
+      mj["convert_time_s"] =
+          m.final_point_only ? nlohmann::json(m.convert_time_s) : nlohmann::json(nullptr);
       mj["iterations"] = m.iterations;
       mj["time_s"] = m.time_s;
       // null: not measured (the spec did not run; lambda* not unique where A is singular)

@@ -77,6 +77,11 @@ struct ProfileMeasurement {
   double residual = NAN;      ///< relative, at the end
   double lambda_error = NAN;  ///< ‖λ − λ*‖∞ at the end, N, where lambda* is unique
   ProfileReached reached[kProfileTolerancesCount];
+  /// A peer (peers.hpp): its final point only (no iterates), its own word, its conversion time
+  /// (in time_s, which is its conversion and solve: the process around Siconos not counted).
+  bool final_point_only = false;
+  std::string peer_status;
+  double convert_time_s = 0.0;
   void reach(long iteration, double time, double relative_residual) {
     for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
       if (reached[i].iterations < 0 && relative_residual <= kProfileTolerances[i])
@@ -98,6 +103,13 @@ ProfileMeasurement profile_iterative(const ProfileProblem& p,
                                      const ProfileLimits& o);
 /// An exact spec: one solve.
 ProfileMeasurement profile_exact(const ProfileProblem& p, const SolverSpec& spec);
+/// A peer (siconos:NAME, bullet:NAME): one solve from lambda = 0 with the budget's iterations
+/// and the finest tolerance times the scale; its final point counts for every tolerance it
+/// meets, at the peer's own iterations (for the iterative peers) and time. "not applicable: ..."
+/// where the peer cannot take the problem (peer_refusal).
+ProfileMeasurement profile_peer(const ProfileProblem& p,
+                                const SolverSpec& spec,
+                                const ProfileLimits& o);
 
 /// One profile: a tolerance, a cost (time or sweeps) and the solvers it compares.
 struct Profile {

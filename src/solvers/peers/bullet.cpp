@@ -70,6 +70,9 @@ PeerRun run_bullet(const BoxedProblem& problem, VecX& lambda, const SolverOption
   run.said_ok = solver->solveMLCP(A, b, x, lo, hi, limit_dependency, iterations, true);
   run.solve_s = seconds_since(solve_start);
   run.status = run.said_ok ? "returned true" : "returned false";
+  // Its PGS sweeps numIterations times unless the threshold stops it (it does not say when).
+  if (options.method == Method::BulletPgs && options.delta_tolerance == 0.0)
+    run.iterations = iterations;
   for (int k = 0; k < c; ++k) lambda[k] = x[k];
   return run;
 }

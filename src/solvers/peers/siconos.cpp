@@ -180,7 +180,7 @@ DriverCall call_driver(int (*driver)(Problem*, double*, double*, SiconosOptions*
 /// Siconos' options for a peer: the iteration limit and tolerance from cbps's (peers.hpp).
 SiconosOptions* peer_options(int id, Method method, long size, const SolverOptions& options) {
   SiconosOptions* o = solver_options_create(id);
-  o->filterOn = false;  // its own status as its algorithm ends, not a second check
+  // filterOn stays on (Siconos' default): its word includes its own check of the answer.
   if (method == Method::SiconosPgs) {
     o->iparam[SICONOS_IPARAM_MAX_ITER] = options.max_iterations;
     o->dparam[SICONOS_DPARAM_TOL] = options.tolerance;  // 0: every sweep
@@ -337,6 +337,10 @@ struct Reply {
                         VecX lambda,
                         const SolverOptions& options) {
   ::dup2(2, 1);  // Siconos prints to stdout: keep cbps's own output (--json) whole
+  // The default action for every signal the parent may handle: an abort inside Siconos ends the
+  // child as SIGABRT (the parent reports it), and Ctrl-C's clean-up is the parent's alone.
+  for (const int sig : {SIGABRT, SIGSEGV, SIGFPE, SIGILL, SIGBUS, SIGINT, SIGTERM})
+    std::signal(sig, SIG_DFL);
   PeerRun run;
   try {
     run = run_here(problem, lambda, options);
