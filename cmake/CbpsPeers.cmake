@@ -5,15 +5,18 @@
 # methods is asked for, how to get it (exit 2). scripts/setup.sh installs both (Debian:
 # libsiconos-numerics-dev, libbullet-dev). cbps_peers_found lists what was found, for the tests.
 set(cbps_peers_found "")
+set(cbps_peers_missing "")
+set(cbps_peers_why "not found")
 if(NOT CBPS_PEERS)
-  message(STATUS "cbps: peers (Siconos, Bullet) not built: CBPS_PEERS is OFF")
-  return()
+  set(cbps_peers_why "not built (CBPS_PEERS is OFF)")
 endif()
 
 # Siconos numerics 4.4: its C API, header siconos/numerics/NonSmoothDrivers.h, library
 # siconos_numerics. Its headers include "SiconosConfig.h" from <prefix>/include/siconos.
-find_path(CBPS_SICONOS_INCLUDE_DIR siconos/numerics/NonSmoothDrivers.h)
-find_library(CBPS_SICONOS_NUMERICS_LIBRARY siconos_numerics)
+if(CBPS_PEERS)
+  find_path(CBPS_SICONOS_INCLUDE_DIR siconos/numerics/NonSmoothDrivers.h)
+  find_library(CBPS_SICONOS_NUMERICS_LIBRARY siconos_numerics)
+endif()
 if(CBPS_SICONOS_INCLUDE_DIR AND CBPS_SICONOS_NUMERICS_LIBRARY)
   add_library(cbps_siconos INTERFACE IMPORTED)
   # SYSTEM: the warnings flags do not apply to Siconos' own headers.
@@ -25,14 +28,15 @@ if(CBPS_SICONOS_INCLUDE_DIR AND CBPS_SICONOS_NUMERICS_LIBRARY)
   list(APPEND cbps_peers_found siconos)
   message(STATUS "cbps: Siconos numerics found (${CBPS_SICONOS_NUMERICS_LIBRARY}): siconos:NAME")
 else()
-  message(STATUS "cbps: Siconos numerics not found (Debian: libsiconos-numerics-dev; "
+  message(STATUS "cbps: Siconos numerics ${cbps_peers_why} (Debian: libsiconos-numerics-dev; "
                  "scripts/setup.sh): siconos:NAME exits 2 saying so")
+  list(APPEND cbps_peers_missing "siconos:lemke;libsiconos-numerics-dev")
 endif()
 
 # Bullet 3.24 in double precision: pkg-config's bullet-float64 (BT_USE_DOUBLE_PRECISION,
 # libBulletDynamics-float64, libLinearMath-float64).
 find_package(PkgConfig QUIET)
-if(PkgConfig_FOUND)
+if(CBPS_PEERS AND PkgConfig_FOUND)
   pkg_check_modules(CBPS_BULLET QUIET IMPORTED_TARGET bullet-float64)
 endif()
 if(CBPS_BULLET_FOUND)
@@ -41,6 +45,19 @@ if(CBPS_BULLET_FOUND)
   list(APPEND cbps_peers_found bullet)
   message(STATUS "cbps: Bullet ${CBPS_BULLET_VERSION} (double precision) found: bullet:NAME")
 else()
-  message(STATUS "cbps: Bullet in double precision not found by pkg-config (bullet-float64; "
+  message(STATUS "cbps: Bullet in double precision ${cbps_peers_why} (pkg-config bullet-float64; "
                  "Debian: libbullet-dev; scripts/setup.sh): bullet:NAME exits 2 saying so")
+  list(APPEND cbps_peers_missing "bullet:dantzig;libbullet-dev")
+endif()
+
+# What a build without a peer does instead: asking for it exits 2 naming the package.
+if(CBPS_BUILD_TESTS AND cbps_peers_missing)
+  while(cbps_peers_missing)
+    list(POP_FRONT cbps_peers_missing _peer _package)
+    string(REGEX REPLACE ":.*" "" _library "${_peer}")
+    add_test(NAME peers-${_library}-not-built-exits-2
+             COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/test_peer_not_built.py"
+                     "${PROJECT_SOURCE_DIR}" $<TARGET_FILE:cbps> "${_peer}" "${_package}")
+    set_tests_properties(peers-${_library}-not-built-exits-2 PROPERTIES LABELS peers TIMEOUT 60)
+  endwhile()
 endif()

@@ -20,6 +20,7 @@
 //                        CHOLMOD's factor of A + eps I            solvers/exact/cholmod_factor.hpp
 //                        islands of A                             solvers/islands.hpp
 //   5.4                  Coulomb bounds ±mu lambda_n              solvers/paper/coulomb.hpp
+//                        Siconos' and Bullet's solvers (peers)    solvers/peers/peers.hpp
 //   3.2 with all above   the step                                 step/simulation.hpp
 //   8.1                  the improved push factor                 step/push.hpp
 //                        the divergence guard                     step/guard.hpp
@@ -62,6 +63,7 @@
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/paper/pgs_matrix_free.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/guard.hpp"
 #include "cbps/step/push.hpp"

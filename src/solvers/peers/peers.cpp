@@ -122,10 +122,14 @@ SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const Solver
   s.residual = natural_map_residual(problem, lambda);
   const double scale = scale_of(problem);
   const bool solved = lambda.allFinite() && s.residual <= kLcpSolvedTolerance * scale;
-  s.termination = !lambda.allFinite()            ? Termination::NonFinite
-                  : !solved                      ? Termination::PeerUnsolved
-                  : is_iterative(options.method) ? Termination::ResidualTolerance
-                                                 : Termination::Direct;
+  // An iterative peer stops by its own rule or its limit: ResidualTolerance only when cbps's
+  // tolerance holds at its end.
+  const bool at_tolerance = options.tolerance > 0.0 && s.residual <= options.tolerance;
+  s.termination = !lambda.allFinite()             ? Termination::NonFinite
+                  : !solved                       ? Termination::PeerUnsolved
+                  : !is_iterative(options.method) ? Termination::Direct
+                  : at_tolerance                  ? Termination::ResidualTolerance
+                                                  : Termination::MaxIterations;
   std::ostringstream msg;
   msg << to_string(options.method) << " on the " << run.problem_class << ": peer "
       << (run.said_ok ? "said ok" : "said failed") << " (" << run.status << ")";
