@@ -65,6 +65,8 @@ copy $v/convergence/chain/convergence.png docs/convergence-chain.png
 for run in stack-check pyramid-direct pyramid-check; do
   copy $v/limits/$run/summary.json $v/results/limits/$run/summary.json
 done
+# --target peers
+copy $v/peers/peers.json $v/results/peers/peers.json
 # --target stress-catalogue
 copy $v/stress/summary.json $v/results/stress/summary.json
 copy $v/stress/stress.md $v/results/stress/stress.md
