@@ -57,6 +57,7 @@ MODULES = {
     "docs/convergence.md": "doc_tables_convergence",
     "docs/stress.md": "doc_tables_stress",
     "docs/distributed.md": "doc_tables_distributed",
+    "docs/peers.md": "doc_tables_peers",
     "bench/README.md": "doc_tables_bench_readme",
     "validation/README.md": "doc_tables_validation_readme",
 }
