@@ -1,6 +1,7 @@
 // Solver names with parameters, as the command line writes them (solver_spec.hpp).
 #include "cbps/studies/solver_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -180,7 +181,7 @@ std::string solver_spec_help() {
       "(G for the friction rows, default F):\n";
   for (const MethodName& n : method_table()) {
     std::string line = "  " + std::string(n.name);
-    line.resize(16, ' ');
+    line.resize(std::max<std::size_t>(16, line.size() + 1), ' ');  // a space after a long name
     help += line + std::string(n.what) + (n.order ? "; order=natural|reverse|random" : "") +
             (n.method == Method::Pgs || n.method == Method::MatrixFree ? "; contacts_first=on|off"
                                                                        : "") +
