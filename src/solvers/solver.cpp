@@ -127,7 +127,7 @@ SolverSummary solve_lemke_method(const BoxedProblem& problem, VecX& lambda) {
   s.iterations = r.pivots;
   s.pivots = r.pivots;
   s.residual = natural_map_residual(problem, lambda);
-  const bool passes = lambda.allFinite() && s.residual <= kLcpSolvedTolerance * scale_of(problem);
+  const bool passes = solved_by_residual(lambda, s.residual, scale_of(problem));
   s.message = r.message;
   if (passes) {
     s.termination = Termination::Direct;

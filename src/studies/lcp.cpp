@@ -123,8 +123,7 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
                    ? natural_map_residual(p.stored->problem(), r.lambda, p.stored->cfm)
                    : kInf;
   v.scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
-  v.solved = sized && r.lambda.allFinite() && std::isfinite(v.residual) &&
-             v.residual <= kLcpSolvedTolerance * v.scale;
+  v.solved = sized && solved_by_residual(r.lambda, v.residual, v.scale);
   v.status = v.solved ? "solved" : r.no_solution ? "no_solution" : "failed";
   if (r.peer && r.peer_said_ok != v.solved) {
     const double criterion = kLcpSolvedTolerance * v.scale;

@@ -121,7 +121,7 @@ SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const Solver
   s.peer_iterations = run.iterations;
   s.residual = natural_map_residual(problem, lambda);
   const double scale = scale_of(problem);
-  const bool solved = lambda.allFinite() && s.residual <= kLcpSolvedTolerance * scale;
+  const bool solved = solved_by_residual(lambda, s.residual, scale);
   // An iterative peer stops by its own rule or its limit: ResidualTolerance only when cbps's
   // tolerance holds at its end.
   const bool at_tolerance = options.tolerance > 0.0 && s.residual <= options.tolerance;

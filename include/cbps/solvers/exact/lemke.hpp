@@ -22,6 +22,12 @@ namespace cbps {
 
 /// Relative natural-map residual above which an answer is not reported Solved.
 inline constexpr double kLcpSolvedTolerance = 1e-9;
+/// The one verdict on a returned lambda: finite, and its natural-map residual (6.2), N, at most
+/// kLcpSolvedTolerance times the problem's scale (scale_of). Lemke, the peers and `cbps lcp`
+/// judge by it.
+inline bool solved_by_residual(const VecX& lambda, double residual, double scale) {
+  return lambda.allFinite() && residual <= kLcpSolvedTolerance * scale;
+}
 
 struct LcpResult {
   enum class Status {
