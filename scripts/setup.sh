@@ -34,6 +34,9 @@ packages=(
   # The peers, siconos:NAME and bullet:NAME (docs/peers.md): Siconos numerics' C API and
   # Bullet's MLCP solvers in double precision (libBulletDynamics-float64).
   libsiconos-numerics-dev libbullet-dev
+  # FCLIB files (docs/cones.md): HDF5 for cbps's reader and writer; FCLIB's own library for the
+  # tests (its reader and merit function check what cbps writes).
+  libhdf5-dev libfclib-dev
 )
 if [ "$with_petsc" -eq 1 ]; then
   # PETSc 3.18 (pkg-config PETSc) with Open MPI's headers and its mpirun; and OpenBLAS's

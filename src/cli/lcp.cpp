@@ -53,8 +53,9 @@ struct LcpOptions {
   bool json = false;
   std::string out;
   std::string siconos = "auto";
-  std::string generate;      ///< --generate SCENE: built per rank instead of read (only chain)
-  std::string rows;          ///< --rows N (text: 1e6 accepted)
+  std::string cone;      ///< --cone coulomb|ccp: an FCLIB file's law (default: Coulomb's, FCLIB's)
+  std::string generate;  ///< --generate SCENE: built per rank instead of read (only chain)
+  std::string rows;      ///< --rows N (text: 1e6 accepted)
   std::string write_system;  ///< --write-system DIR: the generated A, b, cmin, cmax (small)
 };
 
@@ -117,6 +118,16 @@ int report(const LcpOptions& o,
                 format_number(v.scale).c_str());
     std::printf("%s\n", r.message.c_str());
     if (!v.peer_disagrees.empty()) std::printf("%s\n", v.peer_disagrees.c_str());
+    if (v.cone)
+      std::printf(
+          "cone law %s, %ld contacts: Signorini gap %s, cone violation %s N, dissipation gap "
+          "%s, FCLIB merit %s\n",
+          std::string(to_string(p.stored->cones.law)).c_str(),
+          p.stored->cones.contacts(),
+          format_number(v.cone->signorini).c_str(),
+          format_number(v.cone->violation).c_str(),
+          format_number(v.cone->dissipation).c_str(),
+          format_number(v.cone->fclib_merit).c_str());
     if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
     if (v.solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }
@@ -211,7 +222,15 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
     kind = "cbps matrices folder, read by rows";
     return distributed::read_folder_rows(o.problem, session.rank(), session.size());
   }
-  const StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  if (!o.cone.empty()) {
+    if (p.cones.empty())
+      throw InputError("--cone " + o.cone + ": " + o.problem +
+                       " has no contacts in friction cones (a boxed problem); --cone is for "
+                       "an FCLIB file");
+    if (!cone_law_from_string(o.cone, p.cones.law))
+      throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
+  }
   kind = "Siconos file";
   return distributed::rows_of(p.problem(), p.cfm, o.problem, session.rank(), session.size());
 }
@@ -380,16 +399,24 @@ int lcp_command(const LcpOptions& o) {
   std::optional<SolverSpec> given;
   if (!o.solver.empty()) given = parse_cli_solver_spec(o.solver, "--solver");
   check_out_is_not_problem(o);
-  const StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  if (!o.cone.empty()) {
+    if (p.cones.empty())
+      throw InputError("--cone " + o.cone + ": " + o.problem +
+                       " has no contacts in friction cones (a boxed problem); --cone is for "
+                       "an FCLIB file");
+    if (!cone_law_from_string(o.cone, p.cones.law))
+      throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
+  }
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does every
   // solver here (options.cfm, applied by solve()); the residual is that problem's.
 
   // The default: the exact path for the symmetric A of a `cbps matrices` folder (and for a
-  // Siconos file too large for dense Lemke), Lemke for Siconos files.
-  const SolverSpec spec =
-      given ? *given
-            : parse_solver_spec(!p.folder && p.rows() <= kMaxDenseLemkeRows ? "lemke" : "direct",
-                                "--solver");
+  // Siconos file too large for dense Lemke), Lemke for Siconos files, nsgs for cones.
+  const char* fallback = !p.cones.empty()                              ? "nsgs"
+                         : !p.folder && p.rows() <= kMaxDenseLemkeRows ? "lemke"
+                                                                       : "direct";
+  const SolverSpec spec = given ? *given : parse_solver_spec(fallback, "--solver");
   check_applicable(spec, p, o.problem);
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
@@ -405,24 +432,26 @@ int lcp_command(const LcpOptions& o) {
 
 void register_lcp(CLI::App& app, Action& run) {
   auto* cmd = app.add_subcommand(
-      "lcp", "solve a stored problem: a `cbps matrices` folder or a Siconos .dat file");
+      "lcp",
+      "solve a stored problem: a `cbps matrices` folder, a Siconos .dat file or an FCLIB file");
   auto o = std::make_shared<LcpOptions>();
   cmd->add_option("PROBLEM",
                   o->problem,
-                  "folder from `cbps matrices`, or a Siconos .dat file (required unless "
-                  "--generate)");
-  cmd->add_option("--solver",
-                  o->solver,
-                  "NAME[:OMEGA][:key=value]... of the list below (" + cli_solver_names() +
-                      "), with the parameters the list gives. Default: lemke for a Siconos file "
-                      "of up to 3000 rows, else direct (the exact path: interior point with a "
-                      "crossover, in body space when the folder has J.mtx and Minv.mtx). "
-                      "direct and active-set need a symmetric A, lemke takes any square A; "
-                      "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
-                      "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
-                      "`mpirun -n N` (symmetric A; TYPE one of " +
-                      distributed::tao_type_list() +
-                      "; only in a build with PETSc, docs/distributed.md)");
+                  "folder from `cbps matrices`, a Siconos .dat file, or an FCLIB local problem "
+                  "(HDF5, docs/cones.md) (required unless --generate)");
+  cmd->add_option(
+      "--solver",
+      o->solver,
+      "NAME[:OMEGA][:key=value]... of the list below (" + cli_solver_names() +
+          "), with the parameters the list gives. Default: nsgs for an FCLIB file "
+          "(its contacts are in friction cones, which only nsgs solves), lemke for "
+          "a Siconos file of up to 3000 rows, else direct (the exact path: interior point with a "
+          "crossover, in body space when the folder has J.mtx and Minv.mtx). "
+          "direct and active-set need a symmetric A, lemke takes any square A; "
+          "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
+          "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
+          "`mpirun -n N` (symmetric A; TYPE one of " +
+          distributed::tao_type_list() + "; only in a build with PETSc, docs/distributed.md)");
   cmd->add_option("--iterations",
                   o->iterations,
                   "the iterative methods (all but direct, active-set and lemke): at most this "
@@ -444,6 +473,11 @@ void register_lcp(CLI::App& app, Action& run) {
                   o->siconos,
                   "what a .dat file holds: auto (from the count of numbers: n^2 + n an LCP, "
                   "n^2 + 3n a relay problem), lcp or relay (default auto)");
+  cmd->add_option("--cone",
+                  o->cone,
+                  "an FCLIB file's friction law: coulomb (Coulomb's law with De Saxce's "
+                  "term, FCLIB's own) or ccp (the convex relaxation, cone complementarity) "
+                  "(default coulomb; docs/cones.md)");
   cmd->add_option("--generate",
                   o->generate,
                   "instead of PROBLEM, build the problem per rank, no rank holding all of it: "

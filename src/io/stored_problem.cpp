@@ -1,4 +1,4 @@
-// Stored problems (stored_problem.hpp): `cbps matrices` folders and Siconos files.
+// Stored problems (stored_problem.hpp): `cbps matrices` folders, Siconos and FCLIB files.
 #include "cbps/io/stored_problem.hpp"
 
 #include <cmath>
@@ -10,6 +10,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
+#include "cbps/io/fclib_file.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 
@@ -238,7 +239,8 @@ double read_cfm(const std::string& dir) {
 
 StoredProblem read_problem(const std::string& path, SiconosKind kind) {
   std::error_code ec;
-  if (!fs::is_directory(path, ec)) return read_dat(path, kind);
+  if (!fs::is_directory(path, ec))
+    return is_hdf5_file(path) ? read_fclib(path) : read_dat(path, kind);
   StoredProblem p = read_folder(path);
   read_bodies(path, p);
   return p;

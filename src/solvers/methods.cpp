@@ -64,6 +64,12 @@ constexpr MethodName kSpecNames[] = {
      false,
      false,
      "Lemke's complementary pivoting on the dense A: any square A, at most 3000 rows"},
+    {"nsgs",
+     Method::Nsgs,
+     false,
+     false,
+     "non-smooth Gauss-Seidel: 7.1.1 with each contact's rows projected onto its friction cone "
+     "(Jean & Moreau 1992); local=; PGS where no row is in a cone"},
     // The peers (solvers/peers/peers.hpp, docs/peers.md), in a build with the library.
     {"siconos:lemke",
      Method::SiconosLemke,
@@ -212,6 +218,11 @@ constexpr MethodKey kMethodKeys[] = {
        return true;
      },
      [](const MethodSettings& s) -> std::string { return s.shock.top_down ? "down" : "up"; }},
+    {Method::Nsgs,
+     "local",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return count(v, s.nsgs.local); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.nsgs.local); }},
 };
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include "cbps/solvers/compared/pgs_sm.hpp"
 #include "cbps/solvers/compared/rbgs.hpp"
 #include "cbps/solvers/compared/shock.hpp"
+#include "cbps/solvers/cone/nsgs.hpp"
 #include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
@@ -183,6 +184,8 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_shock(problem, lambda, options, options.methods.shock);
     case Method::Lemke:
       return solve_lemke_method(problem, lambda);
+    case Method::Nsgs:
+      return solve_nsgs(problem, lambda, options);
     case Method::SiconosLemke:
     case Method::SiconosPgs:
     case Method::SiconosEnum:
@@ -244,6 +247,7 @@ SolverSummary with_cfm_applied(
   regularised.Minv = problem.Minv;
   regularised.blocks = problem.blocks;
   regularised.kinds = problem.kinds;
+  regularised.cones = problem.cones;
   regularised.cfm = problem.cfm + options.cfm;
   SolverOptions plain = options;
   plain.cfm = 0.0;
@@ -259,8 +263,9 @@ SolverSummary solve_split(const BoxedProblem& problem, VecX& lambda, const Solve
   // never meet, and the shock order's sweep treats islands apart anyway; only the stopping is
   // common.
   // The peers are handed the problem whole, as an engine hands it to them.
+  // A problem with cones runs whole too (its contacts are numbered in the whole problem's rows).
   if (!options.split_islands || !is_iterative(options.method) || needs_jacobian(options.method) ||
-      is_peer(options.method)) {
+      is_peer(options.method) || problem.cones != nullptr) {
     return solve_whole(problem, lambda, options);
   }
   const auto islands = find_islands(problem.A);
@@ -279,6 +284,12 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
     });
   }
   // What the method needs of A, tested here once per solve (every method comes through here).
+  if (problem.cones != nullptr && !takes_cones(options.method))
+    throw InputError("method '" + std::string(to_string(options.method)) +
+                     "' solves the boxed problem of 6.2; this problem's contacts live in friction "
+                     "cones (" +
+                     std::to_string(problem.cones->contacts()) +
+                     " contacts), which nsgs solves (docs/cones.md)");
   if (options.method == Method::MatrixFree && problem.has_factors()) {
     // The matrix-free sweep solves the problem of J Minv Jᵀ + cfm E and never reads A: it must
     // be A's, or the residual it reports is not A's (issue 28: Minv doubled, "residual

@@ -44,13 +44,18 @@ LcpFacts lcp_facts(const StoredProblem& p) {
   LcpFacts f;
   f.rows = p.rows();
   f.cfm = p.cfm;
-  f.kind = p.folder ? "cbps matrices folder" : "Siconos file";
+  f.kind = p.folder ? "cbps matrices folder" : p.fclib ? "FCLIB file" : "Siconos file";
   f.stored = &p;
   return f;
 }
 
 void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path) {
   const std::string what = "--solver " + spec.text;
+  if (!p.cones.empty() && !takes_cones(spec.method))
+    throw InputError(what + ": " + path + ": its " + std::to_string(p.cones.contacts()) +
+                     " contacts live in friction cones (" + std::string(to_string(p.cones.law)) +
+                     "); " + std::string(to_string(spec.method)) +
+                     " solves the boxed problem of 6.2. Use --solver nsgs (docs/cones.md)");
   if (needs_jacobian(spec.method) && !p.has_jacobian())
     throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
                      std::string(to_string(spec.method)) +
@@ -125,6 +130,11 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
   v.scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
   v.solved = sized && solved_by_residual(r.lambda, v.residual, v.scale);
   v.status = v.solved ? "solved" : r.no_solution ? "no_solution" : "failed";
+  if (sized && p.stored != nullptr && !p.stored->cones.empty()) {
+    const StoredProblem& s = *p.stored;
+    const VecX w = s.A * r.lambda + s.cfm * r.lambda - s.b;  // w = (A + eps E) λ − b (6.2)
+    v.cone = cone_measures(s.cones, r.lambda, w, s.b);
+  }
   if (r.peer && r.peer_said_ok != v.solved) {
     const double criterion = kLcpSolvedTolerance * v.scale;
     v.peer_disagrees = std::string(r.peer_said_ok ? "peer said ok" : "peer said failed") +
@@ -167,6 +177,18 @@ nlohmann::json lcp_result_json(const std::string& problem,
          v.peer_disagrees.empty() ? nlohmann::json(nullptr) : nlohmann::json(v.peer_disagrees)}};
   } else {
     j["peer"] = nullptr;
+  }
+  if (v.cone) {
+    const ConeMeasures& c = *v.cone;
+    j["cone"] = {{"law", std::string(to_string(p.stored->cones.law))},
+                 {"contacts", p.stored->cones.contacts()},
+                 {"natural_map", number_json(c.natural_map)},
+                 {"signorini", number_json(c.signorini)},
+                 {"violation", number_json(c.violation)},
+                 {"dissipation", number_json(c.dissipation)},
+                 {"fclib_merit", number_json(c.fclib_merit)}};
+  } else {
+    j["cone"] = nullptr;
   }
   j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
                 : sized           ? vector_json(r.lambda)

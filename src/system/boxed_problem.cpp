@@ -26,6 +26,8 @@ double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin,
 double natural_map_residual(const BoxedProblem& problem, const VecX& lambda, double cfm) {
   if (lambda.size() == 0) return 0.0;
   const VecX w = problem.A * lambda + cfm * lambda - problem.b;  // w = (A + eps E) λ − b (6.2)
+  if (problem.cones != nullptr)
+    return natural_map_residual(w, lambda, problem.cmin, problem.cmax, *problem.cones);
   return natural_map_residual(w, lambda, problem.cmin, problem.cmax);
 }
 

@@ -1,5 +1,6 @@
-// Stored problems for `cbps lcp` and `cbps converge`: a folder written by `cbps matrices` or a
-// Siconos .dat file (LCP or relay), held in the paper's convention (6.2).
+// Stored problems for `cbps lcp` and `cbps converge`: a folder written by `cbps matrices`, a
+// Siconos .dat file (LCP or relay) or an FCLIB file (io/fclib_file.hpp), held in the paper's
+// convention (6.2).
 #pragma once
 
 #include <functional>
@@ -41,6 +42,10 @@ struct StoredProblem {
   /// A-B in a run of rows form one, as System::manifold groups a step's rows; −1 for a row
   /// alone (every row without labels.json).
   std::vector<int> blocks;
+  /// The contacts whose rows live in Coulomb's cone (an FCLIB file, a step with friction=cone);
+  /// empty for the paper's boxed problem.
+  ConeContacts cones;
+  bool fclib = false;  ///< read from an FCLIB file (io/fclib_file.hpp)
   long rows() const { return static_cast<long>(b.size()); }
   /// J and Minv are here (A = J Minv Jᵀ, 6.2.9): body space for the direct path.
   bool has_jacobian() const { return J.rows() == rows() && J.rows() > 0; }
@@ -53,6 +58,7 @@ struct StoredProblem {
         has_jacobian() ? BoxedProblem{A, b, cmin, cmax, &J, &Minv} : BoxedProblem{A, b, cmin, cmax};
     if (blocks.size() == static_cast<std::size_t>(rows())) p.blocks = &blocks;
     if (!kinds.empty()) p.kinds = &kinds;
+    if (!cones.empty()) p.cones = &cones;
     return p;
   }
 };
@@ -63,7 +69,8 @@ StoredProblem stored_problem(const System& sys, double cfm);
 
 /// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx, cfm.txt if there is one; J.mtx and
 /// Minv.mtx when both are there, and then v1.mtx, fext.mtx and dt.txt when all three are;
-/// labels.json's row labels when it is there) or a Siconos file. Throws InputError naming
+/// labels.json's row labels when it is there), an FCLIB file (an HDF5 file: read_fclib) or a
+/// Siconos file. Throws InputError naming
 /// the file and line.
 /// `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
 StoredProblem read_problem(const std::string& path, SiconosKind kind = SiconosKind::Auto);

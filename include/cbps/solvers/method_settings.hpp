@@ -86,6 +86,12 @@ struct ShockSettings {
 };
 
 /// Every method's own parameters.
+/// NSGS on friction cones (cone/nsgs.hpp): local projected steps per contact and sweep.
+/// Measured on FCLIB's Boxes Stack (tests/data/fclib, 48 contacts) to 1e-10: see docs/cones.md.
+struct NsgsSettings {
+  int local = 10;  ///< at most this many projected steps per contact, ≥ 1 (1: the plain step)
+};
+
 struct MethodSettings {
   PgsNesterovSettings pgs_nesterov;
   ApgdSettings apgd;
@@ -93,6 +99,7 @@ struct MethodSettings {
   PgsSmSettings pgs_sm;
   AdmmSettings admm;
   ShockSettings shock;
+  NsgsSettings nsgs;
 };
 
 }  // namespace cbps

@@ -17,6 +17,7 @@
 //   lemke.hpp            Lemke's method, a dense pivoting reference
 //   islands.hpp          independent blocks of A, solved apart
 //   coulomb.hpp          friction bounds ±mu lambda_n (5.4) around any method: a fixed point
+//   cone/nsgs.hpp        non-smooth Gauss-Seidel on Coulomb's friction cones
 //   peers/peers.hpp      the field's own solvers as methods: Siconos numerics and Bullet
 #pragma once
 
@@ -49,6 +50,7 @@ enum class Method {
   Rbgs,         ///< "rbgs": red-black (graph-coloured) PGS (rbgs.hpp)
   Shock,        ///< "shock": PGS level by level from the ground up (shock.hpp)
   Lemke,        ///< "lemke": Lemke's complementary pivoting, dense, any square A (lemke.hpp)
+  Nsgs,         ///< "nsgs": PGS with each contact projected onto its friction cone (nsgs.hpp)
   // The peers (peers/peers.hpp): the field's own solvers, judged by cbps's residual.
   SiconosLemke,   ///< "siconos:lemke": Siconos' lexicographic Lemke (LCP, relay, MLCP)
   SiconosPgs,     ///< "siconos:pgs": Siconos' projected Gauss-Seidel (LCP, relay, MLCP)
@@ -61,12 +63,12 @@ enum class Method {
 
 /// Every method, in the order of the enum.
 inline constexpr Method kMethods[] = {
-    Method::Pgs,         Method::BlockPgs,    Method::Sgs,        Method::Jacobi,
-    Method::MatrixFree,  Method::Direct,      Method::ActiveSet,  Method::PgsNesterov,
-    Method::Apgd,        Method::Nncg,        Method::PgsSm,      Method::Admm,
-    Method::Rbgs,        Method::Shock,       Method::Lemke,      Method::SiconosLemke,
-    Method::SiconosPgs,  Method::SiconosEnum, Method::SiconosAvi, Method::BulletDantzig,
-    Method::BulletLemke, Method::BulletPgs};
+    Method::Pgs,           Method::BlockPgs,    Method::Sgs,         Method::Jacobi,
+    Method::MatrixFree,    Method::Direct,      Method::ActiveSet,   Method::PgsNesterov,
+    Method::Apgd,          Method::Nncg,        Method::PgsSm,       Method::Admm,
+    Method::Rbgs,          Method::Shock,       Method::Lemke,       Method::Nsgs,
+    Method::SiconosLemke,  Method::SiconosPgs,  Method::SiconosEnum, Method::SiconosAvi,
+    Method::BulletDantzig, Method::BulletLemke, Method::BulletPgs};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
@@ -113,6 +115,11 @@ inline bool needs_symmetric(Method method) {
   return method == Method::Direct || method == Method::ActiveSet || method == Method::Apgd ||
          method == Method::Nncg || method == Method::PgsSm || method == Method::Admm;
 }
+
+/// True for the methods that solve a problem whose contacts live in friction cones
+/// (BoxedProblem::cones, system/cone_problem.hpp): nsgs. solve() refuses the others on such a
+/// problem (InputError): they solve the boxed problem of 6.2.
+inline bool takes_cones(Method method) { return method == Method::Nsgs; }
 
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check

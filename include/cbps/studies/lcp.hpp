@@ -1,5 +1,5 @@
-// `cbps lcp`: a stored problem (a `cbps matrices` folder or a Siconos file) solved by one
-// method and judged by cbps's own residual, whatever the method claims.
+// `cbps lcp`: a stored problem (a `cbps matrices` folder, a Siconos file or an FCLIB file)
+// solved by one method and judged by cbps's own residual, whatever the method claims.
 //
 // Both are held in the paper's convention (6.2): w = A lambda − b, cmin ≤ lambda ≤ cmax, which
 // is Siconos' w = M z + q, lb ≤ z ≤ ub with M = A, q = −b, lb = cmin, ub = cmax. The verdict is
@@ -43,7 +43,8 @@ struct LcpOutcome {
 struct LcpFacts {
   long rows = 0;
   double cfm = 0.0;
-  std::string kind;  ///< "cbps matrices folder", "Siconos file", "generated on N ranks"
+  std::string
+      kind;  ///< "cbps matrices folder", "Siconos file", "FCLIB file", "generated on N ranks"
   /// The problem, when one process holds it (solved as A + eps E with a cfm.txt).
   const StoredProblem* stored = nullptr;
   double scale = 0.0;          ///< without `stored`: scale_of measured elsewhere
@@ -75,6 +76,9 @@ struct LcpVerdict {
   /// A peer whose word disagrees with cbps's verdict: "peer said ok; residual R N > T N" (or
   /// "peer said failed; residual ... <= ..."); empty otherwise.
   std::string peer_disagrees;
+  /// A problem with cones (an FCLIB file): lambda measured against the cone law
+  /// (system/cone_problem.hpp); empty for a boxed problem.
+  std::optional<ConeMeasures> cone;
 };
 /// The verdict; `measured`: the residual as the solver measured it on vectors no process holds
 /// whole (TAO), else measured here on lambda.

@@ -19,6 +19,7 @@
 
 #include "cbps/base/row_kind.hpp"
 #include "cbps/base/types.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -50,6 +51,10 @@ struct BoxedProblem {
   /// solve() skips its symmetry test (one pass over A, about two PGS sweeps' time, every step).
   /// False: solve() tests it (a stored problem, Python's A).
   bool symmetric = false;
+  /// The contacts whose rows live in Coulomb's cone instead of their boxes (cone_problem.hpp),
+  /// or null (the paper's boxed problem). Only the methods that take cones (takes_cones,
+  /// solver.hpp) solve such a problem; its residual is the cone law's natural map there.
+  const ConeContacts* cones = nullptr;
 
   Eigen::Index rows() const { return b.size(); }
   bool has_factors() const { return J != nullptr && Minv != nullptr; }
@@ -98,7 +103,8 @@ inline void max_keep_nan(double& m, double x) {
 double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin, const VecX& cmax);
 
 /// The natural-map residual of the problem at lambda, with constraint-force mixing eps on A's
-/// diagonal (w = (A + eps E) lambda − b; eps in kg⁻¹, 0: the problem as it is), N.
+/// diagonal (w = (A + eps E) lambda − b; eps in kg⁻¹, 0: the problem as it is), N. With cones,
+/// each contact's part is that of its cone law (cone_problem.hpp).
 double natural_map_residual(const BoxedProblem& problem, const VecX& lambda, double cfm = 0.0);
 
 /// A + eps E: the matrix a solve with constraint-force mixing eps (kg⁻¹) works on. A itself

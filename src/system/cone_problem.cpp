@@ -1,0 +1,101 @@
+// Coulomb's cone beside the box: its projection, its laws and the residual's cone part
+// (system/cone_problem.hpp).
+#include "cbps/system/cone_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cbps/system/boxed_problem.hpp"
+
+namespace cbps {
+
+std::string_view to_string(ConeLaw law) { return law == ConeLaw::Coulomb ? "coulomb" : "ccp"; }
+
+bool cone_law_from_string(std::string_view name, ConeLaw& law) {
+  if (name == "coulomb") {
+    law = ConeLaw::Coulomb;
+  } else if (name == "ccp") {
+    law = ConeLaw::Ccp;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+std::vector<char> ConeContacts::rows_in_cones(Eigen::Index rows) const {
+  std::vector<char> in(static_cast<std::size_t>(rows), 0);
+  for (const int n : normal)
+    for (int k = n; k < n + 3; ++k) in[static_cast<std::size_t>(k)] = 1;
+  return in;
+}
+
+void project_onto_cone(double mu, Vec3& r) {
+  const double t = std::hypot(r(1), r(2));  // ‖r_t‖
+  if (t <= mu * r(0)) return;               // in K_mu
+  if (mu * t <= -r(0)) {                    // in the polar cone −K*_mu: the apex is nearest
+    r.setZero();
+    return;
+  }
+  // The nearest point of the surface ‖r_t‖ = mu r_n, in the plane of e_n and r_t.
+  const double n = (mu * t + r(0)) / (mu * mu + 1.0);
+  r(1) *= mu * n / t;
+  r(2) *= mu * n / t;
+  r(0) = n;
+}
+
+Vec3 law_velocity(const Vec3& u, double mu, ConeLaw law) {
+  Vec3 u_hat = u;
+  if (law == ConeLaw::Coulomb) u_hat(0) += mu * std::hypot(u(1), u(2));  // De Saxcé
+  return u_hat;
+}
+
+Vec3 cone_natural_map(const Vec3& r, const Vec3& u, double mu, ConeLaw law) {
+  Vec3 projected = r - law_velocity(u, mu, law);
+  project_onto_cone(mu, projected);
+  return r - projected;
+}
+
+ConeMeasures cone_measures(const ConeContacts& cones,
+                           const VecX& lambda,
+                           const VecX& w,
+                           const VecX& b) {
+  ConeMeasures m;
+  double merit_squares = 0.0, q_squares = 0.0;
+  for (long i = 0; i < cones.contacts(); ++i) {
+    const int n = cones.normal[static_cast<std::size_t>(i)];
+    const double mu = cones.mu(i);
+    const Vec3 r = lambda.segment<3>(n), u = w.segment<3>(n);
+    max_keep_nan(m.natural_map, cone_natural_map(r, u, mu, cones.law).norm());
+    max_keep_nan(m.signorini, std::abs(r(0) * u(0)));
+    const double r_t = std::hypot(r(1), r(2)), u_t = std::hypot(u(1), u(2));
+    max_keep_nan(m.violation, std::max({r_t - mu * r(0), -r(0), 0.0}));
+    max_keep_nan(m.dissipation,
+                 std::max(0.0, r(1) * u(1) + r(2) * u(2) + mu * std::max(r(0), 0.0) * u_t));
+    merit_squares += cone_natural_map(r, u, mu, ConeLaw::Coulomb).squaredNorm();
+    q_squares += b.segment<3>(n).squaredNorm();
+  }
+  m.fclib_merit = std::sqrt(merit_squares) / (1.0 + std::sqrt(std::sqrt(q_squares)));
+  return m;
+}
+
+double natural_map_residual(const VecX& w,
+                            const VecX& lambda,
+                            const VecX& cmin,
+                            const VecX& cmax,
+                            const ConeContacts& cones) {
+  const std::vector<char> in_cone = cones.rows_in_cones(lambda.size());
+  double r = 0.0;
+  for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+    if (in_cone[static_cast<std::size_t>(k)]) continue;
+    max_keep_nan(r, std::abs(lambda(k) - clamp(lambda(k) - w(k), cmin(k), cmax(k))));
+  }
+  for (long i = 0; i < cones.contacts(); ++i) {
+    const int n = cones.normal[static_cast<std::size_t>(i)];
+    const Vec3 map =
+        cone_natural_map(lambda.segment<3>(n), w.segment<3>(n), cones.mu(i), cones.law);
+    max_keep_nan(r, map.norm());
+  }
+  return r;
+}
+
+}  // namespace cbps
