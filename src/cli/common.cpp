@@ -23,6 +23,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
+#include "cbps/io/fclib_file.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
@@ -127,6 +128,9 @@ Scene load_scene(const SceneOptions& o) {
                      ": is a folder, not a scene; give a built-in scene's name (cbps scenes) or "
                      "a JSON scene file (docs/scene-format.md)");
   if (fs::is_regular_file(o.scene, ec)) {
+    if (is_hdf5_file(o.scene))
+      throw InputError(o.scene + ": an HDF5 file (an FCLIB problem?), not a scene; `cbps lcp " +
+                       o.scene + "` solves an FCLIB problem (docs/cones.md)");
     if (!values.empty()) {
       throw InputError("--param: parameters apply to built-in scenes only, not to the file " +
                        o.scene);

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "cbps/base/error.hpp"
+#include "cbps/io/fclib_file.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/peers/peers.hpp"
@@ -49,7 +50,7 @@ struct ConvergeOptions {
 bool is_problem(const std::string& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) return true;
-  return fs::path(path).extension() == ".dat";
+  return fs::path(path).extension() == ".dat" || is_hdf5_file(path);  // Siconos, FCLIB
 }
 
 ConvergenceSystem system_of_scene(const ConvergeOptions& o) {

@@ -137,6 +137,19 @@ int report(const LcpOptions& o,
   return v.solved ? 0 : 1;
 }
 
+/// PROBLEM read whole, with --cone's law for its contacts in friction cones.
+StoredProblem read_lcp_problem(const LcpOptions& o) {
+  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  if (o.cone.empty()) return p;
+  if (p.cones.empty())
+    throw InputError("--cone " + o.cone + ": " + o.problem +
+                     " has no contacts in friction cones (a boxed problem); --cone is for an "
+                     "FCLIB file");
+  if (!cone_law_from_string(o.cone, p.cones.law))
+    throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
+  return p;
+}
+
 /// --out must not be the problem's own folder.
 void check_out_is_not_problem(const LcpOptions& o) {
   std::error_code ec;
@@ -222,15 +235,12 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
     kind = "cbps matrices folder, read by rows";
     return distributed::read_folder_rows(o.problem, session.rank(), session.size());
   }
-  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
-  if (!o.cone.empty()) {
-    if (p.cones.empty())
-      throw InputError("--cone " + o.cone + ": " + o.problem +
-                       " has no contacts in friction cones (a boxed problem); --cone is for "
-                       "an FCLIB file");
-    if (!cone_law_from_string(o.cone, p.cones.law))
-      throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
-  }
+  StoredProblem p = read_lcp_problem(o);
+  if (!p.cones.empty())
+    throw InputError("--solver " + o.solver + ": " + o.problem + ": its " +
+                     std::to_string(p.cones.contacts()) +
+                     " contacts live in friction cones; TAO solves the boxed problem of 6.2. Use "
+                     "--solver nsgs (docs/cones.md)");
   kind = "Siconos file";
   return distributed::rows_of(p.problem(), p.cfm, o.problem, session.rank(), session.size());
 }
@@ -399,15 +409,7 @@ int lcp_command(const LcpOptions& o) {
   std::optional<SolverSpec> given;
   if (!o.solver.empty()) given = parse_cli_solver_spec(o.solver, "--solver");
   check_out_is_not_problem(o);
-  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
-  if (!o.cone.empty()) {
-    if (p.cones.empty())
-      throw InputError("--cone " + o.cone + ": " + o.problem +
-                       " has no contacts in friction cones (a boxed problem); --cone is for "
-                       "an FCLIB file");
-    if (!cone_law_from_string(o.cone, p.cones.law))
-      throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
-  }
+  StoredProblem p = read_lcp_problem(o);
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does every
   // solver here (options.cfm, applied by solve()); the residual is that problem's.
 

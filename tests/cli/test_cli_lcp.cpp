@@ -185,6 +185,7 @@ const std::vector<std::pair<std::string, std::string>> kEveryMethod = {
     {"direct", "direct"},
     {"active-set", "active-set"},
     {"lemke", "lemke"},
+    {"nsgs", "nsgs"},
 };
 /// The peers' names (solvers/peers/peers.hpp), listed after cbps's own; they are judged, not
 /// required to agree, in tests/solvers/test_peers.cpp and test_cli_peers.cpp.
@@ -196,6 +197,7 @@ const std::vector<std::string> kPeerNames = {"siconos:lemke",
                                              "bullet:lemke",
                                              "bullet:pgs"};
 const std::vector<std::string> kWithParameters = {"apgd:restart=off",
+                                                  "nsgs:local=1",
                                                   "pgs:order=random",
                                                   "pgs:order=reverse:warm=off",
                                                   "sgs:1.2",
@@ -449,4 +451,50 @@ TEST_CASE("cbps lcp takes a folder's row kinds and manifolds from its labels.jso
   CAPTURE(manifolds, alone);
   CHECK(manifolds != alone);
   fs::remove_all(dir);
+}
+
+TEST_CASE("cbps lcp reads an FCLIB file: nsgs by default, --cone, the cone object, refusals",
+          "[cli][lcp][fclib]") {
+  const std::string file =
+      std::string(CBPS_DATA_DIR) + "/fclib/Boxes_Stack_local_problem_test.hdf5";
+  for (const char* law : {"coulomb", "ccp"}) {
+    CAPTURE(law);
+    const CliResult r =
+        run_cli("lcp " + file + " --json --iterations 300 --cone " + std::string(law));
+    INFO(r.err);
+    CHECK(r.code == 1);  // 300 sweeps are far from 1e-9 of the scale: not solved, said so
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j.at("solver") == "nsgs");
+    CHECK(j.at("status") == "failed");
+    CHECK(j.at("rows") == 144);
+    CHECK(j.at("lambda").size() == 144);
+    const nlohmann::json& cone = j.at("cone");
+    CHECK(cone.at("law") == law);
+    CHECK(cone.at("contacts") == 48);
+    CHECK(cone.at("natural_map").get<double>() == j.at("residual").get<double>());
+    for (const char* key : {"signorini", "violation", "dissipation", "fclib_merit"})
+      CHECK(cone.at(key).get<double>() >= 0.0);
+  }
+  const CliResult text = run_cli("lcp " + file + " --iterations 30000 --solver nsgs");
+  CHECK(text.out.find("(FCLIB file)") != std::string::npos);
+  CHECK(text.out.find("cone law coulomb, 48 contacts") != std::string::npos);
+
+  const CliResult boxed = run_cli("lcp " + file + " --solver pgs");
+  CHECK(boxed.code == 2);
+  CHECK(boxed.err.find("friction cones") != std::string::npos);
+  const CliResult bad_law = run_cli("lcp " + file + " --cone elliptic");
+  CHECK(bad_law.code == 2);
+  CHECK(bad_law.err.find("coulomb or ccp") != std::string::npos);
+  const fs::path dir = scratch_dir("lcp_fclib");
+  const fs::path m = dir / "chain";
+  REQUIRE(run_cli("matrices chain --param n=3 --out " + m.string()).code == 0);
+  const CliResult converge = run_cli("converge " + file + " --solvers nsgs --no-plot");
+  CHECK(converge.code == 2);  // its reference, the direct path, does not take cones yet
+  CHECK(converge.err.find("friction cones") != std::string::npos);
+  const CliResult run = run_cli("run " + file);
+  CHECK(run.code == 2);
+  CHECK(run.err.find("not a scene") != std::string::npos);
+  const CliResult no_cones = run_cli("lcp " + m.string() + " --cone ccp");
+  CHECK(no_cones.code == 2);
+  CHECK(no_cones.err.find("no contacts in friction cones") != std::string::npos);
 }

@@ -86,10 +86,11 @@ struct ShockSettings {
 };
 
 /// Every method's own parameters.
-/// NSGS on friction cones (cone/nsgs.hpp): local projected steps per contact and sweep.
-/// Measured on FCLIB's Boxes Stack (tests/data/fclib, 48 contacts) to 1e-10: see docs/cones.md.
+/// NSGS on friction cones (cone/nsgs.hpp): local projected steps per contact and sweep. One (the
+/// step of 7.1.1 with the clamp replaced by the cone's projection) by default: more solve each
+/// contact's local problem more closely per sweep at more cost a sweep (docs/cones.md).
 struct NsgsSettings {
-  int local = 10;  ///< at most this many projected steps per contact, ≥ 1 (1: the plain step)
+  int local = 1;  ///< at most this many projected steps per contact, ≥ 1
 };
 
 struct MethodSettings {
