@@ -9,6 +9,7 @@ extern "C" {  // fclib.h declares C functions without saying so
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -42,8 +43,13 @@ MatX dense_of(const fclib_matrix& M) {
   return D;
 }
 
+/// fclib_delete_local (Debian's FCLIB 3.1.0) frees what the problem holds but not the struct
+/// fclib_read_local allocated (LeakSanitizer shows its 64 bytes): both are freed here.
 struct LocalDeleter {
-  void operator()(fclib_local* p) const { fclib_delete_local(p); }
+  void operator()(fclib_local* p) const {
+    fclib_delete_local(p);
+    std::free(p);
+  }
 };
 using Local = std::unique_ptr<fclib_local, LocalDeleter>;
 
