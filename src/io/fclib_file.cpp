@@ -107,19 +107,6 @@ class Reader {
 
   int integer(const std::string& name) const { return ints(name, 1)[0]; }
 
-  std::string text(const std::string& name) const {
-    const hsize_t n = size(name, H5T_STRING, "a string");
-    (void)n;
-    hsize_t dims[1] = {1};
-    H5T_class_t cls{};
-    std::size_t bytes = 0;
-    H5LTget_dataset_info(file_, name.c_str(), dims, &cls, &bytes);
-    std::string s(bytes + 1, '\0');
-    if (H5LTread_dataset_string(file_, name.c_str(), s.data()) < 0) fail(name, "unreadable");
-    s.resize(std::strlen(s.c_str()));
-    return s;
-  }
-
   /// A matrix group {nzmax, m, n, nz, p, i, x}, every index checked.
   SpMat matrix(const std::string& group) const;
 
