@@ -16,9 +16,7 @@ double clamp(double x, double lo, double hi) { return std::min(std::max(x, lo), 
 double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin, const VecX& cmax) {
   double r = 0.0;
   for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-    const double projected = clamp(lambda(k) - w(k), cmin(k), cmax(k));
-    const double rk = std::abs(lambda(k) - projected);
-    max_keep_nan(r, rk);
+    max_keep_nan(r, natural_map_row(lambda(k), w(k), cmin(k), cmax(k)));
   }
   return r;
 }

@@ -87,7 +87,7 @@ double natural_map_residual(const VecX& w,
   double r = 0.0;
   for (Eigen::Index k = 0; k < lambda.size(); ++k) {
     if (in_cone[static_cast<std::size_t>(k)]) continue;
-    max_keep_nan(r, std::abs(lambda(k) - clamp(lambda(k) - w(k), cmin(k), cmax(k))));
+    max_keep_nan(r, natural_map_row(lambda(k), w(k), cmin(k), cmax(k)));
   }
   for (long i = 0; i < cones.contacts(); ++i) {
     const int n = cones.normal[static_cast<std::size_t>(i)];

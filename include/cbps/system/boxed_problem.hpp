@@ -96,6 +96,12 @@ inline void max_keep_nan(double& m, double x) {
   if (!(x <= m) && !std::isnan(m)) m = x;
 }
 
+/// Row k's term of the natural map (6.2), |lambda_k − clamp(lambda_k − w_k, cmin_k, cmax_k)|, N:
+/// the one place the box's natural map is written (the sums below, the cone problem's box rows).
+inline double natural_map_row(double lambda, double w, double cmin, double cmax) {
+  return std::abs(lambda - clamp(lambda - w, cmin, cmax));
+}
+
 /// The natural-map residual for a given w = A lambda − b (6.2):
 ///   ‖lambda − clamp(lambda − w, cmin, cmax)‖∞,
 /// N; zero exactly at a solution, NaN when any term is NaN. The one place this is written: the

@@ -7,15 +7,20 @@
 #include <vector>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
 
 namespace {
 
-/// What a sweep visits, set up once per solve: units in row order (a row alone: its index ≥ 0;
-/// contact i: −(i + 1), at its normal row), and each contact's W_αα and step rho_α.
+/// What a sweep visits, set up once per solve, in row order: runs of rows no contact owns (each
+/// swept by 7.1.1 itself, pgs_sweep) and contacts; and each contact's W_αα and step rho_α.
 struct NsgsSetup {
-  std::vector<int> units;
+  struct Unit {
+    int contact = -1;       ///< a contact's index, or −1 for a run of rows
+    std::vector<int> rows;  ///< the run's rows
+  };
+  std::vector<Unit> units;
   std::vector<Mat3> W;
   std::vector<double> rho;  ///< 1 / λmax(W_αα), 0 when W_αα acts on nothing (r stays)
 };
@@ -47,9 +52,10 @@ NsgsSetup setup(const BoxedProblem& problem) {
   for (Eigen::Index k = 0; k < c; ++k) {
     const int contact = contact_at[static_cast<std::size_t>(k)];
     if (contact >= 0) {
-      s.units.push_back(-(contact + 1));
+      s.units.push_back({contact, {}});
     } else if (!in_cone[static_cast<std::size_t>(k)]) {
-      s.units.push_back(static_cast<int>(k));
+      if (s.units.empty() || s.units.back().contact >= 0) s.units.push_back({-1, {}});
+      s.units.back().rows.push_back(static_cast<int>(k));
     }
   }
   return s;
@@ -92,18 +98,11 @@ double contact_step(
 }
 
 double nsgs_sweep(const BoxedProblem& problem, const NsgsSetup& s, int local, VecX& lambda) {
-  const SpMat& A_rows = detail::rows_of(problem);
   double change = 0.0;
-  for (const int unit : s.units) {
-    if (unit < 0) {
-      max_keep_nan(change, contact_step(problem, s, -unit - 1, local, lambda));
-      continue;
-    }
-    double target = 0.0;
-    if (!detail::row_target(A_rows, problem.b, lambda, unit, target)) continue;
-    const double next = clamp(target, problem.cmin(unit), problem.cmax(unit));  // 7.1.1
-    max_keep_nan(change, std::abs(next - lambda(unit)));
-    lambda(unit) = next;
+  for (const NsgsSetup::Unit& unit : s.units) {
+    max_keep_nan(change,
+                 unit.contact >= 0 ? contact_step(problem, s, unit.contact, local, lambda)
+                                   : pgs_sweep(problem, lambda, 1.0, unit.rows));  // 7.1.1
   }
   return change;
 }
