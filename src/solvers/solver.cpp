@@ -16,6 +16,7 @@
 #include "cbps/solvers/compared/pgs_sm.hpp"
 #include "cbps/solvers/compared/rbgs.hpp"
 #include "cbps/solvers/compared/shock.hpp"
+#include "cbps/solvers/cone/cone_direct.hpp"
 #include "cbps/solvers/cone/nsgs.hpp"
 #include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/exact/direct.hpp"
@@ -165,7 +166,8 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
     case Method::MatrixFree:
       return solve_matrix_free(problem, lambda, options);
     case Method::Direct:
-      return solve_direct(problem, lambda, options);
+      return problem.cones != nullptr ? solve_cone_direct(problem, lambda, options)
+                                      : solve_direct(problem, lambda, options);
     case Method::ActiveSet:
       return solve_active_set(problem, lambda, options);
     case Method::PgsNesterov:
@@ -289,7 +291,7 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
                      "' solves the boxed problem of 6.2; this problem's contacts live in friction "
                      "cones (" +
                      std::to_string(problem.cones->contacts()) +
-                     " contacts), which nsgs solves (docs/cones.md)");
+                     " contacts), which nsgs and direct solve (docs/cones.md)");
   if (options.method == Method::MatrixFree && problem.has_factors()) {
     // The matrix-free sweep solves the problem of J Minv Jᵀ + cfm E and never reads A: it must
     // be A's, or the residual it reports is not A's (issue 28: Minv doubled, "residual

@@ -34,9 +34,10 @@ ConvergenceSystem convergence_system(const std::string& path) {
   s.stored = read_problem(path);
   if (!s.stored.cones.empty())
     throw InputError("converge " + path + ": its " + std::to_string(s.stored.cones.contacts()) +
-                     " contacts live in friction cones; the reference of `converge` is the "
-                     "direct path, which does not solve cones yet (docs/cones.md). `cbps lcp " +
-                     path + " --solver nsgs` solves and judges it");
+                     " contacts live in friction cones, which `converge` does not take yet "
+                     "(its reference answer on cones, the direct path, verifies the relaxation "
+                     "but not always Coulomb's law; docs/cones.md). `cbps lcp " +
+                     path + " --solver nsgs` or `--solver direct` solves and judges it");
   // The direct path (the reference) solves the QP of 6.2, which needs a symmetric A.
   require_symmetric(s.stored, "converge " + path);
   s.previous_lambda = VecX::Zero(s.stored.rows());

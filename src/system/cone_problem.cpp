@@ -43,10 +43,40 @@ void project_onto_cone(double mu, Vec3& r) {
   r(0) = n;
 }
 
+Mat3 cone_projection_jacobian(double mu, const Vec3& x) {
+  Mat3 D = Mat3::Zero();
+  if (mu == 0.0) {  // the ray: P(x) = (max(x_n, 0), 0, 0)
+    D(0, 0) = x(0) > 0.0 ? 1.0 : 0.0;
+    return D;
+  }
+  const double t = std::hypot(x(1), x(2));  // ‖x_t‖, the cases of project_onto_cone
+  if (t <= mu * x(0)) return Mat3::Identity();
+  if (mu * t <= -x(0)) return D;
+  const Eigen::Vector2d d(x(1) / t, x(2) / t);
+  const double k = 1.0 / (1.0 + mu * mu);
+  const double a = (x(0) + mu * t) * k;
+  D(0, 0) = k;
+  D.block<1, 2>(0, 1) = mu * k * d.transpose();
+  D.block<2, 1>(1, 0) = mu * k * d;
+  D.block<2, 2>(1, 1) = mu * mu * k * d * d.transpose() +
+                        (mu * a / t) * (Eigen::Matrix2d::Identity() - d * d.transpose());
+  return D;
+}
+
 Vec3 law_velocity(const Vec3& u, double mu, ConeLaw law) {
   Vec3 u_hat = u;
   if (law == ConeLaw::Coulomb) u_hat(0) += mu * std::hypot(u(1), u(2));  // De Saxcé
   return u_hat;
+}
+
+Mat3 law_velocity_jacobian(const Vec3& u, double mu, ConeLaw law) {
+  Mat3 G = Mat3::Identity();
+  const double t = std::hypot(u(1), u(2));
+  if (law == ConeLaw::Coulomb && t > 0.0) {
+    G(0, 1) = mu * u(1) / t;
+    G(0, 2) = mu * u(2) / t;
+  }
+  return G;
 }
 
 Vec3 cone_natural_map(const Vec3& r, const Vec3& u, double mu, ConeLaw law) {

@@ -157,6 +157,28 @@ TEST_CASE("FCLIB's merit function is cbps's computation of it, small exactly wit
   }
 }
 
+TEST_CASE("the exact path's answer on the collection problem is a solution by FCLIB's merit",
+          "[fclib]") {
+  // FCLIB's own merit function (MERIT_1, Coulomb's law), computed by libfclib, judges what cbps's
+  // direct path returns for the file: an external check of the answer and of the law.
+  const StoredProblem p = read_fclib(kBoxesStack);
+  const fs::path dir = test::scratch_dir("fclib_direct");
+  const std::string file = (dir / "stack.hdf5").string();
+  write_fclib(file, p, {});  // W in compressed columns, the only form fclib_merit_local reads
+  Local theirs(fclib_read_local(file.c_str()));
+  REQUIRE(theirs);
+  SolverOptions o;
+  o.method = Method::Direct;
+  o.tolerance = 1e-10;
+  VecX lambda;
+  const SolverSummary s = solve(p.problem(), lambda, o);
+  INFO(s.message);
+  CHECK(s.termination == Termination::Direct);
+  const double merit = merit_by_fclib(*theirs, lambda);
+  CHECK(merit <= 1e-9);
+  CHECK(merit > 0.0);  // computed, not a default
+}
+
 namespace {
 
 /// A copy of the collection file with one integer dataset of W replaced.

@@ -129,7 +129,7 @@ TEST_CASE("the boxed methods refuse a problem with cones, naming nsgs", "[nsgs]"
   REQUIRE(cones.contacts() > 0);
   BoxedProblem problem = sys.problem();
   problem.cones = &cones;
-  for (const Method m : {Method::Pgs, Method::Direct, Method::Apgd, Method::Lemke}) {
+  for (const Method m : {Method::Pgs, Method::ActiveSet, Method::Apgd, Method::Lemke}) {
     SolverOptions o;
     o.method = m;
     VecX lambda;

@@ -117,9 +117,12 @@ inline bool needs_symmetric(Method method) {
 }
 
 /// True for the methods that solve a problem whose contacts live in friction cones
-/// (BoxedProblem::cones, system/cone_problem.hpp): nsgs. solve() refuses the others on such a
-/// problem (InputError): they solve the boxed problem of 6.2.
-inline bool takes_cones(Method method) { return method == Method::Nsgs; }
+/// (BoxedProblem::cones, system/cone_problem.hpp): nsgs and direct (cone/cone_direct.hpp).
+/// solve() refuses the others on such a problem (InputError): they solve the boxed problem of
+/// 6.2.
+inline bool takes_cones(Method method) {
+  return method == Method::Nsgs || method == Method::Direct;
+}
 
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check

@@ -51,8 +51,19 @@ struct ConeContacts {
 /// (mu ‖r_t‖ ≤ −r_n), else the nearest point of the cone's surface. r = (r_n, r_t1, r_t2).
 void project_onto_cone(double mu, Vec3& r);
 
+/// The Jacobian of P_K at x (3×3, dimensionless), with the case split of project_onto_cone: I
+/// inside K, 0 inside the polar cone, else the derivative of the surface's nearest point (with
+/// d = x_t/‖x_t‖, a = (x_n + mu ‖x_t‖)/(1 + mu²)):
+///   ∂P/∂x = [1, mu dᵀ; mu d, mu² d dᵀ]/(1 + mu²) + [0, 0; 0, mu a (I − d dᵀ)/‖x_t‖].
+/// Where P_K is not differentiable (the boundaries between the cases; mu = 0's ray, where P_K(x)
+/// = (max(x_n, 0), 0, 0)) it is one element of Clarke's generalized Jacobian, the one a
+/// semismooth Newton method may use (Hayashi, Yamashita & Fukushima, SIAM J. Optim. 15(2) 2005).
+Mat3 cone_projection_jacobian(double mu, const Vec3& x);
+
 /// The velocity the law pairs with r: û = u + mu ‖u_t‖ e_n (Coulomb), u (Ccp).
 Vec3 law_velocity(const Vec3& u, double mu, ConeLaw law);
+/// ∂û/∂u: I (Ccp); I + mu e_n (0, u_tᵀ/‖u_t‖) (Coulomb; I where u_t = 0).
+Mat3 law_velocity_jacobian(const Vec3& u, double mu, ConeLaw law);
 
 /// The natural map of one contact, r − P_K(r − û), N (u in the units of w).
 Vec3 cone_natural_map(const Vec3& r, const Vec3& u, double mu, ConeLaw law);

@@ -1,0 +1,52 @@
+// The exact path on friction cones: `direct` on a problem whose contacts live in Coulomb's cone
+// (BoxedProblem::cones, system/cone_problem.hpp), for both laws.
+#pragma once
+
+#include "cbps/solvers/solver.hpp"
+
+namespace cbps {
+
+/// The exact path for a problem with cones, A symmetric positive semidefinite, sparse. Every
+/// stage works on the problem scaled to max A_kk = 1 and ‖b‖∞ = 1 and judges by the law's
+/// natural-map residual (cone_problem.hpp; the box's for rows no contact owns).
+///   1. The convex relaxation (CCP: min ½ λᵀAλ − bᵀλ over the cones and the other rows' boxes)
+///      by a primal-dual interior-point method on second-order cones: Nesterov–Todd scaling
+///      (Nesterov & Todd, SIAM J. Optim. 8(2) 1998), Mehrotra's predictor-corrector, from the
+///      cones' axes, as in Vandenberghe's CVXOPT notes ("The CVXOPT linear and quadratic cone
+///      program solvers", 2010). A contact's cone is K_mu, a second-order cone once its normal
+///      row is scaled by mu (s = (mu λ_n, λ_t1, λ_t2)); a finite bound of a row no contact owns
+///      is a cone of dimension one; rows with cmin = cmax are fixed; a contact with mu = 0 is
+///      its normal's bound and two tangent rows fixed at 0. Each iteration factors
+///      A + Eᵀ W⁻² E + ρ I (W the scaling, 3×3 blocks per contact; ρ = options.direct.proximal)
+///      by CHOLMOD in row space, one analysis for the solve, and keeps the iterate of least
+///      residual, until that meets the target or the gap closes (1e-14). On a singular A with
+///      contacts both unloaded and at rest (a stack's corners) complementarity is not strict
+///      and the residual stays near the square root of the gap (base-5 pyramid: 1e-6 N from a gap
+///      of 1e-8 to 6e-12), hence stage 2.
+///   2. Proximal points around a semismooth Newton method (Rockafellar, SIAM J. Control Optim.
+///      14(5) 1976; the PROX of Siconos, Acary, Brémond & Huber 2018): λ_{k+1} solves the law
+///      for A + ε_k I and b + ε_k λ_k, each by Newton steps on the per-contact natural map
+///      F(λ) = λ − P_K(λ − ρ_α û(w)) (ρ_α = 1/λmax(A_αα); the box's with 1/A_kk for the other
+///      rows) with the generalized Jacobian I − D + D ρ_α (∂û/∂w)(A + ε I)
+///      (D = cone_projection_jacobian), factored by Eigen's SparseLU (one analysis), an Armijo
+///      search on ‖F‖₂. A + ε I is definite, so each subproblem has one answer even where A is
+///      singular. ε starts at 1e-2 · the scaled residual, follows it down while outer steps
+///      halve it and grows ×100 (to 1e-4) when they do not. The outer steps end at the tolerance,
+///      at the residual's rounding floor (residual_floor), or after five without progress.
+///   3. Coulomb's law (De Saxcé's û = u + mu ‖u_t‖ e_n): stage 1 gives the CCP's answer; then
+///      the fixed point on s = mu ‖u_t‖ (each round the CCP of b_n − s by stages 1 and 2;
+///      Haslinger's approach, Acary et al. 2018) while each round cuts Coulomb's residual by a
+///      tenth, at most 20 rounds, then stage 2 on Coulomb's map itself. Where the CCP's answer
+///      already keeps Coulomb's law (no contact slides) that is the answer. Coulomb's problem is
+///      not monotone: on the pyramids where contacts slide this does not finish (base 8: 4.6e-5
+///      N; docs/cones.md), and says so.
+/// Returns Termination::Direct only when the law's residual of lambda is at most
+/// max(options.tolerance, residual_floor): never an answer it has not verified; otherwise
+/// NotConverged with the best lambda found and the message says how far it got (NonFinite for
+/// non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
+/// factorizations (CHOLMOD and SparseLU together), space "row".
+SolverSummary solve_cone_direct(const BoxedProblem& problem,
+                                VecX& lambda,
+                                const SolverOptions& options);
+
+}  // namespace cbps

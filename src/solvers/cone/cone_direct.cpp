@@ -1,0 +1,656 @@
+// The exact path on friction cones (cone/cone_direct.hpp): an interior point on second-order
+// cones for the convex relaxation, then proximal points around a semismooth Newton method, with
+// the fixed point on De Saxcé's term between them for Coulomb's law. The stages, their sources
+// and their parameters are described at solve_cone_direct().
+#include "cbps/solvers/cone/cone_direct.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+#include "cbps/solvers/exact/cholmod_factor.hpp"
+#include "cbps/solvers/exact/direct.hpp"
+#include "cbps/system/cone_problem.hpp"
+
+namespace cbps {
+
+namespace {
+
+/// The fraction of the way to the cones' boundary an interior step goes.
+constexpr double kStepToBoundary = 0.99;
+/// Interior iterations at most (each one CHOLMOD factorization); the base-8 pyramid's 768 rows
+/// reach their least residual in about 20.
+constexpr int kMaxInterior = 80;
+/// The interior point stops once its scaled duality gap and equation residuals are below this
+/// (round-off of the scaled problem). Not before: where complementarity is not strict the
+/// natural-map residual stays near the square root of the gap and falls only at its end
+/// (base-5 pyramid: 1.0e-6 N from gap 1e-8 to 6e-12, 6.1e-8 N at 1.4e-14).
+constexpr double kInteriorDone = 1e-14;
+/// The proximal weight ε (scaled, max A'_kk = 1): it starts at kProximalWeight · the residual
+/// and follows the residual down while each outer step halves it; an outer step that does not
+/// multiplies it by 100, up to kLargestWeight. A small ε moves λ far per step but its Newton
+/// systems are ill-conditioned near a singular A (base-8 pyramid: stuck at 3.5e-10 N with ε ≤
+/// 1e-8); a large one converges linearly but surely (4e-6 took it to 6e-13 N in one step).
+constexpr double kProximalWeight = 1e-2;
+constexpr double kLargestWeight = 1e-4;
+/// Newton steps per proximal subproblem at most, and the subproblem's stop: ‖F‖₂ below this
+/// fraction of the outer residual.
+constexpr int kMaxNewton = 30;
+constexpr double kInnerFraction = 1e-3;
+/// Outer proximal steps at most per stage, and the count in a row without progress at
+/// kLargestWeight that ends it.
+constexpr int kMaxOuter = 60;
+constexpr int kOuterStall = 5;
+/// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
+constexpr int kMaxFixedPoint = 20;
+/// Armijo's sufficient decrease and the smallest step tried.
+constexpr double kArmijo = 1e-4;
+constexpr double kSmallestStep = 1e-10;
+
+/// One constraint of the interior point: a finite bound of a row no contact owns, s = a (x_row −
+/// h) ≥ 0 (a = ±1), or a contact's cone, s = (a x_n, x_t1, x_t2) in the second-order cone
+/// (a = mu, row the normal). `at` is its first entry in s and z.
+struct Constraint {
+  int row = 0;
+  int at = 0;
+  bool cone = false;
+  double a = 1.0;
+  double h = 0.0;
+  int size() const { return cone ? 3 : 1; }
+};
+
+/// The scaled problem and what every stage reads: A' = A / md, b' = b / bn, λ = (bn / md) x.
+struct Setup {
+  Eigen::Index c = 0;
+  double md = 1.0;  ///< max A_kk, kg⁻¹
+  double bn = 1.0;  ///< ‖b‖∞, m/s²
+  SpMat A;          ///< A', every diagonal entry stored
+  VecX b, cmin, cmax;
+  std::vector<char> fixed;  ///< rows held at fixed_value (cmin = cmax, a mu = 0 contact's t1, t2)
+  VecX fixed_value;
+  ConeContacts law;             ///< the problem's contacts and law
+  ConeContacts ccp;             ///< the same contacts under the convex relaxation
+  std::vector<int> contact_at;  ///< row → contact owning it as its normal, −1 otherwise
+  std::vector<char> in_cone;
+  std::vector<Constraint> constraints;
+  int entries = 0;          ///< length of s and z
+  VecX rho_row;             ///< the box rows' Newton scaling 1/A'_kk
+  std::vector<double> rho;  ///< each contact's 1/λmax(A'_αα)
+
+  double to_newton(double lambda_units) const { return lambda_units * md / bn; }
+};
+
+Setup make_setup(const BoxedProblem& p) {
+  Setup S;
+  S.c = p.rows();
+  const Eigen::Index c = S.c;
+  double md = 0.0;
+  for (Eigen::Index k = 0; k < c; ++k) md = std::max(md, p.A.coeff(k, k));
+  S.md = md > 0.0 ? md : 1.0;
+  const double bn = c > 0 ? p.b.lpNorm<Eigen::Infinity>() : 0.0;
+  S.bn = bn > 0.0 ? bn : 1.0;
+  const double x_scale = S.md / S.bn;  // x = λ · md / bn
+  std::vector<Triplet> t;
+  t.reserve(std::size_t(p.A.nonZeros() + c));
+  for (int j = 0; j < p.A.outerSize(); ++j)
+    for (SpMat::InnerIterator it(p.A, j); it; ++it)
+      t.emplace_back(int(it.row()), j, it.value() / S.md);
+  for (Eigen::Index k = 0; k < c; ++k) t.emplace_back(int(k), int(k), 0.0);  // the diagonal
+  S.A.resize(c, c);
+  S.A.setFromTriplets(t.begin(), t.end());
+  S.b = p.b / S.bn;
+  S.cmin = p.cmin * x_scale;
+  S.cmax = p.cmax * x_scale;
+  S.law = *p.cones;
+  S.ccp = *p.cones;
+  S.ccp.law = ConeLaw::Ccp;
+  S.in_cone = S.law.rows_in_cones(c);
+  S.contact_at.assign(std::size_t(c), -1);
+  S.fixed.assign(std::size_t(c), 0);
+  S.fixed_value = VecX::Zero(c);
+  S.rho_row = VecX::Ones(c);
+  for (long i = 0; i < S.law.contacts(); ++i) {
+    const int n = S.law.normal[std::size_t(i)];
+    S.contact_at[std::size_t(n)] = int(i);
+    const double mu = S.law.mu(i);
+    const Mat3 W = S.A.block(n, n, 3, 3).toDense();
+    const double top =
+        Eigen::SelfAdjointEigenSolver<Mat3>(0.5 * (W + W.transpose()), Eigen::EigenvaluesOnly)
+            .eigenvalues()
+            .maxCoeff();
+    S.rho.push_back(top > 0.0 ? 1.0 / top : 1.0);
+    Constraint k;
+    k.row = n;
+    k.at = S.entries;
+    if (mu > 0.0) {
+      k.cone = true;
+      k.a = mu;
+    } else {  // the ray: the normal's bound, the tangents fixed at 0
+      S.fixed[std::size_t(n + 1)] = S.fixed[std::size_t(n + 2)] = 1;
+    }
+    S.constraints.push_back(k);
+    S.entries += k.size();
+  }
+  for (Eigen::Index k = 0; k < c; ++k) {
+    const std::size_t K = std::size_t(k);
+    if (S.in_cone[K]) continue;
+    const double a_kk = S.A.coeff(k, k);
+    S.rho_row(k) = a_kk > 0.0 ? 1.0 / a_kk : 1.0;
+    if (S.cmin(k) == S.cmax(k)) {
+      S.fixed[K] = 1;
+      S.fixed_value(k) = S.cmin(k);
+      continue;
+    }
+    for (const double sign : {1.0, -1.0}) {
+      const double bound = sign > 0.0 ? S.cmin(k) : S.cmax(k);
+      if (!std::isfinite(bound)) continue;
+      S.constraints.push_back({int(k), S.entries, false, sign, bound});
+      S.entries += 1;
+    }
+  }
+  return S;
+}
+
+/// The law's natural-map residual (cone_problem.hpp) of the problem with right side b at x, all
+/// scaled, in units of x: the problem's own residual (N) at λ = (bn / md) x times md / bn. (The
+/// natural map of the scaled problem itself would weigh w by md against λ.)
+double residual(const Setup& S, const ConeContacts& cones, const VecX& b, const VecX& x) {
+  const double alpha = S.bn / S.md;
+  const VecX w = S.bn * (S.A * x - b);
+  return natural_map_residual(w, alpha * x, alpha * S.cmin, alpha * S.cmax, cones) / alpha;
+}
+
+// The Jordan algebra of the second-order cone (and of R₊ for a bound), on a constraint's
+// entries: x ∘ y = (xᵀy, x0 y1 + y0 x1); e = (1, 0, 0).
+VecX jordan_product(const Setup& S, const VecX& x, const VecX& y) {
+  VecX out(S.entries);
+  for (const Constraint& k : S.constraints) {
+    const int i = k.at;
+    if (!k.cone) {
+      out(i) = x(i) * y(i);
+      continue;
+    }
+    out(i) = x.segment<3>(i).dot(y.segment<3>(i));
+    out.segment<2>(i + 1) = x(i) * y.segment<2>(i + 1) + y(i) * x.segment<2>(i + 1);
+  }
+  return out;
+}
+
+/// v with l ∘ v = r (l in the cone's interior).
+VecX jordan_divide(const Setup& S, const VecX& l, const VecX& r) {
+  VecX v(S.entries);
+  for (const Constraint& k : S.constraints) {
+    const int i = k.at;
+    if (!k.cone) {
+      v(i) = r(i) / l(i);
+      continue;
+    }
+    const double det = l(i) * l(i) - l.segment<2>(i + 1).squaredNorm();
+    v(i) = (l(i) * r(i) - l.segment<2>(i + 1).dot(r.segment<2>(i + 1))) / det;
+    v.segment<2>(i + 1) = (r.segment<2>(i + 1) - v(i) * l.segment<2>(i + 1)) / l(i);
+  }
+  return v;
+}
+
+/// The largest α ≥ 0 with x + α d in the cones (infinity when every ray stays inside).
+double step_to_boundary(const Setup& S, const VecX& x, const VecX& d) {
+  double alpha = std::numeric_limits<double>::infinity();
+  for (const Constraint& k : S.constraints) {
+    const int i = k.at;
+    if (!k.cone) {
+      if (d(i) < 0.0) alpha = std::min(alpha, -x(i) / d(i));
+      continue;
+    }
+    // x0 + α d0 ≥ ‖x1 + α d1‖: the first positive root of (x + αd)'s determinant, or of x0 + α d0.
+    const double qa = d(i) * d(i) - d.segment<2>(i + 1).squaredNorm();
+    const double qb = x(i) * d(i) - x.segment<2>(i + 1).dot(d.segment<2>(i + 1));
+    const double qc = x(i) * x(i) - x.segment<2>(i + 1).squaredNorm();
+    if (d(i) < 0.0) alpha = std::min(alpha, -x(i) / d(i));
+    if (std::abs(qa) > 0.0) {
+      const double disc = qb * qb - qa * qc;
+      if (disc >= 0.0) {
+        const double root = std::sqrt(disc);
+        for (const double r : {(-qb - root) / qa, (-qb + root) / qa})
+          if (r > 0.0) alpha = std::min(alpha, r);
+      }
+    } else if (qb < 0.0) {
+      alpha = std::min(alpha, -qc / (2.0 * qb));
+    }
+  }
+  return alpha;
+}
+
+/// What the stages count, for the summary.
+struct Counts {
+  int interior = 0;
+  int outer = 0;
+  int factorizations = 0;
+  long factor_nnz = 0;
+  int rounds = 0;  ///< Coulomb's fixed-point rounds
+};
+
+/// E v − h (shift) or E v: each constraint's s of v (a bound's a (v_row − h), a cone's
+/// (mu v_n, v_t1, v_t2)).
+VecX E_times(const Setup& S, const VecX& v, bool shift) {
+  VecX out(S.entries);
+  for (const Constraint& k : S.constraints) {
+    if (!k.cone) {
+      out(k.at) = k.a * (v(k.row) - (shift ? k.h : 0.0));
+    } else {
+      out(k.at) = k.a * v(k.row);
+      out.segment<2>(k.at + 1) = v.segment<2>(k.row + 1);
+    }
+  }
+  return out;
+}
+
+/// Eᵀ v, zero on fixed rows.
+VecX E_transpose(const Setup& S, const VecX& v) {
+  VecX out = VecX::Zero(S.c);
+  for (const Constraint& k : S.constraints) {
+    out(k.row) += k.a * v(k.at);
+    if (k.cone) out.segment<2>(k.row + 1) += v.segment<2>(k.at + 1);
+  }
+  for (Eigen::Index r = 0; r < S.c; ++r)
+    if (S.fixed[std::size_t(r)]) out(r) = 0.0;
+  return out;
+}
+
+/// The block-diagonal M (a constraint's 3×3 block, or its (0, 0) entry for a bound) times v.
+VecX block_times(const Setup& S, const std::vector<Mat3>& M, const VecX& v) {
+  VecX out(S.entries);
+  for (std::size_t j = 0; j < S.constraints.size(); ++j) {
+    const Constraint& k = S.constraints[j];
+    if (k.cone)
+      out.segment<3>(k.at) = M[j] * v.segment<3>(k.at);
+    else
+      out(k.at) = M[j](0, 0) * v(k.at);
+  }
+  return out;
+}
+
+/// The Nesterov–Todd scaling W (and W⁻¹) of interior s and z, W z = W⁻¹ s: for a bound
+/// sqrt(s / z); for a cone η [w0, w1ᵀ; w1, I + w1 w1ᵀ / (1 + w0)] with w̄ from the normalised
+/// s̄ = s / sqrt(det s), z̄ likewise: w̄ = (s̄ + J z̄) / (2γ), γ² = (1 + s̄ᵀz̄) / 2, J = diag(1, −1,
+/// −1), η = (det s / det z)^¼ (det x = x0² − ‖x1‖²); W⁻¹ flips the sign of w1.
+void nt_scaling(
+    const Setup& S, const VecX& s, const VecX& z, std::vector<Mat3>& W, std::vector<Mat3>& Winv) {
+  for (std::size_t j = 0; j < S.constraints.size(); ++j) {
+    const Constraint& k = S.constraints[j];
+    const int i = k.at;
+    if (!k.cone) {
+      W[j] = Mat3::Zero();
+      Winv[j] = Mat3::Zero();
+      W[j](0, 0) = std::sqrt(s(i) / z(i));
+      Winv[j](0, 0) = 1.0 / W[j](0, 0);
+      continue;
+    }
+    const Vec3 sv = s.segment<3>(i), zv = z.segment<3>(i);
+    const double sd = std::sqrt(std::max(sv(0) * sv(0) - sv.tail<2>().squaredNorm(), 0.0));
+    const double zd = std::sqrt(std::max(zv(0) * zv(0) - zv.tail<2>().squaredNorm(), 0.0));
+    const Vec3 sb = sv / sd, zb = zv / zd;
+    const double g = std::sqrt((1.0 + sb.dot(zb)) / 2.0);
+    Vec3 wb = sb;
+    wb(0) += zb(0);
+    wb.tail<2>() -= zb.tail<2>();
+    wb /= 2.0 * g;
+    const double eta = std::sqrt(sd / zd);
+    Mat3 B = Mat3::Zero();
+    B(0, 0) = wb(0);
+    B.block<2, 2>(1, 1) =
+        Eigen::Matrix2d::Identity() + wb.tail<2>() * wb.tail<2>().transpose() / (1.0 + wb(0));
+    Mat3 Bi = B;
+    B.block<1, 2>(0, 1) = wb.tail<2>().transpose();
+    B.block<2, 1>(1, 0) = wb.tail<2>();
+    Bi.block<1, 2>(0, 1) = -wb.tail<2>().transpose();
+    Bi.block<2, 1>(1, 0) = -wb.tail<2>();
+    W[j] = eta * B;
+    Winv[j] = Bi / eta;
+  }
+}
+
+/// The interior Newton matrix A' + Eᵀ W⁻² E + ρ I, fixed rows replaced by the identity. Its
+/// pattern (A's, the diagonal, each contact's 3×3 block) is the same at every iteration.
+SpMat newton_matrix(const Setup& S, const std::vector<Mat3>& Winv, double proximal) {
+  const Eigen::Index c = S.c;
+  std::vector<Triplet> t;
+  t.reserve(std::size_t(S.A.nonZeros() + 9 * Eigen::Index(S.constraints.size()) + c));
+  for (int j = 0; j < S.A.outerSize(); ++j) {
+    if (S.fixed[std::size_t(j)]) continue;
+    for (SpMat::InnerIterator a(S.A, j); a; ++a)
+      if (!S.fixed[std::size_t(a.row())]) t.emplace_back(int(a.row()), j, a.value());
+  }
+  for (Eigen::Index k = 0; k < c; ++k)
+    t.emplace_back(int(k), int(k), S.fixed[std::size_t(k)] ? 1.0 : proximal);
+  for (std::size_t j = 0; j < S.constraints.size(); ++j) {
+    const Constraint& k = S.constraints[j];
+    if (!k.cone) {
+      t.emplace_back(k.row, k.row, Winv[j](0, 0) * Winv[j](0, 0));
+      continue;
+    }
+    const Vec3 scale(k.a, 1.0, 1.0);
+    const Mat3 block = scale.asDiagonal() * (Winv[j] * Winv[j]) * scale.asDiagonal();
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) t.emplace_back(k.row + r, k.row + q, block(r, q));
+  }
+  SpMat H(c, c);
+  H.setFromTriplets(t.begin(), t.end());
+  return H;
+}
+
+/// Stage 1: the interior point on the CCP of right side b (scaled), until its CCP residual meets
+/// target(x) or the gap closes; returns the iterate of least CCP residual. The equations:
+///   rx = A'x − b − Eᵀz,   rs = s − (E x − h),   λ = W z = W⁻¹ s,
+///   (A' + EᵀW⁻²E) Δx = −rx + EᵀW⁻¹(λ \ r_λ + W⁻¹ rs),   Δs = E Δx − rs,
+///   Δz = W⁻¹(λ \ r_λ − W⁻¹ Δs),
+/// with r_λ = −λ∘λ (predictor) and −λ∘λ + σ gap e − (W⁻¹Δs_a)∘(W Δz_a) (corrector, σ = (gap_a /
+/// gap)³). Δs from Δx keeps s − E x + h exact to rounding.
+VecX interior(const Setup& S,
+              const VecX& b,
+              double proximal,
+              const std::function<double(const VecX&)>& target,
+              Counts& counts) {
+  const Eigen::Index c = S.c;
+  const int m = int(S.constraints.size());
+  VecX x = VecX::Zero(c);
+  for (Eigen::Index k = 0; k < c; ++k)
+    if (S.fixed[std::size_t(k)]) x(k) = S.fixed_value(k);
+  if (m == 0) return x;
+  VecX e = VecX::Zero(S.entries);
+  for (const Constraint& k : S.constraints) e(k.at) = 1.0;
+  VecX s = e, z = e;  // the cones' axes
+  std::vector<Mat3> W(S.constraints.size()), Winv(S.constraints.size());
+  CholmodFactor factor;
+  bool analysed = false;
+  VecX best = x;
+  double best_r = residual(S, S.ccp, b, x);
+  for (int it = 0; it < kMaxInterior; ++it) {
+    VecX rx = S.A * x - b - E_transpose(S, z);
+    for (Eigen::Index k = 0; k < c; ++k)
+      if (S.fixed[std::size_t(k)]) rx(k) = 0.0;
+    const VecX rs = s - E_times(S, x, true);
+    const double gap = s.dot(z) / m;
+    if (!std::isfinite(gap) || !rx.allFinite()) break;
+    if (gap <= kInteriorDone && rx.lpNorm<Eigen::Infinity>() <= kInteriorDone &&
+        rs.lpNorm<Eigen::Infinity>() <= kInteriorDone)
+      break;
+    nt_scaling(S, s, z, W, Winv);
+    const VecX lam = block_times(S, W, z);
+    if (!lam.allFinite()) break;
+    const SpMat H = newton_matrix(S, Winv, proximal);
+    const bool ok = analysed ? factor.refactor(H, 0.0) : factor.factor(H, 0.0);
+    analysed = true;
+    ++counts.factorizations;
+    counts.factor_nnz = std::max(counts.factor_nnz, factor.nonzeros());
+    if (!ok) break;
+    ++counts.interior;
+    auto direction = [&](const VecX& r_lambda, VecX& dx, VecX& ds, VecX& dz) {
+      const VecX tv = jordan_divide(S, lam, r_lambda);
+      VecX rhs = -rx + E_transpose(S, block_times(S, Winv, tv + block_times(S, Winv, rs)));
+      for (Eigen::Index k = 0; k < c; ++k)
+        if (S.fixed[std::size_t(k)]) rhs(k) = 0.0;
+      factor.solve(rhs, dx);
+      ds = E_times(S, dx, false) - rs;
+      dz = block_times(S, Winv, tv - block_times(S, Winv, ds));
+    };
+    VecX dx, ds, dz;
+    const VecX ll = jordan_product(S, lam, lam);
+    direction(-ll, dx, ds, dz);
+    const double a_aff = std::min({1.0, step_to_boundary(S, s, ds), step_to_boundary(S, z, dz)});
+    const double gap_aff = (s + a_aff * ds).dot(z + a_aff * dz) / m;
+    const double sigma = std::pow(std::max(gap_aff, 0.0) / gap, 3.0);
+    const VecX corrector = jordan_product(S, block_times(S, Winv, ds), block_times(S, W, dz));
+    direction(-ll + sigma * gap * e - corrector, dx, ds, dz);
+    const double alpha = std::min(
+        1.0, kStepToBoundary * std::min(step_to_boundary(S, s, ds), step_to_boundary(S, z, dz)));
+    if (!(alpha > 0.0)) break;
+    x += alpha * dx;
+    s += alpha * ds;
+    z += alpha * dz;
+    const double r = residual(S, S.ccp, b, x);
+    if (r < best_r) {
+      best_r = r;
+      best = x;
+    }
+    if (r <= target(x)) break;
+  }
+  return best;
+}
+
+/// The law's natural map for stage 2's Newton steps, F(v) = v − P_K(v − ρ_α û(w)) per contact
+/// and v − clamp(v − w / A'_kk, cmin, cmax) for the other rows, w = A_eps v − b_eps; with
+/// `jacobian`, its generalized Jacobian I − D + C A_eps (D = ∂P at v − ρ_α û, C = ρ_α D ∂û/∂w;
+/// a box row's D is 1 at a bound, else C = 1/A'_kk), every contact's 3×3 blocks stored so that
+/// the pattern never changes.
+VecX natural_map_newton(const Setup& S,
+                        const ConeContacts& cones,
+                        const SpMat& A_eps,
+                        const VecX& b_eps,
+                        const VecX& v,
+                        SpMat* jacobian) {
+  const Eigen::Index c = S.c;
+  const VecX w = A_eps * v - b_eps;
+  VecX F(c);
+  std::vector<Triplet> dt, ct;
+  if (jacobian != nullptr) {
+    dt.reserve(std::size_t(3 * c));
+    ct.reserve(std::size_t(3 * c));
+  }
+  for (Eigen::Index k = 0; k < c; ++k) {
+    const std::size_t K = std::size_t(k);
+    const int contact = S.contact_at[K];
+    if (contact >= 0) {
+      const double mu = cones.mu(contact);
+      const double rho = S.rho[std::size_t(contact)];
+      const Vec3 u = w.segment<3>(k);
+      const Vec3 y = v.segment<3>(k) - rho * law_velocity(u, mu, cones.law);
+      Vec3 P = y;
+      project_onto_cone(mu, P);
+      F.segment<3>(k) = v.segment<3>(k) - P;
+      if (jacobian != nullptr) {
+        const Mat3 D = cone_projection_jacobian(mu, y);
+        const Mat3 I_D = Mat3::Identity() - D;
+        const Mat3 C = rho * D * law_velocity_jacobian(u, mu, cones.law);
+        for (int r = 0; r < 3; ++r)
+          for (int q = 0; q < 3; ++q) {
+            dt.emplace_back(int(k) + r, int(k) + q, I_D(r, q));
+            ct.emplace_back(int(k) + r, int(k) + q, C(r, q));
+          }
+      }
+      continue;
+    }
+    if (S.in_cone[K]) continue;  // a tangent, done with its normal
+    const double lo = S.fixed[K] ? S.fixed_value(k) : S.cmin(k);
+    const double hi = S.fixed[K] ? S.fixed_value(k) : S.cmax(k);
+    const double y = v(k) - S.rho_row(k) * w(k);
+    const bool inside = lo < y && y < hi;
+    F(k) = v(k) - clamp(y, lo, hi);
+    if (jacobian != nullptr) {
+      dt.emplace_back(int(k), int(k), inside ? 0.0 : 1.0);
+      ct.emplace_back(int(k), int(k), inside ? S.rho_row(k) : 0.0);
+    }
+  }
+  if (jacobian != nullptr) {
+    SpMat Dm(c, c), Cm(c, c);
+    Dm.setFromTriplets(dt.begin(), dt.end());
+    Cm.setFromTriplets(ct.begin(), ct.end());
+    *jacobian = Dm + SpMat(Cm * A_eps);
+  }
+  return F;
+}
+
+/// Stage 2: proximal points around semismooth Newton on `cones`' law with right side b, from x;
+/// ends at `target` (scaled), after kMaxOuter steps or kOuterStall without progress, or at a
+/// factorization that fails. x becomes the best point found.
+void proximal_newton(const Setup& S,
+                     const ConeContacts& cones,
+                     const VecX& b,
+                     double target,
+                     int max_outer,
+                     VecX& x,
+                     Counts& counts) {
+  const Eigen::Index c = S.c;
+  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
+  bool analysed = false;
+  VecX best = x;
+  double best_r = residual(S, cones, b, x);
+  int stall = 0;
+  double eps = kProximalWeight * best_r;
+  for (int outer = 0; outer < max_outer && best_r > target && stall < kOuterStall; ++outer) {
+    ++counts.outer;
+    SpMat A_eps = S.A;
+    for (Eigen::Index k = 0; k < c; ++k) A_eps.coeffRef(k, k) += eps;
+    const VecX b_eps = b + eps * x;
+    SpMat jacobian;
+    for (int it = 0; it < kMaxNewton; ++it) {
+      const VecX F = natural_map_newton(S, cones, A_eps, b_eps, x, &jacobian);
+      const double f = F.norm();
+      if (!(f > kInnerFraction * best_r)) break;
+      if (!analysed) {
+        lu.analyzePattern(jacobian);
+        analysed = true;
+      }
+      lu.factorize(jacobian);
+      ++counts.factorizations;
+      if (lu.info() != Eigen::Success) break;
+      const VecX d = lu.solve(-F);
+      if (!d.allFinite()) break;
+      double t = 1.0;
+      bool accepted = false;
+      for (; t >= kSmallestStep; t *= 0.5) {
+        const VecX trial = x + t * d;
+        if (natural_map_newton(S, cones, A_eps, b_eps, trial, nullptr).norm() <=
+            (1.0 - kArmijo * t) * f) {
+          x = trial;
+          accepted = true;
+          break;
+        }
+      }
+      if (!accepted) break;
+    }
+    const double r = residual(S, cones, b, x);
+    const double before = best_r;
+    if (r < best_r) {
+      best_r = r;
+      best = x;
+    } else {
+      x = best;
+    }
+    if (r <= 0.5 * before) {  // fast: ε follows the residual down
+      eps = std::min(eps, kProximalWeight * r);
+    } else {  // slow or none: a larger ε, better conditioned
+      if (eps >= kLargestWeight) ++stall;
+      eps = std::min(eps * 100.0, kLargestWeight);
+    }
+  }
+  x = best;
+}
+
+}  // namespace
+
+SolverSummary solve_cone_direct(const BoxedProblem& problem,
+                                VecX& lambda,
+                                const SolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SolverSummary summary;
+  summary.space = "row";
+  const Eigen::Index c = problem.rows();
+  if (lambda.size() != c) lambda = VecX::Zero(c);
+  auto finish = [&](Termination termination, const std::string& message) {
+    summary.termination = termination;
+    summary.message = message;
+    summary.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return summary;
+  };
+  bool finite = problem.b.allFinite();
+  for (int j = 0; j < problem.A.outerSize() && finite; ++j)
+    for (SpMat::InnerIterator it(problem.A, j); it; ++it)
+      finite = finite && std::isfinite(it.value());
+  if (!finite) {
+    summary.residual = std::numeric_limits<double>::quiet_NaN();
+    return finish(Termination::NonFinite, "non-finite A or b");
+  }
+  // A guess that already meets the tolerance is kept as it is.
+  const double guess_r = natural_map_residual(problem, lambda);
+  if (guess_r <= std::max(options.tolerance, residual_floor(problem, lambda))) {
+    summary.residual = guess_r;
+    std::ostringstream msg;
+    msg << "the guess already meets the tolerance (residual " << guess_r << " N)";
+    return finish(Termination::Direct, msg.str());
+  }
+
+  const Setup S = make_setup(problem);
+  Counts counts;
+  const double proximal = options.direct.proximal;
+  // The residual to reach at x: the tolerance, or the rounding floor where that is higher (in
+  // units of x).
+  const std::function<double(const VecX&)> target_of = [&](const VecX& v) {
+    const VecX l = v * (S.bn / S.md);
+    return S.to_newton(std::max(options.tolerance, residual_floor(problem, l)));
+  };
+  VecX x = interior(S, S.b, proximal, target_of, counts);
+  if (S.law.law == ConeLaw::Ccp) {
+    proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
+  } else {
+    // The fixed point on s = mu ‖u_t‖: each round the CCP of b_n − s (De Saxcé's term moved
+    // into b) solved by stages 1 and 2, while Coulomb's residual falls by a tenth a round.
+    double r = residual(S, S.law, S.b, x);
+    VecX best = x;
+    int worse = 0;
+    for (int round = 0; round < kMaxFixedPoint && r > target_of(x) && worse < 2; ++round) {
+      const VecX w = S.A * x - S.b;
+      VecX b_s = S.b;
+      for (long i = 0; i < S.law.contacts(); ++i) {
+        const int n = S.law.normal[std::size_t(i)];
+        b_s(n) -= S.law.mu(i) * std::hypot(w(n + 1), w(n + 2));
+      }
+      ++counts.rounds;
+      x = interior(S, b_s, proximal, target_of, counts);
+      proximal_newton(S, S.ccp, b_s, target_of(x), kMaxOuter, x, counts);
+      const double next = residual(S, S.law, S.b, x);
+      worse = next < 0.9 * r ? 0 : worse + 1;
+      if (next < r) {
+        r = next;
+        best = x;
+      }
+    }
+    x = best;
+    proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
+  }
+  VecX answer = x * (S.bn / S.md);
+  for (Eigen::Index k = 0; k < c; ++k)  // fixed rows exactly at their value
+    if (S.fixed[std::size_t(k)] && !S.in_cone[std::size_t(k)]) answer(k) = problem.cmin(k);
+  const double r = natural_map_residual(problem, answer);
+  // Keep the guess when it was better (the stages never saw it).
+  if (guess_r < r) answer = lambda;
+  lambda = answer;
+  summary.residual = std::min(r, guess_r);
+  summary.iterations = counts.interior;
+  summary.crossover = counts.outer;
+  summary.factorizations = counts.factorizations;
+  summary.factor_nnz = counts.factor_nnz;
+  const double floor = residual_floor(problem, lambda);
+  const bool reached = summary.residual <= std::max(options.tolerance, floor);
+  std::ostringstream msg;
+  msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
+      << to_string(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
+      << " interior iterations, ";
+  if (S.law.law == ConeLaw::Coulomb) msg << counts.rounds << " fixed-point rounds, ";
+  msg << counts.outer << " proximal steps, " << counts.factorizations
+      << " factorizations; residual " << summary.residual << " N (tolerance " << options.tolerance
+      << " N, rounding floor " << floor << " N)";
+  if (!reached && S.law.law == ConeLaw::Coulomb && counts.rounds > 0)
+    msg << "; Coulomb's law: the fixed point on De Saxcé's term s = mu |u_t| stopped reducing "
+           "the residual and the semismooth Newton steps on Coulomb's own map did not finish "
+           "(docs/cones.md)";
+  return finish(reached ? Termination::Direct : Termination::NotConverged, msg.str());
+}
+
+}  // namespace cbps

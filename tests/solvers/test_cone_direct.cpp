@@ -1,0 +1,191 @@
+// The exact path on friction cones (solvers/cone/cone_direct.hpp): one contact's answers worked
+// out by hand under both laws, the sliding box's law (friction mu times the normal force,
+// against the motion), pyramids whose W is singular, problems with free, boxed and fixed rows
+// beside the cones checked against nsgs (an independent method), and the contract that it never
+// calls an answer it has not verified solved.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <random>
+
+#include "cbps/solvers/solver.hpp"
+#include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/cone_problem.hpp"
+#include "fixture.hpp"
+
+using namespace cbps;
+using test::system_of;
+
+namespace {
+
+/// Every contact of a step's system in a cone (normal row, then its two friction rows).
+ConeContacts cones_of(const System& sys, double mu, ConeLaw law) {
+  ConeContacts cones;
+  cones.law = law;
+  for (long k = 0; k + 2 < static_cast<long>(sys.kind.size()); ++k) {
+    const auto at = [&](long i) { return sys.kind[static_cast<std::size_t>(i)]; };
+    if (at(k) == RowKind::Contact && at(k + 1) == RowKind::Friction &&
+        at(k + 2) == RowKind::Friction)
+      cones.normal.push_back(static_cast<int>(k));
+  }
+  cones.mu = VecX::Constant(cones.contacts(), mu);
+  return cones;
+}
+
+SolverOptions direct_options(double tolerance) {
+  SolverOptions o;
+  o.method = Method::Direct;
+  o.tolerance = tolerance;
+  return o;
+}
+
+/// One contact, W = I: its answers by hand (for W = I the CCP's answer is P_K(b), the nearest
+/// point of the cone to b; Coulomb's slides with u_n = 0 and r_t = −mu r_n u_t / ‖u_t‖).
+void check_one_contact(const Vec3& b3, ConeLaw law, const Vec3& expected) {
+  const SpMat A = Mat3::Identity().sparseView();
+  const VecX b = b3;
+  const VecX cmin = (VecX(3) << 0.0, -kInf, -kInf).finished();
+  const VecX cmax = VecX::Constant(3, kInf);
+  ConeContacts cones;
+  cones.normal = {0};
+  cones.mu = VecX::Constant(1, 0.5);
+  cones.law = law;
+  BoxedProblem problem{A, b, cmin, cmax};
+  problem.cones = &cones;
+  VecX lambda;
+  const SolverSummary s = solve(problem, lambda, direct_options(1e-12));
+  INFO(s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK((lambda - expected).lpNorm<Eigen::Infinity>() <= 1e-10);
+}
+
+}  // namespace
+
+TEST_CASE("direct on cones finds one contact's answers worked out by hand", "[cone-direct]") {
+  // Separating (b_n < 0): r = 0 under both laws.
+  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp})
+    check_one_contact(Vec3(-1.0, 0.3, 0.2), law, Vec3::Zero());
+  // Sticking (b inside K): r = b, u = 0.
+  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp})
+    check_one_contact(Vec3(1.0, 0.3, -0.2), law, Vec3(1.0, 0.3, -0.2));
+  // Sliding, b = (1, 2, 0), mu = 0.5. Coulomb: u_n = r_n − 1 = 0, and u_t = r_t − 2 < 0, so
+  // r_t = +mu r_n = 0.5. CCP: P_K(b) = ((1 + 0.5·2)/1.25)(1, 0.5, 0) = (1.6, 0.8, 0).
+  check_one_contact(Vec3(1.0, 2.0, 0.0), ConeLaw::Coulomb, Vec3(1.0, 0.5, 0.0));
+  check_one_contact(Vec3(1.0, 2.0, 0.0), ConeLaw::Ccp, Vec3(1.6, 0.8, 0.0));
+}
+
+TEST_CASE("direct on a sliding box: Coulomb's friction is mu times the normal force, opposing",
+          "[cone-direct]") {
+  // The slide scene's four contacts all slide the same way (tests/solvers/test_nsgs.cpp checks
+  // nsgs on the same law): per contact u_n = 0 and r_t = −mu r_n u_t / ‖u_t‖; the relaxation
+  // instead lifts off, u_n = mu ‖u_t‖ > 0.
+  const double mu = 0.3;
+  const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
+  ConeContacts cones = cones_of(sys, mu, ConeLaw::Coulomb);
+  REQUIRE(cones.contacts() == 4);
+  BoxedProblem problem = sys.problem();
+  problem.cones = &cones;
+  VecX lambda;
+  const SolverSummary s = solve(problem, lambda, direct_options(1e-10));
+  INFO(s.message);
+  REQUIRE(s.termination == Termination::Direct);
+  CHECK(natural_map_residual(problem, lambda) <= 1e-10);
+  const VecX w = sys.A * lambda - sys.b;
+  double normal = 0.0;
+  for (const int n : cones.normal) {
+    normal += lambda(n);
+    CHECK(std::abs(w(n)) <= 1e-9);
+    const double u_t = std::hypot(w(n + 1), w(n + 2));
+    REQUIRE(u_t > 1e-3);
+    CHECK(lambda(n + 1) == Approx(-mu * lambda(n) * w(n + 1) / u_t).margin(1e-9));
+    CHECK(lambda(n + 2) == Approx(-mu * lambda(n) * w(n + 2) / u_t).margin(1e-9));
+  }
+  CHECK(normal > 0.0);
+
+  cones.law = ConeLaw::Ccp;
+  VecX relaxed;
+  const SolverSummary r = solve(problem, relaxed, direct_options(1e-10));
+  INFO(r.message);
+  REQUIRE(r.termination == Termination::Direct);
+  const VecX v = sys.A * relaxed - sys.b;
+  for (const int n : cones.normal) {
+    const double u_t = std::hypot(v(n + 1), v(n + 2));
+    CHECK(v(n) == Approx(mu * u_t).margin(1e-9));
+    CHECK(v(n) > 1e-3);
+  }
+}
+
+TEST_CASE("direct solves the relaxation on pyramids whose W is singular", "[cone-direct]") {
+  // A pyramid's W = J M⁻¹ Jᵀ has far more rows than the bodies' 6n freedoms (base 5: 300 rows,
+  // 15 bodies), its contacts at the corners carry no load yet do not move: complementarity is
+  // not strict there, which the interior point alone cannot finish (docs/cones.md). The answer
+  // is judged by the cone law's natural map, which is defined apart from the solver
+  // (system/cone_problem.hpp, checked against FCLIB's merit in tests/io/test_fclib_file.cpp).
+  for (const int base : {3, 5}) {
+    const System sys = system_of("pyramid", {{"base", std::to_string(base)}}, 50);
+    const ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Ccp);
+    REQUIRE(cones.contacts() > 0);
+    BoxedProblem problem = sys.problem();
+    problem.cones = &cones;
+    VecX lambda;
+    const SolverSummary s = solve(problem, lambda, direct_options(1e-10));
+    INFO("base " << base << ": " << s.message);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(natural_map_residual(problem, lambda) <= 1e-10);
+    const ConeMeasures m = cone_measures(cones, lambda, sys.A * lambda - sys.b, sys.b);
+    CHECK(m.violation <= 1e-10);  // N, of forces up to tens of N
+  }
+}
+
+TEST_CASE("direct on cones beside free, boxed and fixed rows agrees with nsgs", "[cone-direct]") {
+  // Random problems A = J M⁻¹ Jᵀ with fewer rows (5 contacts, two free rows, a row boxed in
+  // [−0.3, 0.4], a row fixed at 0.2: 19) than freedoms (24), so A is definite and lambda unique
+  // for the relaxation: nsgs, run to 1e-12, is an independent method to compare it with.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 6; ++trial) {
+    const int c = 19, dof = 24;
+    MatX J(c, dof);
+    for (int i = 0; i < c; ++i)
+      for (int j = 0; j < dof; ++j) J(i, j) = u(rng);
+    const SpMat A = (J * J.transpose() / dof).sparseView();
+    VecX b(c);
+    for (int i = 0; i < c; ++i) b(i) = u(rng) + (i % 3 == 0 && i < 15 ? 0.5 : 0.0);
+    VecX cmin = VecX::Constant(c, -kInf), cmax = VecX::Constant(c, kInf);
+    ConeContacts cones;
+    cones.law = ConeLaw::Ccp;
+    cones.mu.resize(5);
+    for (int i = 0; i < 5; ++i) {
+      cones.normal.push_back(3 * i);
+      cones.mu(i) = 0.2 + 0.4 * (u(rng) + 1.0);
+      cmin(3 * i) = 0.0;
+    }
+    cmin(17) = -0.3;
+    cmax(17) = 0.4;
+    cmin(18) = cmax(18) = 0.2;
+    BoxedProblem problem{A, b, cmin, cmax};
+    problem.cones = &cones;
+    VecX exact;
+    const SolverSummary s = solve(problem, exact, direct_options(1e-12));
+    INFO("trial " << trial << ": " << s.message);
+    REQUIRE(s.termination == Termination::Direct);
+    SolverOptions o;
+    o.method = Method::Nsgs;
+    o.max_iterations = 200000;
+    o.tolerance = 1e-12;
+    VecX by_nsgs;
+    const SolverSummary n = solve(problem, by_nsgs, o);
+    REQUIRE(n.termination == Termination::ResidualTolerance);
+    CHECK((exact - by_nsgs).lpNorm<Eigen::Infinity>() <= 1e-8);
+    CHECK(exact(18) == 0.2);
+
+    // Coulomb's law on the same problem: whatever it reaches, it says Direct only when the
+    // residual is within the tolerance (never an answer it has not verified).
+    cones.law = ConeLaw::Coulomb;
+    VecX coulomb;
+    const SolverSummary k = solve(problem, coulomb, direct_options(1e-10));
+    INFO(k.message);
+    const double r = natural_map_residual(problem, coulomb);
+    CHECK((k.termination == Termination::Direct) == (r <= 1e-10));
+    CHECK(k.residual == r);
+  }
+}
