@@ -21,6 +21,7 @@
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/step/simulation.hpp"
+#include "cbps/system/cone_problem.hpp"
 #include "cbps/system/system.hpp"
 
 namespace cbps::test {
@@ -83,6 +84,21 @@ inline Scene contact_scene(const std::string& name,
   Scene scene = make_builtin_scene(name, values);
   scene.solver.method = method_of(method);
   return scene;
+}
+
+/// Every contact of a step's system in a cone: its normal row and the two friction rows after
+/// it, with coefficient mu (the cone tests' problems from the built-in scenes).
+inline ConeContacts cones_of(const System& sys, double mu, ConeLaw law) {
+  ConeContacts cones;
+  cones.law = law;
+  for (long k = 0; k + 2 < static_cast<long>(sys.kind.size()); ++k) {
+    const auto at = [&](long i) { return sys.kind[static_cast<std::size_t>(i)]; };
+    if (at(k) == RowKind::Contact && at(k + 1) == RowKind::Friction &&
+        at(k + 2) == RowKind::Friction)
+      cones.normal.push_back(static_cast<int>(k));
+  }
+  cones.mu = VecX::Constant(cones.contacts(), mu);
+  return cones;
 }
 
 /// The system of a built-in scene after `steps` steps (contacts formed, chains loaded).

@@ -1,8 +1,8 @@
 // The exact path on friction cones (solvers/cone/cone_direct.hpp): one contact's answers worked
-// out by hand under both laws, the sliding box's law (friction mu times the normal force,
-// against the motion), pyramids whose W is singular, problems with free, boxed and fixed rows
-// beside the cones checked against nsgs (an independent method), and the contract that it never
-// calls an answer it has not verified solved.
+// out by hand under both laws, the sliding box's law for it and nsgs (friction mu times the
+// normal force, against the motion), pyramids whose W is singular, problems with free, boxed and
+// fixed rows beside the cones checked against nsgs (an independent method), and the contract that
+// it never calls an answer it has not verified solved.
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
@@ -13,23 +13,10 @@
 #include "fixture.hpp"
 
 using namespace cbps;
+using test::cones_of;
 using test::system_of;
 
 namespace {
-
-/// Every contact of a step's system in a cone (normal row, then its two friction rows).
-ConeContacts cones_of(const System& sys, double mu, ConeLaw law) {
-  ConeContacts cones;
-  cones.law = law;
-  for (long k = 0; k + 2 < static_cast<long>(sys.kind.size()); ++k) {
-    const auto at = [&](long i) { return sys.kind[static_cast<std::size_t>(i)]; };
-    if (at(k) == RowKind::Contact && at(k + 1) == RowKind::Friction &&
-        at(k + 2) == RowKind::Friction)
-      cones.normal.push_back(static_cast<int>(k));
-  }
-  cones.mu = VecX::Constant(cones.contacts(), mu);
-  return cones;
-}
 
 SolverOptions direct_options(double tolerance) {
   SolverOptions o;
@@ -73,44 +60,55 @@ TEST_CASE("direct on cones finds one contact's answers worked out by hand", "[co
   check_one_contact(Vec3(1.0, 2.0, 0.0), ConeLaw::Ccp, Vec3(1.6, 0.8, 0.0));
 }
 
-TEST_CASE("direct on a sliding box: Coulomb's friction is mu times the normal force, opposing",
-          "[cone-direct]") {
-  // The slide scene's four contacts all slide the same way (tests/solvers/test_nsgs.cpp checks
-  // nsgs on the same law): per contact u_n = 0 and r_t = −mu r_n u_t / ‖u_t‖; the relaxation
-  // instead lifts off, u_n = mu ‖u_t‖ > 0.
+TEST_CASE("nsgs and direct on a sliding box: Coulomb's friction is mu times the normal force",
+          "[cone-direct][nsgs]") {
+  // The slide scene: a box moving at 2 m/s along x on a plane, four contacts all sliding the same
+  // way. Coulomb's law per contact: u_n = 0 and r_t = −mu r_n u_t / ‖u_t‖ (opposing the motion,
+  // as strong as the cone allows), so summed friction −mu Σ r_n along x; the relaxation instead
+  // lifts off, u_n = mu ‖u_t‖ > 0. Properties of the law, on sums neither method forms.
   const double mu = 0.3;
   const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
-  ConeContacts cones = cones_of(sys, mu, ConeLaw::Coulomb);
-  REQUIRE(cones.contacts() == 4);
-  BoxedProblem problem = sys.problem();
-  problem.cones = &cones;
-  VecX lambda;
-  const SolverSummary s = solve(problem, lambda, direct_options(1e-10));
-  INFO(s.message);
-  REQUIRE(s.termination == Termination::Direct);
-  CHECK(natural_map_residual(problem, lambda) <= 1e-10);
-  const VecX w = sys.A * lambda - sys.b;
-  double normal = 0.0;
-  for (const int n : cones.normal) {
-    normal += lambda(n);
-    CHECK(std::abs(w(n)) <= 1e-9);
-    const double u_t = std::hypot(w(n + 1), w(n + 2));
-    REQUIRE(u_t > 1e-3);
-    CHECK(lambda(n + 1) == Approx(-mu * lambda(n) * w(n + 1) / u_t).margin(1e-9));
-    CHECK(lambda(n + 2) == Approx(-mu * lambda(n) * w(n + 2) / u_t).margin(1e-9));
-  }
-  CHECK(normal > 0.0);
+  for (const Method method : {Method::Nsgs, Method::Direct}) {
+    SolverOptions o = direct_options(1e-10);
+    o.method = method;
+    o.max_iterations = 20000;
+    const Termination reached =
+        method == Method::Direct ? Termination::Direct : Termination::ResidualTolerance;
+    ConeContacts cones = cones_of(sys, mu, ConeLaw::Coulomb);
+    REQUIRE(cones.contacts() == 4);
+    BoxedProblem problem = sys.problem();
+    problem.cones = &cones;
+    VecX lambda;
+    const SolverSummary s = solve(problem, lambda, o);
+    INFO(s.message);
+    REQUIRE(s.termination == reached);
+    CHECK(natural_map_residual(problem, lambda) <= 1e-10);
+    const VecX w = sys.A * lambda - sys.b;
+    double normal = 0.0;
+    Eigen::Vector2d friction_t = Eigen::Vector2d::Zero();  // one plane: one tangent basis
+    for (const int n : cones.normal) {
+      normal += lambda(n);
+      CHECK(std::abs(w(n)) <= 1e-9);
+      const double u_t = std::hypot(w(n + 1), w(n + 2));
+      REQUIRE(u_t > 1e-3);
+      CHECK(lambda(n + 1) == Approx(-mu * lambda(n) * w(n + 1) / u_t).margin(1e-9));
+      CHECK(lambda(n + 2) == Approx(-mu * lambda(n) * w(n + 2) / u_t).margin(1e-9));
+      friction_t += Eigen::Vector2d(lambda(n + 1), lambda(n + 2));
+    }
+    CHECK(normal > 0.0);
+    CHECK(friction_t.norm() == Approx(mu * normal).epsilon(1e-9));
 
-  cones.law = ConeLaw::Ccp;
-  VecX relaxed;
-  const SolverSummary r = solve(problem, relaxed, direct_options(1e-10));
-  INFO(r.message);
-  REQUIRE(r.termination == Termination::Direct);
-  const VecX v = sys.A * relaxed - sys.b;
-  for (const int n : cones.normal) {
-    const double u_t = std::hypot(v(n + 1), v(n + 2));
-    CHECK(v(n) == Approx(mu * u_t).margin(1e-9));
-    CHECK(v(n) > 1e-3);
+    cones.law = ConeLaw::Ccp;
+    VecX relaxed;
+    const SolverSummary r = solve(problem, relaxed, o);
+    INFO(r.message);
+    REQUIRE(r.termination == reached);
+    const VecX v = sys.A * relaxed - sys.b;
+    for (const int n : cones.normal) {
+      const double u_t = std::hypot(v(n + 1), v(n + 2));
+      CHECK(v(n) == Approx(mu * u_t).margin(1e-9));
+      CHECK(v(n) > 1e-3);
+    }
   }
 }
 

@@ -1,6 +1,6 @@
 // NSGS on friction cones (solvers/cone/nsgs.hpp): PGS itself without cones, one contact's
-// answers worked out by hand, Coulomb's law on a sliding box (friction = mu times the normal
-// force, against the motion), the relaxation's lift-off, and the refusal of boxed methods.
+// answers worked out by hand, and the refusal of boxed methods. Coulomb's law on a sliding box
+// is checked for nsgs and direct together (tests/solvers/test_cone_direct.cpp).
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -12,24 +12,10 @@
 #include "fixture.hpp"
 
 using namespace cbps;
+using test::cones_of;
 using test::system_of;
 
 namespace {
-
-/// Every contact of a step's system in a cone: its normal row and the two friction rows after
-/// it, with coefficient mu.
-ConeContacts cones_of(const System& sys, double mu, ConeLaw law) {
-  ConeContacts cones;
-  cones.law = law;
-  for (long k = 0; k + 2 < static_cast<long>(sys.kind.size()); ++k) {
-    const auto at = [&](long i) { return sys.kind[static_cast<std::size_t>(i)]; };
-    if (at(k) == RowKind::Contact && at(k + 1) == RowKind::Friction &&
-        at(k + 2) == RowKind::Friction)
-      cones.normal.push_back(static_cast<int>(k));
-  }
-  cones.mu = VecX::Constant(cones.contacts(), mu);
-  return cones;
-}
 
 SolverOptions nsgs_options(int sweeps, double tolerance) {
   SolverOptions o;
@@ -76,50 +62,6 @@ TEST_CASE("nsgs finds one contact's answers worked out by hand", "[nsgs]") {
     const SolverSummary s = solve(problem, lambda, nsgs_options(1000, 1e-14));
     CHECK(s.termination == Termination::ResidualTolerance);
     CHECK((lambda - stick).lpNorm<Eigen::Infinity>() <= 1e-12);
-  }
-}
-
-TEST_CASE("nsgs on a sliding box: Coulomb's friction is mu times the normal force, opposing",
-          "[nsgs]") {
-  // The slide scene: a box moving at 2 m/s along x on a plane, four contacts. Every contact
-  // slides the same way, so Coulomb's law (r_t = −mu r_n u_t / ‖u_t‖, u_n = 0) gives, summed,
-  // friction −mu Σ r_n along x and none along the other tangent: a property of the law, checked
-  // on sums NSGS never forms.
-  const double mu = 0.3;
-  const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
-  ConeContacts cones = cones_of(sys, mu, ConeLaw::Coulomb);
-  REQUIRE(cones.contacts() == 4);
-  BoxedProblem problem = sys.problem();
-  problem.cones = &cones;
-  VecX lambda;
-  const SolverSummary s = solve(problem, lambda, nsgs_options(20000, 1e-10));
-  INFO(s.message);
-  CHECK(s.termination == Termination::ResidualTolerance);
-  const VecX w = sys.A * lambda - sys.b;
-  double normal = 0.0;
-  Eigen::Vector2d friction_t = Eigen::Vector2d::Zero();  // one plane: one tangent basis
-  for (const int n : cones.normal) {
-    normal += lambda(n);
-    CHECK(std::abs(w(n)) <= 1e-9);  // in contact: u_n = 0
-    const double u_t = std::hypot(w(n + 1), w(n + 2));
-    REQUIRE(u_t > 1e-3);  // sliding
-    // Friction along −u_t with magnitude mu r_n.
-    CHECK(lambda(n + 1) == Approx(-mu * lambda(n) * w(n + 1) / u_t).margin(1e-9));
-    CHECK(lambda(n + 2) == Approx(-mu * lambda(n) * w(n + 2) / u_t).margin(1e-9));
-    friction_t += Eigen::Vector2d(lambda(n + 1), lambda(n + 2));
-  }
-  CHECK(normal > 0.0);
-  CHECK(friction_t.norm() == Approx(mu * normal).epsilon(1e-9));
-
-  // The relaxation (CCP) slides with u_n = mu ‖u_t‖ > 0: the box lifts off while it slides.
-  cones.law = ConeLaw::Ccp;
-  VecX relaxed;
-  solve(problem, relaxed, nsgs_options(20000, 1e-10));
-  const VecX v = sys.A * relaxed - sys.b;
-  for (const int n : cones.normal) {
-    const double u_t = std::hypot(v(n + 1), v(n + 2));
-    CHECK(v(n) == Approx(mu * u_t).margin(1e-9));
-    CHECK(v(n) > 1e-3);
   }
 }
 
