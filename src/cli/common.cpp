@@ -30,6 +30,7 @@
 #include "cbps/solvers/solver.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 extern char** environ;
 
@@ -117,6 +118,24 @@ std::map<std::string, std::string> parameter_values(const std::vector<std::strin
     values[p.substr(0, eq)] = p.substr(eq + 1);
   }
   return values;
+}
+
+void add_cone_option(CLI::App* cmd, std::string& cone) {
+  cmd->add_option("--cone",
+                  cone,
+                  "an FCLIB file's friction law: coulomb (Coulomb's law with De Saxce's "
+                  "term, FCLIB's own) or ccp (the convex relaxation, cone complementarity) "
+                  "(default coulomb; docs/cones.md)");
+}
+
+void apply_cone_option(StoredProblem& p, const std::string& cone, const std::string& path) {
+  if (cone.empty()) return;
+  if (p.cones.empty())
+    throw InputError("--cone " + cone + ": " + path +
+                     " has no contacts in friction cones (a boxed problem); --cone is for an "
+                     "FCLIB file");
+  if (!cone_law_from_string(cone, p.cones.law))
+    throw InputError("--cone " + cone + ": unknown; use coulomb or ccp");
 }
 
 Scene load_scene(const SceneOptions& o) {

@@ -11,6 +11,7 @@
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/io/output_dir.hpp"
 #include "cbps/io/output_file.hpp"
+#include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/system/system.hpp"
 
@@ -49,6 +50,11 @@ void add_seed_option(CLI::App* cmd, StepOptions& o);
 void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
 /// Any of --dt, --cfm, --beta, --push given (they apply to scenes only).
 bool world_options_given(const StepOptions& o);
+/// --cone coulomb|ccp: the friction law of a stored problem's contacts in cones (docs/cones.md).
+void add_cone_option(CLI::App* cmd, std::string& cone);
+/// --cone's law on p's contacts (nothing when cone is empty); InputError naming `path` when p
+/// has no contacts in cones or the law is unknown.
+void apply_cone_option(StoredProblem& p, const std::string& cone, const std::string& path);
 
 /// --json: print `what` as JSON on stdout instead of the text.
 CLI::Option* add_json_flag(CLI::App* cmd, bool& json, const std::string& what);

@@ -32,10 +32,14 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+const char* const kDefaultSolvers = "pgs,psor:1.3,sgs,jacobi:0.7,matrix-free,direct";
+const char* const kDefaultConeSolvers = "nsgs,nsgs:local=3,direct";
+
 struct ConvergeOptions {
   SceneOptions scene;
   StepOptions step;
-  std::string solvers = "pgs,psor:1.3,sgs,jacobi:0.7,matrix-free,direct";
+  std::string solvers;  ///< empty: kDefaultSolvers, or kDefaultConeSolvers on cones
+  std::string cone;     ///< --cone: an FCLIB file's law
   long at_step = 0;
   int iterations = 100000;
   int record_every = 1;
@@ -186,9 +190,15 @@ ConvergenceLimits limits_of(const ConvergeOptions& o) {
 }
 
 int converge_command(const ConvergeOptions& o) {
-  const std::vector<SolverSpec> specs = parse_cli_solver_list(o.solvers, "--solvers");
-  const TaoInProcess tao(specs, "converge --solvers");  // PETSc once, for every tao spec
+  // A given list first: a bad name is reported before the data are read.
+  std::vector<SolverSpec> specs;
+  if (!o.solvers.empty()) specs = parse_cli_solver_list(o.solvers, "--solvers");
   const bool problem = is_problem(o.scene.scene);
+  if (!problem && !o.cone.empty())
+    throw InputError("--cone " + o.cone +
+                     ": for a problem whose contacts live in friction cones "
+                     "(an FCLIB file), not for the scene " +
+                     o.scene.scene);
   if (problem && !o.scene.params.empty())
     throw InputError("--param: parameters apply to built-in scenes, not to the problem " +
                      o.scene.scene);
@@ -196,6 +206,11 @@ int converge_command(const ConvergeOptions& o) {
     throw InputError("--dt, --cfm, --beta, --push: they apply to scenes, not to the problem " +
                      o.scene.scene + " (its cfm.txt gives its cfm)");
   ConvergenceSystem s = problem ? convergence_system(o.scene.scene) : system_of_scene(o);
+  apply_cone_option(s.stored, o.cone, o.scene.scene);
+  if (o.solvers.empty())
+    specs = parse_cli_solver_list(s.stored.cones.empty() ? kDefaultSolvers : kDefaultConeSolvers,
+                                  "--solvers");
+  const TaoInProcess tao(specs, "converge --solvers");  // PETSc once, for every tao spec
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
   if (!o.quiet)
@@ -266,7 +281,9 @@ void register_converge(CLI::App& app, Action& run) {
                   "pgs,psor:1.3,sgs,jacobi:0.7,pgs:order=random,block-pgs,matrix-free,"
                   "pgs-nesterov,apgd,direct,tao:bqpip (tao:TYPE only in a build with PETSc; "
                   "default: " +
-                      o->solvers + ")");
+                      std::string(kDefaultSolvers) + "; on an FCLIB file " + kDefaultConeSolvers +
+                      ")");
+  add_cone_option(cmd, o->cone);
   cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_option("--step",
                   o->at_step,

@@ -140,13 +140,7 @@ int report(const LcpOptions& o,
 /// PROBLEM read whole, with --cone's law for its contacts in friction cones.
 StoredProblem read_lcp_problem(const LcpOptions& o) {
   StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
-  if (o.cone.empty()) return p;
-  if (p.cones.empty())
-    throw InputError("--cone " + o.cone + ": " + o.problem +
-                     " has no contacts in friction cones (a boxed problem); --cone is for an "
-                     "FCLIB file");
-  if (!cone_law_from_string(o.cone, p.cones.law))
-    throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
+  apply_cone_option(p, o.cone, o.problem);
   return p;
 }
 
@@ -475,11 +469,7 @@ void register_lcp(CLI::App& app, Action& run) {
                   o->siconos,
                   "what a .dat file holds: auto (from the count of numbers: n^2 + n an LCP, "
                   "n^2 + 3n a relay problem), lcp or relay (default auto)");
-  cmd->add_option("--cone",
-                  o->cone,
-                  "an FCLIB file's friction law: coulomb (Coulomb's law with De Saxce's "
-                  "term, FCLIB's own) or ccp (the convex relaxation, cone complementarity) "
-                  "(default coulomb; docs/cones.md)");
+  add_cone_option(cmd, o->cone);
   cmd->add_option("--generate",
                   o->generate,
                   "instead of PROBLEM, build the problem per rank, no rank holding all of it: "

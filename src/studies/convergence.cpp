@@ -8,6 +8,7 @@
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/direct.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -32,12 +33,6 @@ ConvergenceSystem convergence_system(const std::string& path) {
   ConvergenceSystem s;
   s.name = path;
   s.stored = read_problem(path);
-  if (!s.stored.cones.empty())
-    throw InputError("converge " + path + ": its " + std::to_string(s.stored.cones.contacts()) +
-                     " contacts live in friction cones, which `converge` does not take yet "
-                     "(its reference answer on cones, the direct path, verifies the relaxation "
-                     "but not always Coulomb's law; docs/cones.md). `cbps lcp " +
-                     path + " --solver nsgs` or `--solver direct` solves and judges it");
   // The direct path (the reference) solves the QP of 6.2, which needs a symmetric A.
   require_symmetric(s.stored, "converge " + path);
   s.previous_lambda = VecX::Zero(s.stored.rows());
@@ -63,6 +58,11 @@ SolverSummary solve_reference(ConvergenceSystem& s) {
   options.cfm = s.stored.cfm;
   const SolverSummary d = solve(s.problem(), s.lambda_star, options);
   s.lambda_unique = cholesky_rcond(with_cfm(s.stored.A, s.stored.cfm)) >= kDefiniteRcond;
+  // On cones λ* is unique for the relaxation with A definite (a strictly convex QP), and only if
+  // the direct path verified it; Coulomb's law may have several answers even then.
+  if (!s.stored.cones.empty())
+    s.lambda_unique = s.lambda_unique && s.stored.cones.law == ConeLaw::Ccp &&
+                      d.termination == Termination::Direct;
   if (s.has_bodies()) s.v2_star = s.v2(s.lambda_star);
   return d;
 }
@@ -203,6 +203,10 @@ nlohmann::json convergence_summary(const ConvergenceSystem& s,
   summary["cfm"] = s.stored.cfm;  // the problem studied is A + eps E (kg^-1; 0: A itself)
   summary["step"] = s.step ? nlohmann::json(*s.step) : nlohmann::json(nullptr);
   summary["lambda_unique"] = s.lambda_unique;
+  summary["cone"] = s.stored.cones.empty()
+                        ? nlohmann::json(nullptr)
+                        : nlohmann::json{{"law", to_string(s.stored.cones.law)},
+                                         {"contacts", s.stored.cones.contacts()}};
   summary["reference"] = {{"residual", reference.residual},
                           {"termination", to_string(reference.termination)}};
   summary["tolerance"] = limits.tolerance;

@@ -453,7 +453,7 @@ TEST_CASE("cbps lcp takes a folder's row kinds and manifolds from its labels.jso
   fs::remove_all(dir);
 }
 
-TEST_CASE("cbps lcp reads an FCLIB file: nsgs by default, --cone, the cone object, refusals",
+TEST_CASE("cbps lcp and converge read an FCLIB file: nsgs, direct, --cone, the cone object",
           "[cli][lcp][fclib]") {
   const std::string file =
       std::string(CBPS_DATA_DIR) + "/fclib/Boxes_Stack_local_problem_test.hdf5";
@@ -505,9 +505,28 @@ TEST_CASE("cbps lcp reads an FCLIB file: nsgs by default, --cone, the cone objec
   const fs::path dir = scratch_dir("lcp_fclib");
   const fs::path m = dir / "chain";
   REQUIRE(run_cli("matrices chain --param n=3 --out " + m.string()).code == 0);
-  const CliResult converge = run_cli("converge " + file + " --solvers nsgs --no-plot");
-  CHECK(converge.code == 2);  // not on cones yet
-  CHECK(converge.err.find("friction cones") != std::string::npos);
+  // converge on the file: the direct path on cones is the reference; nsgs's milestones and the
+  // cone law in the summary; --cone on a scene is refused.
+  const CliResult converge = run_cli("converge " + file +
+                                     " --solvers nsgs,direct --iterations 2000 --no-plot --json "
+                                     "--quiet --cone ccp");
+  INFO(converge.err);
+  REQUIRE(converge.code == 0);
+  const nlohmann::json c = nlohmann::json::parse(converge.out);
+  CHECK(c.at("cone").at("law") == "ccp");
+  CHECK(c.at("cone").at("contacts") == 48);
+  CHECK(c.at("reference").at("termination") == "direct solve");
+  CHECK(c.at("reference").at("residual").get<double>() <= 1e-10);
+  REQUIRE(c.at("solvers").size() == 2);
+  CHECK(c.at("solvers")[0].at("solver") == "nsgs");
+  CHECK(c.at("solvers")[0].at("reached").at("1e-10").is_null());  // 2000 sweeps: far from it
+  CHECK(!c.at("solvers")[1].at("reached").at("1e-10").is_null());
+  const CliResult boxed_converge = run_cli("converge " + file + " --solvers pgs --no-plot");
+  CHECK(boxed_converge.code == 2);
+  CHECK(boxed_converge.err.find("friction cones") != std::string::npos);
+  const CliResult scene_cone = run_cli("converge stack --cone ccp --no-plot");
+  CHECK(scene_cone.code == 2);
+  CHECK(scene_cone.err.find("not for the scene") != std::string::npos);
   const CliResult run = run_cli("run " + file);
   CHECK(run.code == 2);
   CHECK(run.err.find("not a scene") != std::string::npos);
