@@ -187,3 +187,30 @@ TEST_CASE("direct on cones beside free, boxed and fixed rows agrees with nsgs", 
     CHECK(k.residual == r);
   }
 }
+
+TEST_CASE("direct on cones: a frictionless contact (mu = 0) and a non-finite b", "[cone-direct]") {
+  // mu = 0: the cone is the ray r_t = 0, r_n ≥ 0, so with W = I the answer is (max(b_n, 0), 0, 0)
+  // whatever b_t is.
+  const SpMat A = Mat3::Identity().sparseView();
+  VecX b = Vec3(1.0, 2.0, 0.5);
+  const VecX cmin = (VecX(3) << 0.0, -kInf, -kInf).finished();
+  const VecX cmax = VecX::Constant(3, kInf);
+  ConeContacts cones;
+  cones.normal = {0};
+  cones.mu = VecX::Zero(1);
+  BoxedProblem problem{A, b, cmin, cmax};
+  problem.cones = &cones;
+  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+    cones.law = law;
+    VecX lambda;
+    const SolverSummary s = solve(problem, lambda, direct_options(1e-12));
+    INFO(s.message);
+    CHECK(s.termination == Termination::Direct);
+    CHECK((lambda - Vec3(1.0, 0.0, 0.0)).lpNorm<Eigen::Infinity>() <= 1e-12);
+  }
+  b(1) = std::nan("");
+  VecX lambda;
+  const SolverSummary s = solve(problem, lambda, direct_options(1e-12));
+  CHECK(s.termination == Termination::NonFinite);
+  CHECK(std::isnan(s.residual));
+}

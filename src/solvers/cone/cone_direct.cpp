@@ -47,6 +47,11 @@ constexpr double kInnerFraction = 1e-3;
 /// kLargestWeight that ends it.
 constexpr int kMaxOuter = 60;
 constexpr int kOuterStall = 5;
+/// Factorizations (CHOLMOD and SparseLU) one solve may spend at most: every stage stops there.
+/// The relaxation needs far fewer (pyramids of 36 to 1,600 contacts: 8 to 88); Coulomb's law
+/// where it does not finish would otherwise go on for minutes (base-8 pyramid: 392 spent for
+/// 4.6e-5 N).
+constexpr int kMaxFactorizations = 300;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
 /// Armijo's sufficient decrease and the smallest step tried.
@@ -233,6 +238,7 @@ struct Counts {
   int factorizations = 0;
   long factor_nnz = 0;
   int rounds = 0;  ///< Coulomb's fixed-point rounds
+  bool spent() const { return factorizations >= kMaxFactorizations; }
 };
 
 /// E v − h (shift) or E v: each constraint's s of v (a bound's a (v_row − h), a cone's
@@ -380,6 +386,7 @@ VecX interior(const Setup& S,
     if (gap <= kInteriorDone && rx.lpNorm<Eigen::Infinity>() <= kInteriorDone &&
         rs.lpNorm<Eigen::Infinity>() <= kInteriorDone)
       break;
+    if (counts.spent()) break;
     nt_scaling(S, s, z, W, Winv);
     const VecX lam = block_times(S, W, z);
     if (!lam.allFinite()) break;
@@ -502,7 +509,9 @@ void proximal_newton(const Setup& S,
   double best_r = residual(S, cones, b, x);
   int stall = 0;
   double eps = kProximalWeight * best_r;
-  for (int outer = 0; outer < max_outer && best_r > target && stall < kOuterStall; ++outer) {
+  for (int outer = 0;
+       outer < max_outer && best_r > target && stall < kOuterStall && !counts.spent();
+       ++outer) {
     ++counts.outer;
     SpMat A_eps = S.A;
     for (Eigen::Index k = 0; k < c; ++k) A_eps.coeffRef(k, k) += eps;
@@ -511,7 +520,7 @@ void proximal_newton(const Setup& S,
     for (int it = 0; it < kMaxNewton; ++it) {
       const VecX F = natural_map_newton(S, cones, A_eps, b_eps, x, &jacobian);
       const double f = F.norm();
-      if (!(f > kInnerFraction * best_r)) break;
+      if (!(f > kInnerFraction * best_r) || counts.spent()) break;
       if (!analysed) {
         lu.analyzePattern(jacobian);
         analysed = true;
@@ -604,7 +613,8 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     double r = residual(S, S.law, S.b, x);
     VecX best = x;
     int worse = 0;
-    for (int round = 0; round < kMaxFixedPoint && r > target_of(x) && worse < 2; ++round) {
+    for (int round = 0; round < kMaxFixedPoint && r > target_of(x) && worse < 2 && !counts.spent();
+         ++round) {
       const VecX w = S.A * x - S.b;
       VecX b_s = S.b;
       for (long i = 0; i < S.law.contacts(); ++i) {
@@ -646,7 +656,9 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   msg << counts.outer << " proximal steps, " << counts.factorizations
       << " factorizations; residual " << summary.residual << " N (tolerance " << options.tolerance
       << " N, rounding floor " << floor << " N)";
-  if (!reached && S.law.law == ConeLaw::Coulomb && counts.rounds > 0)
+  if (!reached && counts.spent())
+    msg << "; stopped at its budget of " << kMaxFactorizations << " factorizations";
+  else if (!reached && S.law.law == ConeLaw::Coulomb && counts.rounds > 0)
     msg << "; Coulomb's law: the fixed point on De Saxcé's term s = mu |u_t| stopped reducing "
            "the residual and the semismooth Newton steps on Coulomb's own map did not finish "
            "(docs/cones.md)";

@@ -40,6 +40,8 @@ namespace cbps {
 ///      already keeps Coulomb's law (no contact slides) that is the answer. Coulomb's problem is
 ///      not monotone: on the pyramids where contacts slide this does not finish (base 8: 4.6e-5
 ///      N; docs/cones.md), and says so.
+/// A solve spends at most 300 factorizations: every stage stops there (the relaxation needs far
+/// fewer; Coulomb's law where it cannot finish would go on for minutes).
 /// Returns Termination::Direct only when the law's residual of lambda is at most
 /// max(options.tolerance, residual_floor): never an answer it has not verified; otherwise
 /// NotConverged with the best lambda found and the message says how far it got (NonFinite for
