@@ -561,6 +561,38 @@ void proximal_newton(const Setup& S,
   x = best;
 }
 
+/// Stage 3's fixed point on s = mu ‖u_t‖ for Coulomb's law, from x (the CCP's answer): each
+/// round the CCP of b_n − s (De Saxcé's term moved into b) solved by stages 1 and 2, while
+/// Coulomb's residual falls by a tenth a round; x becomes the round of least Coulomb residual.
+void coulomb_fixed_point(const Setup& S,
+                         double proximal,
+                         const std::function<double(const VecX&)>& target_of,
+                         VecX& x,
+                         Counts& counts) {
+  double r = residual(S, S.law, S.b, x);
+  VecX best = x;
+  int worse = 0;
+  for (int round = 0; round < kMaxFixedPoint && r > target_of(x) && worse < 2 && !counts.spent();
+       ++round) {
+    const VecX w = S.A * x - S.b;
+    VecX b_s = S.b;
+    for (long i = 0; i < S.law.contacts(); ++i) {
+      const int n = S.law.normal[std::size_t(i)];
+      b_s(n) -= S.law.mu(i) * std::hypot(w(n + 1), w(n + 2));
+    }
+    ++counts.rounds;
+    x = interior(S, b_s, proximal, target_of, counts);
+    proximal_newton(S, S.ccp, b_s, target_of(x), kMaxOuter, x, counts);
+    const double next = residual(S, S.law, S.b, x);
+    worse = next < 0.9 * r ? 0 : worse + 1;
+    if (next < r) {
+      r = next;
+      best = x;
+    }
+  }
+  x = best;
+}
+
 }  // namespace
 
 SolverSummary solve_cone_direct(const BoxedProblem& problem,
@@ -608,30 +640,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   if (S.law.law == ConeLaw::Ccp) {
     proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
   } else {
-    // The fixed point on s = mu ‖u_t‖: each round the CCP of b_n − s (De Saxcé's term moved
-    // into b) solved by stages 1 and 2, while Coulomb's residual falls by a tenth a round.
-    double r = residual(S, S.law, S.b, x);
-    VecX best = x;
-    int worse = 0;
-    for (int round = 0; round < kMaxFixedPoint && r > target_of(x) && worse < 2 && !counts.spent();
-         ++round) {
-      const VecX w = S.A * x - S.b;
-      VecX b_s = S.b;
-      for (long i = 0; i < S.law.contacts(); ++i) {
-        const int n = S.law.normal[std::size_t(i)];
-        b_s(n) -= S.law.mu(i) * std::hypot(w(n + 1), w(n + 2));
-      }
-      ++counts.rounds;
-      x = interior(S, b_s, proximal, target_of, counts);
-      proximal_newton(S, S.ccp, b_s, target_of(x), kMaxOuter, x, counts);
-      const double next = residual(S, S.law, S.b, x);
-      worse = next < 0.9 * r ? 0 : worse + 1;
-      if (next < r) {
-        r = next;
-        best = x;
-      }
-    }
-    x = best;
+    coulomb_fixed_point(S, proximal, target_of, x, counts);
     proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
   }
   VecX answer = x * (S.bn / S.md);
