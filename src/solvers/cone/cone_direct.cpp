@@ -88,7 +88,8 @@ struct Setup {
   VecX rho_row;             ///< the box rows' Newton scaling 1/A'_kk
   std::vector<double> rho;  ///< each contact's 1/λmax(A'_αα)
 
-  double to_newton(double lambda_units) const { return lambda_units * md / bn; }
+  /// A residual in N expressed in the units of x (the scaled λ): times md / bn.
+  double in_x_units(double newtons) const { return newtons * md / bn; }
 };
 
 Setup make_setup(const BoxedProblem& p) {
@@ -634,7 +635,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   // units of x).
   const std::function<double(const VecX&)> target_of = [&](const VecX& v) {
     const VecX l = v * (S.bn / S.md);
-    return S.to_newton(std::max(options.tolerance, residual_floor(problem, l)));
+    return S.in_x_units(std::max(options.tolerance, residual_floor(problem, l)));
   };
   VecX x = interior(S, S.b, proximal, target_of, counts);
   if (S.law.law == ConeLaw::Ccp) {
