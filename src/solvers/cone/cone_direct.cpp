@@ -188,7 +188,18 @@ VecX jordan_product(const Setup& S, const VecX& x, const VecX& y) {
   return out;
 }
 
-/// v with l ∘ v = r (l in the cone's interior).
+/// True when v is strictly inside every constraint's cone in floating point (a positive bound, a
+/// positive determinant v0² − ‖v1‖² with v0 > 0): where ∘'s inverse and the scaling exist.
+bool strictly_inside(const Setup& S, const VecX& v) {
+  for (const Constraint& k : S.constraints) {
+    const int i = k.at;
+    if (!(v(i) > 0.0)) return false;
+    if (k.cone && !(v(i) * v(i) - v.segment<2>(i + 1).squaredNorm() > 0.0)) return false;
+  }
+  return true;
+}
+
+/// v with l ∘ v = r (l strictly inside the cones).
 VecX jordan_divide(const Setup& S, const VecX& l, const VecX& r) {
   VecX v(S.entries);
   for (const Constraint& k : S.constraints) {
@@ -285,9 +296,12 @@ VecX block_times(const Setup& S, const std::vector<Mat3>& M, const VecX& v) {
 /// The Nesterov–Todd scaling W (and W⁻¹) of interior s and z, W z = W⁻¹ s: for a bound
 /// sqrt(s / z); for a cone η [w0, w1ᵀ; w1, I + w1 w1ᵀ / (1 + w0)] with w̄ from the normalised
 /// s̄ = s / sqrt(det s), z̄ likewise: w̄ = (s̄ + J z̄) / (2γ), γ² = (1 + s̄ᵀz̄) / 2, J = diag(1, −1,
-/// −1), η = (det s / det z)^¼ (det x = x0² − ‖x1‖²); W⁻¹ flips the sign of w1.
-void nt_scaling(
+/// −1), η = (det s / det z)^¼ (det x = x0² − ‖x1‖²); W⁻¹ flips the sign of w1. False when s or z
+/// has reached a cone's boundary in floating point (a zero bound or determinant): no scaling
+/// exists.
+bool nt_scaling(
     const Setup& S, const VecX& s, const VecX& z, std::vector<Mat3>& W, std::vector<Mat3>& Winv) {
+  if (!strictly_inside(S, s) || !strictly_inside(S, z)) return false;
   for (std::size_t j = 0; j < S.constraints.size(); ++j) {
     const Constraint& k = S.constraints[j];
     const int i = k.at;
@@ -299,8 +313,8 @@ void nt_scaling(
       continue;
     }
     const Vec3 sv = s.segment<3>(i), zv = z.segment<3>(i);
-    const double sd = std::sqrt(std::max(sv(0) * sv(0) - sv.tail<2>().squaredNorm(), 0.0));
-    const double zd = std::sqrt(std::max(zv(0) * zv(0) - zv.tail<2>().squaredNorm(), 0.0));
+    const double sd = std::sqrt(sv(0) * sv(0) - sv.tail<2>().squaredNorm());
+    const double zd = std::sqrt(zv(0) * zv(0) - zv.tail<2>().squaredNorm());
     const Vec3 sb = sv / sd, zb = zv / zd;
     const double g = std::sqrt((1.0 + sb.dot(zb)) / 2.0);
     Vec3 wb = sb;
@@ -320,6 +334,7 @@ void nt_scaling(
     W[j] = eta * B;
     Winv[j] = Bi / eta;
   }
+  return true;
 }
 
 /// The interior Newton matrix A' + Eᵀ W⁻² E + ρ I, fixed rows replaced by the identity. Its
@@ -388,9 +403,9 @@ VecX interior(const Setup& S,
         rs.lpNorm<Eigen::Infinity>() <= kInteriorDone)
       break;
     if (counts.spent()) break;
-    nt_scaling(S, s, z, W, Winv);
+    if (!nt_scaling(S, s, z, W, Winv)) break;  // on a boundary: the best iterate stands
     const VecX lam = block_times(S, W, z);
-    if (!lam.allFinite()) break;
+    if (!strictly_inside(S, lam)) break;  // rounding put λ on a boundary: no direction
     const SpMat H = newton_matrix(S, Winv, proximal);
     const bool ok = analysed ? factor.refactor(H, 0.0) : factor.factor(H, 0.0);
     analysed = true;
