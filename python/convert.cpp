@@ -125,6 +125,15 @@ py::object to_csr(const SpMatRow& M) {
 
 py::object to_csr(const SpMat& M) { return to_csr(SpMatRow(M)); }
 
+py::object cones_dict(const ConeContacts& cones) {
+  if (cones.empty()) return py::none();
+  py::dict d;
+  d["law"] = std::string(to_string(cones.law));
+  d["normal_row"] = cones.normal;
+  d["mu"] = to_numpy(cones.mu);
+  return d;
+}
+
 SpMat sparse_from_python(const py::handle& M, const std::string& what) {
   const py::module_ sparse = py::module_::import("scipy.sparse");
   py::object csr;

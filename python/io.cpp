@@ -181,6 +181,11 @@ void bind_io(py::module_& m) {
                              [](const StoredProblem& p) -> py::object {
                                return p.has_bodies() ? py::object(py::float_(p.dt)) : py::none();
                              })
+      .def_property_readonly(
+          "cones",
+          [](const StoredProblem& p) { return cones_dict(p.cones); },
+          "the contacts in Coulomb's cone (a folder's cones.json, an FCLIB file): {'law', "
+          "'normal_row', 'mu'}; None for a boxed problem")
       .def_readonly("cfm", &StoredProblem::cfm, "eps of the folder's cfm.txt, 1/kg (0: none)")
       .def_readonly("folder", &StoredProblem::folder, "read from a `cbps matrices` folder")
       .def_property_readonly("rows", &StoredProblem::rows)

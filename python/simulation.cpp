@@ -336,6 +336,11 @@ void bind_simulation(py::module_& m) {
           [](const SystemRecord& r) { return to_numpy(r.cmax()); },
           "c, N (5.1); Coulomb friction rows at +mu lambda_n of lam")
       .def_property_readonly(
+          "cones",
+          [](const SystemRecord& r) { return cones_dict(r.sys.cones); },
+          "with friction=cone, the contacts in Coulomb's cone: {'law', 'normal_row', 'mu'} "
+          "(their rows' cmin and cmax are not used; docs/cones.md); None otherwise")
+      .def_property_readonly(
           "lam",
           [](const SystemRecord& r) -> py::object {
             return r.lambda ? py::object(to_numpy(*r.lambda)) : py::none();

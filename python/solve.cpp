@@ -96,17 +96,43 @@ RowKind kind_of(const std::string& name, long k) {
                    "': expected distance, contact or friction");
 }
 
+/// cones= of solve(): {'law', 'normal_row', 'mu'} (System.cones' form), checked against c rows.
+ConeContacts cones_from_python(const py::object& cones, long c) {
+  if (!py::isinstance<py::dict>(cones))
+    throw InputError("cones: expected a dict {'law', 'normal_row', 'mu'} (System.cones)");
+  const py::dict d = cones.cast<py::dict>();
+  for (const char* key : {"law", "normal_row", "mu"})
+    if (!d.contains(key)) throw InputError(std::string("cones: has no '") + key + "'");
+  ConeContacts out;
+  if (!py::isinstance<py::str>(d["law"]) ||
+      !cone_law_from_string(d["law"].cast<std::string>(), out.law))
+    throw InputError("cones: 'law' must be 'coulomb' or 'ccp'");
+  out.mu = vector_from_python(d["mu"], "cones: 'mu'", -1);
+  const VecX rows = vector_from_python(d["normal_row"], "cones: 'normal_row'", out.mu.size());
+  for (Eigen::Index i = 0; i < rows.size(); ++i) {
+    if (!(rows(i) >= 0.0 && rows(i) < double(c) && rows(i) == std::floor(rows(i))))
+      throw InputError("cones: 'normal_row' entry " + std::to_string(i) + " " +
+                       number_text(rows(i)) + ": not a row (0 to " + std::to_string(c - 1) + ")");
+    out.normal.push_back(static_cast<int>(rows(i)));
+  }
+  const std::string error = cone_contacts_error(out, c);
+  if (!error.empty()) throw InputError("cones: " + error);
+  return out;
+}
+
 /// The inputs of a solve, converted and checked with the GIL held.
 struct Inputs {
   StoredProblem p;  ///< A, b, cmin, cmax and, when given, J and Minv
   VecX lambda;      ///< the guess
   std::vector<int> blocks;
   std::vector<RowKind> kinds;
+  ConeContacts cones;  ///< contacts in Coulomb's cone (cones=), none for the boxed problem
   BoxedProblem problem() const {
     BoxedProblem bp = p.J.rows() > 0 ? BoxedProblem{p.A, p.b, p.cmin, p.cmax, &p.J, &p.Minv}
                                      : BoxedProblem{p.A, p.b, p.cmin, p.cmax};
     if (!blocks.empty()) bp.blocks = &blocks;
     if (!kinds.empty()) bp.kinds = &kinds;
+    if (!cones.empty()) bp.cones = &cones;
     return bp;
   }
 };
@@ -119,7 +145,8 @@ Inputs read_inputs(const py::object& A,
                    const py::object& J,
                    const py::object& Minv,
                    const py::object& blocks,
-                   const py::object& kinds) {
+                   const py::object& kinds,
+                   const py::object& cones) {
   Inputs in;
   StoredProblem& p = in.p;
   p.A = sparse_from_python(A, "A");
@@ -175,6 +202,7 @@ Inputs read_inputs(const py::object& A,
     for (std::size_t k = 0; k < names.size(); ++k)
       in.kinds.push_back(kind_of(names[k], static_cast<long>(k)));
   }
+  if (!cones.is_none()) in.cones = cones_from_python(cones, c);
   return in;
 }
 
@@ -253,6 +281,7 @@ py::tuple solve_py(const py::object& A,
                    const py::object& Minv,
                    const py::object& blocks,
                    const py::object& kinds,
+                   const py::object& cones,
                    bool history,
                    const py::object& history_limit_in) {
   // The numbers first, each named with its range (InputError, never pybind11's TypeError).
@@ -274,8 +303,12 @@ py::tuple solve_py(const py::object& A,
   // The spec first: a bad method is reported before the data are read.
   const bool lemke = method == "lemke";
   const SolverSpec spec = lemke ? SolverSpec{} : parse_solver_spec(method, "method");
-  const Inputs in = read_inputs(A, b, cmin, cmax, lam0, J, Minv, blocks, kinds);
+  const Inputs in = read_inputs(A, b, cmin, cmax, lam0, J, Minv, blocks, kinds, cones);
   if (lemke) {
+    if (!in.cones.empty())
+      throw InputError(
+          "method 'lemke': solves the boxed problem of 6.2, not cones; use nsgs or "
+          "direct");
     if (cfm != 0.0) throw InputError("method 'lemke': cfm is not supported; add it to A");
     return solve_lemke_py(in, history);
   }
@@ -373,6 +406,7 @@ void bind_solve(py::module_& m) {
         py::arg("Minv") = py::none(),
         py::arg("blocks") = py::none(),
         py::arg("kinds") = py::none(),
+        py::arg("cones") = py::none(),
         py::arg("history") = true,
         py::arg("history_limit") = kHistoryLimit,
         "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
@@ -382,7 +416,10 @@ void bind_solve(py::module_& m) {
         "`cbps lcp` (iterations 10000, tolerance 1e-10 N). A: scipy.sparse or dense; b, cmin, "
         "cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for matrix-free and "
         "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
-        "'contact', 'friction') for contacts_first. Returns (lam, summary): summary is a dict "
+        "'contact', 'friction') for contacts_first; cones (a dict {'law': 'coulomb' or 'ccp', "
+        "'normal_row': [...], 'mu': [...]}, as System.cones and Problem.cones give it) puts "
+        "those contacts' rows in Coulomb's cone, which nsgs and direct solve (docs/cones.md). "
+        "Returns (lam, summary): summary is a dict "
         "of iterations, residual (N), termination, message, wall_time_s, ... and history "
         "{iteration, residual, time_s} after every sweep (sweep 0: the guess), at most "
         "history_limit entries (default 1000000: beyond it every 2nd, 4th, ... sweep, evenly "

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 #include <string>
@@ -99,6 +100,26 @@ inline ConeContacts cones_of(const System& sys, double mu, ConeLaw law) {
   }
   cones.mu = VecX::Constant(cones.contacts(), mu);
   return cones;
+}
+
+/// A scene file's JSON: a 1 kg, 0.2 m cube resting on a plane under gravity (9.81 m/s²) tilted
+/// by `degrees` (a plane inclined by that angle), friction mu = 0.5 of the model `friction`
+/// ("paper", "coulomb", "cone"), dt 1/240 s, contacts kept within 1 mm.
+inline nlohmann::json incline_scene_json(double degrees, const std::string& friction) {
+  const double g = 9.81, a = degrees * kPi / 180.0;
+  return {{"name", "incline"},
+          {"world",
+           {{"gravity", {g * std::sin(a), -g * std::cos(a), 0.0}},
+            {"dt", "1/240"},
+            {"mu", 0.5},
+            {"friction", friction},
+            {"contact_margin", 0.001}}},
+          {"bodies",
+           {{{"name", "ground"}, {"shape", {{"type", "plane"}}}, {"static", true}},
+            {{"name", "box"},
+             {"shape", {{"type", "box"}, {"half_extents", {0.1, 0.1, 0.1}}}},
+             {"mass", 1.0},
+             {"position", {0.0, 0.1, 0.0}}}}}};
 }
 
 /// The system of a built-in scene after `steps` steps (contacts formed, chains loaded).

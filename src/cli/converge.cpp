@@ -64,6 +64,11 @@ ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
     throw InputError(o.scene.scene +
                      ": Coulomb friction bounds move with lambda, so the system is not one boxed "
                      "problem; study it with friction=paper");
+  // The steps before the one studied need a method that solves cones (the boxed methods refuse
+  // them): the scene's own if it does, else the exact path (docs/cones.md).
+  if (scene.world.friction == FrictionModel::Cone && scene.world.mu > 0.0 &&
+      !takes_cones(scene.solver.method))
+    scene.solver.method = Method::Direct;
   Simulation sim(scene);
   for (long k = 0; k < o.at_step; ++k) sim.step();
   const System& sys = sim.assemble();
@@ -196,9 +201,10 @@ int converge_command(const ConvergeOptions& o) {
   const bool problem = is_problem(o.scene.scene);
   if (!problem && !o.cone.empty())
     throw InputError("--cone " + o.cone +
-                     ": for a problem whose contacts live in friction cones "
-                     "(an FCLIB file), not for the scene " +
-                     o.scene.scene);
+                     ": the law of a stored problem's friction cones (an FCLIB file, a folder "
+                     "with cones.json); a scene sets its own with --param cone=LAW, not "
+                     "--cone (" +
+                     o.scene.scene + ")");
   if (problem && !o.scene.params.empty())
     throw InputError("--param: parameters apply to built-in scenes, not to the problem " +
                      o.scene.scene);
@@ -281,7 +287,7 @@ void register_converge(CLI::App& app, Action& run) {
                   "pgs,psor:1.3,sgs,jacobi:0.7,pgs:order=random,block-pgs,matrix-free,"
                   "pgs-nesterov,apgd,direct,tao:bqpip (tao:TYPE only in a build with PETSc; "
                   "default: " +
-                      std::string(kDefaultSolvers) + "; on an FCLIB file " + kDefaultConeSolvers +
+                      std::string(kDefaultSolvers) + "; on friction cones " + kDefaultConeSolvers +
                       ")");
   add_cone_option(cmd, o->cone);
   cmd->footer(solver_spec_help() + tao_spec_help());

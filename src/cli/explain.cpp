@@ -164,6 +164,8 @@ void print_solution_table(const Explained& e) {
         "it met them)\n",
         num(x.summary.residual).c_str());
   if (e.coulomb) std::printf("  (%s)\n", kCoulombNote);
+  if (!e.sys.cones.empty())
+    std::printf("  (%s; law %s)\n", kConeNote, std::string(to_string(e.sys.cones.law)).c_str());
 }
 
 void print_text(const Explained& e) {

@@ -2,11 +2,14 @@
 //
 // What is written is the problem the step solves: A = J Minv Jᵀ exactly (6.2.9); a constraint-
 // force mixing eps, when the scene has one, apart in cfm.txt; with Coulomb friction (5.4) the
-// bounds ±mu lambda_n that the step's lambda satisfies at its fixed point, said in labels.json.
+// bounds ±mu lambda_n that the step's lambda satisfies at its fixed point, said in labels.json;
+// with Coulomb's cone (friction=cone) its contacts in cones.json, and with --fclib FILE the same
+// problem as an FCLIB local problem with its solution (docs/cones.md).
 #include <cstdio>
 #include <memory>
 
 #include "cbps/base/error.hpp"
+#include "cbps/io/fclib_file.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
@@ -22,6 +25,7 @@ struct MatricesOptions {
   StepOptions step;
   long at_step = 0;
   std::string out;
+  std::string fclib;  ///< --fclib FILE.hdf5: the step's cone problem as an FCLIB file too
   bool quiet = false;
 };
 
@@ -55,6 +59,21 @@ int matrices_command(const MatricesOptions& o) {
     notes.bounds = "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)";
   write_problem(
       problem, [&](const std::string& name, const auto& write) { write(dir.file(name)); }, notes);
+  if (!o.fclib.empty()) {
+    if (sys.cones.empty())
+      throw InputError("--fclib " + o.fclib + ": " + scene.name + ", step " +
+                       std::to_string(o.at_step) +
+                       " has no contacts in friction cones (FCLIB holds Coulomb's cone; run "
+                       "the scene with friction=cone)");
+    const FclibInfo info{
+        scene.name + ", step " + std::to_string(o.at_step),
+        "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
+            std::string(to_string(sys.cones.law)) + "; /solution by the direct path (" +
+            direct.message + ")",
+        "u = W r + q with W = A = J Minv J^T (1/kg) and q = -b (m/s^2) of the step (6.2.9); r "
+        "in N"};
+    write_fclib(o.fclib, problem, info, &lambda);
+  }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
   write_matrix_market(
       dir.file("lambda.mtx"), lambda, "lambda: direct solution, N (" + direct.message + ")");
@@ -84,12 +103,14 @@ int matrices_command(const MatricesOptions& o) {
   write_text(dir.file("labels.json"), labels.dump(2) + "\n");
   dir.commit();
   if (o.quiet) return 0;
-  std::printf("%s, step %ld: %s, %s; wrote %s\n",
+  std::printf("%s, step %ld: %s, %s; wrote %s%s%s\n",
               scene.name.c_str(),
               o.at_step,
               count_text(sys.rows(), "row").c_str(),
               count_text(sys.blocks(), "movable body", "movable bodies").c_str(),
-              o.out.c_str());
+              o.out.c_str(),
+              o.fclib.empty() ? "" : " and ",
+              o.fclib.c_str());
   return 0;
 }
 
@@ -107,6 +128,10 @@ void register_matrices(CLI::App& app, Action& run) {
                  "J, Minv, A, b and the rest of the step's system as Matrix Market "
                  "files")
       ->required();
+  cmd->add_option("--fclib",
+                  o->fclib,
+                  "also write the step's problem as an FCLIB local problem (HDF5) with its "
+                  "solution; needs contacts in friction cones (friction=cone, docs/cones.md)");
   add_quiet_flag(cmd, o->quiet, "print nothing on success (errors still go to stderr)");
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });
 }

@@ -334,6 +334,11 @@ void write_fclib(const std::string& path,
                  const FclibInfo& info,
                  const VecX* lambda) {
   const std::string what = "--fclib " + path;
+  if (p.cfm > 0.0)
+    throw InputError(
+        what + ": the problem was solved with constraint-force mixing eps = " + number_text(p.cfm) +
+        " kg^-1 (A + eps E), which an FCLIB file cannot hold apart from W; set the "
+        "scene's cfm to 0");
   long m = 0;
   const auto order = file_order(p, m);
   const long e = p.rows() - m;

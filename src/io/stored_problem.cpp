@@ -12,6 +12,7 @@
 #include "cbps/base/numbers.hpp"
 #include "cbps/io/fclib_file.hpp"
 #include "cbps/io/matrix_market.hpp"
+#include "cbps/io/output_dir.hpp"
 #include "cbps/io/siconos.hpp"
 
 namespace cbps {
@@ -41,20 +42,31 @@ void write_number_file(const std::string& path, double x) {
   if (!out) throw std::runtime_error(path + ": write failed");
 }
 
+/// A folder's optional JSON file `name` (labels.json, cones.json): false when it is not there,
+/// InputError naming it when it is not JSON.
+bool read_json_file(const std::string& dir,
+                    const char* name,
+                    std::string& file,
+                    nlohmann::json& out) {
+  file = (fs::path(dir) / name).string();
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) return false;
+  std::ifstream in(file);
+  try {
+    out = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(file + ": not JSON: " + e.what());
+  }
+  return true;
+}
+
 /// Row kinds and contact manifolds from a folder's labels.json (StoredProblem::kinds, blocks).
 void read_row_labels(const std::string& dir, StoredProblem& p) {
   const auto rows = static_cast<std::size_t>(p.rows());
   p.blocks.assign(rows, -1);
-  const std::string file = (fs::path(dir) / "labels.json").string();
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) return;
-  std::ifstream in(file);
+  std::string file;
   nlohmann::json labels;
-  try {
-    labels = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(file + ": not JSON: " + e.what());
-  }
+  if (!read_json_file(dir, "labels.json", file, labels)) return;
   if (!labels.is_object() || !labels.contains("rows") || !labels["rows"].is_array() ||
       labels["rows"].size() != rows)
     throw InputError(file + ": /rows: not one label per row of A.mtx");
@@ -79,6 +91,56 @@ void read_row_labels(const std::string& dir, StoredProblem& p) {
   }
 }
 
+/// The contacts in Coulomb's cone from a folder's cones.json (StoredProblem::cones; none without
+/// one): {"law": "coulomb"|"ccp", "contacts": [{"normal_row": k, "mu": mu}, ...]}, each contact
+/// owning rows k, k + 1, k + 2 (normal, t1, t2), in increasing row order.
+void read_cones(const std::string& dir, StoredProblem& p) {
+  std::string file;
+  nlohmann::json cones;
+  if (!read_json_file(dir, "cones.json", file, cones)) return;
+  if (!cones.is_object() || !cones.contains("law") || !cones["law"].is_string() ||
+      !cone_law_from_string(cones["law"].get<std::string>(), p.cones.law))
+    throw InputError(file + ": /law: not \"coulomb\" or \"ccp\"");
+  if (!cones.contains("contacts") || !cones["contacts"].is_array())
+    throw InputError(file + ": /contacts: not an array");
+  const nlohmann::json& contacts = cones["contacts"];
+  std::vector<double> mu;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const nlohmann::json& contact = contacts[i];
+    if (!contact.is_object() || !contact.contains("normal_row") ||
+        !contact["normal_row"].is_number_integer() || !contact.contains("mu") ||
+        !contact["mu"].is_number())
+      throw InputError(file + ": /contacts/" + std::to_string(i) +
+                       ": not {\"normal_row\": integer, \"mu\": number}");
+    const auto n = contact["normal_row"].get<long long>();
+    if (n < 0 || n >= p.rows())
+      throw InputError(file + ": /contacts/" + std::to_string(i) +
+                       "/normal_row: " + std::to_string(n) + " is not a row of A (" +
+                       std::to_string(p.rows()) + " rows)");
+    p.cones.normal.push_back(static_cast<int>(n));
+    mu.push_back(contact["mu"].get<double>());
+  }
+  p.cones.mu = Eigen::Map<const VecX>(mu.data(), Eigen::Index(mu.size()));
+  const std::string error = cone_contacts_error(p.cones, p.rows());
+  if (!error.empty()) throw InputError(file + ": /contacts: " + error);
+}
+
+/// cones.json of read_cones.
+void write_cones(const std::string& path, const ConeContacts& cones) {
+  nlohmann::json contacts = nlohmann::json::array();
+  for (long i = 0; i < cones.contacts(); ++i)
+    contacts.push_back(
+        {{"normal_row", cones.normal[static_cast<std::size_t>(i)]}, {"mu", cones.mu(i)}});
+  const nlohmann::json out = {
+      {"note",
+       "Coulomb's cone |lambda_t| <= mu lambda_n per contact (docs/cones.md): rows normal_row, "
+       "normal_row + 1, normal_row + 2 (normal, t1, t2); cmin and cmax of these rows are not "
+       "used"},
+      {"law", std::string(to_string(cones.law))},
+      {"contacts", contacts}};
+  write_text(path, out.dump(2) + "\n");
+}
+
 StoredProblem read_folder(const std::string& dir) {
   const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
   StoredProblem p;
@@ -101,6 +163,7 @@ StoredProblem read_folder(const std::string& dir) {
   check_bounds(p.b, p.cmin, p.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"));
   p.cfm = read_cfm(dir);
   read_row_labels(dir, p);
+  read_cones(dir, p);
   return p;
 }
 
@@ -197,6 +260,7 @@ StoredProblem stored_problem(const System& sys, double cfm) {
   p.cfm = cfm;
   p.kinds = sys.kind;
   p.blocks = sys.manifold;
+  p.cones = sys.cones;
   return p;
 }
 
@@ -225,6 +289,8 @@ void write_problem(const StoredProblem& p, const FileSink& sink, const ProblemNo
     number("dt.txt", p.dt);
   }
   if (p.cfm > 0.0) number("cfm.txt", p.cfm);
+  if (!p.cones.empty())
+    sink("cones.json", [&](const std::string& path) { write_cones(path, p.cones); });
 }
 
 double read_cfm(const std::string& dir) {

@@ -27,6 +27,7 @@ void build_rows(const std::vector<Body>& bodies,
       contact.upsilon_push = contact_push(point.depth, s.beta, s.dt);
       contact.manifold = static_cast<int>(index);
       const int normal = static_cast<int>(rows.size());
+      if (s.friction == FrictionModel::Cone && s.mu > 0.0) contact.cone_mu = s.mu;
       rows.push_back(std::move(contact));
       if (s.mu <= 0.0) continue;  // no friction rows at mu = 0
       int k = 1;
@@ -38,6 +39,10 @@ void build_rows(const std::vector<Body>& bodies,
           friction.mu = s.mu;
           friction.cmin = 0.0;  // the bounds ±mu lambda_normal are set by the solve
           friction.cmax = 0.0;
+        }
+        if (s.friction == FrictionModel::Cone) {  // the cone bounds them, not a box
+          friction.cmin = -kInf;
+          friction.cmax = kInf;
         }
         rows.push_back(std::move(friction));
       }

@@ -37,9 +37,10 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // allowed | |q| − 1 | in a
 constexpr double kUnitRounding = 4.0 * std::numeric_limits<double>::epsilon();
 constexpr double kSymmetryTolerance = 1e-12;  // allowed |I_ij − I_ji| / max |I_kl|
 const std::vector<std::string> kShapeTypes{"sphere", "box", "plane"};
-const std::vector<std::string> kPushModes{"original", "improved"};          // PushMode order
-const std::vector<std::string> kRowOrders{"natural", "reverse", "random"};  // RowOrder order
-const std::vector<std::string> kFrictionModels{"paper", "coulomb"};         // FrictionModel order
+const std::vector<std::string> kPushModes{"original", "improved"};           // PushMode order
+const std::vector<std::string> kRowOrders{"natural", "reverse", "random"};   // RowOrder order
+const std::vector<std::string> kFrictionModels{"paper", "coulomb", "cone"};  // FrictionModel
+const std::vector<std::string> kConeLaws{"coulomb", "ccp"};                  // ConeLaw order
 const std::vector<std::string> kConstraintTypes{"distance"};
 
 std::string join(const std::vector<std::string>& words) {
@@ -221,6 +222,7 @@ World read_world(const Node& node) {
                 "push",
                 "mu",
                 "friction",
+                "cone",
                 "restitution",
                 "restitution_threshold",
                 "contact_margin",
@@ -237,6 +239,8 @@ World read_world(const Node& node) {
   if (has(node, "friction"))
     world.friction = static_cast<FrictionModel>(
         choice(child(node, "friction"), kFrictionModels, "friction model"));
+  if (has(node, "cone"))
+    world.cone = static_cast<ConeLaw>(choice(child(node, "cone"), kConeLaws, "cone law"));
   if (has(node, "restitution")) world.restitution = unit_interval(child(node, "restitution"));
   if (has(node, "restitution_threshold"))
     world.restitution_threshold = nonnegative(child(node, "restitution_threshold"));
@@ -915,6 +919,8 @@ std::string scene_to_json(const Scene& scene) {
   world["push"] = kPushModes.at(static_cast<std::size_t>(scene.world.push));
   world["mu"] = scene.world.mu;
   world["friction"] = kFrictionModels.at(static_cast<std::size_t>(scene.world.friction));
+  if (scene.world.friction == FrictionModel::Cone)
+    world["cone"] = kConeLaws.at(static_cast<std::size_t>(scene.world.cone));
   world["restitution"] = scene.world.restitution;
   world["restitution_threshold"] = scene.world.restitution_threshold;
   world["contact_margin"] = scene.world.contact_margin;

@@ -149,7 +149,9 @@ std::vector<Row> Simulation::build_rows() const {
 
 System Simulation::build_system() const {
   const World& w = scene_.world;
-  return assemble_system(scene_.bodies, build_rows(), w.gravity, w.dt, w.push);
+  System sys = assemble_system(scene_.bodies, build_rows(), w.gravity, w.dt, w.push);
+  sys.cones.law = w.cone;
+  return sys;
 }
 
 const System& Simulation::assemble(StageTimes* times) {
@@ -159,6 +161,7 @@ const System& Simulation::assemble(StageTimes* times) {
   {
     const StageTimer timer(assembly_s);
     assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_);
+    sys_.cones.law = w.cone;
   }
   if (times != nullptr) times->assembly = assembly_s;
   return sys_;

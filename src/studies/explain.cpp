@@ -121,6 +121,20 @@ nlohmann::json explain_json(const Explained& e) {
     out["cmin"]["note"] = kCoulombNote;
     out["cmax"]["note"] = kCoulombNote;
   }
+  if (!sys.cones.empty()) {
+    nlohmann::json contacts = nlohmann::json::array();
+    for (long i = 0; i < sys.cones.contacts(); ++i) {
+      const int n = sys.cones.normal[static_cast<std::size_t>(i)];
+      contacts.push_back({{"normal_row", n},
+                          {"mu", sys.cones.mu(i)},
+                          {"status", x.status[static_cast<std::size_t>(n)].where}});
+    }
+    out["cones"] = {{"law", std::string(to_string(sys.cones.law))},
+                    {"note", kConeNote},
+                    {"contacts", contacts}};
+    out["cmin"]["note"] = kConeNote;
+    out["cmax"]["note"] = kConeNote;
+  }
   out["cfm"] = {{"value", e.cfm}, {"unit", "kg^-1"}, {"note", kCfmNote}};
   out["v1"] = {{"equation", "6.1.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(sys.v1)}};
   out["fext"] = {{"equation", "6.1.3"}, {"unit", "N, N m"}, {"value", vector_json(sys.fext)}};

@@ -35,6 +35,16 @@ RowStatus row_status(double lambda, double cmin, double cmax, double w, double t
   return s;
 }
 
+RowStatus cone_status(const Vec3& r, const Vec3& u, double mu, ConeLaw law, double tol) {
+  RowStatus s;
+  const double t = std::hypot(r(1), r(2));  // ‖r_t‖
+  s.where = r.norm() <= tol       ? "cone: separated"
+            : t < mu * r(0) - tol ? "cone: sticking"
+                                  : "cone: sliding";
+  s.satisfied = cone_natural_map(r, u, mu, law).norm() <= tol;
+  return s;
+}
+
 Spectrum spectrum_of(const SpMat& A) {
   Spectrum s;
   if (A.rows() == 0) return s;
@@ -63,7 +73,10 @@ void record_sweeps(const Simulation& sim,
   SolverOptions options = sim.step_options(settings);
   options.split_islands = false;  // one residual of the whole system per sweep
   options.describe = false;
-  if (!is_iterative(options.method)) options.method = Method::Pgs;
+  if (!sys.cones.empty())
+    options.method = Method::Nsgs;  // the sweep that solves cones (docs/cones.md)
+  else if (!is_iterative(options.method))
+    options.method = Method::Pgs;
   out.sweep_method = std::string(to_string(options.method));
   out.sweep_residuals.push_back(coulomb_residual(problem, sys.coulomb(), guess, settings.cfm));
   options.after_sweep = [&](int, const VecX& lambda, double) {
@@ -117,6 +130,12 @@ TeachingSystem teaching_system(const Simulation& sim,
   for (Eigen::Index k = 0; k < out.w.size(); ++k) {
     const double tol = tolerance + settings.cfm * std::abs(out.lambda(k));
     out.status.push_back(row_status(out.lambda(k), out.cmin(k), out.cmax(k), out.w(k), tol));
+  }
+  for (long i = 0; i < sys.cones.contacts(); ++i) {  // a contact's rows share its status
+    const int n = sys.cones.normal[static_cast<std::size_t>(i)];
+    const RowStatus s = cone_status(
+        out.lambda.segment<3>(n), out.w.segment<3>(n), sys.cones.mu(i), sys.cones.law, tolerance);
+    for (int k = n; k < n + 3; ++k) out.status[static_cast<std::size_t>(k)] = s;
   }
   out.v2 = compute_v2(sys, out.lambda);  // (12.3.1)
   return out;

@@ -202,6 +202,14 @@ void assemble_system(const std::vector<Body>& bodies,
     sys.cmin(k) = row.cmin;
     sys.cmax(k) = row.cmax;
   }
+  sys.cones.normal.clear();
+  std::vector<double> cone_mu;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    if (rows[k].cone_mu < 0.0) continue;
+    sys.cones.normal.push_back(static_cast<int>(k));
+    cone_mu.push_back(rows[k].cone_mu);
+  }
+  sys.cones.mu = Eigen::Map<const VecX>(cone_mu.data(), Eigen::Index(cone_mu.size()));
   assemble_J(rows, sys.block_of_body, sys.blocks(), sys.J);
   assemble_Minv(bodies, sys.body_of_block, sys.Minv);
   sys.v1 = stack_velocities(bodies, sys.body_of_block);

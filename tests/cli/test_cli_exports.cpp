@@ -17,25 +17,10 @@ using namespace cbps::test;
 
 namespace {
 
-/// A 1 kg, 0.2 m cube resting on a plane under gravity tilted by `degrees` (the same as a plane
-/// inclined by that angle), Coulomb friction mu = 0.5, contacts kept within 1 mm.
+/// The incline (incline_scene_json) with Coulomb friction, written to dir/incline.json.
 std::string incline_scene(const fs::path& dir, double degrees) {
-  const double g = 9.81, a = degrees * kPi / 180.0;
   const fs::path path = dir / "incline.json";
-  nlohmann::json scene = {{"name", "incline"},
-                          {"world",
-                           {{"gravity", {g * std::sin(a), -g * std::cos(a), 0.0}},
-                            {"dt", "1/240"},
-                            {"mu", 0.5},
-                            {"friction", "coulomb"},
-                            {"contact_margin", 0.001}}},
-                          {"bodies",
-                           {{{"name", "ground"}, {"shape", {{"type", "plane"}}}, {"static", true}},
-                            {{"name", "box"},
-                             {"shape", {{"type", "box"}, {"half_extents", {0.1, 0.1, 0.1}}}},
-                             {"mass", 1.0},
-                             {"position", {0.0, 0.1, 0.0}}}}}};
-  write_file(path, scene.dump(2));
+  write_file(path, incline_scene_json(degrees, "coulomb").dump(2));
   return path.string();
 }
 

@@ -526,7 +526,7 @@ TEST_CASE("cbps lcp and converge read an FCLIB file: nsgs, direct, --cone, the c
   CHECK(boxed_converge.err.find("friction cones") != std::string::npos);
   const CliResult scene_cone = run_cli("converge stack --cone ccp --no-plot");
   CHECK(scene_cone.code == 2);
-  CHECK(scene_cone.err.find("not for the scene") != std::string::npos);
+  CHECK(scene_cone.err.find("--param cone=LAW") != std::string::npos);
   const CliResult run = run_cli("run " + file);
   CHECK(run.code == 2);
   CHECK(run.err.find("not a scene") != std::string::npos);

@@ -100,3 +100,51 @@ TEST_CASE("a `cbps matrices` folder gives back the step's row kinds and contact 
   CHECK(unlabelled.problem().kinds == nullptr);
   fs::remove_all(dir);
 }
+
+TEST_CASE("a folder's cones.json gives back the contacts in cones, and a bad one is named",
+          "[stored_problem][cones]") {
+  const auto dir = scratch_dir("stored_problem_cones");
+  const System sys = system_of("stack", {{"n", "2"}, {"friction", "cone"}, {"cone", "ccp"}}, 0);
+  REQUIRE(sys.cones.contacts() > 0);
+  write_folder(stored_problem(sys, 0.0), dir / "step");
+  const StoredProblem read = read_problem((dir / "step").string());
+  CHECK(read.cones.normal == sys.cones.normal);
+  CHECK(read.cones.mu == sys.cones.mu);
+  CHECK(read.cones.law == ConeLaw::Ccp);
+  CHECK(read.problem().cones != nullptr);
+
+  // Each wrong cones.json is an InputError naming the file, the JSON path and what is wrong.
+  const long c = sys.rows();
+  const std::string file = (dir / "step" / "cones.json").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[1, 2]", "/law: not \"coulomb\" or \"ccp\""},
+      {R"({"law": "cone", "contacts": []})", "/law: not \"coulomb\" or \"ccp\""},
+      {R"({"law": "ccp"})", "/contacts: not an array"},
+      {R"({"law": "ccp", "contacts": [{"normal_row": 0}]})", "/contacts/0: not {"},
+      {R"({"law": "ccp", "contacts": [{"normal_row": 0.5, "mu": 1}]})", "/contacts/0: not {"},
+      {R"({"law": "ccp", "contacts": [{"normal_row": -3, "mu": 1}]})",
+       "/contacts/0/normal_row: -3 is not a row of A"},
+      {R"({"law": "ccp", "contacts": [{"normal_row": 0, "mu": 1}, {"normal_row": 2, "mu": 1}]})",
+       "/contacts: contact 1: normal row 2 is not after the rows of contact 0 (0 to 2)"},
+      {R"({"law": "ccp", "contacts": [{"normal_row": )" + std::to_string(c - 2) + R"(, "mu": 1}]})",
+       "/contacts: contact 0: normal row " + std::to_string(c - 2) +
+           " has not two rows after it for t1, t2 (the problem has " + std::to_string(c) +
+           " rows)"},
+      {R"({"law": "ccp", "contacts": [{"normal_row": 0, "mu": -0.5}]})",
+       "/contacts: contact 0: mu -0.5 is not a finite number >= 0"},
+      {"{", "not JSON"}};
+  for (const auto& [text, message] : cases) {
+    CAPTURE(text);
+    write_file(file, text);
+    try {
+      read_problem((dir / "step").string());
+      FAIL("no InputError");
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      CAPTURE(what);
+      CHECK(what.rfind(file + ": ", 0) == 0);
+      CHECK(what.find(message) != std::string::npos);
+    }
+  }
+  fs::remove_all(dir);
+}

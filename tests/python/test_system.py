@@ -143,3 +143,54 @@ def test_system_equals_cbps_explain(name, params, steps):
                        ("v2", s.v2), ("upsilon", s.upsilon)):
         np.testing.assert_array_equal(np.array(e[key]["value"], dtype=float), value, err_msg=key)
     assert e["dt"] == s.dt
+
+
+def cone_natural_map(lam, w, cones):
+    """max over contacts of |r - P_K(r - u^)| (docs/cones.md), written here from the cone's
+    projection: u^ = u + mu |u_t| e_n under Coulomb's law, u under the relaxation."""
+    worst = 0.0
+    for n, mu in zip(cones["normal_row"], cones["mu"]):
+        r, u = lam[n:n + 3], w[n:n + 3].copy()
+        if cones["law"] == "coulomb":
+            u[0] += mu * np.hypot(u[1], u[2])
+        x = r - u
+        t = np.hypot(x[1], x[2])
+        if t <= mu * x[0]:
+            p = x
+        elif mu * t <= -x[0]:
+            p = np.zeros(3)
+        else:
+            pn = (mu * t + x[0]) / (mu * mu + 1.0)
+            p = np.array([pn, mu * pn * x[1] / t, mu * pn * x[2] / t])
+        worst = max(worst, np.linalg.norm(r - p))
+    return worst
+
+
+@pytest.mark.parametrize("law", ["coulomb", "ccp"])
+def test_cone_system_and_solve_with_cones(law):
+    """friction=cone: System.cones names each contact's three rows and mu; the step's lam meets
+    the cone law (its natural map computed here), and solve(..., cones=) finds it again."""
+    scene = cbps.scene("stack", n=2, mu=0.5, friction="cone", cone=law)
+    scene.solver = "direct"
+    sim = cbps.Simulation(scene)
+    for _ in range(4):
+        sim.step()
+    s = sim.system()
+    cones = s.cones
+    assert cones["law"] == law and len(cones["normal_row"]) > 0
+    assert np.all(cones["mu"] == 0.5)
+    for n in cones["normal_row"]:
+        assert s.kind[n:n + 3] == ["contact", "friction", "friction"]
+    assert cone_natural_map(s.lam, s.A @ s.lam - s.b, cones) <= 1e-9
+    for method in ("direct", "nsgs"):
+        lam, summary = cbps.solve(s.A, s.b, s.cmin, s.cmax, method, cones=cones,
+                                  iterations=100000)
+        assert summary["residual"] <= 1e-9
+        assert cone_natural_map(lam, s.A @ lam - s.b, cones) <= 1e-9
+    # The boxed problem's methods refuse the cones; a malformed cones= is named.
+    with pytest.raises(cbps.InputError, match="nsgs and direct"):
+        cbps.solve(s.A, s.b, s.cmin, s.cmax, "pgs", cones=cones)
+    with pytest.raises(cbps.InputError, match="cones: contact 1: normal row 1 is not after the rows of contact 0"):
+        bad = dict(cones, normal_row=[0, 1] + list(cones["normal_row"][2:]))
+        cbps.solve(s.A, s.b, s.cmin, s.cmax, "nsgs", cones=bad)
+    assert cbps.Simulation(cbps.scene("stack", n=2)).build_system().cones is None

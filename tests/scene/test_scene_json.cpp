@@ -87,6 +87,7 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.push == want.world.push);
   CHECK(got.world.mu == want.world.mu);
   CHECK(got.world.friction == want.world.friction);
+  CHECK(got.world.cone == want.world.cone);
   CHECK(got.world.restitution == want.world.restitution);
   CHECK(got.world.restitution_threshold == want.world.restitution_threshold);
   CHECK(got.world.contact_margin == want.world.contact_margin);
@@ -221,6 +222,14 @@ TEST_CASE("planes, collides and the contact settings (4, 5.4, 8.1, 8.2) round-tr
   CHECK(count(text, "\"collides\"") == 1);
   CHECK(count(text, "\"collides\": false") == 1);
   CHECK(count(text, "\"mass\"") == 2);
+  // Coulomb's cone and its law (docs/cones.md): "cone" is written only with friction "cone".
+  CHECK(count(text, "\"cone\"") == 0);
+  Scene cone = scene;
+  cone.world.friction = FrictionModel::Cone;
+  cone.world.cone = ConeLaw::Ccp;
+  const std::string cone_text = scene_to_json(cone);
+  CHECK(count(cone_text, "\"cone\": \"ccp\"") == 1);
+  check_same(parse_scene(cone_text, "cone.json"), cone);
 }
 
 TEST_CASE("a plane, a box, contact settings and collides = false read to the values written",
@@ -459,7 +468,9 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
       {R"({"world": {"push": "sometimes"}, "bodies": []})",
        R"(scene.json: /world/push: unknown push mode "sometimes" (valid: original, improved))"},
       {R"({"world": {"friction": "viscous"}, "bodies": []})",
-       R"(scene.json: /world/friction: unknown friction model "viscous" (valid: paper, coulomb))"},
+       R"(scene.json: /world/friction: unknown friction model "viscous" (valid: paper, coulomb, cone))"},
+      {R"({"world": {"friction": "cone", "cone": "elliptic"}, "bodies": []})",
+       R"(scene.json: /world/cone: unknown cone law "elliptic" (valid: coulomb, ccp))"},
       {R"({"world": {"mu": "high"}, "bodies": []})",
        "scene.json: /world/mu: expected a number (got string)"},
       {R"({"world": {"margin": 0}, "bodies": []})",

@@ -10,8 +10,11 @@ namespace cbps {
 
 /// How friction rows are bounded (5.4).
 enum class FrictionModel {
-  Paper,   ///< ±mu m |g·n|, m the pair's movable mass divided over its contact points (5.4)
-  Coulomb  ///< ±mu lambda_normal of the same point (ODE, Bullet, Box2D): bounds follow lambda
+  Paper,    ///< ±mu m |g·n|, m the pair's movable mass divided over its contact points (5.4)
+  Coulomb,  ///< ±mu lambda_normal of the same point (ODE, Bullet, Box2D): bounds follow lambda
+  /// Coulomb's cone ‖λ_t‖ ≤ mu λ_n per contact point (docs/cones.md): no box on the friction
+  /// rows; the contact's three rows live in the cone (System::cones)
+  Cone
 };
 
 /// Two unit tangents t1, t2 with (n, t1, t2) right-handed and orthonormal (5.4). Deterministic

@@ -40,6 +40,9 @@ struct Row {
   /// The contact manifold (4) whose contact or friction row this is, −1 for other rows. Block
   /// PGS solves the rows of one manifold together.
   int manifold = -1;
+  /// A contact row whose two friction rows follow it in Coulomb's cone (FrictionModel::Cone):
+  /// the cone's mu; −1 for every other row.
+  double cone_mu = -1.0;
 };
 
 /// upsilon + upsilon_push, m/s: the bias of a system with the push in it (the one system of

@@ -32,6 +32,7 @@ struct World {
   PushMode push = PushMode::Original;
   double mu = 0.0;  ///< friction coefficient (5.4); 0: no friction rows
   FrictionModel friction = FrictionModel::Paper;
+  ConeLaw cone = ConeLaw::Coulomb;     ///< the cone's law with FrictionModel::Cone (docs/cones.md)
   double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
   double restitution_threshold = 0.1;  ///< approach speed below which no bounce (8.2), m/s
   /// Contacts kept up to this separation (4), m. 0 here for scenes built in code (the stress

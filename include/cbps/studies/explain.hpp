@@ -24,6 +24,10 @@ inline constexpr double kMaxExplainEntries = 4e6;
 inline constexpr const char* kCoulombNote =
     "Coulomb friction rows: bounds -mu lambda_n, +mu lambda_n at the fixed point lambda "
     "satisfies (5.4)";
+inline constexpr const char* kConeNote =
+    "contacts in Coulomb's cone |lambda_t| <= mu lambda_n (docs/cones.md): their three rows "
+    "(normal, t1, t2) share the contact's status, separated, sticking or sliding, met when "
+    "|lambda - P_K(lambda - u^)| is within the tolerance; cmin and cmax of those rows are not used";
 inline constexpr const char* kCfmNote =
     "constraint-force mixing, a solver setting: the solve used A + eps E; A is J Minv J^T";
 

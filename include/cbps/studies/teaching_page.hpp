@@ -23,12 +23,18 @@ class Simulation;
 
 /// Where row k's lambda sits and whether w = A lambda − b agrees with it (6.2): free (cmin <
 /// lambda < cmax, w ≈ 0), at cmin (w ≥ 0) or at cmax (w ≤ 0); tol in m/s² (w's unit).
+/// A contact in Coulomb's cone (docs/cones.md) gives its three rows its own status instead.
 struct RowStatus {
-  std::string where;      ///< "free", "at cmin", "at cmax", "at cmin = cmax"
+  /// "free", "at cmin", "at cmax", "at cmin = cmax"; in a cone "cone: separated" (r = 0),
+  /// "cone: sticking" (r inside K_mu, û = 0) or "cone: sliding" (r on K_mu's surface)
+  std::string where;
   bool satisfied = true;  ///< the sign or zero condition of w holds within the tolerance
-  bool at_bound() const { return where != "free"; }
+  bool at_bound() const { return where != "free" && where != "cone: sticking"; }
 };
 RowStatus row_status(double lambda, double cmin, double cmax, double w, double tol);
+/// The status of a contact in Coulomb's cone of coefficient mu under `law`, r its lambda (N) and
+/// u its rows of w (m/s²): satisfied when its natural map ‖r − P_K(r − û)‖₂ ≤ tol (N).
+RowStatus cone_status(const Vec3& r, const Vec3& u, double mu, ConeLaw law, double tol);
 
 /// One solved system of the step: the one system of the original push (5.2.3, 5.3), or the
 /// velocity or position system of the improved push (8.1).

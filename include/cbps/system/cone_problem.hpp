@@ -17,6 +17,7 @@
 // with P_K the Euclidean projection onto K_mu.
 #pragma once
 
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -46,6 +47,11 @@ struct ConeContacts {
   /// c flags, true for every row some contact owns.
   std::vector<char> rows_in_cones(Eigen::Index rows) const;
 };
+
+/// What is wrong with `cones` as the contacts of a problem of `rows` rows ("contact 2: normal
+/// row 7 is not after the rows of contact 1 (6 to 8)"), empty when nothing is: each normal row k
+/// with k + 2 < rows and after the rows of the contact before it, each mu finite and ≥ 0.
+std::string cone_contacts_error(const ConeContacts& cones, long rows);
 
 /// r ← P_K(r), the Euclidean projection onto K_mu: r itself inside, 0 inside the polar cone
 /// (mu ‖r_t‖ ≤ −r_n), else the nearest point of the cone's surface. r = (r_n, r_t1, r_t2).

@@ -21,6 +21,7 @@
 
 #include "cbps/rows/row.hpp"
 #include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -48,6 +49,9 @@ struct System {
   std::vector<int> normal_row;  ///< c, Coulomb friction: the contact row bounding it, else −1
   VecX mu;                      ///< c, Coulomb friction coefficient of the row, else 0
   std::vector<int> manifold;    ///< c, the row's contact manifold (4), else −1 (block PGS)
+  /// The contacts whose rows live in Coulomb's cone (friction=cone; docs/cones.md), their law
+  /// set by the simulation from the scene (World::cone); empty otherwise.
+  ConeContacts cones;
 
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }
@@ -58,6 +62,7 @@ struct System {
   BoxedProblem problem(const VecX& rhs) const {
     BoxedProblem p{A, rhs, cmin, cmax, &J, &Minv, &manifold, &kind};
     p.symmetric = true;  // A = J Minv Jᵀ (6.2.9)
+    if (!cones.empty()) p.cones = &cones;
     return p;
   }
   /// The Coulomb friction rows (5.4), whose bounds ±mu lambda_n the solve sets.

@@ -15,8 +15,11 @@ void read_contact_world(const ParameterValues& p, Scene& scene) {
   scene.world.dt = p.positive("dt");
   scene.world.beta = p.number("beta", 0.0, 1.0);
   scene.world.mu = p.number("mu", 0.0, kInf);
-  scene.world.friction = p.word("friction", "paper|coulomb") == "coulomb" ? FrictionModel::Coulomb
-                                                                          : FrictionModel::Paper;
+  const std::string friction = p.word("friction", "paper|coulomb|cone");
+  scene.world.friction = friction == "coulomb" ? FrictionModel::Coulomb
+                         : friction == "cone"  ? FrictionModel::Cone
+                                               : FrictionModel::Paper;
+  cone_law_from_string(p.word("cone", "coulomb|ccp"), scene.world.cone);
   scene.world.restitution = p.number("restitution", 0.0, 1.0);
   scene.world.push =
       p.word("push", "original|improved") == "improved" ? PushMode::Improved : PushMode::Original;

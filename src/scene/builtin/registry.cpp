@@ -31,7 +31,13 @@ std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
   own.push_back({"dt", dt, "s", "time step"});
   own.push_back({"beta", "0.2", "", "push factor (5.3)"});
   own.push_back({"mu", mu, "", "friction coefficient (5.4); 0: no friction rows"});
-  own.push_back({"friction", "paper", "-", "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n)"});
+  own.push_back({"friction",
+                 "paper",
+                 "-",
+                 "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n) | cone (Coulomb's cone, "
+                 "docs/cones.md)"});
+  own.push_back(
+      {"cone", "coulomb", "-", "with friction=cone: coulomb (De Saxce) | ccp (relaxation)"});
   own.push_back({"restitution", restitution, "", "coefficient of restitution epsilon (8.2.1)"});
   own.push_back({"push", push, "-", "original (Baumgarte, 5.3) | improved (two systems, 8.1)"});
   own.push_back({"margin",

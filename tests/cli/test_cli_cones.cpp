@@ -1,0 +1,166 @@
+// Scenes with Coulomb's cone (friction=cone, docs/cones.md) through the commands: the problem
+// `cbps matrices` writes (cones.json beside the folder's matrices, an FCLIB file with --fclib),
+// what `cbps lcp` solves of it, what `cbps explain` shows, and a run verified every step. The
+// expected forces come from statics and Coulomb's law on a box on an incline, not from cbps.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cbps/io/fclib_file.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "cbps/io/stored_problem.hpp"
+#include "fixture.hpp"
+
+namespace fs = std::filesystem;
+using namespace cbps;
+using namespace cbps::test;
+
+namespace {
+
+constexpr double kGravity = 9.81;  // m/s²
+constexpr double kMu = 0.5;
+
+/// The incline (incline_scene_json: a 1 kg cube on a plane inclined by `degrees`, mu = 0.5) in
+/// Coulomb's cone under `law`, stepped by the direct path: four contact points, each a normal
+/// row and two friction rows.
+std::string cone_incline(const fs::path& dir, double degrees, const std::string& law) {
+  nlohmann::json scene = incline_scene_json(degrees, "cone");
+  scene["world"]["cone"] = law;
+  scene["solver"] = {{"method", "direct"}};
+  const fs::path path = dir / ("incline-" + law + ".json");
+  write_file(path, scene.dump(2));
+  return path.string();
+}
+
+/// The sums over the contacts of lambda's normal rows and of the friction force J_tᵀ lambda_t
+/// along the slope (x), N·s/s = N per the step's 1 kg (forces, 6.2).
+struct Sums {
+  double normal = 0.0;
+  double friction_x = 0.0;
+};
+Sums sums_of(const StoredProblem& p, const VecX& lambda) {
+  Sums s;
+  VecX friction = VecX::Zero(lambda.size());
+  for (const int n : p.cones.normal) {
+    s.normal += lambda(n);
+    friction.segment<2>(n + 1) = lambda.segment<2>(n + 1);
+  }
+  s.friction_x = (SpMat(p.J.transpose()) * friction)(0);
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("matrices writes a cone step's problem (cones.json, --fclib) and lcp solves it",
+          "[cli][cones]") {
+  const fs::path dir = scratch_dir("cli_cones");
+  const double g = kGravity;
+  // 20°: tan 20° = 0.36 < mu, the box sticks: the contacts carry m g cos a and m g sin a.
+  // 30°: tan 30° = 0.58 > mu, it slides: Coulomb's law gives friction mu m g cos a (u_n = 0).
+  for (const double degrees : {20.0, 30.0}) {
+    CAPTURE(degrees);
+    const double a = degrees * kPi / 180.0;
+    const std::string name = std::to_string(int(degrees)) + "deg";
+    const fs::path m = dir / name;
+    const fs::path h5 = dir / (name + ".hdf5");
+    const CliResult made = run_cli("matrices " + cone_incline(dir, degrees, "coulomb") + " --out " +
+                                   m.string() + " --fclib " + h5.string());
+    INFO(made.out << made.err);
+    REQUIRE(made.code == 0);
+    const StoredProblem p = read_problem(m.string());
+    REQUIRE(p.cones.contacts() == 4);
+    CHECK(p.cones.law == ConeLaw::Coulomb);
+    CHECK(p.cones.mu.isConstant(kMu));
+    const VecX lambda = read_matrix_market_vector((m / "lambda.mtx").string());
+    const Sums s = sums_of(p, lambda);
+    CHECK(s.normal == Approx(g * std::cos(a)).epsilon(1e-8));
+    const double friction = degrees < 25.0 ? g * std::sin(a) : kMu * g * std::cos(a);
+    CHECK(s.friction_x == Approx(-friction).epsilon(1e-8));
+
+    // The FCLIB file holds the same problem (rows already in contact order) and its solution.
+    VecX r;
+    const StoredProblem f = read_fclib(h5.string(), &r);
+    CHECK((MatX(f.A) - MatX(p.A)).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((f.b - p.b).cwiseAbs().maxCoeff() == 0.0);
+    CHECK(f.cones.mu.isConstant(kMu));
+    CHECK((r - lambda).cwiseAbs().maxCoeff() == 0.0);
+
+    // `cbps lcp` on the folder solves the cone problem (its cones.json), by both methods.
+    for (const char* solver : {"direct", "nsgs"}) {
+      const CliResult solved =
+          run_cli("lcp " + m.string() + " --solver " + solver + " --iterations 100000 --json");
+      INFO(solved.out << solved.err);
+      REQUIRE(solved.code == 0);
+      const auto j = nlohmann::json::parse(solved.out);
+      CHECK(j["status"] == "solved");
+      VecX l(lambda.size());
+      for (Eigen::Index k = 0; k < l.size(); ++k) l(k) = j["lambda"][std::size_t(k)];
+      const Sums t = sums_of(p, l);
+      CHECK(t.normal == Approx(g * std::cos(a)).epsilon(1e-6));
+      CHECK(t.friction_x == Approx(-friction).epsilon(1e-6));
+    }
+
+    // `cbps explain --json` shows the contacts in their cone, each meeting Coulomb's law.
+    const CliResult explained =
+        run_cli("explain " + cone_incline(dir, degrees, "coulomb") + " --json");
+    INFO(explained.err);
+    REQUIRE(explained.code == 0);
+    const auto e = nlohmann::json::parse(explained.out);
+    REQUIRE(e["cones"]["contacts"].size() == 4);
+    CHECK(e["cones"]["law"] == "coulomb");
+    for (const auto& contact : e["cones"]["contacts"]) {
+      CHECK(contact["mu"] == kMu);
+      const std::string status = contact["status"];
+      // Sliding: each contact's friction is on the cone's surface (or the contact is unloaded).
+      if (degrees > 25.0) CHECK((status == "cone: sliding" || status == "cone: separated"));
+    }
+    for (const auto& ok : e["status"]["satisfied"]) CHECK(ok == true);
+  }
+}
+
+TEST_CASE("a cone scene runs verified, converge compares the cone methods, --fclib needs cones",
+          "[cli][cones]") {
+  const fs::path dir = scratch_dir("cli_cones_run");
+  for (const char* law : {"coulomb", "ccp"}) {
+    const CliResult run =
+        run_cli(std::string("run stack --param n=3 --param friction=cone --param cone=") + law +
+                " --solver direct --steps 20 --check --out " + (dir / law).string());
+    INFO(run.out << run.err);
+    CHECK(run.code == 0);
+  }
+  // converge on a cone scene: the cone methods by default, the steps before by the exact path.
+  const CliResult converged = run_cli(
+      "converge stack --param n=2 --param friction=cone --param mu=0.5 --step 3 "
+      "--iterations 2000 --quiet --no-plot --out " +
+      (dir / "converge").string());
+  INFO(converged.out << converged.err);
+  REQUIRE(converged.code == 0);
+  const auto summary = nlohmann::json::parse(slurp(dir / "converge" / "summary.json"));
+  CHECK(summary["cone"]["law"] == "coulomb");
+  std::vector<std::string> solvers;
+  for (const auto& j : summary["solvers"]) solvers.push_back(j["solver"]);
+  CHECK(solvers == std::vector<std::string>{"nsgs", "nsgs:local=3", "direct"});
+  // The teaching page says what the contacts' rows live in.
+  const fs::path page = dir / "page.html";
+  const CliResult taught = run_cli(
+      "explain stack --param n=2 --param friction=cone --solver direct --html " + page.string());
+  INFO(taught.err);
+  REQUIRE(taught.code == 0);
+  const std::string html = slurp(page);
+  CHECK(html.find("Coulomb's cone") != std::string::npos);
+  CHECK(html.find("contacts sliding (cone)") != std::string::npos);
+  // The paper's box is not a cone: an FCLIB file cannot hold it.
+  const CliResult boxed = run_cli("matrices stack --param n=2 --out " + (dir / "m").string() +
+                                  " --fclib " + (dir / "boxed.hdf5").string());
+  CHECK(boxed.code == 2);
+  CHECK(boxed.err.find("friction=cone") != std::string::npos);
+  CHECK(!fs::exists(dir / "m"));
+  CHECK(!fs::exists(dir / "boxed.hdf5"));
+  // The methods of the boxed problem refuse a cone scene, naming the ones that solve it.
+  const CliResult pgs =
+      run_cli("run stack --param friction=cone --steps 2 --out " + (dir / "pgs").string());
+  CHECK(pgs.code == 2);
+  CHECK(pgs.err.find("nsgs and direct") != std::string::npos);
+}
