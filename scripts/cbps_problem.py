@@ -44,3 +44,25 @@ def scale_of(A, b):
     residual is solved when it is at most 1e-9 times this. A dense or sparse."""
     a_max = abs(A).max() if scipy.sparse.issparse(A) else np.max(np.abs(A), initial=0.0)
     return max(1.0, float(np.max(np.abs(b), initial=0.0)), float(a_max))
+
+
+def cone_natural_maps(lam, w, normal_rows, mu, law):
+    """Each contact's ‖r − P_K(r − û)‖₂ in Coulomb's cone (docs/cones.md): r = lam[k:k + 3] and
+    u = w[k:k + 3] for each normal row k, û = u + mu ‖u_t‖ e_n under law "coulomb", u under
+    "ccp", P_K the projection onto ‖r_t‖ ≤ mu r_n. A numpy array, one norm per contact, N."""
+    norms = []
+    for k, m in zip(normal_rows, mu):
+        r, u = lam[k:k + 3], np.array(w[k:k + 3], dtype=float)
+        if law == "coulomb":
+            u[0] += m * np.hypot(u[1], u[2])
+        x = r - u
+        t = np.hypot(x[1], x[2])
+        if t <= m * x[0]:
+            p = x
+        elif m * t <= -x[0]:
+            p = np.zeros(3)
+        else:
+            n = (m * t + x[0]) / (m * m + 1.0)
+            p = np.array([n, m * n * x[1] / t, m * n * x[2] / t])
+        norms.append(np.linalg.norm(r - p))
+    return np.array(norms)

@@ -58,6 +58,7 @@ MODULES = {
     "docs/stress.md": "doc_tables_stress",
     "docs/distributed.md": "doc_tables_distributed",
     "docs/peers.md": "doc_tables_peers",
+    "docs/cones.md": "doc_tables_cones",
     "bench/README.md": "doc_tables_bench_readme",
     "validation/README.md": "doc_tables_validation_readme",
 }

@@ -65,6 +65,9 @@ copy $v/convergence/chain/convergence.png docs/convergence-chain.png
 for run in stack-check pyramid-direct pyramid-check; do
   copy $v/limits/$run/summary.json $v/results/limits/$run/summary.json
 done
+# --target box-vs-cone
+copy $v/box-cone/box_vs_cone.json $v/results/box-cone/box_vs_cone.json
+copy $v/box-cone/box_vs_cone.png docs/box-vs-cone.png
 # --target peers
 copy $v/peers/peers.json $v/results/peers/peers.json
 # --target stress-catalogue
@@ -91,7 +94,7 @@ PY
   copied=$((copied + 1))
 fi
 copy $v/profile/profile.png docs/profile.png
-# --target bench-results, bench-direct, bench-contacts, bench-sweeps
+# --target bench-results, bench-direct, bench-contacts, bench-sweeps, bench-exact, bench-cones
 for f in "$build"/bench/results/*.json; do
   [[ -f "$f" ]] && copy "$f" "bench/results/$(basename "$f")"
 done

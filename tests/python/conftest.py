@@ -13,7 +13,7 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
-from cbps_problem import natural_map_residual  # noqa: E402,F401  (6.2 in numpy, for the tests)
+from cbps_problem import cone_natural_maps, natural_map_residual  # noqa: E402,F401  (6.2 in numpy)
 CLI = os.environ.get("CBPS_EXECUTABLE", str(ROOT / "build" / "release" / "cbps"))
 
 

@@ -7,7 +7,7 @@ import pytest
 import scipy.sparse as sp
 
 import cbps
-from conftest import cli_json, natural_map_residual
+from conftest import cli_json, cone_natural_maps, natural_map_residual
 
 # Distance rows (chain, pendulum wave), contacts (v-corner), contacts with friction and the
 # improved push (stack), Coulomb friction (stack, friction=coulomb: the bounds move with lam).
@@ -146,24 +146,8 @@ def test_system_equals_cbps_explain(name, params, steps):
 
 
 def cone_natural_map(lam, w, cones):
-    """max over contacts of |r - P_K(r - u^)| (docs/cones.md), written here from the cone's
-    projection: u^ = u + mu |u_t| e_n under Coulomb's law, u under the relaxation."""
-    worst = 0.0
-    for n, mu in zip(cones["normal_row"], cones["mu"]):
-        r, u = lam[n:n + 3], w[n:n + 3].copy()
-        if cones["law"] == "coulomb":
-            u[0] += mu * np.hypot(u[1], u[2])
-        x = r - u
-        t = np.hypot(x[1], x[2])
-        if t <= mu * x[0]:
-            p = x
-        elif mu * t <= -x[0]:
-            p = np.zeros(3)
-        else:
-            pn = (mu * t + x[0]) / (mu * mu + 1.0)
-            p = np.array([pn, mu * pn * x[1] / t, mu * pn * x[2] / t])
-        worst = max(worst, np.linalg.norm(r - p))
-    return worst
+    """max over contacts of |r - P_K(r - u^)| (docs/cones.md), in numpy (scripts/cbps_problem.py)."""
+    return max(cone_natural_maps(lam, w, cones["normal_row"], cones["mu"], cones["law"]))
 
 
 @pytest.mark.parametrize("law", ["coulomb", "ccp"])

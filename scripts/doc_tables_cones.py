@@ -1,0 +1,133 @@
+"""The generated parts of docs/cones.md (scripts/doc_tables.py): the exact path on friction cones
+against 1,000 nsgs sweeps and Siconos' fc3d NSGS and PROX on the cone pyramids
+(scripts/measure_cones.py), and the issue's targets checked on those numbers.
+"""
+from cbps_files import read_number  # scripts/cbps_files.py
+from doc_tables_common import SourceError, cell, dur, generator, need, sci, table, thousands
+
+CONES = "bench/results/cones-amd-epyc-2cpu.json"
+FORMAT = "cbps-cones/1"
+TARGET = 1e-10  # the relative residual the issue asks of the exact path
+
+
+def _cones(src):
+    j = src.json(CONES)
+    if j.get("format") != FORMAT:
+        raise SourceError(f"{CONES}: format {j.get('format')!r}, not {FORMAT}")
+    return j
+
+
+def _rel(x):
+    x = read_number(x)
+    return "–" if x is None else sci(x)
+
+
+def _cbps_cell(r):
+    """cbps's verdict, relative residual and solve time of one `cbps lcp`."""
+    if r["status"] in ("timeout", "error"):
+        return f"{r['status']} ({dur(r['job_s'])})"
+    return f"{r['status']} {_rel(r['residual_relative'])}, {dur(r['wall_time_s'])}"
+
+
+def _siconos_cell(s):
+    """A Siconos solver's answer judged by cbps's residual, with its iterations and time."""
+    if s["status"] == "timeout":
+        return f"no answer in {dur(s['job_s'])}"
+    if s["status"] == "error":
+        return f"error (exit {s.get('exit')})"
+    said = "ok" if s["siconos_info"] == 0 else "failed"
+    return (f"{_rel(s['residual_relative'])} after {thousands(s['iterations'])} its, "
+            f"{dur(s['solve_time_s'])} (said {said})")
+
+
+@generator("cones-bench", CONES)
+def _bench(src):
+    rows = []
+    for p in need(_cones(src), "problems", where=CONES):
+        siconos = {s["solver"]: s for s in p["siconos"]}
+        for law in ("ccp", "coulomb"):
+            x = need(p["laws"], law, where=CONES)
+            d, n = x["direct"], x["nsgs_1000"]
+            ratio = "–"
+            if read_number(d.get("wall_time_s")) and read_number(n.get("wall_time_s")):
+                ratio = f"{d['wall_time_s'] / n['wall_time_s']:.2g}"
+            first = law == "ccp"
+            rows.append([
+                f"base {p['base']}: {thousands(p['contacts'])} ({thousands(p['rows'])} rows)"
+                if first else "", law, cell(_cbps_cell(d)), cell(_cbps_cell(n)), ratio,
+                "–" if first else cell(_siconos_cell(siconos["siconos:fc3d-nsgs"])),
+                "–" if first else cell(_siconos_cell(siconos["siconos:fc3d-prox"]))])
+    return table(["pyramid: contacts", "law", "`direct`", "`nsgs`, 1,000 sweeps",
+                  "direct / 1,000 sweeps (time)", "Siconos fc3d NSGS", "Siconos PROX"], rows,
+                 "llllrll")
+
+
+def _target_lines(j):
+    """Each target of issue 31 on these numbers: met or not, and by what."""
+    lines = []
+    for p in j["problems"]:
+        d = p["laws"]["ccp"]["direct"]
+        n = p["laws"]["ccp"]["nsgs_1000"]
+        rel, t = (read_number(d.get("residual_relative")), read_number(d.get("wall_time_s")))
+        tn = read_number(n.get("wall_time_s"))
+        if p["contacts"] >= 400:
+            met = rel is not None and rel <= TARGET and t is not None and tn and t <= tn
+            lines.append(f"- relaxation, {thousands(p['contacts'])} contacts: "
+                         f"{'met' if met else 'not met'} (relative residual {_rel(rel)} in "
+                         f"{dur(t) if t is not None else '–'}; 1,000 nsgs sweeps "
+                         f"{dur(tn) if tn is not None else '–'})")
+    for p in j["problems"]:
+        d = p["laws"]["coulomb"]["direct"]
+        rel, t = read_number(d.get("residual_relative")), read_number(d.get("wall_time_s"))
+        prox = next(s for s in p["siconos"] if s["solver"] == "siconos:fc3d-prox")
+        prox_t = prox.get("solve_time_s") if prox["status"] == "answered" else None
+        exact = rel is not None and rel <= TARGET and d["status"] == "solved"
+        speed = ("PROX gave no answer in " + dur(prox["job_s"]) if prox_t is None else
+                 f"{prox_t / t:.3g}× sooner than PROX ({dur(prox_t)})" if t else "–")
+        lines.append(f"- Coulomb's law, {thousands(p['contacts'])} contacts: "
+                     f"{'exact' if exact else 'not exact'} (relative residual {_rel(rel)}, "
+                     f"{d['status']}, {dur(t) if t is not None else '–'}); {speed}")
+    return lines
+
+
+@generator("cones-targets", CONES)
+def _targets(src):
+    j = _cones(src)
+    return "\n".join(_target_lines(j)) + "\n"
+
+
+@generator("cones-budget", CONES)
+def _budget(src):
+    j = _cones(src)
+    return (f"{dur(need(j, 'wall_time_s', where=CONES))} on {j['nproc']} cores, {j['date']}, "
+            f"cbps {j['cbps_commit']}, Siconos' solvers limited to {dur(j['siconos_timeout_s'])}")
+
+
+BOX_CONE = "validation/results/box-cone/box_vs_cone.json"
+
+
+def _deg(x):
+    """Degrees to 3 decimals, without a sign on a turn that rounds to zero."""
+    text = f"{x:.3f}"
+    return ("0.000" if text == "-0.000" else text) + "°"
+
+
+@generator("cones-box", BOX_CONE)
+def _box(src):
+    j = src.json(BOX_CONE)
+    if j.get("format") != "cbps-box-cone/1":
+        raise SourceError(f"{BOX_CONE}: format {j.get('format')!r}, not cbps-box-cone/1")
+    by = {(r["law"], r["phi_deg"]): r for r in need(j, "rows", where=BOX_CONE)}
+    rows = []
+    for phi in sorted({r["phi_deg"] for r in j["rows"]}):
+        box, coulomb, cone = by[("paper", phi)], by[("coulomb", phi)], by[("cone", phi)]
+        worst = max(abs(r[k] - r[k + "_closed"]) / max(1.0, abs(r[k + "_closed"]))
+                    for r in (box, coulomb, cone)
+                    for k in ("start_tan_over_mu", "acceleration", "turn_deg"))
+        rows.append([f"{phi:g}°", f"{box['start_tan_over_mu']:.5f}",
+                     f"{coulomb['start_tan_over_mu']:.5f}", f"{cone['start_tan_over_mu']:.5f}",
+                     f"{box['acceleration']:.4f}", f"{cone['acceleration']:.4f}",
+                     _deg(box["turn_deg"]), _deg(cone["turn_deg"]), sci(worst)])
+    return table(["φ", "tan a*/μ paper", "tan a*/μ coulomb", "tan a*/μ cone",
+                  "accel. box (m/s²)", "accel. cone (m/s²)", "turn, box", "turn, cone",
+                  "largest gap to the closed forms"], rows, "rrrrrrrrr")

@@ -1,0 +1,190 @@
+#!/usr/bin/python3
+"""Measures the exact path on friction cones against nsgs and Siconos' fc3d solvers on the cone
+pyramids of issue 31, and writes what docs/cones.md's bench table shows as JSON (format
+cbps-cones/1).
+
+    /usr/bin/python3 scripts/measure_cones.py CBPS OUT.json [--work DIR] [--quick]
+                     [--siconos-timeout S]
+
+The problems: `cbps matrices pyramid --param base=B --param friction=cone --param cone=ccp
+--param mu=0.5 --step 50 --solver direct --out W/pyramidB --fclib W/pyramidB.hdf5` for B = 3, 5,
+10 and 20 (36, 100, 400 and 1,600 contacts: the pyramid stepped 50 times under the relaxation by
+the exact path, then its step's problem written as a folder and an FCLIB file). On each file and
+for each law (`--cone ccp`, `--cone coulomb`):
+
+- "direct": `cbps lcp F --cone LAW --solver direct --json` (its status, residual in N, the
+  relative residual residual / scale with scale = max(1, ‖b‖∞, max |A_ij|), FCLIB's MERIT_1 and
+  the wall time of the solve);
+- "nsgs_1000": `cbps lcp F --cone LAW --solver nsgs --iterations 1000 --tolerance 0 --json`, the
+  time of 1,000 sweeps (the target's yardstick) and the residual they reach.
+
+Under Coulomb's law (FCLIB's, Siconos') also Siconos 4.4's fc3d solvers through python3-siconos
+on the folder's W = A, q = −b, mu (each in a child process with a time limit, --siconos-timeout,
+default 300 s; a child past it is killed and recorded as "timeout"): NSGS (up to 100,000
+iterations) and PROX, both asked for a tolerance of 1e-14 in Siconos' own error. Their answers are
+judged here as cbps judges its own: the natural map r − P_K(r − û) of Coulomb's law per contact
+(docs/cones.md), its largest norm (N, cbps's residual), over the same scale, and MERIT_1.
+The same numbers computed here for cbps's direct answer check this script against cbps
+("residual_here").
+
+--quick (a check of the script itself): base 3 only, Siconos limited to 20 s. The load average
+after each command is recorded. Exit 1 without writing OUT when CBPS changes during the run.
+"""
+import argparse
+import datetime
+import json
+import os
+import platform
+import shlex
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+import scipy.io
+
+import measure_peers as peers  # run(), BINARY, git_commit(): the same job control
+from cbps_files import write_json
+from cbps_problem import cone_natural_maps, scale_of  # scripts/cbps_problem.py
+
+FORMAT = "cbps-cones/1"
+BASES = [3, 5, 10, 20]
+LAWS = ["ccp", "coulomb"]
+MU = "0.5"
+SICONOS = {"nsgs": ("SICONOS_FRICTION_3D_NSGS", 100000), "prox": ("SICONOS_FRICTION_3D_PROX",
+                                                                  100000)}
+
+# The child that runs one Siconos solver on a folder: prints a JSON line with its answer.
+SICONOS_CHILD = r"""
+import json, sys, time
+import numpy as np, scipy.io
+import siconos.numerics as sn
+folder, name, iterations = sys.argv[1], sys.argv[2], int(sys.argv[3])
+A = scipy.io.mmread(folder + "/A.mtx").toarray()
+b = scipy.io.mmread(folder + "/b.mtx").ravel()
+mu = np.array([c["mu"] for c in json.load(open(folder + "/cones.json"))["contacts"]])
+problem = sn.FrictionContactProblem(3, len(mu), A, -b, mu)
+options = sn.SolverOptions(getattr(sn, name))
+options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = iterations
+options.dparam[sn.SICONOS_DPARAM_TOL] = 1e-14
+r, u = np.zeros(len(b)), np.zeros(len(b))
+start = time.perf_counter()
+info = sn.fc3d_driver(problem, r, u, options)
+elapsed = time.perf_counter() - start
+print(json.dumps({"info": int(info), "iterations": int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]),
+                  "error": float(options.dparam[sn.SICONOS_DPARAM_RESIDU]),
+                  "solve_time_s": elapsed, "r": r.tolist()}))
+"""
+
+
+def log(text):
+    print(f"measure_cones: {text}", file=sys.stderr, flush=True)
+
+
+def coulomb_measures(A, b, mu, r):
+    """cbps's residual of r under Coulomb's law (max over contacts of ‖r − P_K(r − û)‖₂, N, with
+    û = u + mu ‖u_t‖ e_n and u = A r − b), over scale, and FCLIB's MERIT_1."""
+    norms = cone_natural_maps(r, A @ r - b, range(0, len(b), 3), mu, "coulomb")
+    worst = float(np.max(norms, initial=0.0))
+    return {"residual": worst, "residual_relative": worst / scale_of(A, b),
+            "fclib_merit": float(np.linalg.norm(norms) / (1.0 + np.sqrt(np.linalg.norm(b))))}
+
+
+def lcp(cbps, work, hdf5, law, solver):
+    args = ["lcp", hdf5, "--cone", law, "--solver", solver, "--json"]
+    if solver == "nsgs":
+        args += ["--iterations", "1000", "--tolerance", "0"]
+    log("cbps " + " ".join(args))
+    code, out, err, elapsed = peers.run([cbps] + args, work)
+    entry = {"command": "cbps " + " ".join(args), "exit": code, "job_s": elapsed,
+             "load_average": os.getloadavg()[0]}
+    if code not in (0, 1):
+        entry.update(status="error" if code is not None else "timeout", message=err.strip())
+        return entry, None
+    j = json.loads(out)
+    entry.update(status=j["status"], residual=j["residual"], scale=j["scale"],
+                 residual_relative=peers.relative(j["residual"], j["scale"]),
+                 fclib_merit=j["cone"]["fclib_merit"], wall_time_s=j["wall_time_s"],
+                 iterations=j["iterations"], message=j["message"])
+    return entry, np.array(j["lambda"], dtype=float)
+
+
+def siconos(work, folder, name, timeout, problem):
+    constant, iterations = SICONOS[name]
+    cmd = ["/usr/bin/python3", "-c", SICONOS_CHILD, folder, constant, str(iterations)]
+    log(f"siconos {name} on {folder} (limit {timeout} s)")
+    code, out, err, elapsed = peers.run(cmd, work, timeout=timeout)
+    entry = {"solver": "siconos:fc3d-" + name, "siconos_solver": constant,
+             "max_iterations": iterations, "exit": code, "job_s": elapsed,
+             "load_average": os.getloadavg()[0]}
+    if code is None:
+        entry.update(status="timeout", message=f"no answer within {timeout} s (killed)")
+        return entry
+    if code != 0:
+        entry.update(status="error", message=f"exit {code}: {err.strip()[-1000:]}")
+        return entry
+    j = json.loads(out.strip().splitlines()[-1])
+    entry.update(status="answered", siconos_info=j["info"], iterations=j["iterations"],
+                 siconos_error=j["error"], solve_time_s=j["solve_time_s"])
+    entry.update(coulomb_measures(*problem, np.array(j["r"])))
+    return entry
+
+
+def measure(cbps, work, base, siconos_timeout):
+    name = f"pyramid{base}"
+    folder, hdf5 = os.path.join(work, name), os.path.join(work, name + ".hdf5")
+    args = ["matrices", "pyramid", "--param", f"base={base}", "--param", "friction=cone",
+            "--param", "cone=ccp", "--param", f"mu={MU}", "--step", "50", "--solver", "direct",
+            "--out", folder, "--fclib", hdf5, "--quiet"]
+    log("cbps " + " ".join(args))
+    code, _, err, _ = peers.run([cbps] + args, work)
+    if code != 0:
+        sys.exit(f"measure_cones: cbps {' '.join(args)}: exit {code}: {err.strip()}")
+    A = scipy.io.mmread(os.path.join(folder, "A.mtx")).toarray()
+    b = scipy.io.mmread(os.path.join(folder, "b.mtx")).ravel()
+    with open(os.path.join(folder, "cones.json")) as f:
+        mu = np.array([c["mu"] for c in json.load(f)["contacts"]])
+    entry = {"name": name, "base": base, "contacts": len(mu), "rows": len(b),
+             "command": "cbps " + " ".join(args).replace(work + os.sep, ""), "laws": {}}
+    for law in LAWS:
+        direct, lam = lcp(cbps, work, hdf5, law, "direct")
+        if law == "coulomb" and lam is not None:
+            direct["residual_here"] = coulomb_measures(A, b, mu, lam)["residual"]
+        nsgs, _ = lcp(cbps, work, hdf5, law, "nsgs")
+        entry["laws"][law] = {"direct": direct, "nsgs_1000": nsgs}
+    entry["siconos"] = [siconos(work, folder, s, siconos_timeout, (A, b, mu)) for s in SICONOS]
+    return entry
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("cbps")
+    ap.add_argument("out")
+    ap.add_argument("--work")
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--siconos-timeout", type=float, default=300.0)
+    args = ap.parse_args()
+    start = time.monotonic()
+    work = os.path.abspath(args.work or tempfile.mkdtemp(prefix="cbps_measure_cones_"))
+    os.makedirs(work, exist_ok=True)
+    cbps = os.path.abspath(args.cbps)
+    peers.BINARY.update(path=cbps, mtime=os.stat(cbps).st_mtime)
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    timeout = 20.0 if args.quick else args.siconos_timeout
+    results = {"format": FORMAT,
+               "command": shlex.join(["scripts/measure_cones.py"] + sys.argv[1:]),
+               "cbps_commit": peers.git_commit(root),
+               "date": datetime.date.today().isoformat(), "machine": platform.node(),
+               "nproc": os.cpu_count(), "quick": args.quick, "siconos_timeout_s": timeout,
+               "problems": [measure(cbps, work, base, timeout)
+                            for base in (BASES[:1] if args.quick else BASES)]}
+    results["wall_time_s"] = time.monotonic() - start
+    peers.check_binary()
+    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
+    write_json(args.out, results)
+    log(f"wrote {args.out} ({results['wall_time_s']:.0f} s)")
+
+
+if __name__ == "__main__":
+    main()

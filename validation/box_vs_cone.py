@@ -1,0 +1,146 @@
+#!/usr/bin/python3
+"""The paper's friction box against Coulomb's cone (issue 31, item 5): a 1 kg, 0.2 m cube on a
+plane inclined by a, pushed down the slope along a direction phi from its friction axis t2 (world
+x; t1 is world z for the plane's normal y, rows/friction.cpp), phi from 0 to 45 degrees, under
+friction=paper (±mu m |g·n| per row, 5.4), friction=coulomb (±mu lambda_n per row) and
+friction=cone (‖lambda_t‖ ≤ mu lambda_n, De Saxcé's law), mu = 0.5, every step by the exact path.
+
+    cmake --build build/release --target box-vs-cone      # or, with the module built:
+    PYTHONPATH=build/release/python /usr/bin/python3 validation/box_vs_cone.py OUT_DIR
+
+Closed forms (N = m g cos a the normal force, F = m g sin a the push down the slope):
+- sliding starts when the friction can no longer hold F: under the cone at tan a* = mu whatever
+  phi; under a box, whose rows each hold mu N (the paper's and Coulomb's alike at rest: the
+  paper's m |g·n| is N), when either component F cos phi, F sin phi exceeds mu N, at
+  tan a* = mu / max(cos phi, sin phi): mu √2 along the diagonal.
+- once sliding (tan a = 2 mu here), the cone's friction mu N opposes the velocity, so the box
+  accelerates along phi at g (sin a − mu cos a); a box's rows each take mu N where their component
+  slides, so the acceleration is g (sin a cos phi − mu cos a, sin a sin phi − mu cos a) (a
+  component that cannot beat mu N stays 0): slower (up to √2 mu N of friction along the
+  diagonal), and turned toward the nearer axis.
+
+Measured: the tilt a* by bisection on "the cube moves" (speed above 1e-9 m/s after 10 steps of
+1/240 s from rest; 30 halvings from [0, 60°]); the acceleration v/t after 24 steps (0.1 s) at
+tan a = 2 mu, its size and its direction's turn from phi. Writes OUT_DIR/box_vs_cone.json (format
+cbps-box-cone/1) and OUT_DIR/box_vs_cone.png.
+"""
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+import cbps
+
+MU = 0.5
+G = 9.81
+DT = 1.0 / 240.0
+LAWS = ["paper", "coulomb", "cone"]
+PHIS = [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0]
+
+
+def simulate(law, a, phi, steps):
+    """The cube's velocity (m/s) after `steps` steps from rest on the plane tilted by a (rad),
+    pushed along phi (rad) from world x."""
+    scene = {"name": "box-vs-cone",
+             "world": {"gravity": [G * math.sin(a) * math.cos(phi), -G * math.cos(a),
+                                   G * math.sin(a) * math.sin(phi)],
+                       "dt": "1/240", "mu": MU, "friction": law, "contact_margin": 0.001},
+             "solver": {"method": "direct"},
+             "bodies": [{"name": "ground", "shape": {"type": "plane"}, "static": True},
+                        {"name": "box", "shape": {"type": "box", "half_extents": [0.1] * 3},
+                         "mass": 1.0, "position": [0.0, 0.1, 0.0]}]}
+    sim = cbps.Simulation(cbps.parse_scene(json.dumps(scene)))
+    for _ in range(steps):
+        sim.step()
+    box = next(b for b in sim.bodies() if b["name"] == "box")
+    return np.array(box["v"])
+
+
+def critical_tilt(law, phi):
+    lo, hi = 0.0, math.radians(60.0)
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        moves = np.linalg.norm(simulate(law, mid, phi, 10)) > 1e-9
+        lo, hi = (lo, mid) if moves else (mid, hi)
+    return 0.5 * (lo + hi)
+
+
+def closed_form(law, phi):
+    """(tan a* / mu, acceleration m/s², turn from phi in degrees) at tan a = 2 mu."""
+    a = math.atan(2.0 * MU)
+    if law == "cone":
+        return 1.0, G * (math.sin(a) - MU * math.cos(a)), 0.0
+    start = 1.0 / max(math.cos(phi), math.sin(phi))
+    ax = max(0.0, G * (math.sin(a) * math.cos(phi) - MU * math.cos(a)))
+    az = max(0.0, G * (math.sin(a) * math.sin(phi) - MU * math.cos(a)))
+    return start, math.hypot(ax, az), math.degrees(math.atan2(az, ax) - phi)
+
+
+def measure():
+    rows = []
+    steps = 24
+    for law in LAWS:
+        for deg in PHIS:
+            phi = math.radians(deg)
+            print(f"box_vs_cone: {law}, phi {deg:g} degrees", file=sys.stderr, flush=True)
+            start = math.tan(critical_tilt(law, phi)) / MU
+            v = simulate(law, math.atan(2.0 * MU), phi, steps)
+            acc = v / (steps * DT)
+            turn = math.degrees(math.atan2(acc[2], acc[0]) - phi)
+            want = closed_form(law, phi)
+            rows.append({"law": law, "phi_deg": deg,
+                         "start_tan_over_mu": start, "start_tan_over_mu_closed": want[0],
+                         "acceleration": float(np.hypot(acc[0], acc[2])),
+                         "acceleration_closed": want[1],
+                         "lift_velocity": float(v[1]),
+                         "turn_deg": turn, "turn_deg_closed": want[2]})
+    return rows
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 3, figsize=(12, 3.6))
+    style = {"paper": ("tab:blue", "o"), "coulomb": ("tab:orange", "s"), "cone": ("tab:green", "^")}
+    phis = np.linspace(0.0, 45.0, 91)
+    for law in LAWS:
+        color, marker = style[law]
+        mine = [r for r in rows if r["law"] == law]
+        x = [r["phi_deg"] for r in mine]
+        curves = [closed_form(law, math.radians(p)) for p in phis]
+        for ax, key, k in ((axes[0], "start_tan_over_mu", 0), (axes[1], "acceleration", 1),
+                           (axes[2], "turn_deg", 2)):
+            ax.plot(phis, [c[k] for c in curves], color=color, lw=1)
+            ax.plot(x, [r[key] for r in mine], marker, color=color, mfc="none", label=law)
+    axes[0].set_ylabel("tan a* / mu (sliding starts)")
+    axes[1].set_ylabel("acceleration at tan a = 2 mu, m/s²")
+    axes[2].set_ylabel("turn of the sliding direction, degrees")
+    for ax in axes:
+        ax.set_xlabel("push direction phi from the friction axis, degrees")
+        ax.grid(alpha=0.3)
+    axes[0].legend(title="lines: closed form")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    out = sys.argv[1]
+    os.makedirs(out, exist_ok=True)
+    rows = measure()
+    result = {"format": "cbps-box-cone/1", "mu": MU, "dt": DT, "rows": rows,
+              "command": "validation/box_vs_cone.py " + out}
+    tmp = os.path.join(out, "box_vs_cone.json.tmp")
+    with open(tmp, "w") as f:
+        json.dump(result, f, indent=1)
+    os.replace(tmp, os.path.join(out, "box_vs_cone.json"))
+    plot(rows, os.path.join(out, "box_vs_cone.png"))
+    print(f"box_vs_cone: wrote {out}/box_vs_cone.json and box_vs_cone.png", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
