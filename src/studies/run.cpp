@@ -209,12 +209,17 @@ nlohmann::json run_summary_json(const Scene& scene,
         {"max_velocity_error", number_json(t.cfm_acceleration_error * scene.world.dt)}};
   }
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
-  summary["contacts"] = {
-      {"mu", scene.world.mu},
-      {"friction", scene.world.friction == FrictionModel::Coulomb ? "coulomb" : "paper"},
-      {"restitution", scene.world.restitution},
-      {"persistence", scene.world.contact_persistence},
-      {"max_points", t.max_contacts}};
+  const FrictionModel friction = scene.world.friction;
+  summary["contacts"] = {{"mu", scene.world.mu},
+                         {"friction",
+                          friction == FrictionModel::Coulomb ? "coulomb"
+                          : friction == FrictionModel::Cone  ? "cone"
+                                                             : "paper"},
+                         {"restitution", scene.world.restitution},
+                         {"persistence", scene.world.contact_persistence},
+                         {"max_points", t.max_contacts}};
+  if (scene.world.friction == FrictionModel::Cone)
+    summary["contacts"]["cone"] = std::string(to_string(scene.world.cone));
   summary["max_penetration"] = number_json(t.max_penetration);
   summary["iterations_total"] = t.iterations_total;
   summary["max_residual"] = number_json(t.max_residual);

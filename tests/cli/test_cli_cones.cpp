@@ -129,6 +129,10 @@ TEST_CASE("a cone scene runs verified, converge compares the cone methods, --fcl
                 " --solver direct --steps 20 --check --out " + (dir / law).string());
     INFO(run.out << run.err);
     CHECK(run.code == 0);
+    const auto summary = nlohmann::json::parse(slurp(dir / law / "summary.json"));
+    CHECK(summary["contacts"]["friction"] == "cone");
+    CHECK(summary["contacts"]["cone"] == law);
+    CHECK(summary["max_residual"].get<double>() <= 1e-10);  // every step's law met (N)
   }
   // converge on a cone scene: the cone methods by default, the steps before by the exact path.
   const CliResult converged = run_cli(
