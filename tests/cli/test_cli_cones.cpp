@@ -146,6 +146,28 @@ TEST_CASE("a cone scene runs verified, converge compares the cone methods, --fcl
   std::vector<std::string> solvers;
   for (const auto& j : summary["solvers"]) solvers.push_back(j["solver"]);
   CHECK(solvers == std::vector<std::string>{"nsgs", "nsgs:local=3", "direct"});
+  // profile over a library holding a cone step: the boxed methods are not applicable there.
+  const fs::path lib = dir / "lib";
+  REQUIRE(run_cli("matrices stack --param n=2 --param friction=cone --param mu=0.5 --solver "
+                  "direct --step 10 --quiet --out " +
+                  (lib / "cone").string())
+              .code == 0);
+  write_file(lib / "library.json",
+             R"({"format": "cbps-problem-library/1", "problems": [{"name": "cone", "path": )"
+             R"("cone", "exact": "cone/lambda.mtx", "definite": false, "quick": true}]})");
+  const CliResult profiled =
+      run_cli("profile " + lib.string() + " --solvers pgs,nsgs,direct --no-plot --quiet --out " +
+              (dir / "profile").string());
+  INFO(profiled.out << profiled.err);
+  REQUIRE(profiled.code == 0);
+  const auto profile = nlohmann::json::parse(slurp(dir / "profile" / "profile.json"));
+  for (const auto& m : profile["measurements"]) {
+    CAPTURE(m["solver"]);
+    if (m["solver"] == "pgs")
+      CHECK(m["status"].get<std::string>().find("not applicable: contacts in friction cones") == 0);
+    else
+      CHECK(m["status"] == "solved");
+  }
   // The teaching page says what the contacts' rows live in.
   const fs::path page = dir / "page.html";
   const CliResult taught = run_cli(
