@@ -131,3 +131,17 @@ def _box(src):
     return table(["φ", "tan a*/μ paper", "tan a*/μ coulomb", "tan a*/μ cone",
                   "accel. box (m/s²)", "accel. cone (m/s²)", "turn, box", "turn, cone",
                   "largest gap to the closed forms"], rows, "rrrrrrrrr")
+
+
+PYRAMID_RUN = "validation/results/cones-pyramid/summary.json"
+
+
+@generator("cones-pyramid-run", PYRAMID_RUN)
+def _pyramid_run(src):
+    j = src.json(PYRAMID_RUN)
+    contacts = need(j, "contacts", where=PYRAMID_RUN)
+    if contacts.get("friction") != "cone":
+        raise SourceError(f"{PYRAMID_RUN}: /contacts/friction is not cone")
+    return (f"{j['steps']} steps of {thousands(j['rows'])} rows ({thousands(contacts['max_points'])}"
+            f" contacts, law {contacts['cone']}), the largest residual of any step "
+            f"{sci(j['max_residual'], 3)} N (tolerance 1e-10 N), {dur(j['wall_time_s'])} in all")

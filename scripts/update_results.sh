@@ -68,6 +68,8 @@ done
 # --target box-vs-cone
 copy $v/box-cone/box_vs_cone.json $v/results/box-cone/box_vs_cone.json
 copy $v/box-cone/box_vs_cone.png docs/box-vs-cone.png
+# --target cones-pyramid
+copy $v/cones-pyramid/summary.json $v/results/cones-pyramid/summary.json
 # --target peers
 copy $v/peers/peers.json $v/results/peers/peers.json
 # --target stress-catalogue
