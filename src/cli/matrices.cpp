@@ -11,6 +11,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/fclib_file.hpp"
 #include "cbps/io/matrix_market.hpp"
+#include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/simulation.hpp"
@@ -32,6 +33,9 @@ struct MatricesOptions {
 int matrices_command(const MatricesOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
+  // --fclib never replaces a file: cbps cannot tell an FCLIB file it wrote from a user's.
+  if (!o.fclib.empty())
+    check_output_file(o.fclib, "--fclib " + o.fclib, false, "remove it or name another file");
   OutputDir dir(o.out);
   Simulation sim(scene);
   for (long s = 0; s < o.at_step; ++s) sim.step();
@@ -131,7 +135,8 @@ void register_matrices(CLI::App& app, Action& run) {
   cmd->add_option("--fclib",
                   o->fclib,
                   "also write the step's problem as an FCLIB local problem (HDF5) with its "
-                  "solution; needs contacts in friction cones (friction=cone, docs/cones.md)");
+                  "solution, to a file that does not exist yet; needs contacts in friction cones "
+                  "(friction=cone, docs/cones.md)");
   add_quiet_flag(cmd, o->quiet, "print nothing on success (errors still go to stderr)");
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });
 }

@@ -86,6 +86,15 @@ TEST_CASE("matrices writes a cone step's problem (cones.json, --fclib) and lcp s
     CHECK((f.b - p.b).cwiseAbs().maxCoeff() == 0.0);
     CHECK(f.cones.mu.isConstant(kMu));
     CHECK((r - lambda).cwiseAbs().maxCoeff() == 0.0);
+    // An existing file is never replaced (cbps cannot tell its own FCLIB files from a user's).
+    const auto before = fs::last_write_time(h5);
+    const CliResult again =
+        run_cli("matrices " + cone_incline(dir, degrees, "coulomb") + " --out " +
+                (dir / (name + "-again")).string() + " --fclib " + h5.string());
+    CHECK(again.code == 2);
+    CHECK(again.err.find("--fclib " + h5.string()) != std::string::npos);
+    CHECK(fs::last_write_time(h5) == before);
+    CHECK(!fs::exists(dir / (name + "-again")));
 
     // `cbps lcp` on the folder solves the cone problem (its cones.json), by both methods.
     for (const char* solver : {"direct", "nsgs"}) {
