@@ -138,7 +138,8 @@ class Sources:
         self.root = root
         self.cache = {}
 
-    def json(self, rel):
+    def json(self, rel, fmt=None):
+        """The committed JSON file rel; with fmt, SourceError unless its "format" is fmt."""
         if rel not in self.cache:
             path = os.path.join(self.root, rel)
             try:
@@ -150,7 +151,11 @@ class Sources:
                     from None
             except (OSError, json.JSONDecodeError) as e:
                 raise SourceError(f"{rel}: cannot read: {e}") from None
-        return self.cache[rel]
+        j = self.cache[rel]
+        if fmt is not None and (not isinstance(j, dict) or j.get("format") != fmt):
+            found = j.get("format") if isinstance(j, dict) else None
+            raise SourceError(f"{rel}: format {found!r}, not {fmt}")
+        return j
 
 
 def need(d, *keys, where=""):

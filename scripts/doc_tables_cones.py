@@ -11,10 +11,7 @@ TARGET = 1e-10  # the relative residual the issue asks of the exact path
 
 
 def _cones(src):
-    j = src.json(CONES)
-    if j.get("format") != FORMAT:
-        raise SourceError(f"{CONES}: format {j.get('format')!r}, not {FORMAT}")
-    return j
+    return src.json(CONES, FORMAT)
 
 
 def _rel(x):
@@ -114,9 +111,7 @@ def _deg(x):
 
 @generator("cones-box", BOX_CONE)
 def _box(src):
-    j = src.json(BOX_CONE)
-    if j.get("format") != "cbps-box-cone/1":
-        raise SourceError(f"{BOX_CONE}: format {j.get('format')!r}, not cbps-box-cone/1")
+    j = src.json(BOX_CONE, "cbps-box-cone/1")
     by = {(r["law"], r["phi_deg"]): r for r in need(j, "rows", where=BOX_CONE)}
     rows = []
     for phi in sorted({r["phi_deg"] for r in j["rows"]}):

@@ -15,10 +15,7 @@ TOLERANCES = ("0.001", "1e-06", "1e-10")
 
 
 def _peers(src):
-    j = src.json(PEERS)
-    if j.get("format") != FORMAT:
-        raise SourceError(f"{PEERS}: format {j.get('format')!r}, not {FORMAT}")
-    return j
+    return src.json(PEERS, FORMAT)
 
 
 def _rel(x):
