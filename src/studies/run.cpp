@@ -209,12 +209,8 @@ nlohmann::json run_summary_json(const Scene& scene,
         {"max_velocity_error", number_json(t.cfm_acceleration_error * scene.world.dt)}};
   }
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
-  const FrictionModel friction = scene.world.friction;
   summary["contacts"] = {{"mu", scene.world.mu},
-                         {"friction",
-                          friction == FrictionModel::Coulomb ? "coulomb"
-                          : friction == FrictionModel::Cone  ? "cone"
-                                                             : "paper"},
+                         {"friction", std::string(to_string(scene.world.friction))},
                          {"restitution", scene.world.restitution},
                          {"persistence", scene.world.contact_persistence},
                          {"max_points", t.max_contacts}};

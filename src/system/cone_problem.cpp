@@ -38,14 +38,14 @@ std::string cone_contacts_error(const ConeContacts& cones, long rows) {
   for (long i = 0; i < cones.contacts(); ++i) {
     const long n = cones.normal[static_cast<std::size_t>(i)];
     const std::string contact = "contact " + std::to_string(i) + ": ";
-    if (n < next_free)
-      return contact + "normal row " + std::to_string(n) + " is not after the rows of contact " +
-             std::to_string(i - 1) + " (" + std::to_string(next_free - 3) + " to " +
-             std::to_string(next_free - 1) + ")";
     if (n < 0 || n + 3 > rows)
       return contact + "normal row " + std::to_string(n) +
              " has not two rows after it for t1, t2 (the problem has " + std::to_string(rows) +
              " rows)";
+    if (n < next_free)
+      return contact + "normal row " + std::to_string(n) + " is not after the rows of contact " +
+             std::to_string(i - 1) + " (" + std::to_string(next_free - 3) + " to " +
+             std::to_string(next_free - 1) + ")";
     if (!(std::isfinite(cones.mu(i)) && cones.mu(i) >= 0.0))
       return contact + "mu " + number_text(cones.mu(i)) + " is not a finite number >= 0";
     next_free = n + 3;

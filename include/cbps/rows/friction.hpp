@@ -1,6 +1,7 @@
 // Friction rows (paper 5.4): the tangent basis, the rows, and the paper's bound.
 #pragma once
 
+#include <string_view>
 #include <vector>
 
 #include "cbps/collision/collision.hpp"
@@ -16,6 +17,8 @@ enum class FrictionModel {
   /// rows; the contact's three rows live in the cone (System::cones)
   Cone
 };
+/// "paper", "coulomb" or "cone": the name scenes and summaries use.
+std::string_view to_string(FrictionModel model);
 
 /// Two unit tangents t1, t2 with (n, t1, t2) right-handed and orthonormal (5.4). Deterministic
 /// and continuous in n: t1 is n × e normalised, for e the first world axis of x, y, z with
