@@ -4,7 +4,10 @@
 // force mixing eps, when the scene has one, apart in cfm.txt; with Coulomb friction (5.4) the
 // bounds ±mu lambda_n that the step's lambda satisfies at its fixed point, said in labels.json;
 // with Coulomb's cone (friction=cone) its contacts in cones.json, and with --fclib FILE the same
-// problem as an FCLIB local problem with its solution (docs/cones.md).
+// problem as an FCLIB local problem with its solution. With a box (friction=paper or coulomb),
+// --fclib FILE --cone LAW writes the step's A and b posed on Coulomb's cone instead, which the
+// step did not solve: the file's info says so, and its /solution is the cone answer of the exact
+// path where that is verified (docs/cones.md).
 #include <cstdio>
 #include <memory>
 
@@ -13,7 +16,9 @@
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "common.hpp"
 
@@ -21,21 +26,105 @@ namespace cbps::cli {
 
 namespace {
 
+/// /fclib_local/info/math_info of every file cbps matrices writes.
+constexpr const char* kFclibMathInfo =
+    "u = W r + q with W = A = J Minv J^T (1/kg) and q = -b (m/s^2) of the step (6.2.9); r in N";
+
 struct MatricesOptions {
   SceneOptions scene;
   StepOptions step;
   long at_step = 0;
   std::string out;
   std::string fclib;  ///< --fclib FILE.hdf5: the step's cone problem as an FCLIB file too
+  std::string cone;   ///< --cone LAW: with a box, pose the step's A, b on the cone for --fclib
   bool quiet = false;
 };
+
+/// --fclib on a scene with contacts in cones: the problem the step solved, with its answer.
+void write_cones(const MatricesOptions& o,
+                 const Scene& scene,
+                 const System& sys,
+                 const StoredProblem& problem,
+                 const VecX& lambda,
+                 const SolverSummary& direct) {
+  ConeLaw law = sys.cones.law;
+  if (!o.cone.empty() && (!cone_law_from_string(o.cone, law) || law != sys.cones.law))
+    throw InputError("--cone " + o.cone + ": " + scene.name + " solves its cones under " +
+                     std::string(to_string(sys.cones.law)) +
+                     "; the scene's law is set by --param cone=LAW (coulomb or ccp)");
+  const FclibInfo info{scene.name + ", step " + std::to_string(o.at_step),
+                       "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
+                           std::string(to_string(sys.cones.law)) +
+                           "; /solution by the direct path (" + direct.message + ")",
+                       kFclibMathInfo};
+  write_fclib(o.fclib, problem, info, &lambda);
+}
+
+/// --fclib --cone LAW on a scene whose friction is a box: the step's A and b with its contacts
+/// posed in Coulomb's cone of the scene's mu (contacts_in_cones), solved by the exact path on
+/// cones; /solution only when that answer is verified (lcp's criterion, kLcpSolvedTolerance).
+void write_boxed_as_cones(const MatricesOptions& o,
+                          const Scene& scene,
+                          const System& sys,
+                          const StoredProblem& boxed) {
+  const std::string what =
+      "--fclib " + o.fclib + ": " + scene.name + ", step " + std::to_string(o.at_step);
+  ConeLaw law = ConeLaw::Coulomb;
+  cone_law_from_string(o.cone, law);  // checked before any work (matrices_command)
+  StoredProblem posed = boxed;
+  try {
+    posed.cones = contacts_in_cones(sys, scene.world.mu, law);
+  } catch (const InputError& e) {
+    throw InputError(what + ": " + e.what());
+  }
+  for (const int n : posed.cones.normal) {  // the cone replaces the box: the rows' own sets
+    posed.cmin(n) = 0.0;
+    posed.cmax(n) = kInf;
+    for (const int t : {n + 1, n + 2}) {
+      posed.cmin(t) = -kInf;
+      posed.cmax(t) = kInf;
+    }
+  }
+  SolverOptions exact;
+  exact.method = Method::Direct;
+  exact.tolerance = 0.0;
+  VecX lambda = VecX::Zero(posed.rows());
+  const SolverSummary s = solve(posed.problem(), lambda, exact);
+  const double residual = natural_map_residual(posed.problem(), lambda);
+  const bool verified = solved_by_residual(lambda, residual, scale_of(posed.problem()));
+  const FclibInfo info{
+      scene.name + ", step " + std::to_string(o.at_step) + ", posed on Coulomb's cone",
+      "written by cbps matrices: the step solved the scene's box (friction=" +
+          std::string(to_string(scene.world.friction)) +
+          "); this file holds the same A and b with each contact in Coulomb's cone, mu = " +
+          number_text(scene.world.mu) + ", law " + std::string(to_string(law)) + "; " +
+          (verified ? "/solution by the direct path (" + s.message + ")"
+                    : "no /solution: the direct path did not verify an answer (" + s.message + ")"),
+      kFclibMathInfo};
+  write_fclib(o.fclib, posed, info, verified ? &lambda : nullptr);
+  if (!verified && !o.quiet)
+    std::fprintf(stderr,
+                 "cbps matrices: %s: no /solution in the file (relative residual %s): %s\n",
+                 o.fclib.c_str(),
+                 number_text(residual / scale_of(posed.problem())).c_str(),
+                 s.message.c_str());
+}
 
 int matrices_command(const MatricesOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
   // --fclib never replaces a file: cbps cannot tell an FCLIB file it wrote from a user's.
-  if (!o.fclib.empty())
+  if (!o.fclib.empty()) {
     check_output_file(o.fclib, "--fclib " + o.fclib, false, "remove it or name another file");
+    ConeLaw law = ConeLaw::Coulomb;
+    if (!o.cone.empty() && !cone_law_from_string(o.cone, law))
+      throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
+    if (scene.world.friction != FrictionModel::Cone && o.cone.empty())
+      throw InputError("--fclib " + o.fclib + ": " + scene.name + " has its friction in a box " +
+                       "(friction=" + std::string(to_string(scene.world.friction)) +
+                       "); --cone coulomb|ccp poses the step's A and b on Coulomb's cone for " +
+                       "the file, or run the scene with friction=cone (docs/cones.md)");
+  }
   OutputDir dir(o.out);
   Simulation sim(scene);
   for (long s = 0; s < o.at_step; ++s) sim.step();
@@ -65,18 +154,9 @@ int matrices_command(const MatricesOptions& o) {
       problem, [&](const std::string& name, const auto& write) { write(dir.file(name)); }, notes);
   if (!o.fclib.empty()) {
     if (sys.cones.empty())
-      throw InputError("--fclib " + o.fclib + ": " + scene.name + ", step " +
-                       std::to_string(o.at_step) +
-                       " has no contacts in friction cones (FCLIB holds Coulomb's cone; run "
-                       "the scene with friction=cone)");
-    const FclibInfo info{
-        scene.name + ", step " + std::to_string(o.at_step),
-        "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
-            std::string(to_string(sys.cones.law)) + "; /solution by the direct path (" +
-            direct.message + ")",
-        "u = W r + q with W = A = J Minv J^T (1/kg) and q = -b (m/s^2) of the step (6.2.9); r "
-        "in N"};
-    write_fclib(o.fclib, problem, info, &lambda);
+      write_boxed_as_cones(o, scene, sys, problem);
+    else
+      write_cones(o, scene, sys, problem, lambda, direct);
   }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
   write_matrix_market(
@@ -132,11 +212,19 @@ void register_matrices(CLI::App& app, Action& run) {
                  "J, Minv, A, b and the rest of the step's system as Matrix Market "
                  "files")
       ->required();
-  cmd->add_option("--fclib",
-                  o->fclib,
-                  "also write the step's problem as an FCLIB local problem (HDF5) with its "
-                  "solution, to a file that does not exist yet; needs contacts in friction cones "
-                  "(friction=cone, docs/cones.md)");
+  auto* fclib = cmd->add_option(
+      "--fclib",
+      o->fclib,
+      "also write the step's problem as an FCLIB local problem (HDF5) with its solution, to a "
+      "file that does not exist yet; needs contacts in friction cones (friction=cone) or "
+      "--cone (docs/cones.md)");
+  cmd->add_option("--cone",
+                  o->cone,
+                  "with --fclib on a scene whose friction is a box: write the step's A and b "
+                  "with each contact posed in Coulomb's cone of the scene's mu, under LAW "
+                  "(coulomb: De Saxce's, FCLIB's; ccp: the convex relaxation), which the step "
+                  "did not solve (no default; on a cone scene it must name the scene's law)")
+      ->needs(fclib);
   add_quiet_flag(cmd, o->quiet, "print nothing on success (errors still go to stderr)");
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });
 }

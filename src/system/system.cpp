@@ -1,6 +1,10 @@
 // The whole system (paper 6.1) and the system equation (6.2).
 #include "cbps/system/system.hpp"
 
+#include <cmath>
+
+#include "cbps/base/error.hpp"
+
 namespace cbps {
 
 void map_bodies(const std::vector<Body>& bodies, System& sys) {
@@ -216,6 +220,30 @@ void assemble_system(const std::vector<Body>& bodies,
   sys.fext = stack_forces(bodies, sys.body_of_block, gravity);
   sys.A = compute_A(sys.J, sys.Minv);
   sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, dt);
+}
+
+ConeContacts contacts_in_cones(const System& sys, double mu, ConeLaw law) {
+  if (!std::isfinite(mu) || mu <= 0.0)
+    throw InputError("contacts in cones need a friction coefficient mu > 0 (got " +
+                     number_text(mu) + ")");
+  ConeContacts cones;
+  cones.law = law;
+  std::vector<double> coefficient;
+  const auto friction_of = [&](int k, int row) {
+    const auto r = static_cast<std::size_t>(row);
+    return row < sys.rows() && sys.kind[r] == RowKind::Friction &&
+           sys.manifold[r] == sys.manifold[static_cast<std::size_t>(k)];
+  };
+  for (int k = 0; k < sys.rows(); ++k) {
+    if (sys.kind[static_cast<std::size_t>(k)] != RowKind::Contact) continue;
+    if (!friction_of(k, k + 1) || !friction_of(k, k + 2))
+      throw InputError("row " + std::to_string(k) + " (" + sys.labels[std::size_t(k)] +
+                       ") is a contact without two friction rows after it; a cone needs both");
+    cones.normal.push_back(k);
+    coefficient.push_back(mu);
+  }
+  cones.mu = Eigen::Map<const VecX>(coefficient.data(), Eigen::Index(coefficient.size()));
+  return cones;
 }
 
 }  // namespace cbps

@@ -129,8 +129,67 @@ TEST_CASE("matrices writes a cone step's problem (cones.json, --fclib) and lcp s
   }
 }
 
-TEST_CASE("a cone scene runs verified, converge compares the cone methods, --fclib needs cones",
+TEST_CASE("matrices --fclib --cone poses a boxed step's A and b on Coulomb's cone",
           "[cli][cones]") {
+  const fs::path dir = scratch_dir("cli_cones_posed");
+  const double g = kGravity;
+  // The incline under the paper's box (±mu m g cos a per row). 20°: the cube rests, so its
+  // contacts carry m g cos a and m g sin a under the cone as under the box. 30°: it slides down
+  // the slope (x) under the box; posed on the cone, Coulomb's law gives mu m g cos a against it.
+  for (const double degrees : {20.0, 30.0}) {
+    CAPTURE(degrees);
+    const double a = degrees * kPi / 180.0;
+    const std::string name = std::to_string(int(degrees)) + "deg";
+    nlohmann::json scene = incline_scene_json(degrees, "paper");
+    const fs::path path = dir / (name + ".json");
+    write_file(path, scene.dump(2));
+    const fs::path m = dir / name;
+    const fs::path h5 = dir / (name + ".hdf5");
+    const CliResult made = run_cli("matrices " + path.string() + " --step 20 --out " + m.string() +
+                                   " --fclib " + h5.string() + " --cone coulomb");
+    INFO(made.out << made.err);
+    REQUIRE(made.code == 0);
+    const StoredProblem p = read_problem(m.string());
+    CHECK(p.cones.empty());  // the folder is the box the step solved
+    VecX r;
+    const StoredProblem f = read_fclib(h5.string(), &r);
+    REQUIRE(f.cones.contacts() == 4);
+    CHECK(f.cones.mu.isConstant(kMu));
+    CHECK((MatX(f.A) - MatX(p.A)).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((f.b - p.b).cwiseAbs().maxCoeff() == 0.0);
+    REQUIRE(r.size() == p.rows());
+    StoredProblem posed = p;
+    posed.cones = f.cones;
+    const Sums s = sums_of(posed, r);
+    CHECK(s.normal == Approx(g * std::cos(a)).epsilon(1e-8));
+    const double friction = degrees < 25.0 ? g * std::sin(a) : kMu * g * std::cos(a);
+    CHECK(s.friction_x == Approx(-friction).epsilon(1e-8));
+  }
+  // A box scene without --cone: nothing is written; --cone names a law.
+  const std::string base = "matrices stack --param n=2 --out " + (dir / "m").string();
+  const CliResult boxed = run_cli(base + " --fclib " + (dir / "boxed.hdf5").string());
+  CHECK(boxed.code == 2);
+  CHECK(boxed.err.find("--cone coulomb|ccp") != std::string::npos);
+  const CliResult unknown =
+      run_cli(base + " --fclib " + (dir / "boxed.hdf5").string() + " --cone elliptic");
+  CHECK(unknown.code == 2);
+  CHECK(unknown.err.find("--cone elliptic: unknown") != std::string::npos);
+  const CliResult no_file = run_cli(base + " --cone ccp");
+  CHECK(no_file.code == 2);
+  CHECK(no_file.err.find("--fclib") != std::string::npos);
+  // On a cone scene the law is the scene's.
+  const CliResult other = run_cli(
+      "matrices stack --param n=2 --param friction=cone --param cone=ccp --solver direct --out " +
+      (dir / "c").string() + " --fclib " + (dir / "c.hdf5").string() + " --cone coulomb");
+  CHECK(other.code == 2);
+  CHECK(other.err.find("--param cone=LAW") != std::string::npos);
+  CHECK(!fs::exists(dir / "m"));
+  CHECK(!fs::exists(dir / "c"));
+  CHECK(!fs::exists(dir / "boxed.hdf5"));
+  CHECK(!fs::exists(dir / "c.hdf5"));
+}
+
+TEST_CASE("a cone scene runs verified, converge compares the cone methods", "[cli][cones]") {
   const fs::path dir = scratch_dir("cli_cones_run");
   for (const char* law : {"coulomb", "ccp"}) {
     const CliResult run =
@@ -186,13 +245,6 @@ TEST_CASE("a cone scene runs verified, converge compares the cone methods, --fcl
   const std::string html = slurp(page);
   CHECK(html.find("Coulomb's cone") != std::string::npos);
   CHECK(html.find("contacts sliding (cone)") != std::string::npos);
-  // The paper's box is not a cone: an FCLIB file cannot hold it.
-  const CliResult boxed = run_cli("matrices stack --param n=2 --out " + (dir / "m").string() +
-                                  " --fclib " + (dir / "boxed.hdf5").string());
-  CHECK(boxed.code == 2);
-  CHECK(boxed.err.find("friction=cone") != std::string::npos);
-  CHECK(!fs::exists(dir / "m"));
-  CHECK(!fs::exists(dir / "boxed.hdf5"));
   // The methods of the boxed problem refuse a cone scene, naming the ones that solve it.
   const CliResult pgs =
       run_cli("run stack --param friction=cone --steps 2 --out " + (dir / "pgs").string());

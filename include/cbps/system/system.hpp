@@ -69,6 +69,14 @@ struct System {
   CoulombRows coulomb() const { return CoulombRows{normal_row, mu}; }
 };
 
+/// The contacts of a system whose friction is a box (the paper's or Coulomb's, 5.4), posed in
+/// Coulomb's cone of coefficient mu under `law`: each contact row followed by its two friction
+/// rows (same manifold; FCLIB's order normal, t1, t2); distance rows stay as they are. The same
+/// J, Minv, A and b: only the set lambda lives in changes (docs/cones.md). Throws InputError
+/// naming the first contact row without its two friction rows (mu = 0 makes none), and when mu
+/// is not finite and > 0.
+ConeContacts contacts_in_cones(const System& sys, double mu, ConeLaw law);
+
 /// Column blocks for the movable bodies only: static bodies get none (5.3).
 void map_bodies(const std::vector<Body>& bodies, System& sys);
 

@@ -5,6 +5,7 @@
 #include "cbps/solvers/cone/cone_direct.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <chrono>
@@ -52,6 +53,11 @@ constexpr int kOuterStall = 5;
 /// where it does not finish would otherwise go on for minutes (base-8 pyramid: 392 spent for
 /// 4.6e-5 N).
 constexpr int kMaxFactorizations = 300;
+/// Levenberg–Marquardt steps on Alart–Curnier's function (Coulomb) at most, and the count in a
+/// row that do not lower the law's residual by kProgress that ends them.
+constexpr int kMaxAlartCurnier = 30;
+constexpr int kAlartCurnierStall = 3;
+constexpr double kProgress = 1e-3;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
 /// Armijo's sufficient decrease and the smallest step tried.
@@ -249,7 +255,8 @@ struct Counts {
   int outer = 0;
   int factorizations = 0;
   long factor_nnz = 0;
-  int rounds = 0;  ///< Coulomb's fixed-point rounds
+  int rounds = 0;         ///< Coulomb's fixed-point rounds
+  int alart_curnier = 0;  ///< Coulomb's Levenberg–Marquardt steps on Alart–Curnier's function
   bool spent() const { return factorizations >= kMaxFactorizations; }
 };
 
@@ -446,17 +453,54 @@ VecX interior(const Setup& S,
   return best;
 }
 
+/// Alart & Curnier's function of one contact under Coulomb's law (Alart & Curnier, Comput.
+/// Methods Appl. Mech. Engrg. 92, 1991; the NSN-AC of Siconos), with u = w the contact's rows of
+/// A r − b and rho > 0:
+///   F_n = r_n − max(0, r_n − rho u_n),   F_t = r_t − P_D(y),   y = r_t − rho u_t,
+/// P_D the projection onto the disc of radius R = mu max(0, r_n − rho u_n). F = 0 exactly where
+/// De Saxcé's form holds (a closed contact has u_n = 0, so û = u + mu ‖u_t‖ e_n meets the same
+/// conditions), but u_t enters linearly: no kink at u_t = 0, where a contact sticks or slides
+/// slowly. Dm and Cm: its generalized Jacobian is Dm + Cm A (per contact, 3×3 each).
+Vec3 alart_curnier_map(const Vec3& r, const Vec3& u, double mu, double rho, Mat3& Dm, Mat3& Cm) {
+  Dm.setZero();
+  Cm.setZero();
+  const double xn = r(0) - rho * u(0);
+  const double a = xn > 0.0 ? 1.0 : 0.0;  // normal closed
+  const double radius = mu * std::max(0.0, xn);
+  const Eigen::Vector2d y = r.tail<2>() - rho * u.tail<2>();
+  const double ny = y.norm();
+  Vec3 F;
+  F(0) = r(0) - std::max(0.0, xn);
+  Dm(0, 0) = 1.0 - a;
+  Cm(0, 0) = a * rho;
+  if (ny <= radius) {  // sticking: F_t = rho u_t
+    F.tail<2>() = r.tail<2>() - y;
+    Cm.bottomRightCorner<2, 2>() = rho * Eigen::Matrix2d::Identity();
+    return F;
+  }
+  const Eigen::Vector2d e = y / ny;  // sliding (or open: radius 0)
+  F.tail<2>() = r.tail<2>() - radius * e;
+  const Eigen::Matrix2d Q = (radius / ny) * (Eigen::Matrix2d::Identity() - e * e.transpose());
+  Dm.bottomRightCorner<2, 2>() = Eigen::Matrix2d::Identity() - Q;
+  Dm.bottomLeftCorner<2, 1>() = -mu * a * e;
+  Cm.bottomRightCorner<2, 2>() = rho * Q;
+  Cm.bottomLeftCorner<2, 1>() = mu * a * rho * e;
+  return F;
+}
+
 /// The law's natural map for stage 2's Newton steps, F(v) = v − P_K(v − ρ_α û(w)) per contact
 /// and v − clamp(v − w / A'_kk, cmin, cmax) for the other rows, w = A_eps v − b_eps; with
 /// `jacobian`, its generalized Jacobian I − D + C A_eps (D = ∂P at v − ρ_α û, C = ρ_α D ∂û/∂w;
 /// a box row's D is 1 at a bound, else C = 1/A'_kk), every contact's 3×3 blocks stored so that
-/// the pattern never changes.
+/// the pattern never changes. With `alart_curnier` (Coulomb's law only), each contact's rows hold
+/// alart_curnier_map instead.
 VecX natural_map_newton(const Setup& S,
                         const ConeContacts& cones,
                         const SpMat& A_eps,
                         const VecX& b_eps,
                         const VecX& v,
-                        SpMat* jacobian) {
+                        SpMat* jacobian,
+                        bool alart_curnier = false) {
   const Eigen::Index c = S.c;
   const VecX w = A_eps * v - b_eps;
   VecX F(c);
@@ -468,6 +512,18 @@ VecX natural_map_newton(const Setup& S,
   for (Eigen::Index k = 0; k < c; ++k) {
     const std::size_t K = std::size_t(k);
     const int contact = S.contact_at[K];
+    if (contact >= 0 && alart_curnier) {
+      Mat3 Dm, Cm;
+      F.segment<3>(k) = alart_curnier_map(
+          v.segment<3>(k), w.segment<3>(k), cones.mu(contact), S.rho[std::size_t(contact)], Dm, Cm);
+      if (jacobian != nullptr)
+        for (int r = 0; r < 3; ++r)
+          for (int q = 0; q < 3; ++q) {
+            dt.emplace_back(int(k) + r, int(k) + q, Dm(r, q));
+            ct.emplace_back(int(k) + r, int(k) + q, Cm(r, q));
+          }
+      continue;
+    }
     if (contact >= 0) {
       const double mu = cones.mu(contact);
       const double rho = S.rho[std::size_t(contact)];
@@ -577,6 +633,58 @@ void proximal_newton(const Setup& S,
   x = best;
 }
 
+/// Coulomb's first try, from the relaxation's answer x: Levenberg–Marquardt steps on
+/// alart_curnier_map over all contacts (the box's natural map for the other rows),
+/// (GᵀG + ν I) d = −Gᵀ F with ν = ‖F‖² (Yamashita & Fukushima, Computing Suppl. 15, 2001: fast
+/// near a solution even where the solutions are not isolated, as on a singular A), factored by
+/// Eigen's SimplicialLDLT, an Armijo search on ‖F‖². Ends at `target` (the law's own residual,
+/// De Saxcé's natural map), after kMaxAlartCurnier steps or kAlartCurnierStall without progress.
+/// x becomes the point of least residual. On a block sliding down a slope from the box's state
+/// this finishes in a few steps where the fixed point below does not; on piles near rest whose
+/// contacts slide at 1e-8 m/s it stalls as the others do (docs/cones.md).
+void alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts) {
+  VecX best = x;
+  double best_r = residual(S, S.law, S.b, x);
+  Eigen::SimplicialLDLT<SpMat> ldlt;
+  SpMat G;
+  int stall = 0;
+  for (int it = 0;
+       it < kMaxAlartCurnier && best_r > target && stall < kAlartCurnierStall && !counts.spent();
+       ++it) {
+    const VecX F = natural_map_newton(S, S.law, S.A, S.b, x, &G, true);
+    const double f = F.squaredNorm();
+    const SpMat Gt = G.transpose();
+    SpMat H = Gt * G;
+    SpMat nu(S.c, S.c);
+    nu.setIdentity();
+    H += f * nu;
+    ldlt.compute(H);
+    ++counts.factorizations;
+    ++counts.alart_curnier;
+    if (ldlt.info() != Eigen::Success) break;
+    const VecX d = ldlt.solve(-(Gt * F));
+    if (!d.allFinite()) break;
+    bool accepted = false;
+    for (double t = 1.0; t >= kSmallestStep; t *= 0.5) {
+      const VecX trial = x + t * d;
+      if (natural_map_newton(S, S.law, S.A, S.b, trial, nullptr, true).squaredNorm() <=
+          (1.0 - kArmijo * t) * f) {
+        x = trial;
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) break;
+    const double r = residual(S, S.law, S.b, x);
+    stall = r < (1.0 - kProgress) * best_r ? 0 : stall + 1;
+    if (r < best_r) {
+      best_r = r;
+      best = x;
+    }
+  }
+  x = best;
+}
+
 /// Stage 3's fixed point on s = mu ‖u_t‖ for Coulomb's law, from x (the CCP's answer): each
 /// round the CCP of b_n − s (De Saxcé's term moved into b) solved by stages 1 and 2, while
 /// Coulomb's residual falls by a tenth a round; x becomes the round of least Coulomb residual.
@@ -655,9 +763,15 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   VecX x = interior(S, S.b, proximal, target_of, counts);
   if (S.law.law == ConeLaw::Ccp) {
     proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
-  } else {
-    coulomb_fixed_point(S, proximal, target_of, x, counts);
-    proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
+  } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
+    VecX y = x;
+    alart_curnier_steps(S, target_of(y), y, counts);
+    const double tried = residual(S, S.law, S.b, y);
+    if (tried > target_of(y)) {
+      coulomb_fixed_point(S, proximal, target_of, x, counts);
+      proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
+    }
+    if (tried < residual(S, S.law, S.b, x)) x = y;
   }
   VecX answer = x * (S.bn / S.md);
   for (Eigen::Index k = 0; k < c; ++k)  // fixed rows exactly at their value
@@ -677,7 +791,9 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
       << to_string(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
       << " interior iterations, ";
-  if (S.law.law == ConeLaw::Coulomb) msg << counts.rounds << " fixed-point rounds, ";
+  if (S.law.law == ConeLaw::Coulomb)
+    msg << counts.alart_curnier << " Alart-Curnier steps, " << counts.rounds
+        << " fixed-point rounds, ";
   msg << counts.outer << " proximal steps, " << counts.factorizations
       << " factorizations; residual " << summary.residual << " N (tolerance " << options.tolerance
       << " N, rounding floor " << floor << " N)";
