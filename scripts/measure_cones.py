@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Measures the exact path on friction cones against nsgs and Siconos' fc3d solvers on the cone
-pyramids of issue 31, and writes what docs/cones.md's bench table shows as JSON (format
-cbps-cones/1).
+pyramids of issue 31, and writes what docs/cones.md's bench tables show as JSON (format
+cbps-cones/2).
 
     /usr/bin/python3 scripts/measure_cones.py CBPS OUT.json [--work DIR] [--quick]
                      [--siconos-timeout S]
@@ -27,6 +27,12 @@ judged here as cbps judges its own: the natural map r − P_K(r − û) of Coulo
 The same numbers computed here for cbps's direct answer check this script against cbps
 ("residual_here").
 
+The states of issue 31's own measurements ("box_states"): `cbps matrices pyramid --param base=B
+--param mu=0.5 --step 3 --out W/pyramidB-box --fclib W/pyramidB-box.hdf5 --cone coulomb` for B =
+3, 5, 10 and 20: the pyramid stepped 3 times under the paper's box by its default method (pgs)
+while it settles, its step's A and b posed on Coulomb's cone; there contacts slide, stick and
+open at velocities near 1e-8 m/s. Measured the same way, Coulomb's law only.
+
 --quick (a check of the script itself): base 3 only, Siconos limited to 20 s. The load average
 after each command is recorded. Exit 1 without writing OUT when CBPS changes during the run.
 """
@@ -48,10 +54,11 @@ import measure_peers as peers  # run(), BINARY, git_commit(): the same job contr
 from cbps_files import write_json
 from cbps_problem import cone_natural_maps, scale_of  # scripts/cbps_problem.py
 
-FORMAT = "cbps-cones/1"
+FORMAT = "cbps-cones/2"
 BASES = [3, 5, 10, 20]
 LAWS = ["ccp", "coulomb"]
 MU = "0.5"
+BOX_STEP = 3
 SICONOS = {"nsgs": ("SICONOS_FRICTION_3D_NSGS", 100000), "prox": ("SICONOS_FRICTION_3D_PROX",
                                                                   100000)}
 
@@ -60,10 +67,8 @@ SICONOS_CHILD = r"""
 import json, sys, time
 import numpy as np, scipy.io
 import siconos.numerics as sn
-folder, name, iterations = sys.argv[1], sys.argv[2], int(sys.argv[3])
-A = scipy.io.mmread(folder + "/A.mtx").toarray()
-b = scipy.io.mmread(folder + "/b.mtx").ravel()
-mu = np.array([c["mu"] for c in json.load(open(folder + "/cones.json"))["contacts"]])
+data, name, iterations = np.load(sys.argv[1]), sys.argv[2], int(sys.argv[3])
+A, b, mu = data["A"], data["b"], data["mu"]
 problem = sn.FrictionContactProblem(3, len(mu), A, -b, mu)
 options = sn.SolverOptions(getattr(sn, name))
 options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = iterations
@@ -110,10 +115,10 @@ def lcp(cbps, work, hdf5, law, solver):
     return entry, np.array(j["lambda"], dtype=float)
 
 
-def siconos(work, folder, name, timeout, problem):
+def siconos(work, npz, name, timeout, problem):
     constant, iterations = SICONOS[name]
-    cmd = ["/usr/bin/python3", "-c", SICONOS_CHILD, folder, constant, str(iterations)]
-    log(f"siconos {name} on {folder} (limit {timeout} s)")
+    cmd = ["/usr/bin/python3", "-c", SICONOS_CHILD, npz, constant, str(iterations)]
+    log(f"siconos {name} on {npz} (limit {timeout} s)")
     code, out, err, elapsed = peers.run(cmd, work, timeout=timeout)
     entry = {"solver": "siconos:fc3d-" + name, "siconos_solver": constant,
              "max_iterations": iterations, "exit": code, "job_s": elapsed,
@@ -131,29 +136,41 @@ def siconos(work, folder, name, timeout, problem):
     return entry
 
 
-def measure(cbps, work, base, siconos_timeout):
-    name = f"pyramid{base}"
+def measure(cbps, work, base, siconos_timeout, state):
+    """One pyramid: "cone" (stepped under the relaxation, at rest) or "box" (settling under the
+    paper's box, posed on the cone)."""
+    name = f"pyramid{base}" + ("-box" if state == "box" else "")
     folder, hdf5 = os.path.join(work, name), os.path.join(work, name + ".hdf5")
-    args = ["matrices", "pyramid", "--param", f"base={base}", "--param", "friction=cone",
-            "--param", "cone=ccp", "--param", f"mu={MU}", "--step", "50", "--solver", "direct",
-            "--out", folder, "--fclib", hdf5, "--quiet"]
+    if state == "cone":
+        args = ["matrices", "pyramid", "--param", f"base={base}", "--param", "friction=cone",
+                "--param", "cone=ccp", "--param", f"mu={MU}", "--step", "50", "--solver",
+                "direct", "--out", folder, "--fclib", hdf5, "--quiet"]
+    else:
+        args = ["matrices", "pyramid", "--param", f"base={base}", "--param", f"mu={MU}",
+                "--step", str(BOX_STEP), "--out", folder, "--fclib", hdf5, "--cone", "coulomb",
+                "--quiet"]
     log("cbps " + " ".join(args))
     code, _, err, _ = peers.run([cbps] + args, work)
     if code != 0:
         sys.exit(f"measure_cones: cbps {' '.join(args)}: exit {code}: {err.strip()}")
     A = scipy.io.mmread(os.path.join(folder, "A.mtx")).toarray()
     b = scipy.io.mmread(os.path.join(folder, "b.mtx")).ravel()
-    with open(os.path.join(folder, "cones.json")) as f:
-        mu = np.array([c["mu"] for c in json.load(f)["contacts"]])
-    entry = {"name": name, "base": base, "contacts": len(mu), "rows": len(b),
+    with open(os.path.join(folder, "labels.json")) as f:  # a contact's rows: normal, t1, t2
+        contacts = sum(1 for row in json.load(f)["rows"] if row.startswith("contact "))
+    mu = np.full(contacts, float(MU))
+    if contacts * 3 != len(b):
+        sys.exit(f"measure_cones: {folder}: {len(b)} rows are not {contacts} contacts' rows")
+    npz = os.path.join(work, name + ".npz")
+    np.savez(npz, A=A, b=b, mu=mu)
+    entry = {"name": name, "base": base, "contacts": len(mu), "rows": len(b), "state": state,
              "command": "cbps " + " ".join(args).replace(work + os.sep, ""), "laws": {}}
-    for law in LAWS:
+    for law in (LAWS if state == "cone" else ["coulomb"]):
         direct, lam = lcp(cbps, work, hdf5, law, "direct")
         if law == "coulomb" and lam is not None:
             direct["residual_here"] = coulomb_measures(A, b, mu, lam)["residual"]
         nsgs, _ = lcp(cbps, work, hdf5, law, "nsgs")
         entry["laws"][law] = {"direct": direct, "nsgs_1000": nsgs}
-    entry["siconos"] = [siconos(work, folder, s, siconos_timeout, (A, b, mu)) for s in SICONOS]
+    entry["siconos"] = [siconos(work, npz, s, siconos_timeout, (A, b, mu)) for s in SICONOS]
     return entry
 
 
@@ -172,13 +189,14 @@ def main():
     peers.BINARY.update(path=cbps, mtime=os.stat(cbps).st_mtime)
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     timeout = 20.0 if args.quick else args.siconos_timeout
+    bases = BASES[:1] if args.quick else BASES
     results = {"format": FORMAT,
                "command": shlex.join(["scripts/measure_cones.py"] + sys.argv[1:]),
                "cbps_commit": peers.git_commit(root),
                "date": datetime.date.today().isoformat(), "machine": platform.node(),
                "nproc": os.cpu_count(), "quick": args.quick, "siconos_timeout_s": timeout,
-               "problems": [measure(cbps, work, base, timeout)
-                            for base in (BASES[:1] if args.quick else BASES)]}
+               "problems": [measure(cbps, work, base, timeout, "cone") for base in bases],
+               "box_states": [measure(cbps, work, base, timeout, "box") for base in bases]}
     results["wall_time_s"] = time.monotonic() - start
     peers.check_binary()
     os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)

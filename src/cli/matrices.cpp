@@ -47,6 +47,9 @@ void write_cones(const MatricesOptions& o,
                  const StoredProblem& problem,
                  const VecX& lambda,
                  const SolverSummary& direct) {
+  if (sys.cones.empty())
+    throw InputError("--fclib " + o.fclib + ": " + scene.name + ", step " +
+                     std::to_string(o.at_step) + " has no contacts in friction cones");
   ConeLaw law = sys.cones.law;
   if (!o.cone.empty() && (!cone_law_from_string(o.cone, law) || law != sys.cones.law))
     throw InputError("--cone " + o.cone + ": " + scene.name + " solves its cones under " +
@@ -77,6 +80,7 @@ void write_boxed_as_cones(const MatricesOptions& o,
   } catch (const InputError& e) {
     throw InputError(what + ": " + e.what());
   }
+  if (posed.cones.empty()) throw InputError(what + " has no contacts");
   for (const int n : posed.cones.normal) {  // the cone replaces the box: the rows' own sets
     posed.cmin(n) = 0.0;
     posed.cmax(n) = kInf;
@@ -153,10 +157,10 @@ int matrices_command(const MatricesOptions& o) {
   write_problem(
       problem, [&](const std::string& name, const auto& write) { write(dir.file(name)); }, notes);
   if (!o.fclib.empty()) {
-    if (sys.cones.empty())
-      write_boxed_as_cones(o, scene, sys, problem);
-    else
+    if (scene.world.friction == FrictionModel::Cone)
       write_cones(o, scene, sys, problem, lambda, direct);
+    else
+      write_boxed_as_cones(o, scene, sys, problem);
   }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
   write_matrix_market(

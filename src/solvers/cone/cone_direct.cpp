@@ -653,6 +653,7 @@ void alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts)
        ++it) {
     const VecX F = natural_map_newton(S, S.law, S.A, S.b, x, &G, true);
     const double f = F.squaredNorm();
+    if (!(f > 0.0)) break;  // Alart–Curnier's function is zero: the law holds
     const SpMat Gt = G.transpose();
     SpMat H = Gt * G;
     SpMat nu(S.c, S.c);
