@@ -126,7 +126,7 @@ def _deg(x):
 
 @generator("cones-box", BOX_CONE)
 def _box(src):
-    j = src.json(BOX_CONE, "cbps-box-cone/1")
+    j = src.json(BOX_CONE, "cbps-box-cone/2")
     by = {(r["law"], r["phi_deg"]): r for r in need(j, "rows", where=BOX_CONE)}
     rows = []
     for phi in sorted({r["phi_deg"] for r in j["rows"]}):
@@ -141,6 +141,21 @@ def _box(src):
     return table(["φ", "tan a*/μ paper", "tan a*/μ coulomb", "tan a*/μ cone",
                   "accel. box (m/s²)", "accel. cone (m/s²)", "turn, box", "turn, cone",
                   "largest gap to the closed forms"], rows, "rrrrrrrrr")
+
+
+@generator("cones-stack", BOX_CONE)
+def _stack(src):
+    j = src.json(BOX_CONE, "cbps-box-cone/2")
+    by = {(r["law"], r["phi_deg"]): r for r in need(j, "stack", where=BOX_CONE)}
+    rows = []
+    for phi in sorted({r["phi_deg"] for r in j["stack"]}):
+        laws = [by[(law, phi)] for law in ("paper", "coulomb", "cone")]
+        worst = max(abs(r["start_tan_over_mu"] - r["start_tan_over_mu_closed"]) for r in laws)
+        rows.append([f"{phi:g}°"] + [f"{r['start_tan_over_mu']:.5f}" for r in laws] +
+                    [f"{laws[0]['start_tan_over_mu_closed']:.5f}", sci(worst)])
+    return table(["φ", "tan a*/μ paper", "tan a*/μ coulomb", "tan a*/μ cone",
+                  "closed form, paper: 1/(3 max(cos φ, sin φ))", "largest gap to the closed forms"],
+                 rows, "rrrrrr")
 
 
 PYRAMID_RUN = "validation/results/cones-pyramid/summary.json"

@@ -19,10 +19,19 @@ Closed forms (N = m g cos a the normal force, F = m g sin a the push down the sl
   component that cannot beat mu N stays 0): slower (up to √2 mu N of friction along the
   diagonal), and turned toward the nearer axis.
 
+The stack (three flat boxes, 1 kg, 0.6 × 0.2 × 0.6 m, one on another: wide enough not to tip
+before they slide, tan a < 1): sliding starts at the ground, under the cone at tan a* = mu and
+under Coulomb's box at mu / max(cos phi, sin phi) as for one box (every interface carries the
+same ratio of push to load, so none slides sooner); under the paper's box, whose bound is
+mu |g·n| times the mass of the contact's movable bodies (rows/friction.cpp), the ground's rows
+hold only the bottom box's weight while the push is the whole stack's: tan a* = mu / (3 max(cos
+phi, sin phi)), a third of Coulomb's (the interfaces above, bounded by two boxes' mass, hold
+longer).
+
 Measured: the tilt a* by bisection on "the cube moves" (speed above 1e-9 m/s after 10 steps of
 1/240 s from rest; 30 halvings from [0, 60°]); the acceleration v/t after 24 steps (0.1 s) at
-tan a = 2 mu, its size and its direction's turn from phi. Writes OUT_DIR/box_vs_cone.json (format
-cbps-box-cone/1) and OUT_DIR/box_vs_cone.png.
+tan a = 2 mu, its size and its direction's turn from phi; for the stack a* alone ("moves": any
+box). Writes OUT_DIR/box_vs_cone.json (format cbps-box-cone/2) and OUT_DIR/box_vs_cone.png.
 """
 import json
 import math
@@ -38,33 +47,48 @@ G = 9.81
 DT = 1.0 / 240.0
 LAWS = ["paper", "coulomb", "cone"]
 PHIS = [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0]
+CUBE = [0.1, 0.1, 0.1]  # half extents, m
+STACK = 3  # flat boxes in the stack
+FLAT = [0.3, 0.1, 0.3]
 
 
-def simulate(law, a, phi, steps):
-    """The cube's velocity (m/s) after `steps` steps from rest on the plane tilted by a (rad),
-    pushed along phi (rad) from world x."""
+def simulate(law, a, phi, steps, boxes=1, half=CUBE):
+    """The velocities (m/s, one row per box, bottom first) after `steps` steps from rest of
+    `boxes` boxes of half extents `half` stacked on the plane tilted by a (rad), pushed along
+    phi (rad) from world x."""
+    bodies = [{"name": "ground", "shape": {"type": "plane"}, "static": True}]
+    for i in range(boxes):
+        bodies.append({"name": f"box{i}", "shape": {"type": "box", "half_extents": half},
+                       "mass": 1.0, "position": [0.0, half[1] * (2 * i + 1), 0.0]})
     scene = {"name": "box-vs-cone",
              "world": {"gravity": [G * math.sin(a) * math.cos(phi), -G * math.cos(a),
                                    G * math.sin(a) * math.sin(phi)],
                        "dt": "1/240", "mu": MU, "friction": law, "contact_margin": 0.001},
              "solver": {"method": "direct"},
-             "bodies": [{"name": "ground", "shape": {"type": "plane"}, "static": True},
-                        {"name": "box", "shape": {"type": "box", "half_extents": [0.1] * 3},
-                         "mass": 1.0, "position": [0.0, 0.1, 0.0]}]}
+             "bodies": bodies}
     sim = cbps.Simulation(cbps.parse_scene(json.dumps(scene)))
     for _ in range(steps):
         sim.step()
-    box = next(b for b in sim.bodies() if b["name"] == "box")
-    return np.array(box["v"])
+    by_name = {b["name"]: b["v"] for b in sim.bodies()}
+    return np.array([by_name[f"box{i}"] for i in range(boxes)])
 
 
-def critical_tilt(law, phi):
+def critical_tilt(law, phi, boxes=1, half=CUBE):
     lo, hi = 0.0, math.radians(60.0)
     for _ in range(30):
         mid = 0.5 * (lo + hi)
-        moves = np.linalg.norm(simulate(law, mid, phi, 10)) > 1e-9
+        moves = np.linalg.norm(simulate(law, mid, phi, 10, boxes, half), axis=1).max() > 1e-9
         lo, hi = (lo, mid) if moves else (mid, hi)
     return 0.5 * (lo + hi)
+
+
+def stack_start(law, phi):
+    """tan a* / mu of the stack: the cone's 1, Coulomb's box's 1 / max(cos, sin), the paper's a
+    STACK-th of that (its ground rows hold one box's weight)."""
+    if law == "cone":
+        return 1.0
+    box = 1.0 / max(math.cos(phi), math.sin(phi))
+    return box / STACK if law == "paper" else box
 
 
 def closed_form(law, phi):
@@ -86,7 +110,7 @@ def measure():
             phi = math.radians(deg)
             print(f"box_vs_cone: {law}, phi {deg:g} degrees", file=sys.stderr, flush=True)
             start = math.tan(critical_tilt(law, phi)) / MU
-            v = simulate(law, math.atan(2.0 * MU), phi, steps)
+            v = simulate(law, math.atan(2.0 * MU), phi, steps)[0]
             acc = v / (steps * DT)
             turn = math.degrees(math.atan2(acc[2], acc[0]) - phi)
             want = closed_form(law, phi)
@@ -99,11 +123,23 @@ def measure():
     return rows
 
 
-def plot(rows, path):
+def measure_stack():
+    rows = []
+    for law in LAWS:
+        for deg in PHIS:
+            phi = math.radians(deg)
+            print(f"box_vs_cone: stack, {law}, phi {deg:g} degrees", file=sys.stderr, flush=True)
+            start = math.tan(critical_tilt(law, phi, STACK, FLAT)) / MU
+            rows.append({"law": law, "phi_deg": deg, "start_tan_over_mu": start,
+                         "start_tan_over_mu_closed": stack_start(law, phi)})
+    return rows
+
+
+def plot(rows, stack, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 3, figsize=(12, 3.6))
+    fig, axes = plt.subplots(1, 4, figsize=(16, 3.6))
     style = {"paper": ("tab:blue", "o"), "coulomb": ("tab:orange", "s"), "cone": ("tab:green", "^")}
     phis = np.linspace(0.0, 45.0, 91)
     for law in LAWS:
@@ -115,9 +151,14 @@ def plot(rows, path):
                            (axes[2], "turn_deg", 2)):
             ax.plot(phis, [c[k] for c in curves], color=color, lw=1)
             ax.plot(x, [r[key] for r in mine], marker, color=color, mfc="none", label=law)
+        axes[3].plot(phis, [stack_start(law, math.radians(p)) for p in phis], color=color, lw=1)
+        axes[3].plot([r["phi_deg"] for r in stack if r["law"] == law],
+                     [r["start_tan_over_mu"] for r in stack if r["law"] == law], marker,
+                     color=color, mfc="none", label=law)
     axes[0].set_ylabel("tan a* / mu (sliding starts)")
     axes[1].set_ylabel("acceleration at tan a = 2 mu, m/s²")
     axes[2].set_ylabel("turn of the sliding direction, degrees")
+    axes[3].set_ylabel(f"tan a* / mu, stack of {STACK} flat boxes")
     for ax in axes:
         ax.set_xlabel("push direction phi from the friction axis, degrees")
         ax.grid(alpha=0.3)
@@ -132,13 +173,15 @@ def main():
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     rows = measure()
-    result = {"format": "cbps-box-cone/1", "mu": MU, "dt": DT, "rows": rows,
+    stack = measure_stack()
+    result = {"format": "cbps-box-cone/2", "mu": MU, "dt": DT, "rows": rows,
+              "stack": stack, "stack_boxes": {"count": STACK, "half_extents": FLAT},
               "command": "validation/box_vs_cone.py " + out}
     tmp = os.path.join(out, "box_vs_cone.json.tmp")
     with open(tmp, "w") as f:
         json.dump(result, f, indent=1)
     os.replace(tmp, os.path.join(out, "box_vs_cone.json"))
-    plot(rows, os.path.join(out, "box_vs_cone.png"))
+    plot(rows, stack, os.path.join(out, "box_vs_cone.png"))
     print(f"box_vs_cone: wrote {out}/box_vs_cone.json and box_vs_cone.png", file=sys.stderr)
 
 
