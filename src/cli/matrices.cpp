@@ -50,11 +50,6 @@ void write_cones(const MatricesOptions& o,
   if (sys.cones.empty())
     throw InputError("--fclib " + o.fclib + ": " + scene.name + ", step " +
                      std::to_string(o.at_step) + " has no contacts in friction cones");
-  ConeLaw law = sys.cones.law;
-  if (!o.cone.empty() && (!cone_law_from_string(o.cone, law) || law != sys.cones.law))
-    throw InputError("--cone " + o.cone + ": " + scene.name + " solves its cones under " +
-                     std::string(to_string(sys.cones.law)) +
-                     "; the scene's law is set by --param cone=LAW (coulomb or ccp)");
   const FclibInfo info{scene.name + ", step " + std::to_string(o.at_step),
                        "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
                            std::string(to_string(sys.cones.law)) +
@@ -69,11 +64,10 @@ void write_cones(const MatricesOptions& o,
 void write_boxed_as_cones(const MatricesOptions& o,
                           const Scene& scene,
                           const System& sys,
-                          const StoredProblem& boxed) {
+                          const StoredProblem& boxed,
+                          ConeLaw law) {
   const std::string what =
       "--fclib " + o.fclib + ": " + scene.name + ", step " + std::to_string(o.at_step);
-  ConeLaw law = ConeLaw::Coulomb;
-  cone_law_from_string(o.cone, law);  // checked before any work (matrices_command)
   StoredProblem posed = boxed;
   try {
     posed.cones = contacts_in_cones(sys, scene.world.mu, law);
@@ -95,7 +89,8 @@ void write_boxed_as_cones(const MatricesOptions& o,
   VecX lambda = VecX::Zero(posed.rows());
   const SolverSummary s = solve(posed.problem(), lambda, exact);
   const double residual = natural_map_residual(posed.problem(), lambda);
-  const bool verified = solved_by_residual(lambda, residual, scale_of(posed.problem()));
+  const double scale = scale_of(posed.problem());
+  const bool verified = solved_by_residual(lambda, residual, scale);
   const FclibInfo info{
       scene.name + ", step " + std::to_string(o.at_step) + ", posed on Coulomb's cone",
       "written by cbps matrices: the step solved the scene's box (friction=" +
@@ -110,24 +105,30 @@ void write_boxed_as_cones(const MatricesOptions& o,
     std::fprintf(stderr,
                  "cbps matrices: %s: no /solution in the file (relative residual %s): %s\n",
                  o.fclib.c_str(),
-                 number_text(residual / scale_of(posed.problem())).c_str(),
+                 number_text(residual / scale).c_str(),
                  s.message.c_str());
 }
 
 int matrices_command(const MatricesOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
-  // --fclib never replaces a file: cbps cannot tell an FCLIB file it wrote from a user's.
+  // Everything --fclib and --cone ask is checked before any work. --fclib never replaces a
+  // file: cbps cannot tell an FCLIB file it wrote from a user's.
+  const bool cone_scene = scene.world.friction == FrictionModel::Cone;
+  ConeLaw law = scene.world.cone;
   if (!o.fclib.empty()) {
     check_output_file(o.fclib, "--fclib " + o.fclib, false, "remove it or name another file");
-    ConeLaw law = ConeLaw::Coulomb;
     if (!o.cone.empty() && !cone_law_from_string(o.cone, law))
       throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
-    if (scene.world.friction != FrictionModel::Cone && o.cone.empty())
+    if (!cone_scene && o.cone.empty())
       throw InputError("--fclib " + o.fclib + ": " + scene.name + " has its friction in a box " +
                        "(friction=" + std::string(to_string(scene.world.friction)) +
                        "); --cone coulomb|ccp poses the step's A and b on Coulomb's cone for " +
                        "the file, or run the scene with friction=cone (docs/cones.md)");
+    if (cone_scene && law != scene.world.cone)
+      throw InputError("--cone " + o.cone + ": " + scene.name + " solves its cones under " +
+                       std::string(to_string(scene.world.cone)) +
+                       "; the scene's law is set by --param cone=LAW (coulomb or ccp)");
   }
   OutputDir dir(o.out);
   Simulation sim(scene);
@@ -157,10 +158,10 @@ int matrices_command(const MatricesOptions& o) {
   write_problem(
       problem, [&](const std::string& name, const auto& write) { write(dir.file(name)); }, notes);
   if (!o.fclib.empty()) {
-    if (scene.world.friction == FrictionModel::Cone)
+    if (cone_scene)
       write_cones(o, scene, sys, problem, lambda, direct);
     else
-      write_boxed_as_cones(o, scene, sys, problem);
+      write_boxed_as_cones(o, scene, sys, problem, law);
   }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
   write_matrix_market(
