@@ -639,10 +639,10 @@ void proximal_newton(const Setup& S,
 /// near a solution even where the solutions are not isolated, as on a singular A), factored by
 /// Eigen's SimplicialLDLT, an Armijo search on ‖F‖². Ends at `target` (the law's own residual,
 /// De Saxcé's natural map), after kMaxAlartCurnier steps or kAlartCurnierStall without progress.
-/// x becomes the point of least residual. On a block sliding down a slope from the box's state
-/// this finishes in a few steps where the fixed point below does not; on piles near rest whose
-/// contacts slide at 1e-8 m/s it stalls as the others do (docs/cones.md).
-void alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts) {
+/// x becomes the point of least residual, which it returns. On a block sliding down a slope from
+/// the box's state this finishes in a few steps where the fixed point below does not; on piles near
+/// rest whose contacts slide at 1e-8 m/s it stalls as the others do (docs/cones.md).
+double alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts) {
   VecX best = x;
   double best_r = residual(S, S.law, S.b, x);
   Eigen::SimplicialLDLT<SpMat> ldlt;
@@ -684,6 +684,7 @@ void alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts)
     }
   }
   x = best;
+  return best_r;
 }
 
 /// Stage 3's fixed point on s = mu ‖u_t‖ for Coulomb's law, from x (the CCP's answer): each
@@ -766,8 +767,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
   } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
     VecX y = x;
-    alart_curnier_steps(S, target_of(y), y, counts);
-    const double tried = residual(S, S.law, S.b, y);
+    const double tried = alart_curnier_steps(S, target_of(y), y, counts);
     if (tried > target_of(y)) {
       coulomb_fixed_point(S, proximal, target_of, x, counts);
       proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
