@@ -193,6 +193,10 @@ const std::vector<std::string> kPeerNames = {"siconos:lemke",
                                              "siconos:pgs",
                                              "siconos:enum",
                                              "siconos:avi",
+                                             "siconos:fc3d-nsgs",
+                                             "siconos:fc3d-nsn-ac",
+                                             "siconos:fc3d-prox",
+                                             "siconos:fc3d-admm",
                                              "bullet:dantzig",
                                              "bullet:lemke",
                                              "bullet:pgs"};
@@ -495,6 +499,27 @@ TEST_CASE("cbps lcp and converge read an FCLIB file: nsgs, direct, --cone, the c
     CHECK(j.at("wall_time_s").get<double>() >= 0.0);
     CHECK(j.at("cone").at("law") == law);
   }
+
+  // Siconos' own solvers of this very problem (the file came from a Siconos simulation), judged
+  // by cbps: PROX answers to cbps's criterion on it; NSGS's 300 iterations do not. Whatever
+  // each returns, the verdict is cbps's residual of that lambda, the peer's word beside it.
+  for (const char* peer : {"siconos:fc3d-prox", "siconos:fc3d-nsgs"}) {
+    CAPTURE(peer);
+    const CliResult r = run_cli("lcp " + file + " --json --iterations 300 --solver " + peer);
+    INFO(r.err);
+    const bool prox = std::string(peer) == "siconos:fc3d-prox";
+    CHECK(r.code == (prox ? 0 : 1));
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j.at("status") == (prox ? "solved" : "failed"));
+    CHECK(j.at("lambda").size() == 144);
+    const double residual = j.at("residual").get<double>();
+    CHECK((residual <= 1e-9 * j.at("scale").get<double>()) == prox);
+    CHECK(j.at("cone").at("natural_map").get<double>() == residual);
+    CHECK(j.at("peer").at("status") == (prox ? "info 0" : "info 1"));
+  }
+  const CliResult relaxed = run_cli("lcp " + file + " --cone ccp --solver siconos:fc3d-prox");
+  CHECK(relaxed.code == 2);
+  CHECK(relaxed.err.find("Coulomb's law") != std::string::npos);
 
   const CliResult boxed = run_cli("lcp " + file + " --solver pgs");
   CHECK(boxed.code == 2);

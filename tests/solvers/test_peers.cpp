@@ -272,3 +272,90 @@ TEST_CASE("the peers get cbps's iteration limit", "[peers]") {
     CHECK((lambda - pgs).lpNorm<Eigen::Infinity>() <= 1e-12 * (1.0 + pgs.norm()));
   }
 }
+
+TEST_CASE("Siconos' fc3d solvers on a sliding box: Coulomb's law, judged by cbps",
+          "[peers][siconos][cones]") {
+  // The slide scene: a box moving at 2 m/s along x on a plane, four contacts sliding the same
+  // way. Coulomb's law per contact (cone_problem.hpp): u_n = 0, friction −mu r_n u_t / ‖u_t‖,
+  // properties of the law checked on sums no solver forms. NSN-AC and ADMM are run too: they
+  // must return, and whatever they return is judged by the same residual.
+  const double mu = 0.3;
+  const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
+  const ConeContacts cones = test::cones_of(sys, mu, ConeLaw::Coulomb);
+  REQUIRE(cones.contacts() * 3 == sys.rows());  // every row a contact's
+  BoxedProblem problem = sys.problem();
+  problem.cones = &cones;
+  REQUIRE(peer_class(problem) == PeerClass::FrictionContact);
+  const double scale = scale_of(problem);
+  for (const Method m : {Method::SiconosFc3dNsgs,
+                         Method::SiconosFc3dProx,
+                         Method::SiconosFc3dNsnAc,
+                         Method::SiconosFc3dAdmm}) {
+    if (missing(m)) continue;
+    SolverOptions o = peer_options(m, 2000);
+    o.tolerance = 1e-12;
+    VecX lambda = VecX::Zero(sys.rows());
+    const SolverSummary s = solve(problem, lambda, o);
+    INFO(to_string(m) << ": " << s.message);
+    REQUIRE(lambda.allFinite());
+    const double residual = natural_map_residual(problem, lambda);
+    CHECK(s.residual == residual);  // cbps's verdict is cbps's residual, never the peer's word
+    const bool solved = residual <= kLcpSolvedTolerance * scale;
+    CHECK((s.termination != Termination::PeerUnsolved) == solved);
+    if (m == Method::SiconosFc3dNsgs || m == Method::SiconosFc3dProx) {
+      // The two that solve the slide: Coulomb's law on the sums.
+      REQUIRE(solved);
+      const VecX w = sys.A * lambda - sys.b;
+      double normal = 0.0;
+      Eigen::Vector2d friction = Eigen::Vector2d::Zero();
+      for (const int n : cones.normal) {
+        normal += lambda(n);
+        CHECK(std::abs(w(n)) <= 1e-8);
+        const double u_t = std::hypot(w(n + 1), w(n + 2));
+        REQUIRE(u_t > 1e-3);
+        // Against the sliding, as strong as the cone allows: r_t · u_t = −mu r_n ‖u_t‖.
+        CHECK(lambda(n + 1) * w(n + 1) + lambda(n + 2) * w(n + 2) ==
+              Approx(-mu * lambda(n) * u_t).epsilon(1e-8));
+        friction += Eigen::Vector2d(lambda(n + 1), lambda(n + 2));
+      }
+      CHECK(normal > 0.0);
+      CHECK(friction.norm() == Approx(mu * normal).epsilon(1e-8));
+    }
+  }
+}
+
+TEST_CASE("Siconos' fc3d solvers take only Coulomb's cones, every row a contact's",
+          "[peers][siconos][cones]") {
+  const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
+  ConeContacts cones = test::cones_of(sys, 0.3, ConeLaw::Ccp);
+  BoxedProblem problem = sys.problem();
+  VecX lambda;
+  const auto refused = [&](Method m, const BoxedProblem& p, const std::string& why) {
+    INFO(to_string(m) << ": " << why);
+    if (missing(m)) return;
+    CHECK_THAT(peer_refusal(m, p), Catch::Contains(why));
+    CHECK_THROWS_AS(solve(p, lambda, peer_options(m)), InputError);
+  };
+  refused(Method::SiconosFc3dProx, problem, "this one is the boxed problem");
+  problem.cones = &cones;
+  refused(Method::SiconosFc3dNsgs, problem, "convex relaxation (ccp)");
+  // The same contacts beside a row no contact owns (a free row of its own).
+  cones.law = ConeLaw::Coulomb;
+  const long c = sys.rows();
+  SpMat A(c + 1, c + 1);
+  std::vector<Triplet> t;
+  for (int j = 0; j < sys.A.outerSize(); ++j)
+    for (SpMat::InnerIterator it(sys.A, j); it; ++it) t.emplace_back(int(it.row()), j, it.value());
+  t.emplace_back(int(c), int(c), 1.0);
+  A.setFromTriplets(t.begin(), t.end());
+  const VecX b = (VecX(c + 1) << sys.b, 1.0).finished();
+  const VecX cmin = (VecX(c + 1) << sys.cmin, -kInf).finished();
+  const VecX cmax = (VecX(c + 1) << sys.cmax, kInf).finished();
+  BoxedProblem extra{A, b, cmin, cmax};
+  extra.cones = &cones;
+  refused(Method::SiconosFc3dAdmm, extra, "row " + std::to_string(c) + " is in no contact");
+  // And the boxed peers refuse the cones (solve(): they solve 6.2's boxed problem).
+  if (!missing(Method::SiconosLemke))
+    CHECK_THROWS_WITH(solve(problem, lambda, peer_options(Method::SiconosLemke)),
+                      Catch::Contains("siconos:fc3d-*"));
+}

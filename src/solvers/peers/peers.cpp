@@ -9,6 +9,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -16,7 +17,7 @@ namespace {
 
 bool is_siconos(Method m) {
   return m == Method::SiconosLemke || m == Method::SiconosPgs || m == Method::SiconosEnum ||
-         m == Method::SiconosAvi;
+         m == Method::SiconosAvi || is_siconos_fc3d(m);
 }
 bool is_bullet(Method m) {
   return m == Method::BulletDantzig || m == Method::BulletLemke || m == Method::BulletPgs;
@@ -41,6 +42,7 @@ std::string peer_library(Method method) {
 }
 
 PeerClass peer_class(const BoxedProblem& problem) {
+  if (problem.cones != nullptr) return PeerClass::FrictionContact;
   if ((problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all())
     return PeerClass::Lcp;
   if (problem.cmin.allFinite() && problem.cmax.allFinite()) return PeerClass::Relay;
@@ -55,6 +57,8 @@ std::string to_string(PeerClass c) {
       return "relay";
     case PeerClass::Mlcp:
       return "MLCP";
+    case PeerClass::FrictionContact:
+      return "frictional contact problem (fc3d)";
   }
   return "?";
 }
@@ -87,6 +91,23 @@ std::string peer_refusal(Method method, const BoxedProblem& problem) {
            " is run on at most " + std::to_string(peer_max_rows(method)) +
            (method == Method::SiconosEnum ? " (it enumerates 2^rows cases)"
                                           : " (it works on a dense copy of A)");
+  if (is_siconos_fc3d(method)) {
+    // Siconos' FrictionContactProblem: every row a contact's (normal, t1, t2), Coulomb's law.
+    if (problem.cones == nullptr)
+      return name +
+             ": Siconos' fc3d solvers take a problem whose contacts live in Coulomb's cone (an "
+             "FCLIB file, a scene with friction=cone); this one is the boxed problem of 6.2 "
+             "(siconos:lemke, siconos:pgs, siconos:enum and siconos:avi solve it)";
+    if (problem.cones->law != ConeLaw::Coulomb)
+      return name + ": Siconos' fc3d solvers solve Coulomb's law (De Saxce's form); this " +
+             "problem's law is the convex relaxation (ccp), which nsgs and direct solve";
+    const std::vector<char> in_cone = problem.cones->rows_in_cones(c);
+    for (long k = 0; k < c; ++k)
+      if (!in_cone[static_cast<std::size_t>(k)])
+        return name + ": Siconos' frictional contact problem has only contacts' rows, and row " +
+               std::to_string(k) + " is in no contact (bounds [" + number_text(problem.cmin[k]) +
+               ", " + number_text(problem.cmax[k]) + "]); nsgs and direct solve such a problem";
+  }
   if (method == Method::SiconosAvi) {
     // Without free rows an MLCP is an LCP (its boxed rows split in two, siconos.cpp).
     for (long k = 0; k < c; ++k)

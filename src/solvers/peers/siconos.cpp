@@ -1,9 +1,12 @@
 // Siconos numerics (4.4, C API) on cbps's boxed problem: the LCP, relay and MLCP forms of
-// peers.hpp, each built dense, handed to Siconos' driver, and read back into lambda.
+// peers.hpp, each built dense, handed to Siconos' driver, and read back into lambda; and on a
+// problem with Coulomb's cones, its FrictionContactProblem for the fc3d solvers.
 #include "cbps/solvers/peers/peers.hpp"
 
 #ifdef CBPS_HAVE_SICONOS
 
+#include <siconos/numerics/FrictionContactProblem.h>
+#include <siconos/numerics/Friction_cst.h>
 #include <siconos/numerics/LCP_Solvers.h>
 #include <siconos/numerics/LinearComplementarityProblem.h>
 #include <siconos/numerics/MLCP_Solvers.h>
@@ -67,6 +70,14 @@ int solver_id(Method method, PeerClass c) {
       return c == PeerClass::Lcp     ? int{SICONOS_LCP_AVI_CAOFERRIS}
              : c == PeerClass::Relay ? int{SICONOS_RELAY_AVI_CAOFERRIS}
                                      : 0;
+    case Method::SiconosFc3dNsgs:
+      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_NSGS} : 0;
+    case Method::SiconosFc3dNsnAc:
+      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_NSN_AC} : 0;
+    case Method::SiconosFc3dProx:
+      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_PROX} : 0;
+    case Method::SiconosFc3dAdmm:
+      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_ADMM} : 0;
     default:
       return 0;
   }
@@ -181,7 +192,7 @@ DriverCall call_driver(int (*driver)(Problem*, double*, double*, SiconosOptions*
 SiconosOptions* peer_options(int id, Method method, long size, const SolverOptions& options) {
   SiconosOptions* o = solver_options_create(id);
   // filterOn stays on (Siconos' default): its word includes its own check of the answer.
-  if (method == Method::SiconosPgs) {
+  if (is_iterative(method)) {  // pgs and the fc3d solvers: cbps's sweep limit and tolerance
     o->iparam[SICONOS_IPARAM_MAX_ITER] = options.max_iterations;
     o->dparam[SICONOS_DPARAM_TOL] = options.tolerance;  // 0: every sweep
   } else {
@@ -262,6 +273,27 @@ PeerRun run_here(const BoxedProblem& problem, VecX& lambda, const SolverOptions&
     run.convert_s = seconds_since(start);
     solve_start = std::chrono::steady_clock::now();
   };
+  if (c == PeerClass::FrictionContact) {
+    // Every row is a contact's, contact i's rows 3i (normal), 3i + 1, 3i + 2 (peer_refusal):
+    // u = W r + q with W = A, q = −b, r = lambda, as FCLIB's local problem (cone_problem.hpp).
+    MatX W = MatX(problem.A);
+    VecX q = -problem.b, mu = problem.cones->mu, u = VecX::Zero(problem.rows());
+    DenseView view(W);
+    SiconosOptions* o =
+        peer_options(solver_id(method, c), method, static_cast<long>(problem.rows()), options);
+    FrictionContactProblem fc{};
+    fc.dimension = 3;
+    fc.numberOfContacts = static_cast<int>(problem.cones->contacts());
+    fc.M = view.nm;
+    fc.q = q.data();
+    fc.mu = mu.data();
+    convert_done();
+    const DriverCall call = call_driver(&fc3d_driver, &fc, lambda.data(), u.data(), o);
+    run.solve_s = seconds_since(solve_start);
+    run = finish(run, call, o, method);
+    solver_options_delete(o);
+    return run;
+  }
   if (c != PeerClass::Mlcp) {
     MatX M = MatX(problem.A);
     VecX q = -problem.b, lb = problem.cmin, ub = problem.cmax, w = VecX::Zero(problem.rows());

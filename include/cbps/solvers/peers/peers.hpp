@@ -9,7 +9,10 @@
 //   Siconos: an LCP (w = M z + q, 0 ≤ z ⊥ w ≥ 0) when every row is [0, ∞); a relay problem
 //            (lb ≤ z ≤ ub, −w in the normal cone of the box) when every bound is finite; an MLCP
 //            otherwise (free rows as equalities, one-sided rows shifted, boxed rows split in
-//            two complementarity pairs, below). M = A dense, q = −b.
+//            two complementarity pairs, below). M = A dense, q = −b. Its fc3d solvers
+//            (siconos:fc3d-*) take a problem whose every row is in a contact under Coulomb's
+//            law (cone_problem.hpp) as its FrictionContactProblem: dimension 3, M = A dense,
+//            q = −b, mu, rows per contact normal, t1, t2 (cbps's order, FCLIB's).
 //   Bullet:  btMLCPSolverInterface::solveMLCP(A, b, x, lo, hi), which is the boxed problem of
 //            6.2 itself (w = A x − b), with A dense (btMatrixXu).
 // Both are optional: a build without them (CBPS_HAVE_SICONOS, CBPS_HAVE_BULLET unset) refuses a
@@ -29,10 +32,10 @@ bool peer_available(Method method);
 /// "Siconos numerics" or "Bullet", for messages.
 std::string peer_library(Method method);
 
-/// The problem class a peer receives (Siconos' three; Bullet takes every boxed problem).
-enum class PeerClass { Lcp, Relay, Mlcp };
-/// The class of a problem: Lcp when every row is [0, ∞), Relay when every bound is finite, Mlcp
-/// otherwise.
+/// The problem class a peer receives (Siconos' four; Bullet takes every boxed problem).
+enum class PeerClass { Lcp, Relay, Mlcp, FrictionContact };
+/// The class of a problem: FrictionContact when its contacts live in cones, Lcp when every row
+/// is [0, ∞), Relay when every bound is finite, Mlcp otherwise.
 PeerClass peer_class(const BoxedProblem& problem);
 std::string to_string(PeerClass c);
 
