@@ -67,7 +67,7 @@ ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
   // The steps before the one studied need a method that solves cones (the boxed methods refuse
   // them): the scene's own if it does, else the exact path (docs/cones.md).
   if (scene.world.friction == FrictionModel::Cone && scene.world.mu > 0.0 &&
-      !takes_cones(scene.solver.method))
+      !takes_cone_law(scene.solver.method, scene.world.cone == ConeLaw::Coulomb))
     scene.solver.method = Method::Direct;
   Simulation sim(scene);
   for (long k = 0; k < o.at_step; ++k) sim.step();

@@ -440,7 +440,8 @@ void register_lcp(CLI::App& app, Action& run) {
       o->solver,
       "NAME[:OMEGA][:key=value]... of the list below (" + cli_solver_names() +
           "), with the parameters the list gives. Default: nsgs for an FCLIB file "
-          "(its contacts are in friction cones, which nsgs and direct solve), lemke for "
+          "(its contacts are in friction cones, which nsgs and direct solve, and Siconos' "
+          "siconos:fc3d-nsgs, -nsn-ac, -prox, -admm), lemke for "
           "a Siconos file of up to 3000 rows, else direct (the exact path: interior point with a "
           "crossover, in body space when the folder has J.mtx and Minv.mtx). "
           "direct and active-set need a symmetric A, lemke takes any square A; "

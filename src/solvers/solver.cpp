@@ -192,6 +192,10 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
     case Method::SiconosPgs:
     case Method::SiconosEnum:
     case Method::SiconosAvi:
+    case Method::SiconosFc3dNsgs:
+    case Method::SiconosFc3dNsnAc:
+    case Method::SiconosFc3dProx:
+    case Method::SiconosFc3dAdmm:
     case Method::BulletDantzig:
     case Method::BulletLemke:
     case Method::BulletPgs:
@@ -290,8 +294,19 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
     throw InputError("method '" + std::string(to_string(options.method)) +
                      "' solves the boxed problem of 6.2; this problem's contacts live in friction "
                      "cones (" +
-                     std::to_string(problem.cones->contacts()) +
-                     " contacts), which nsgs and direct solve (docs/cones.md)");
+                     std::to_string(problem.cones->contacts()) + " contacts), which " +
+                     kConeMethodNames + " solve (docs/cones.md)");
+  if (problem.cones != nullptr &&
+      !takes_cone_law(options.method, problem.cones->law == ConeLaw::Coulomb))
+    throw InputError(
+        "method '" + std::string(to_string(options.method)) + "' on cones solves " +
+        (problem.cones->law == ConeLaw::Coulomb
+             ? std::string("the convex relaxation (ccp), the QP over the cones it minimises; this "
+                           "problem's law is Coulomb's, which nsgs, direct and siconos:fc3d-* "
+                           "solve")
+             : std::string("Coulomb's law only; this problem's law is the convex relaxation "
+                           "(ccp), which nsgs, direct, apgd and admm solve")) +
+        " (docs/cones.md)");
   if (options.method == Method::MatrixFree && problem.has_factors()) {
     // The matrix-free sweep solves the problem of J Minv Jᵀ + cfm E and never reads A: it must
     // be A's, or the residual it reports is not A's (issue 28: Minv doubled, "residual

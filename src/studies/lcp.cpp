@@ -51,12 +51,14 @@ LcpFacts lcp_facts(const StoredProblem& p) {
 
 void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path) {
   const std::string what = "--solver " + spec.text;
-  if (!p.cones.empty() && !takes_cones(spec.method))
-    throw InputError(
-        what + ": " + path + ": its " + std::to_string(p.cones.contacts()) +
-        " contacts live in friction cones (" + std::string(to_string(p.cones.law)) + "); " +
-        std::string(to_string(spec.method)) +
-        " solves the boxed problem of 6.2. Use --solver nsgs or direct (docs/cones.md)");
+  if (!p.cones.empty() && !takes_cone_law(spec.method, p.cones.law == ConeLaw::Coulomb))
+    throw InputError(what + ": " + path + ": its " + std::to_string(p.cones.contacts()) +
+                     " contacts live in friction cones (" + std::string(to_string(p.cones.law)) +
+                     "); " + std::string(to_string(spec.method)) +
+                     (takes_cones(spec.method) ? " does not solve that law"
+                                               : " solves the boxed problem of 6.2") +
+                     ". Use --solver nsgs or direct (cones: " + kConeMethodNames +
+                     "; docs/cones.md)");
   if (needs_jacobian(spec.method) && !p.has_jacobian())
     throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
                      std::string(to_string(spec.method)) +

@@ -152,4 +152,20 @@ double natural_map_residual(const VecX& w,
   return r;
 }
 
+void project_onto_set(const VecX& cmin, const VecX& cmax, const ConeContacts* cones, VecX& x) {
+  if (cones == nullptr) {
+    for (Eigen::Index k = 0; k < x.size(); ++k) x(k) = clamp(x(k), cmin(k), cmax(k));
+    return;
+  }
+  const std::vector<char> in_cone = cones->rows_in_cones(x.size());
+  for (Eigen::Index k = 0; k < x.size(); ++k)
+    if (!in_cone[static_cast<std::size_t>(k)]) x(k) = clamp(x(k), cmin(k), cmax(k));
+  for (long i = 0; i < cones->contacts(); ++i) {
+    const int n = cones->normal[static_cast<std::size_t>(i)];
+    Vec3 r = x.segment<3>(n);
+    project_onto_cone(cones->mu(i), r);
+    x.segment<3>(n) = r;
+  }
+}
+
 }  // namespace cbps

@@ -214,3 +214,38 @@ TEST_CASE("direct on cones: a frictionless contact (mu = 0) and a non-finite b",
   CHECK(s.termination == Termination::NonFinite);
   CHECK(std::isnan(s.residual));
 }
+
+TEST_CASE("apgd and admm on the relaxation's cones: the QP's A lambda, as direct finds it",
+          "[cone-direct][apgd][admm]") {
+  // The relaxation is the optimality condition of ½ λᵀAλ − bᵀλ over the cones: every minimiser
+  // has the same A λ (A positive semidefinite), so the first-order methods Mazhar et al. and
+  // Tasora et al. run on these cones must reach direct's w = A λ − b, whatever λ they pick on a
+  // singular A. Coulomb's law is no QP: both refuse it.
+  const System sys = system_of("pyramid", {{"base", "3"}}, 50);
+  ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Ccp);
+  BoxedProblem problem = sys.problem();
+  problem.cones = &cones;
+  VecX exact;
+  REQUIRE(solve(problem, exact, direct_options(1e-10)).termination == Termination::Direct);
+  const VecX w_exact = sys.A * exact - sys.b;
+  for (const Method method : {Method::Apgd, Method::Admm}) {
+    SolverOptions o = direct_options(1e-9);
+    o.method = method;
+    o.max_iterations = 50000;
+    VecX lambda;
+    const SolverSummary s = solve(problem, lambda, o);
+    INFO(to_string(method) << ": " << s.message);
+    CHECK(s.termination == Termination::ResidualTolerance);
+    CHECK(natural_map_residual(problem, lambda) <= 1e-9);
+    const ConeMeasures m = cone_measures(cones, lambda, sys.A * lambda - sys.b, sys.b);
+    CHECK(m.violation <= 1e-12);  // every iterate is projected onto the cones
+    CHECK((sys.A * lambda - sys.b - w_exact).lpNorm<Eigen::Infinity>() <= 1e-6);
+  }
+  cones.law = ConeLaw::Coulomb;
+  for (const Method method : {Method::Apgd, Method::Admm}) {
+    SolverOptions o = direct_options(1e-9);
+    o.method = method;
+    VecX lambda;
+    CHECK_THROWS_WITH(solve(problem, lambda, o), Catch::Contains("convex relaxation (ccp)"));
+  }
+}

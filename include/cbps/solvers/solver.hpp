@@ -52,23 +52,48 @@ enum class Method {
   Lemke,        ///< "lemke": Lemke's complementary pivoting, dense, any square A (lemke.hpp)
   Nsgs,         ///< "nsgs": PGS with each contact projected onto its friction cone (nsgs.hpp)
   // The peers (peers/peers.hpp): the field's own solvers, judged by cbps's residual.
-  SiconosLemke,   ///< "siconos:lemke": Siconos' lexicographic Lemke (LCP, relay, MLCP)
-  SiconosPgs,     ///< "siconos:pgs": Siconos' projected Gauss-Seidel (LCP, relay, MLCP)
-  SiconosEnum,    ///< "siconos:enum": Siconos' enumeration (small problems)
-  SiconosAvi,     ///< "siconos:avi": Siconos' AVI solver of Cao & Ferris (LCP, relay)
-  BulletDantzig,  ///< "bullet:dantzig": Bullet's Dantzig solver (ODE's)
-  BulletLemke,    ///< "bullet:lemke": Bullet's Lemke solver
-  BulletPgs       ///< "bullet:pgs": Bullet's projected Gauss-Seidel on the dense A
+  SiconosLemke,  ///< "siconos:lemke": Siconos' lexicographic Lemke (LCP, relay, MLCP)
+  SiconosPgs,    ///< "siconos:pgs": Siconos' projected Gauss-Seidel (LCP, relay, MLCP)
+  SiconosEnum,   ///< "siconos:enum": Siconos' enumeration (small problems)
+  SiconosAvi,    ///< "siconos:avi": Siconos' AVI solver of Cao & Ferris (LCP, relay)
+  // Siconos' fc3d solvers: Coulomb's law on friction cones (cone_problem.hpp) only.
+  SiconosFc3dNsgs,   ///< "siconos:fc3d-nsgs": non-smooth Gauss-Seidel
+  SiconosFc3dNsnAc,  ///< "siconos:fc3d-nsn-ac": non-smooth Newton on Alart-Curnier's function
+  SiconosFc3dProx,   ///< "siconos:fc3d-prox": proximal points around NSN-AC
+  SiconosFc3dAdmm,   ///< "siconos:fc3d-admm": ADMM on the cones
+  BulletDantzig,     ///< "bullet:dantzig": Bullet's Dantzig solver (ODE's)
+  BulletLemke,       ///< "bullet:lemke": Bullet's Lemke solver
+  BulletPgs          ///< "bullet:pgs": Bullet's projected Gauss-Seidel on the dense A
 };
 
 /// Every method, in the order of the enum.
-inline constexpr Method kMethods[] = {
-    Method::Pgs,           Method::BlockPgs,    Method::Sgs,         Method::Jacobi,
-    Method::MatrixFree,    Method::Direct,      Method::ActiveSet,   Method::PgsNesterov,
-    Method::Apgd,          Method::Nncg,        Method::PgsSm,       Method::Admm,
-    Method::Rbgs,          Method::Shock,       Method::Lemke,       Method::Nsgs,
-    Method::SiconosLemke,  Method::SiconosPgs,  Method::SiconosEnum, Method::SiconosAvi,
-    Method::BulletDantzig, Method::BulletLemke, Method::BulletPgs};
+inline constexpr Method kMethods[] = {Method::Pgs,
+                                      Method::BlockPgs,
+                                      Method::Sgs,
+                                      Method::Jacobi,
+                                      Method::MatrixFree,
+                                      Method::Direct,
+                                      Method::ActiveSet,
+                                      Method::PgsNesterov,
+                                      Method::Apgd,
+                                      Method::Nncg,
+                                      Method::PgsSm,
+                                      Method::Admm,
+                                      Method::Rbgs,
+                                      Method::Shock,
+                                      Method::Lemke,
+                                      Method::Nsgs,
+                                      Method::SiconosLemke,
+                                      Method::SiconosPgs,
+                                      Method::SiconosEnum,
+                                      Method::SiconosAvi,
+                                      Method::SiconosFc3dNsgs,
+                                      Method::SiconosFc3dNsnAc,
+                                      Method::SiconosFc3dProx,
+                                      Method::SiconosFc3dAdmm,
+                                      Method::BulletDantzig,
+                                      Method::BulletLemke,
+                                      Method::BulletPgs};
 
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
@@ -116,13 +141,32 @@ inline bool needs_symmetric(Method method) {
          method == Method::Nncg || method == Method::PgsSm || method == Method::Admm;
 }
 
-/// True for the methods that solve a problem whose contacts live in friction cones
-/// (BoxedProblem::cones, system/cone_problem.hpp): nsgs and direct (cone/cone_direct.hpp).
-/// solve() refuses the others on such a problem (InputError): they solve the boxed problem of
-/// 6.2.
-inline bool takes_cones(Method method) {
-  return method == Method::Nsgs || method == Method::Direct;
+/// True for Siconos' fc3d solvers (peers/peers.hpp): they take only problems whose every row is
+/// in a contact under Coulomb's law.
+inline bool is_siconos_fc3d(Method method) {
+  return method == Method::SiconosFc3dNsgs || method == Method::SiconosFc3dNsnAc ||
+         method == Method::SiconosFc3dProx || method == Method::SiconosFc3dAdmm;
 }
+
+/// True for the methods that solve a problem whose contacts live in friction cones
+/// (BoxedProblem::cones, system/cone_problem.hpp) under either law: nsgs and direct
+/// (cone/cone_direct.hpp). Siconos' fc3d solvers take Coulomb's law only, apgd and admm the
+/// relaxation only (the QP over the cones they minimise): takes_cone_law. solve() refuses the
+/// others on such a problem (InputError): they solve the boxed problem of 6.2.
+inline bool takes_cones(Method method) {
+  return method == Method::Nsgs || method == Method::Direct || is_siconos_fc3d(method) ||
+         method == Method::Apgd || method == Method::Admm;
+}
+/// True when a method that takes cones takes them under `coulomb` (Coulomb's law) or the
+/// relaxation (coulomb false).
+inline bool takes_cone_law(Method method, bool coulomb) {
+  if (is_siconos_fc3d(method)) return coulomb;
+  if (method == Method::Apgd || method == Method::Admm) return !coulomb;
+  return takes_cones(method);
+}
+/// The methods takes_cones names, for messages.
+inline constexpr const char* kConeMethodNames =
+    "nsgs and direct (and siconos:fc3d-* for Coulomb's law, apgd and admm for the relaxation)";
 
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check

@@ -57,6 +57,11 @@ std::string cone_contacts_error(const ConeContacts& cones, long rows);
 /// (mu ‖r_t‖ ≤ −r_n), else the nearest point of the cone's surface. r = (r_n, r_t1, r_t2).
 void project_onto_cone(double mu, Vec3& r);
 
+/// x ← its Euclidean projection onto the problem's set: each contact's three rows onto its cone
+/// (project_onto_cone), every other row clamped to [cmin, cmax]; with no cones (null), the box
+/// of 6.2. The projection of the methods that step and project (apgd, admm).
+void project_onto_set(const VecX& cmin, const VecX& cmax, const ConeContacts* cones, VecX& x);
+
 /// The Jacobian of P_K at x (3×3, dimensionless), with the case split of project_onto_cone: I
 /// inside K, 0 inside the polar cone, else the derivative of the surface's nearest point (with
 /// d = x_t/‖x_t‖, a = (x_n + mu ‖x_t‖)/(1 + mu²)):

@@ -9,6 +9,7 @@
 
 #include "../sweep.hpp"
 #include "cbps/solvers/exact/cholmod_factor.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -30,8 +31,7 @@ SolverSummary solve_admm(const BoxedProblem& problem,
   const SpMat& A = problem.A;
   const VecX& b = problem.b;
   if (lambda.size() != c) lambda = VecX::Zero(c);
-  for (Eigen::Index k = 0; k < c; ++k)
-    lambda(k) = clamp(lambda(k), problem.cmin(k), problem.cmax(k));
+  project_onto_set(problem.cmin, problem.cmax, problem.cones, lambda);
 
   const double diagonal = mean_diagonal(A);
   double rho = settings.rho * diagonal;  // kg⁻¹
@@ -55,19 +55,21 @@ SolverSummary solve_admm(const BoxedProblem& problem,
   // z is lambda itself; u the scaled dual, u = y / rho (Boyd et al. §3.1.1). The warm start's
   // u = (b − A z) / rho = −w / rho makes a solution a fixed point of the iteration.
   VecX u = c > 0 ? VecX((b - A * lambda) / rho) : VecX();
-  VecX x, rhs, z_old;
+  VecX x, rhs, z_old, relaxed;
   SolverSummary s = detail::iterate_sweeps(problem, lambda, options, [&](VecX& z) {
     rhs = b + rho * (z - u);
     factor.solve(rhs, x);  // (A + rho E) lambda_x = b + rho (z − u), N
     if (!x.allFinite()) return std::numeric_limits<double>::quiet_NaN();  // z stays in the box
     z_old = z;
     const double alpha = settings.alpha;
+    relaxed = alpha * x + (1.0 - alpha) * z_old;  // §3.4.3
+    // z = P(relaxed + u): the box's clamp, or each contact's cone (the relaxation's set).
+    z = relaxed + u;
+    project_onto_set(problem.cmin, problem.cmax, problem.cones, z);
     double delta = 0.0;
     double r2 = 0.0, s2 = 0.0;  // ‖lambda_r − z‖₂², ‖z − z_old‖₂² (before the factor rho)
     for (Eigen::Index k = 0; k < c; ++k) {
-      const double relaxed = alpha * x(k) + (1.0 - alpha) * z_old(k);  // §3.4.3
-      z(k) = clamp(relaxed + u(k), problem.cmin(k), problem.cmax(k));
-      const double primal = relaxed - z(k);  // r_k, also the step of u
+      const double primal = relaxed(k) - z(k);  // r_k, also the step of u
       u(k) += primal;
       const double change = std::abs(z(k) - z_old(k));
       max_keep_nan(delta, change);

@@ -1,5 +1,6 @@
 // Accelerated projected gradient descent (Mazhar, Heyn, Negrut, Tasora, ACM TOG 2015) on the
-// boxed problem of 6.2; apgd.hpp states the iteration and its choices.
+// boxed problem of 6.2, or on its cones' relaxation; apgd.hpp states the iteration and its
+// choices.
 #include "cbps/solvers/compared/apgd.hpp"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -30,19 +32,25 @@ SolverSummary solve_apgd(const BoxedProblem& problem,
   double L = max_abs_row_sum(problem.A);  // ‖A‖∞ ≥ A's largest eigenvalue (Gershgorin)
   if (!(L > 0.0) && std::isfinite(L)) L = 1.0;  // A = 0: any step length is exact
   int restarts = 0;
+  // The natural-map residual from w = A λ − b (the box's, or with cones the relaxation's).
+  const auto residual_of = [&](const VecX& w, const VecX& l) {
+    return problem.cones != nullptr
+               ? natural_map_residual(w, l, problem.cmin, problem.cmax, *problem.cones)
+               : natural_map_residual(w, l, problem.cmin, problem.cmax);
+  };
   // The best iterate so far and its natural-map residual (the starting guess counts).
   VecX best = lambda;
-  double best_residual =
-      c > 0 ? natural_map_residual(VecX(Ax - problem.b), lambda, problem.cmin, problem.cmax) : 0.0;
+  double best_residual = c > 0 ? residual_of(VecX(Ax - problem.b), lambda) : 0.0;
   double residual = best_residual;  // of the current iterate λ_k
 
   VecX next(c), Anext(c), d(c);
   const auto step = [&](VecX& l) {
     const VecX g = Ay - problem.b;  // ∇f(y_k) = A y_k − b
-    // λ_{k+1} = clamp(y_k − g / L); backtrack while ½ dᵀA d > ½ L dᵀd (f overshoots its model).
+    // λ_{k+1} = P(y_k − g / L), P the projection onto the box (or the cones, Mazhar et al.'s
+    // own set); backtrack while ½ dᵀA d > ½ L dᵀd (f overshoots its model).
     for (int trial = 0;; ++trial) {
-      for (Eigen::Index k = 0; k < c; ++k)
-        next(k) = clamp(y(k) - g(k) / L, problem.cmin(k), problem.cmax(k));
+      next = y - g / L;
+      project_onto_set(problem.cmin, problem.cmax, problem.cones, next);
       Anext = times_A(next);
       d = next - y;
       const double curvature = d.dot(Anext - Ay);  // dᵀA d
@@ -68,7 +76,7 @@ SolverSummary solve_apgd(const BoxedProblem& problem,
     }
     l = next;
     Ax = Anext;
-    residual = natural_map_residual(VecX(Ax - problem.b), l, problem.cmin, problem.cmax);
+    residual = residual_of(VecX(Ax - problem.b), l);
     if (residual < best_residual) {
       best = l;
       best_residual = residual;

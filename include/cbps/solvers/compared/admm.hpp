@@ -8,6 +8,10 @@
 // which ADMM splits as lambda = z with z in the box (Boyd, Parikh, Chu, Peleato, Eckstein,
 // "Distributed optimization and statistical learning via the alternating direction method of
 // multipliers", Found. Trends Mach. Learn. 3(1), 2011, §3.1.1 scaled form, §5.2 box constraints).
+// On a problem with cones under the convex relaxation (cone_problem.hpp, law ccp) the set is
+// the cones, as in Tasora et al.'s cone complementarity problem: z is projected onto each
+// contact's cone (project_onto_set) and the rest of the iteration is unchanged. Coulomb's law is
+// not the optimality condition of a QP, so solve() refuses it for admm.
 #pragma once
 
 #include "cbps/solvers/solver.hpp"
@@ -19,7 +23,7 @@ namespace cbps {
 ///   (A + rho E) lambda_x = b + rho (z − u)        one triangular solve pair with the kept
 ///                                                 CHOLMOD factor of A + rho E
 ///   lambda_r = alpha lambda_x + (1 − alpha) z      over-relaxation (§3.4.3)
-///   z ← clamp(lambda_r + u, cmin, cmax)            projection onto the box (N)
+///   z ← clamp(lambda_r + u, cmin, cmax)            projection onto the box (N), or the cones
 ///   u ← u + lambda_r − z                           scaled dual, u = y / rho = −w / rho at a
 ///   solution
 /// then residual balancing may change rho (u rescaled by rho_old / rho_new, and A + rho E

@@ -1,7 +1,11 @@
 // Accelerated projected gradient descent (APGD) on the boxed problem of 6.2, after
 //   H. Mazhar, T. Heyn, D. Negrut, A. Tasora, "Using Nesterov's method to accelerate multibody
 //   dynamics with friction and contact", ACM Transactions on Graphics 34(3), article 32, 2015
-// (their Algorithm 1, APGD, with the box [cmin, cmax] in place of their friction cones).
+// (their Algorithm 1, APGD, with the box [cmin, cmax] in place of their friction cones). On a
+// problem with cones under the convex relaxation (cone_problem.hpp, law ccp) it is their
+// Algorithm 1 itself: the projection is onto each contact's cone (project_onto_set), the
+// residual the relaxation's natural map. Coulomb's law is not the optimality condition of a QP,
+// so solve() refuses it for apgd.
 //
 // The boxed problem is the optimality condition of
 //   min f(λ) = ½ λᵀAλ − bᵀλ   over cmin ≤ λ ≤ cmax,   ∇f(λ) = A λ − b = w  (m/s², 6.2),
