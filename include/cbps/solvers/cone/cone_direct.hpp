@@ -33,18 +33,22 @@ namespace cbps {
 ///      singular. ε starts at 1e-2 · the scaled residual, follows it down while outer steps
 ///      halve it and grows ×100 (to 1e-4) when they do not. The outer steps end at the tolerance,
 ///      at the residual's rounding floor (residual_floor), or after five without progress.
-///   3. Coulomb's law (De Saxcé's û = u + mu ‖u_t‖ e_n): stage 1 gives the CCP's answer; from it
+///   3. Coulomb's law (De Saxcé's û = u + mu ‖u_t‖ e_n): first stage 1 with De Saxcé's term
+///      moved into b and refreshed at every iterate (b_n − mu ‖w_t‖ at the current λ, the
+///      iterate kept by Coulomb's residual): a pile settling under the paper's box, whose answer
+///      has contacts opening, sticking and sliding at 1e-9 m/s, finishes there (base-3 pyramid:
+///      46 iterations, where the rest of this stage stalls at 1.8e-9 N). Where it does not
+///      finish, stage 1 gives the CCP's answer; from it
 ///      Levenberg–Marquardt steps on Alart and Curnier's function of the contacts (Alart &
 ///      Curnier, Comput. Methods Appl. Mech. Engrg. 92, 1991: the same solutions, with u_t
 ///      entering linearly, so no kink where a contact sticks or slides slowly), ν = ‖F‖²
 ///      (Yamashita & Fukushima 2001: fast where the solutions are not isolated); where those do
 ///      not finish, the fixed point on s = mu ‖u_t‖ (each round the CCP of b_n − s by stages 1
 ///      and 2; Haslinger's approach, Acary et al. 2018) while each round cuts Coulomb's residual
-///      by a tenth, at most 20 rounds, then stage 2 on Coulomb's map itself; the better answer
-///      of the two. Where the CCP's answer already keeps Coulomb's law (no contact slides) that
-///      is the answer. Coulomb's problem is not monotone: on piles near rest whose contacts
-///      slide at 1e-8 m/s (pyramids in states reached under the paper's box) none of this
-///      finishes (docs/cones.md), and it says so.
+///      by a tenth, at most 20 rounds, then stage 2 on Coulomb's map itself; the best answer
+///      of the three. Coulomb's problem is not monotone: on the larger piles settling under the
+///      paper's box (400 and 1,600 contacts) none of this finishes (docs/cones.md), and it says
+///      so.
 /// A solve spends at most 300 factorizations: every stage stops there (the relaxation needs far
 /// fewer; Coulomb's law where it cannot finish would go on for minutes).
 /// Returns Termination::Direct only when the law's residual of lambda is at most
