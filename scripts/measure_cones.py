@@ -18,10 +18,10 @@ for each law (`--cone ccp`, `--cone coulomb`):
 - "nsgs_1000": `cbps lcp F --cone LAW --solver nsgs --iterations 1000 --tolerance 0 --json`, the
   time of 1,000 sweeps (the target's yardstick) and the residual they reach.
 
-Under Coulomb's law (FCLIB's, Siconos') also Siconos 4.4's fc3d solvers through python3-siconos
-on the folder's W = A, q = −b, mu (each in a child process with a time limit, --siconos-timeout,
-default 300 s; a child past it is killed and recorded as "timeout"): NSGS (up to 100,000
-iterations) and PROX, both asked for a tolerance of 1e-14 in Siconos' own error. Their answers are
+Under Coulomb's law (FCLIB's, Siconos') also Siconos 4.4's fc3d solvers as cbps's own methods
+(`cbps lcp F --solver siconos:fc3d-NAME --iterations 100000 --tolerance 1e-14 --json`, each with
+a time limit, --siconos-timeout, default 300 s; a run past it is killed with its Siconos child
+and recorded as "timeout"): NSGS and PROX, both asked for 1e-14 in Siconos' own error. Their answers are
 judged here as cbps judges its own: the natural map r − P_K(r − û) of Coulomb's law per contact
 (docs/cones.md), its largest norm (N, cbps's residual), over the same scale, and MERIT_1.
 The same numbers computed here for cbps's direct answer check this script against cbps
@@ -42,7 +42,6 @@ import json
 import os
 import platform
 import shlex
-import subprocess
 import sys
 import tempfile
 import time
@@ -59,28 +58,10 @@ BASES = [3, 5, 10, 20]
 LAWS = ["ccp", "coulomb"]
 MU = "0.5"
 BOX_STEP = 3
-SICONOS = {"nsgs": ("SICONOS_FRICTION_3D_NSGS", 100000), "prox": ("SICONOS_FRICTION_3D_PROX",
-                                                                  100000)}
-
-# The child that runs one Siconos solver on a folder: prints a JSON line with its answer.
-SICONOS_CHILD = r"""
-import json, sys, time
-import numpy as np, scipy.io
-import siconos.numerics as sn
-data, name, iterations = np.load(sys.argv[1]), sys.argv[2], int(sys.argv[3])
-A, b, mu = data["A"], data["b"], data["mu"]
-problem = sn.FrictionContactProblem(3, len(mu), A, -b, mu)
-options = sn.SolverOptions(getattr(sn, name))
-options.iparam[sn.SICONOS_IPARAM_MAX_ITER] = iterations
-options.dparam[sn.SICONOS_DPARAM_TOL] = 1e-14
-r, u = np.zeros(len(b)), np.zeros(len(b))
-start = time.perf_counter()
-info = sn.fc3d_driver(problem, r, u, options)
-elapsed = time.perf_counter() - start
-print(json.dumps({"info": int(info), "iterations": int(options.iparam[sn.SICONOS_IPARAM_ITER_DONE]),
-                  "error": float(options.dparam[sn.SICONOS_DPARAM_RESIDU]),
-                  "solve_time_s": elapsed, "r": r.tolist()}))
-"""
+# Siconos' fc3d solvers, run as cbps's own methods (`--solver siconos:fc3d-NAME`, docs/peers.md):
+# name -> the iterations they are given.
+SICONOS = {"nsgs": 100000, "prox": 100000}
+SICONOS_TOLERANCE = "1e-14"  # in Siconos' own error, relative to ‖q‖
 
 
 def log(text):
@@ -115,24 +96,32 @@ def lcp(cbps, work, hdf5, law, solver):
     return entry, np.array(j["lambda"], dtype=float)
 
 
-def siconos(work, npz, name, timeout, problem):
-    constant, iterations = SICONOS[name]
-    cmd = ["/usr/bin/python3", "-c", SICONOS_CHILD, npz, constant, str(iterations)]
-    log(f"siconos {name} on {npz} (limit {timeout} s)")
-    code, out, err, elapsed = peers.run(cmd, work, timeout=timeout)
-    entry = {"solver": "siconos:fc3d-" + name, "siconos_solver": constant,
+def siconos(cbps, work, hdf5, name, timeout, problem):
+    """Siconos' fc3d solver NAME on the file through `cbps lcp --solver siconos:fc3d-NAME`, its
+    answer judged here by cbps's residual (coulomb_measures), its own word and time from the
+    JSON's `peer` object; a run past `timeout` is killed with its Siconos child."""
+    iterations = SICONOS[name]
+    args = ["lcp", hdf5, "--solver", "siconos:fc3d-" + name, "--iterations", str(iterations),
+            "--tolerance", SICONOS_TOLERANCE, "--json"]
+    log(f"cbps {' '.join(args)} (limit {timeout} s)")
+    code, out, err, elapsed = peers.run([cbps] + args, work, timeout=timeout)
+    entry = {"solver": "siconos:fc3d-" + name, "command": "cbps " + " ".join(args),
              "max_iterations": iterations, "exit": code, "job_s": elapsed,
              "load_average": os.getloadavg()[0]}
     if code is None:
         entry.update(status="timeout", message=f"no answer within {timeout} s (killed)")
         return entry
-    if code != 0:
+    if code not in (0, 1):
         entry.update(status="error", message=f"exit {code}: {err.strip()[-1000:]}")
         return entry
-    j = json.loads(out.strip().splitlines()[-1])
-    entry.update(status="answered", siconos_info=j["info"], iterations=j["iterations"],
-                 siconos_error=j["error"], solve_time_s=j["solve_time_s"])
-    entry.update(coulomb_measures(*problem, np.array(j["r"])))
+    j = json.loads(out)
+    peer = j["peer"]
+    word = peer["status"]
+    entry.update(status="answered",
+                 siconos_info=int(word.split()[1]) if word.startswith("info ") else None,
+                 peer_status=word, iterations=peer["iterations"],
+                 solve_time_s=peer["solve_time_s"], cbps_status=j["status"])
+    entry.update(coulomb_measures(*problem, np.array(j["lambda"], dtype=float)))
     return entry
 
 
@@ -160,8 +149,6 @@ def measure(cbps, work, base, siconos_timeout, state):
     mu = np.full(contacts, float(MU))
     if contacts * 3 != len(b):
         sys.exit(f"measure_cones: {folder}: {len(b)} rows are not {contacts} contacts' rows")
-    npz = os.path.join(work, name + ".npz")
-    np.savez(npz, A=A, b=b, mu=mu)
     entry = {"name": name, "base": base, "contacts": len(mu), "rows": len(b), "state": state,
              "command": "cbps " + " ".join(args).replace(work + os.sep, ""), "laws": {}}
     for law in (LAWS if state == "cone" else ["coulomb"]):
@@ -170,7 +157,8 @@ def measure(cbps, work, base, siconos_timeout, state):
             direct["residual_here"] = coulomb_measures(A, b, mu, lam)["residual"]
         nsgs, _ = lcp(cbps, work, hdf5, law, "nsgs")
         entry["laws"][law] = {"direct": direct, "nsgs_1000": nsgs}
-    entry["siconos"] = [siconos(work, npz, s, siconos_timeout, (A, b, mu)) for s in SICONOS]
+    entry["siconos"] = [siconos(cbps, work, hdf5, s, siconos_timeout, (A, b, mu))
+                        for s in SICONOS]
     return entry
 
 

@@ -95,7 +95,7 @@ constexpr MethodName kSpecNames[] = {
      Method::SiconosFc3dNsgs,
      false,
      false,
-     "Siconos numerics' non-smooth Gauss-Seidel on Coulomb's cones (fc3d; dense, <= 3000 rows)"},
+     "Siconos numerics' non-smooth Gauss-Seidel on Coulomb's cones (fc3d; dense, <= 6000 rows)"},
     {"siconos:fc3d-nsn-ac",
      Method::SiconosFc3dNsnAc,
      false,

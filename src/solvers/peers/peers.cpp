@@ -69,6 +69,11 @@ long peer_max_rows(Method method) {
       return 20;  // 2^c complementarity cases (2^(2c) for a boxed row pair): 10^6 at 20 rows
     case Method::BulletLemke:
       return 1000;  // a dense inverse of A and a 2c x 4c tableau (64 MB at 1000 rows)
+    case Method::SiconosFc3dNsgs:
+    case Method::SiconosFc3dNsnAc:
+    case Method::SiconosFc3dProx:
+    case Method::SiconosFc3dAdmm:
+      return 6000;  // a dense W of 288 MB, no tableau: the 1,600-contact pyramid's 4,800 rows
     default:
       return 3000;  // a dense A: 72 MB at 3000 rows, as cbps's own dense Lemke (lemke.hpp)
   }
