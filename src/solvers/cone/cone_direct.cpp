@@ -381,6 +381,18 @@ SpMat newton_matrix(const Setup& S, const std::vector<Mat3>& Winv, double proxim
 ///   Δz = W⁻¹(λ \ r_λ − W⁻¹ Δs),
 /// with r_λ = −λ∘λ (predictor) and −λ∘λ + σ gap e − (W⁻¹Δs_a)∘(W Δz_a) (corrector, σ = (gap_a /
 /// gap)³). Δs from Δx keeps s − E x + h exact to rounding.
+/// b with De Saxcé's term at x moved into it: b_n − mu ‖w_t‖ per contact, w = A'x − b, so
+/// that the CCP of this right side has Coulomb's û = w + mu ‖w_t‖ e_n as its w at x.
+VecX desaxce_right_side(const Setup& S, const VecX& b, const VecX& x) {
+  const VecX w = S.A * x - b;
+  VecX shifted = b;
+  for (long i = 0; i < S.law.contacts(); ++i) {
+    const int n = S.law.normal[std::size_t(i)];
+    shifted(n) -= S.law.mu(i) * std::hypot(w(n + 1), w(n + 2));
+  }
+  return shifted;
+}
+
 /// With `desaxce` (Coulomb's law), the CCP's right side is b with De Saxcé's term moved into it
 /// at every iterate, b_n − mu ‖w_t‖ at the current x (so that its w is Coulomb's û), the iterate
 /// judged and kept by Coulomb's residual of b: on piles settling under the paper's box, whose
@@ -395,13 +407,7 @@ VecX interior(const Setup& S,
               bool desaxce = false) {
   VecX b = b_in;  // the right side of this iteration's CCP
   const auto refresh = [&](const VecX& at) {
-    if (!desaxce) return;
-    const VecX w = S.A * at - b_in;
-    b = b_in;
-    for (long i = 0; i < S.law.contacts(); ++i) {
-      const int n = S.law.normal[std::size_t(i)];
-      b(n) -= S.law.mu(i) * std::hypot(w(n + 1), w(n + 2));
-    }
+    if (desaxce) b = desaxce_right_side(S, b_in, at);
   };
   const auto judged = [&](const VecX& at) {
     return desaxce ? residual(S, S.law, b_in, at) : residual(S, S.ccp, b, at);
@@ -722,12 +728,7 @@ void coulomb_fixed_point(const Setup& S,
   int worse = 0;
   for (int round = 0; round < kMaxFixedPoint && r > target_of(x) && worse < 2 && !counts.spent();
        ++round) {
-    const VecX w = S.A * x - S.b;
-    VecX b_s = S.b;
-    for (long i = 0; i < S.law.contacts(); ++i) {
-      const int n = S.law.normal[std::size_t(i)];
-      b_s(n) -= S.law.mu(i) * std::hypot(w(n + 1), w(n + 2));
-    }
+    const VecX b_s = desaxce_right_side(S, S.b, x);
     ++counts.rounds;
     x = interior(S, b_s, proximal, target_of, counts);
     proximal_newton(S, S.ccp, b_s, target_of(x), kMaxOuter, x, counts);
