@@ -5,7 +5,7 @@ against 1,000 nsgs sweeps and Siconos' fc3d NSGS and PROX on the cone pyramids
 from cbps_files import read_number  # scripts/cbps_files.py
 from doc_tables_common import SourceError, cell, dur, generator, need, sci, table, thousands
 
-CONES = "bench/results/cones-intel-r-xeon-r-processor-2cpu.json"
+CONES = "bench/results/cones-amd-epyc-2cpu.json"
 FORMAT = "cbps-cones/2"
 TARGET = 1e-10  # the relative residual the issue asks of the exact path
 
