@@ -18,8 +18,10 @@ namespace cbps {
 ///      is a cone of dimension one; rows with cmin = cmax are fixed; a contact with mu = 0 is
 ///      its normal's bound and two tangent rows fixed at 0. Each iteration factors
 ///      A + Eᵀ W⁻² E + ρ I (W the scaling, 3×3 blocks per contact; ρ = options.direct.proximal)
-///      by CHOLMOD in row space, one analysis for the solve, and keeps the iterate of least
-///      residual, until that meets the target or the gap closes (1e-14). On a singular A with
+///      by CHOLMOD in row space, one analysis for the solve, steps 0.99 of the way to the
+///      cones' boundary (1 − gap once the centring weight σ < 1e-3: the fast local phase), and
+///      keeps the iterate of least residual, until that meets the target or the gap closes
+///      (1e-14). On a singular A with
 ///      contacts both unloaded and at rest (a stack's corners) complementarity is not strict
 ///      and the residual stays near the square root of the gap (base-5 pyramid: 1e-6 N from a gap
 ///      of 1e-8 to 6e-12), hence stage 2.
@@ -33,12 +35,14 @@ namespace cbps {
 ///      singular. ε starts at 1e-2 · the scaled residual, follows it down while outer steps
 ///      halve it and grows ×100 (to 1e-4) when they do not. The outer steps end at the tolerance,
 ///      at the residual's rounding floor (residual_floor), or after five without progress.
-///   3. Coulomb's law (De Saxcé's û = u + mu ‖u_t‖ e_n): first stage 1 with De Saxcé's term
-///      moved into b and refreshed at every iterate (b_n − mu ‖w_t‖ at the current λ, the
-///      iterate kept by Coulomb's residual): a pile settling under the paper's box, whose answer
-///      has contacts opening, sticking and sliding at 1e-9 m/s, finishes there (base-3 pyramid:
-///      46 iterations, where the rest of this stage stalls at 1.8e-9 N). Where it does not
-///      finish, stage 1 gives the CCP's answer; from it
+///   3. Coulomb's law (De Saxcé's û = u + mu ‖u_t‖ e_n): first stage 1 on the CCP, whose
+///      answer stands where it keeps Coulomb's law too (a pile at rest, where no contact slides:
+///      cone pyramids of 100 to 1,600 contacts); else stage 1 again with De Saxcé's term moved
+///      into b and refreshed at every iterate (b_n − mu ‖w_t‖ at the current λ, the iterate kept
+///      by Coulomb's residual): a pile settling under the paper's box, whose answer has contacts
+///      opening, sticking and sliding at 1e-9 m/s, finishes there (base-3 pyramid: 46
+///      iterations, where the rest of this stage stalls at 1.8e-9 N). Where it does not finish,
+///      from the CCP's answer
 ///      Levenberg–Marquardt steps on Alart and Curnier's function of the contacts (Alart &
 ///      Curnier, Comput. Methods Appl. Mech. Engrg. 92, 1991: the same solutions, with u_t
 ///      entering linearly, so no kink where a contact sticks or slides slowly), ν = ‖F‖²
