@@ -48,6 +48,8 @@ ThreadReport thread_report() {
     r.blas_threads = 1;
   }
   if (auto* omp_max = find<int()>("omp_get_max_threads")) r.openmp_threads = omp_max();
+  if (auto* levels = find<int()>("omp_get_max_active_levels"); levels != nullptr && levels() == 0)
+    r.openmp_threads = 1;  // every region inactive: one thread, whatever a region asks
   return r;
 }
 
@@ -57,6 +59,13 @@ ThreadReport set_threads(int threads) {
     if (auto* set = find<void(int)>("openblas_set_num_threads")) set(threads);
     if (auto* set_blis = find<void(long)>("bli_thread_set_num_threads")) set_blis(threads);
     if (auto* set_omp = find<void(int)>("omp_set_num_threads")) set_omp(threads);
+    // CHOLMOD's parallel loops name their team's size themselves (num_threads(4): SuiteSparse
+    // 5.12's CHOLMOD_OMP_NUM_THREADS), past omp_set_num_threads: one thread asked, OpenMP's
+    // regions are made inactive (at most 0 active levels), so that they run on the calling
+    // thread. A team of 4 spinning on 2 cores made the relaxation's interior point on the
+    // 1,600-contact pyramid 1.75x slower (0.35 s against 0.20 s, docs/cli-contract.md).
+    if (auto* levels = find<void(int)>("omp_set_max_active_levels"); levels && threads == 1)
+      levels(0);
   }
   return thread_report();
 }

@@ -21,7 +21,8 @@ struct ThreadReport {
 };
 
 /// Sets the BLAS's and OpenMP's threads to `threads` (≥ 1), or with 0 leaves each library's
-/// own default (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, else the core count). Found at run time
+/// own default (OPENBLAS_NUM_THREADS, OMP_NUM_THREADS, else the core count). With 1, OpenMP's
+/// parallel regions are made inactive too: CHOLMOD's name their own team of 4. Found at run time
 /// (dlsym), so any BLAS works; one without thread control is reported single-threaded.
 ThreadReport set_threads(int threads);
 
