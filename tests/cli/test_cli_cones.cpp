@@ -245,9 +245,23 @@ TEST_CASE("a cone scene runs verified, converge compares the cone methods", "[cl
   const std::string html = slurp(page);
   CHECK(html.find("Coulomb's cone") != std::string::npos);
   CHECK(html.find("contacts sliding (cone)") != std::string::npos);
-  // The methods of the boxed problem refuse a cone scene, naming the ones that solve it.
-  const CliResult pgs =
-      run_cli("run stack --param friction=cone --steps 2 --out " + (dir / "pgs").string());
+  // Without --solver a cone scene runs nsgs, the paper's PGS on cones, built in or from a file;
+  // the methods of the boxed problem refuse it, naming the ones that solve it.
+  const CliResult plain = run_cli("run stack --param friction=cone --steps 2 --quiet --out " +
+                                  (dir / "plain").string());
+  INFO(plain.err);
+  REQUIRE(plain.code == 0);
+  CHECK(nlohmann::json::parse(slurp(dir / "plain" / "summary.json"))["solver"]["method"] == "nsgs");
+  nlohmann::json file = incline_scene_json(20.0, "cone");
+  file["solver"] = {{"iterations", 50}};  // a solver without a method
+  write_file(dir / "incline.json", file.dump(2));
+  const CliResult from_file = run_cli("run " + (dir / "incline.json").string() +
+                                      " --steps 2 --quiet --out " + (dir / "file").string());
+  INFO(from_file.err);
+  REQUIRE(from_file.code == 0);
+  CHECK(nlohmann::json::parse(slurp(dir / "file" / "summary.json"))["solver"]["method"] == "nsgs");
+  const CliResult pgs = run_cli("run stack --param friction=cone --solver pgs --steps 2 --out " +
+                                (dir / "pgs").string());
   CHECK(pgs.code == 2);
   CHECK(pgs.err.find("nsgs and direct") != std::string::npos);
 }

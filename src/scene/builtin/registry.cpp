@@ -35,7 +35,7 @@ std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
                  "paper",
                  "-",
                  "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n) | cone (Coulomb's cone, "
-                 "docs/cones.md)"});
+                 "solved by nsgs unless --solver says, docs/cones.md)"});
   own.push_back(
       {"cone", "coulomb", "-", "with friction=cone: coulomb (De Saxce) | ccp (relaxation)"});
   own.push_back({"restitution", restitution, "", "coefficient of restitution epsilon (8.2.1)"});

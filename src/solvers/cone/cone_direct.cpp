@@ -753,6 +753,44 @@ void coulomb_fixed_point(const Setup& S,
   x = best;
 }
 
+/// The stages in their order (cone_direct.hpp) on the scaled problem: the answer in units of x.
+/// The relaxation's interior point first. Under Coulomb's law its answer stands where it keeps
+/// Coulomb's law too (a pile at rest: no contact slides, so De Saxcé's term is zero); else the
+/// interior point with De Saxcé's term refreshed at every iterate, and where that does not
+/// finish the other stages from the relaxation's answer, the better answer kept.
+VecX run_stages(const Setup& S,
+                double proximal,
+                const std::function<double(const VecX&)>& target_of,
+                Counts& counts) {
+  VecX x = interior(S, S.b, proximal, target_of, counts);
+  VecX refreshed;
+  bool finished = S.law.law == ConeLaw::Coulomb && residual(S, S.law, S.b, x) <= target_of(x);
+  double refreshed_r = std::numeric_limits<double>::infinity();
+  if (S.law.law == ConeLaw::Coulomb && !finished) {
+    const int before = counts.interior;
+    refreshed = interior(S, S.b, proximal, target_of, counts, true);
+    refreshed_r = residual(S, S.law, S.b, refreshed);
+    counts.desaxce = counts.interior - before;
+    finished = refreshed_r <= target_of(refreshed);
+    if (finished) x = refreshed;
+  }
+  if (finished) {
+    // Coulomb's law met by the relaxation's or the refreshed interior point: nothing more to do
+  } else if (S.law.law == ConeLaw::Ccp) {
+    proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
+  } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
+    VecX y = x;
+    const double tried = alart_curnier_steps(S, target_of(y), y, counts);
+    if (tried > target_of(y)) {
+      coulomb_fixed_point(S, proximal, target_of, x, counts);
+      proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
+    }
+    if (tried < residual(S, S.law, S.b, x)) x = y;
+    if (refreshed_r < residual(S, S.law, S.b, x)) x = refreshed;
+  }
+  return x;
+}
+
 }  // namespace
 
 SolverSummary solve_cone_direct(const BoxedProblem& problem,
@@ -796,36 +834,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     const VecX l = v * (S.bn / S.md);
     return S.in_x_units(std::max(options.tolerance, residual_floor(problem, l)));
   };
-  // The relaxation's interior point first. Under Coulomb's law its answer stands where it keeps
-  // Coulomb's law too (a pile at rest: no contact slides, so De Saxcé's term is zero); else the
-  // interior point with De Saxcé's term refreshed at every iterate, and where that does not finish
-  // the other stages from the relaxation's answer, the better answer kept.
-  VecX x = interior(S, S.b, proximal, target_of, counts);
-  VecX refreshed;
-  bool finished = S.law.law == ConeLaw::Coulomb && residual(S, S.law, S.b, x) <= target_of(x);
-  double refreshed_r = std::numeric_limits<double>::infinity();
-  if (S.law.law == ConeLaw::Coulomb && !finished) {
-    const int before = counts.interior;
-    refreshed = interior(S, S.b, proximal, target_of, counts, true);
-    refreshed_r = residual(S, S.law, S.b, refreshed);
-    counts.desaxce = counts.interior - before;
-    finished = refreshed_r <= target_of(refreshed);
-    if (finished) x = refreshed;
-  }
-  if (finished) {
-    // Coulomb's law met by the relaxation's or the refreshed interior point: nothing more to do
-  } else if (S.law.law == ConeLaw::Ccp) {
-    proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
-  } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
-    VecX y = x;
-    const double tried = alart_curnier_steps(S, target_of(y), y, counts);
-    if (tried > target_of(y)) {
-      coulomb_fixed_point(S, proximal, target_of, x, counts);
-      proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
-    }
-    if (tried < residual(S, S.law, S.b, x)) x = y;
-    if (refreshed_r < residual(S, S.law, S.b, x)) x = refreshed;
-  }
+  const VecX x = run_stages(S, proximal, target_of, counts);
   VecX answer = x * (S.bn / S.md);
   for (Eigen::Index k = 0; k < c; ++k)  // fixed rows exactly at their value
     if (S.fixed[std::size_t(k)] && !S.in_cone[std::size_t(k)]) answer(k) = problem.cmin(k);
