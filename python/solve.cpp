@@ -387,47 +387,48 @@ py::tuple solve_py(const py::object& A,
 }  // namespace
 
 void bind_solve(py::module_& m) {
-  m.def("solve",
-        &solve_py,
-        py::arg("A"),
-        py::arg("b"),
-        py::arg("cmin"),
-        py::arg("cmax"),
-        py::arg("method") = "pgs",
-        py::kw_only(),
-        py::arg("lam0") = py::none(),
-        py::arg("iterations") = 10000,
-        py::arg("tolerance") = 1e-10,
-        py::arg("delta_tolerance") = 0.0,
-        py::arg("cfm") = 0.0,
-        py::arg("seed") = 0,
-        py::arg("split_islands") = false,
-        py::arg("J") = py::none(),
-        py::arg("Minv") = py::none(),
-        py::arg("blocks") = py::none(),
-        py::arg("kinds") = py::none(),
-        py::arg("cones") = py::none(),
-        py::arg("history") = true,
-        py::arg("history_limit") = kHistoryLimit,
-        "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
-        "--solver spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', "
-        "'direct', 'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', "
-        "'rbgs', 'shock', ...; or 'lemke', dense) from lam0 (default 0), with the defaults of "
-        "`cbps lcp` (iterations 10000, tolerance 1e-10 N). A: scipy.sparse or dense; b, cmin, "
-        "cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for matrix-free and "
-        "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
-        "'contact', 'friction') for contacts_first; cones (a dict {'law': 'coulomb' or 'ccp', "
-        "'normal_row': [...], 'mu': [...]}, as System.cones and Problem.cones give it) puts "
-        "those contacts' rows in Coulomb's cone, which nsgs and direct solve (also "
-        "siconos:fc3d-* under Coulomb's law, apgd and admm under ccp; docs/cones.md). "
-        "Returns (lam, summary): summary is a dict "
-        "of iterations, residual (N), termination, message, wall_time_s, ... and history "
-        "{iteration, residual, time_s} after every sweep (sweep 0: the guess), at most "
-        "history_limit entries (default 1000000: beyond it every 2nd, 4th, ... sweep, evenly "
-        "over the whole solve, and the last); history=False: None. Numbers out of range raise "
-        "InputError (iterations and history_limit whole, up to 2**31 - 1; seed whole >= 0; "
-        "tolerance, delta_tolerance, cfm finite >= 0). Releases the GIL while solving; Ctrl-C "
-        "stops the iterative methods within 0.1 s (KeyboardInterrupt).");
+  m.def(
+      "solve",
+      &solve_py,
+      py::arg("A"),
+      py::arg("b"),
+      py::arg("cmin"),
+      py::arg("cmax"),
+      py::arg("method") = "pgs",
+      py::kw_only(),
+      py::arg("lam0") = py::none(),
+      py::arg("iterations") = 10000,
+      py::arg("tolerance") = 1e-10,
+      py::arg("delta_tolerance") = 0.0,
+      py::arg("cfm") = 0.0,
+      py::arg("seed") = 0,
+      py::arg("split_islands") = false,
+      py::arg("J") = py::none(),
+      py::arg("Minv") = py::none(),
+      py::arg("blocks") = py::none(),
+      py::arg("kinds") = py::none(),
+      py::arg("cones") = py::none(),
+      py::arg("history") = true,
+      py::arg("history_limit") = kHistoryLimit,
+      "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
+      "--solver spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', "
+      "'direct', 'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', "
+      "'rbgs', 'shock', ...; or 'lemke', dense) from lam0 (default 0), with the defaults of "
+      "`cbps lcp` (iterations 10000, tolerance 1e-10 N). A: scipy.sparse or dense; b, cmin, "
+      "cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for matrix-free and "
+      "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
+      "'contact', 'friction') for contacts_first; cones (a dict {'law': 'coulomb' or 'ccp', "
+      "'normal_row': [...], 'mu': [...]}, as System.cones and Problem.cones give it) puts "
+      "those contacts' rows in Coulomb's cone, which nsgs and direct solve (also "
+      "siconos:fc3d-* under Coulomb's law, apgd, admm and pgs-nesterov under ccp; docs/cones.md). "
+      "Returns (lam, summary): summary is a dict "
+      "of iterations, residual (N), termination, message, wall_time_s, ... and history "
+      "{iteration, residual, time_s} after every sweep (sweep 0: the guess), at most "
+      "history_limit entries (default 1000000: beyond it every 2nd, 4th, ... sweep, evenly "
+      "over the whole solve, and the last); history=False: None. Numbers out of range raise "
+      "InputError (iterations and history_limit whole, up to 2**31 - 1; seed whole >= 0; "
+      "tolerance, delta_tolerance, cfm finite >= 0). Releases the GIL while solving; Ctrl-C "
+      "stops the iterative methods within 0.1 s (KeyboardInterrupt).");
   m.def(
       "methods",
       [] {

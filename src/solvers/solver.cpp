@@ -305,7 +305,7 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
                            "problem's law is Coulomb's, which nsgs, direct and siconos:fc3d-* "
                            "solve")
              : std::string("Coulomb's law only; this problem's law is the convex relaxation "
-                           "(ccp), which nsgs, direct, apgd and admm solve")) +
+                           "(ccp), which nsgs, direct, apgd, admm and pgs-nesterov solve")) +
         " (docs/cones.md)");
   if (options.method == Method::MatrixFree && problem.has_factors()) {
     // The matrix-free sweep solves the problem of J Minv Jᵀ + cfm E and never reads A: it must

@@ -215,12 +215,12 @@ TEST_CASE("direct on cones: a frictionless contact (mu = 0) and a non-finite b",
   CHECK(std::isnan(s.residual));
 }
 
-TEST_CASE("apgd and admm on the relaxation's cones: the QP's A lambda, as direct finds it",
-          "[cone-direct][apgd][admm]") {
+TEST_CASE("apgd, admm, pgs-nesterov on the relaxation's cones: the QP's A lambda, as direct has it",
+          "[cone-direct][apgd][admm][pgs-nesterov]") {
   // The relaxation is the optimality condition of ½ λᵀAλ − bᵀλ over the cones: every minimiser
   // has the same A λ (A positive semidefinite), so the first-order methods Mazhar et al. and
-  // Tasora et al. run on these cones must reach direct's w = A λ − b, whatever λ they pick on a
-  // singular A. Coulomb's law is no QP: both refuse it.
+  // Tasora et al. run on these cones, and PGS with momentum on nsgs's sweep, must reach direct's
+  // w = A λ − b, whatever λ they pick on a singular A. Coulomb's law is no QP: all refuse it.
   const System sys = system_of("pyramid", {{"base", "3"}}, 50);
   ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Ccp);
   BoxedProblem problem = sys.problem();
@@ -228,7 +228,7 @@ TEST_CASE("apgd and admm on the relaxation's cones: the QP's A lambda, as direct
   VecX exact;
   REQUIRE(solve(problem, exact, direct_options(1e-10)).termination == Termination::Direct);
   const VecX w_exact = sys.A * exact - sys.b;
-  for (const Method method : {Method::Apgd, Method::Admm}) {
+  for (const Method method : {Method::Apgd, Method::Admm, Method::PgsNesterov}) {
     SolverOptions o = direct_options(1e-9);
     o.method = method;
     o.max_iterations = 50000;
@@ -242,7 +242,7 @@ TEST_CASE("apgd and admm on the relaxation's cones: the QP's A lambda, as direct
     CHECK((sys.A * lambda - sys.b - w_exact).lpNorm<Eigen::Infinity>() <= 1e-6);
   }
   cones.law = ConeLaw::Coulomb;
-  for (const Method method : {Method::Apgd, Method::Admm}) {
+  for (const Method method : {Method::Apgd, Method::Admm, Method::PgsNesterov}) {
     SolverOptions o = direct_options(1e-9);
     o.method = method;
     VecX lambda;

@@ -150,23 +150,26 @@ inline bool is_siconos_fc3d(Method method) {
 
 /// True for the methods that solve a problem whose contacts live in friction cones
 /// (BoxedProblem::cones, system/cone_problem.hpp) under either law: nsgs and direct
-/// (cone/cone_direct.hpp). Siconos' fc3d solvers take Coulomb's law only, apgd and admm the
-/// relaxation only (the QP over the cones they minimise): takes_cone_law. solve() refuses the
-/// others on such a problem (InputError): they solve the boxed problem of 6.2.
+/// (cone/cone_direct.hpp). Siconos' fc3d solvers take Coulomb's law only; apgd, admm and
+/// pgs-nesterov the relaxation only (the QP over the cones they minimise, pgs-nesterov's
+/// momentum resting on nsgs's sweep descending it): takes_cone_law. solve() refuses the others
+/// on such a problem (InputError): they solve the boxed problem of 6.2.
 inline bool takes_cones(Method method) {
   return method == Method::Nsgs || method == Method::Direct || is_siconos_fc3d(method) ||
-         method == Method::Apgd || method == Method::Admm;
+         method == Method::Apgd || method == Method::Admm || method == Method::PgsNesterov;
 }
 /// True when a method that takes cones takes them under `coulomb` (Coulomb's law) or the
 /// relaxation (coulomb false).
 inline bool takes_cone_law(Method method, bool coulomb) {
   if (is_siconos_fc3d(method)) return coulomb;
-  if (method == Method::Apgd || method == Method::Admm) return !coulomb;
+  if (method == Method::Apgd || method == Method::Admm || method == Method::PgsNesterov)
+    return !coulomb;
   return takes_cones(method);
 }
 /// The methods takes_cones names, for messages.
 inline constexpr const char* kConeMethodNames =
-    "nsgs and direct (and siconos:fc3d-* for Coulomb's law, apgd and admm for the relaxation)";
+    "nsgs and direct (and siconos:fc3d-* for Coulomb's law, apgd, admm and pgs-nesterov for the "
+    "relaxation)";
 
 /// The relaxation factors omega a method takes: 0 < omega ≤ 1 for Jacobi (damping; above 1
 /// it diverges on the simplest chains), 0 < omega < 2 for the rest (SOR's range). The one check

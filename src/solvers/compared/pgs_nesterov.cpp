@@ -2,13 +2,17 @@
 // Candès (2015); pgs_nesterov.hpp states the iteration.
 #include "cbps/solvers/compared/pgs_nesterov.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/cone/nsgs.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
+#include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
 
@@ -27,16 +31,25 @@ SolverSummary solve_pgs_nesterov(const BoxedProblem& problem,
   std::vector<int> rows;
   if (options.order == RowOrder::Reverse) sweep_order(options.order, int(c), rng, rows);
 
+  // On the relaxation's cones the sweep is nsgs's (7.1.1 with each contact projected onto its
+  // cone), in row order.
+  const std::unique_ptr<NsgsSweep> cone_sweep =
+      problem.cones != nullptr ? std::make_unique<NsgsSweep>(problem) : nullptr;
+  const int local = std::max(1, options.methods.nsgs.local);
+
   const auto step = [&](VecX& l) {
-    // Extrapolate: y = clamp(λ_k + β_k (λ_k − λ_{k−1})), β_k = (t_k − 1) / t_{k+1}.
+    // Extrapolate: y = P(λ_k + β_k (λ_k − λ_{k−1})), β_k = (t_k − 1) / t_{k+1}, P the
+    // projection onto the problem's set (the box; each contact's cone where it has cones).
     const double t_next = 0.5 * (1.0 + std::sqrt(1.0 + 4.0 * t * t));
     const double beta = (t - 1.0) / t_next;
-    for (Eigen::Index k = 0; k < c; ++k)
-      y(k) = clamp(l(k) + beta * (l(k) - previous(k)), problem.cmin(k), problem.cmax(k));
+    y = l + beta * (l - previous);
+    project_onto_set(problem.cmin, problem.cmax, problem.cones, y);
     previous = l;  // λ_k
     l = y;
     // λ_{k+1}: one sweep of 7.1.1 from y.
-    if (options.order == RowOrder::Natural) {
+    if (cone_sweep) {
+      (*cone_sweep)(l, local);
+    } else if (options.order == RowOrder::Natural) {
       pgs_sweep(problem, l, options.relaxation);
     } else {
       if (options.order == RowOrder::Random) sweep_order(options.order, int(c), rng, rows);

@@ -109,11 +109,23 @@ double nsgs_sweep(const BoxedProblem& problem, const NsgsSetup& s, int local, Ve
 
 }  // namespace
 
+struct NsgsSweep::Setup {
+  NsgsSetup s;
+};
+
+NsgsSweep::NsgsSweep(const BoxedProblem& problem)
+    : problem_(problem), setup_(std::make_unique<Setup>(Setup{setup(problem)})) {}
+
+NsgsSweep::~NsgsSweep() = default;
+
+double NsgsSweep::operator()(VecX& lambda, int local) const {
+  return nsgs_sweep(problem_, setup_->s, local, lambda);
+}
+
 SolverSummary solve_nsgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
-  const NsgsSetup s = setup(problem);
+  const NsgsSweep sweep(problem);
   const int local = std::max(1, options.methods.nsgs.local);
-  return detail::iterate_sweeps(
-      problem, lambda, options, [&](VecX& l) { return nsgs_sweep(problem, s, local, l); });
+  return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) { return sweep(l, local); });
 }
 
 }  // namespace cbps

@@ -27,6 +27,11 @@
 // the step λ_{k+1} − λ_k rather than against the extrapolation y − λ_k); MuJoCo also shuffles the
 // rows every sweep, which here is options.order = RowOrder::Random.
 //
+// On the relaxation's cones (BoxedProblem::cones, law ccp) the sweep is nsgs's (cone/nsgs.hpp:
+// 7.1.1 with each contact's three rows projected onto its cone, a descent step of the QP over the
+// cones) and y is projected onto the cones (project_onto_set), as MuJoCo projects its momentum;
+// Coulomb's law is refused (solve(): takes_cone_law), its sweep descending no function.
+//
 // Cost: one iteration is one sweep-equivalent: one PGS sweep (one pass over A's nonzeros) plus
 // O(c) vector work; no extra product with A. Momentum is not monotone: the natural-map residual
 // can rise for some iterations before a restart catches it.

@@ -15,6 +15,8 @@
 // field's reference method without a convergence proof. On a problem without cones it is PGS.
 #pragma once
 
+#include <memory>
+
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps {
@@ -22,5 +24,24 @@ namespace cbps {
 /// NSGS from the guess in lambda until a tolerance or options.max_iterations sweeps; the local
 /// steps per contact are options.methods.nsgs.local. No islands, no CFM: solve() adds the CFM.
 SolverSummary solve_nsgs(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
+
+/// NSGS's sweep as a step of another method (pgs-nesterov on the relaxation's cones), set up
+/// once for a problem (each contact's W_αα and rho_α, what a sweep visits in row order). Keeps a
+/// reference to `problem`: keep it alive.
+class NsgsSweep {
+ public:
+  explicit NsgsSweep(const BoxedProblem& problem);
+  ~NsgsSweep();
+  NsgsSweep(const NsgsSweep&) = delete;
+  NsgsSweep& operator=(const NsgsSweep&) = delete;
+  /// One sweep over lambda in place, each contact's local step taken at most `local` times;
+  /// returns the largest change of an entry (a NaN stays).
+  double operator()(VecX& lambda, int local) const;
+
+ private:
+  struct Setup;
+  const BoxedProblem& problem_;
+  std::unique_ptr<Setup> setup_;
+};
 
 }  // namespace cbps
