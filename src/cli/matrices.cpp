@@ -4,7 +4,8 @@
 // force mixing eps, when the scene has one, apart in cfm.txt; with Coulomb friction (5.4) the
 // bounds ±mu lambda_n that the step's lambda satisfies at its fixed point, said in labels.json;
 // with Coulomb's cone (friction=cone) its contacts in cones.json, and with --fclib FILE the same
-// problem as an FCLIB local problem with its solution. With a box (friction=paper or coulomb),
+// problem as an FCLIB local problem (global with --global) with its solution. With a box
+// (friction=paper or coulomb),
 // --fclib FILE --cone LAW writes the step's A and b posed on Coulomb's cone instead, which the
 // step did not solve: the file's info says so, and its /solution is the cone answer of the exact
 // path where that is verified (docs/cones.md).
@@ -26,17 +27,22 @@ namespace cbps::cli {
 
 namespace {
 
-/// /fclib_local/info/math_info of every file cbps matrices writes.
+/// /fclib_local/info/math_info of every file cbps matrices writes, and /fclib_global/info's.
 constexpr const char* kFclibMathInfo =
     "u = W r + q with W = A = J Minv J^T (1/kg) and q = -b (m/s^2) of the step (6.2.9); r in N";
+constexpr const char* kFclibGlobalMathInfo =
+    "M v = H r + G l + f, u = H^T v + w with M = Minv^-1 (kg, kg m^2), H = J^T of the contact "
+    "rows, G = J^T of the free rows, f = 0, w = -b (m/s^2) of the step (6.2.9): v = Minv J^T "
+    "lambda (m/s^2), u = A r - b; r in N";
 
 struct MatricesOptions {
   SceneOptions scene;
   StepOptions step;
   long at_step = 0;
   std::string out;
-  std::string fclib;  ///< --fclib FILE.hdf5: the step's cone problem as an FCLIB file too
-  std::string cone;   ///< --cone LAW: with a box, pose the step's A, b on the cone for --fclib
+  std::string fclib;    ///< --fclib FILE.hdf5: the step's cone problem as an FCLIB file too
+  std::string cone;     ///< --cone LAW: with a box, pose the step's A, b on the cone for --fclib
+  bool global = false;  ///< --global: --fclib's file holds FCLIB's global problem (M, H, G)
   bool quiet = false;
 };
 
@@ -54,8 +60,8 @@ void write_cones(const MatricesOptions& o,
                        "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
                            std::string(to_string(sys.cones.law)) +
                            "; /solution by the direct path (" + direct.message + ")",
-                       kFclibMathInfo};
-  write_fclib(o.fclib, problem, info, &lambda);
+                       o.global ? kFclibGlobalMathInfo : kFclibMathInfo};
+  write_fclib(o.fclib, problem, info, &lambda, o.global ? FclibForm::Global : FclibForm::Local);
 }
 
 /// --fclib --cone LAW on a scene whose friction is a box: the step's A and b with its contacts
@@ -99,8 +105,12 @@ void write_boxed_as_cones(const MatricesOptions& o,
           number_text(scene.world.mu) + ", law " + std::string(to_string(law)) + "; " +
           (verified ? "/solution by the direct path (" + s.message + ")"
                     : "no /solution: the direct path did not verify an answer (" + s.message + ")"),
-      kFclibMathInfo};
-  write_fclib(o.fclib, posed, info, verified ? &lambda : nullptr);
+      o.global ? kFclibGlobalMathInfo : kFclibMathInfo};
+  write_fclib(o.fclib,
+              posed,
+              info,
+              verified ? &lambda : nullptr,
+              o.global ? FclibForm::Global : FclibForm::Local);
   if (!verified && !o.quiet)
     std::fprintf(stderr,
                  "cbps matrices: %s: no /solution in the file (relative residual %s): %s\n",
@@ -229,6 +239,11 @@ void register_matrices(CLI::App& app, Action& run) {
                   "with each contact posed in Coulomb's cone of the scene's mu, under LAW "
                   "(coulomb: De Saxce's, FCLIB's; ccp: the convex relaxation), which the step "
                   "did not solve (no default; on a cone scene it must name the scene's law)")
+      ->needs(fclib);
+  cmd->add_flag("--global",
+                o->global,
+                "with --fclib: write FCLIB's global problem (M = Minv^-1, H = J^T of the contact "
+                "rows, G of the free rows, f = 0, w = -b) instead of the local one (W = A, q = -b)")
       ->needs(fclib);
   add_quiet_flag(cmd, o->quiet, "print nothing on success (errors still go to stderr)");
   cmd->callback([&run, o] { run = [o] { return matrices_command(*o); }; });

@@ -4,6 +4,8 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -162,6 +164,30 @@ SpMat Reader::matrix(const std::string& group) const {
   return M;
 }
 
+/// The contacts' friction coefficients from dataset `name`, each checked to be ≥ 0.
+std::vector<double> friction_coefficients(const Reader& in,
+                                          const std::string& name,
+                                          long contacts) {
+  const std::vector<double> mu = in.doubles(name, contacts);
+  for (std::size_t i = 0; i < mu.size(); ++i)
+    if (mu[i] < 0.0)
+      in.fail(name, "entry " + std::to_string(i) + " is " + std::to_string(mu[i]) + " < 0");
+  return mu;
+}
+
+/// The rows of an FCLIB problem: m contact rows (normal, t1, t2 per contact) in the cones of
+/// `mu`, then e free rows.
+void in_cones(StoredProblem& p, long m, long e, const std::vector<double>& mu) {
+  p.cmin = VecX::Constant(m + e, -kInf);
+  p.cmax = VecX::Constant(m + e, kInf);
+  p.cones.mu.resize(m / 3);
+  for (long i = 0; i < m / 3; ++i) {
+    p.cones.normal.push_back(static_cast<int>(3 * i));
+    p.cones.mu(i) = mu[static_cast<std::size_t>(i)];
+    p.cmin(3 * i) = 0.0;  // the normal row alone: [0, ∞) (the cone decides)
+  }
+}
+
 /// The stored problem of W, V, R, q, s and mu: A = [W V; Vᵀ R], b = −[q; s].
 StoredProblem assemble(const SpMat& W,
                        const SpMat* V,
@@ -190,14 +216,7 @@ StoredProblem assemble(const SpMat& W,
   p.b.resize(m + e);
   for (long k = 0; k < m; ++k) p.b(k) = -q[static_cast<std::size_t>(k)];
   for (long k = 0; k < e; ++k) p.b(m + k) = -s[static_cast<std::size_t>(k)];
-  p.cmin = VecX::Constant(m + e, -kInf);
-  p.cmax = VecX::Constant(m + e, kInf);
-  p.cones.mu.resize(m / 3);
-  for (long i = 0; i < m / 3; ++i) {
-    p.cones.normal.push_back(static_cast<int>(3 * i));
-    p.cones.mu(i) = mu[static_cast<std::size_t>(i)];
-    p.cmin(3 * i) = 0.0;  // the normal row alone: [0, ∞) (the cone decides)
-  }
+  in_cones(p, m, e, mu);
   return p;
 }
 
@@ -265,6 +284,208 @@ Eigen::PermutationMatrix<Eigen::Dynamic> file_order(const StoredProblem& p, long
   return file_row;
 }
 
+/// The largest block of a block-diagonal M whose inverse read_global forms entry by entry: a
+/// rigid body's 6 rows (Siconos' and cbps's bodies), with room for coupled pairs.
+constexpr long kInverseBlock = 12;
+
+/// The inverse of a symmetric M made of independent blocks of at most kInverseBlock rows (the
+/// components of its pattern), each inverted by a dense LLᵀ: M⁻¹ from M (reading a global
+/// problem) and M from Minv (writing one). False, `inverse` untouched, for larger blocks, and
+/// with `failure` saying which block where one is not positive definite.
+bool block_inverse(const SpMat& M, SpMat& inverse, std::string& failure) {
+  const long n = M.rows();
+  std::vector<long> component(static_cast<std::size_t>(n), -1);
+  std::vector<std::vector<long>> blocks;
+  const SpMat pattern = SpMat(M.transpose()) + M;  // both triangles, whichever M stores
+  for (long start = 0; start < n; ++start) {
+    if (component[static_cast<std::size_t>(start)] >= 0) continue;
+    std::vector<long> members{start};
+    component[static_cast<std::size_t>(start)] = static_cast<long>(blocks.size());
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      for (SpMat::InnerIterator it(pattern, members[k]); it; ++it) {
+        long& c = component[static_cast<std::size_t>(it.row())];
+        if (c >= 0) continue;
+        c = static_cast<long>(blocks.size());
+        members.push_back(it.row());
+        if (static_cast<long>(members.size()) > kInverseBlock) return false;
+      }
+    }
+    std::sort(members.begin(), members.end());
+    blocks.push_back(std::move(members));
+  }
+  std::vector<Triplet> entries;
+  for (const std::vector<long>& block : blocks) {
+    const long size = static_cast<long>(block.size());
+    Eigen::MatrixXd B(size, size);
+    for (long r = 0; r < size; ++r)
+      for (long c = 0; c < size; ++c)
+        B(r, c) = M.coeff(block[std::size_t(r)], block[std::size_t(c)]);
+    const Eigen::LLT<Eigen::MatrixXd> llt(B);
+    if (llt.info() != Eigen::Success) {
+      failure = "the block of rows " + std::to_string(block.front()) + ".." +
+                std::to_string(block.back()) + " is not positive definite";
+      return false;
+    }
+    const Eigen::MatrixXd D = llt.solve(Eigen::MatrixXd::Identity(size, size));
+    for (long r = 0; r < size; ++r)
+      for (long c = 0; c < size; ++c)
+        if (D(r, c) != 0.0)
+          entries.emplace_back(block[std::size_t(r)], block[std::size_t(c)], D(r, c));
+  }
+  inverse.resize(n, n);
+  inverse.setFromTriplets(entries.begin(), entries.end());
+  return true;
+}
+
+/// An FCLIB global problem, M v = H r + G l + f, Gᵀ v + b = 0, u = Hᵀ v + w (fclib.h), with v
+/// eliminated: J = [Hᵀ; Gᵀ] (r's rows, then l's), A = J M⁻¹ Jᵀ (6.2.9),
+/// b = −[Hᵀ M⁻¹ f + w; Gᵀ M⁻¹ f + b_G]. With a block-diagonal M (rigid bodies) J and M⁻¹ are
+/// kept, as a `cbps matrices` folder's; else A comes from a sparse LDLᵀ of M.
+StoredProblem read_global(const Reader& in, VecX* solution) {
+  const int spacedim = in.integer("/fclib_global/spacedim");
+  if (spacedim != 3)
+    in.fail("/fclib_global/spacedim",
+            std::to_string(spacedim) + "; cbps reads three-dimensional contact (spacedim 3)");
+  const SpMat M = in.matrix("/fclib_global/M");
+  const long n = M.rows();
+  if (M.cols() != n)
+    in.fail("/fclib_global/M",
+            std::to_string(n) + " x " + std::to_string(M.cols()) + ": M must be square");
+  const SpMat asymmetry = M - SpMat(M.transpose());
+  if (asymmetry.nonZeros() > 0 &&
+      asymmetry.coeffs().cwiseAbs().maxCoeff() > 1e-12 * SpMat(M).coeffs().cwiseAbs().maxCoeff())
+    in.fail("/fclib_global/M",
+            "not symmetric (a mass matrix is; entries differ by up to " +
+                std::to_string(asymmetry.coeffs().cwiseAbs().maxCoeff()) + ")");
+  const SpMat H = in.matrix("/fclib_global/H");
+  if (H.rows() != n || H.cols() % 3 != 0)
+    in.fail("/fclib_global/H",
+            std::to_string(H.rows()) + " x " + std::to_string(H.cols()) + ": H must have M's " +
+                std::to_string(n) + " rows and 3 columns per contact");
+  const long m = H.cols();
+  SpMat G(n, 0);
+  if (in.exists("/fclib_global/G")) {
+    G = in.matrix("/fclib_global/G");
+    if (G.rows() != n)
+      in.fail("/fclib_global/G", std::to_string(G.rows()) + " rows; M has " + std::to_string(n));
+  }
+  const long e = G.cols();
+  const std::vector<double> f = in.doubles("/fclib_global/vectors/f", n);
+  const std::vector<double> w = in.doubles("/fclib_global/vectors/w", m);
+  const std::vector<double> bG =
+      e > 0 ? in.doubles("/fclib_global/vectors/b", e) : std::vector<double>{};
+  const std::vector<double> mu = friction_coefficients(in, "/fclib_global/vectors/mu", m / 3);
+  SpMatRow J(m + e, n);  // [Hᵀ; Gᵀ]
+  {
+    std::vector<Triplet> entries;
+    for (const auto& [B, row0] : {std::pair<const SpMat*, long>{&H, 0}, {&G, m}})
+      for (Eigen::Index j = 0; j < B->outerSize(); ++j)
+        for (SpMat::InnerIterator it(*B, j); it; ++it)
+          entries.emplace_back(row0 + it.col(), it.row(), it.value());
+    J.setFromTriplets(entries.begin(), entries.end());
+  }
+  const SpMat Jc(J), Jt(J.transpose());
+  const VecX fv = Eigen::Map<const VecX>(f.data(), n);
+  SpMat Minv, MinvJt;
+  VecX Minv_f;
+  std::string failure;
+  const bool blocks = block_inverse(M, Minv, failure);
+  if (!failure.empty()) in.fail("/fclib_global/M", failure);
+  if (blocks) {
+    MinvJt = Minv * Jt;
+    Minv_f = Minv * fv;
+  } else {
+    const Eigen::SimplicialLDLT<SpMat> ldlt(M);  // M's lower triangle (symmetric, checked)
+    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all())
+      in.fail("/fclib_global/M", "not symmetric positive definite (its LDL^T has a pivot <= 0)");
+    MinvJt = ldlt.solve(Jt);
+    Minv_f = ldlt.solve(fv);
+  }
+  StoredProblem p;
+  const SpMat A = Jc * MinvJt;
+  p.A = 0.5 * (A + SpMat(A.transpose()));  // symmetric to the bit, as J M⁻¹ Jᵀ is
+  const VecX q = Jc * Minv_f;
+  p.b.resize(m + e);
+  for (long k = 0; k < m; ++k) p.b(k) = -(q(k) + w[static_cast<std::size_t>(k)]);
+  for (long k = 0; k < e; ++k) p.b(m + k) = -(q(m + k) + bG[static_cast<std::size_t>(k)]);
+  in_cones(p, m, e, mu);
+  if (blocks) {
+    p.J = J;
+    p.Minv = Minv;
+  } else {
+    p.without_jacobian = "an FCLIB global problem whose M couples more than " +
+                         std::to_string(kInverseBlock) +
+                         " rows: A = H^T M^-1 H formed by a sparse LDL^T of M";
+  }
+  if (solution != nullptr && in.exists("/solution/r")) {
+    const std::vector<double> r = in.doubles("/solution/r", m);
+    *solution = VecX::Zero(m + e);
+    for (long k = 0; k < m; ++k) (*solution)(k) = r[static_cast<std::size_t>(k)];
+    if (e > 0 && in.exists("/solution/l")) {
+      const std::vector<double> l = in.doubles("/solution/l", e);
+      for (long k = 0; k < e; ++k) (*solution)(m + k) = l[static_cast<std::size_t>(k)];
+    }
+  }
+  return p;
+}
+
+/// The global form of write_fclib: M = Minv⁻¹, H and G the transposes of J's contact and free
+/// rows in the file's order, f = 0, w and b the negated b of those rows, so that
+/// u = Hᵀ v + w = A r − b at v = Minv Jᵀ lambda; /solution with v, u, r and l.
+void write_global(const std::string& path,
+                  const std::string& what,
+                  const StoredProblem& p,
+                  const FclibInfo& info,
+                  const VecX* lambda) {
+  if (!p.has_jacobian())
+    throw InputError(what + ": a global problem needs the step's J and Minv (" +
+                     p.without_jacobian + ")");
+  SpMat M;
+  std::string failure;
+  if (!block_inverse(p.Minv, M, failure))
+    throw InputError(what + ": Minv " +
+                     (failure.empty() ? "couples more than " + std::to_string(kInverseBlock) +
+                                            " rows; a global problem is written from "
+                                            "rigid bodies' blocks"
+                                      : failure));
+  long m = 0;
+  const auto order = file_order(p, m);
+  const long e = p.rows() - m;
+  const SpMatRow J = order * p.J;  // J's row k at file_row[k]
+  const SpMat Ht = J.topRows(m), Gt = J.bottomRows(e);
+  const VecX b = order * p.b;
+  VecX mu(p.cones.contacts());
+  for (long i = 0; i < p.cones.contacts(); ++i) mu(i) = p.cones.mu(i);
+  const QuietHdf5 quiet;
+  write_file_atomically(path, what, [&](const std::string& temporary) {
+    File file(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+    if (file.id() < 0) throw InputError(what + ": cannot create " + temporary);
+    const Writer out(what, file.id());
+    out.group("/fclib_global");
+    out.ints("/fclib_global/spacedim", {3});
+    out.matrix("/fclib_global/M", M);
+    out.matrix("/fclib_global/H", Ht.transpose());
+    if (e > 0) out.matrix("/fclib_global/G", Gt.transpose());
+    out.group("/fclib_global/vectors");
+    out.doubles("/fclib_global/vectors/f", VecX::Zero(M.rows()));
+    out.doubles("/fclib_global/vectors/w", -b.head(m));
+    out.doubles("/fclib_global/vectors/mu", mu);
+    if (e > 0) out.doubles("/fclib_global/vectors/b", -b.tail(e));
+    out.group("/fclib_global/info");
+    out.text("/fclib_global/info/title", info.title);
+    out.text("/fclib_global/info/description", info.description);
+    out.text("/fclib_global/info/math_info", info.math_info);
+    if (lambda != nullptr) {
+      const VecX x = order * (*lambda);
+      const VecX v = p.Minv * (SpMat(J.transpose()) * x);
+      out.group("/solution");
+      out.doubles("/solution/v", v);
+      out.doubles("/solution/u", Ht * v - b.head(m));
+      out.doubles("/solution/r", x.head(m));
+      if (e > 0) out.doubles("/solution/l", x.tail(e));
+    }
+  });
+}
 }  // namespace
 
 bool is_hdf5_file(const std::string& path) {
@@ -280,10 +501,11 @@ StoredProblem read_fclib(const std::string& path, VecX* solution) {
   if (file.id() < 0) throw InputError(path + ": not an HDF5 file HDF5 can open");
   const Reader in(path, file.id());
   if (!in.exists("/fclib_local")) {
-    if (in.exists("/fclib_global"))
-      in.fail("/fclib_global",
-              "a global problem (M, H, G); cbps reads FCLIB's local problems (W, q, mu)");
-    in.fail("/fclib_local", "missing: not an FCLIB local problem");
+    if (!in.exists("/fclib_global"))
+      in.fail("/fclib_local", "missing: neither an FCLIB local problem nor a global one");
+    StoredProblem p = read_global(in, solution);
+    p.fclib = true;
+    return p;
   }
   const int spacedim = in.integer("/fclib_local/spacedim");
   if (spacedim != 3)
@@ -309,11 +531,7 @@ StoredProblem read_fclib(const std::string& path, VecX* solution) {
     s = in.doubles("/fclib_local/vectors/s", R.rows());
   }
   const std::vector<double> q = in.doubles("/fclib_local/vectors/q", m);
-  const std::vector<double> mu = in.doubles("/fclib_local/vectors/mu", m / 3);
-  for (std::size_t i = 0; i < mu.size(); ++i)
-    if (mu[i] < 0.0)
-      in.fail("/fclib_local/vectors/mu",
-              "entry " + std::to_string(i) + " is " + std::to_string(mu[i]) + " < 0");
+  const std::vector<double> mu = friction_coefficients(in, "/fclib_local/vectors/mu", m / 3);
   StoredProblem p = assemble(W, equalities ? &V : nullptr, equalities ? &R : nullptr, q, s, mu);
   p.fclib = true;
   p.without_jacobian = "an FCLIB local problem carries no J and Minv";
@@ -332,13 +550,18 @@ StoredProblem read_fclib(const std::string& path, VecX* solution) {
 void write_fclib(const std::string& path,
                  const StoredProblem& p,
                  const FclibInfo& info,
-                 const VecX* lambda) {
+                 const VecX* lambda,
+                 FclibForm form) {
   const std::string what = "--fclib " + path;
   if (p.cfm > 0.0)
     throw InputError(
         what + ": the problem was solved with constraint-force mixing eps = " + number_text(p.cfm) +
         " kg^-1 (A + eps E), which an FCLIB file cannot hold apart from W; set the "
         "scene's cfm to 0");
+  if (form == FclibForm::Global) {
+    write_global(path, what, p, info, lambda);
+    return;
+  }
   long m = 0;
   const auto order = file_order(p, m);
   const long e = p.rows() - m;
