@@ -13,6 +13,7 @@ set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build/release}"
 [[ -d "$build" ]] || { echo "update_results.sh: $build: no such build folder" >&2; exit 2; }
+build="$(cd "$build" && pwd)"  # absolute: copy() joins relative sources to it
 python="/usr/bin/python3"
 [[ -x "$python" ]] || python="python3"
 copied=0
