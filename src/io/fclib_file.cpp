@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -241,6 +242,13 @@ class Writer {
   void text(const std::string& name, const std::string& s) const {
     if (H5LTmake_dataset_string(file_, name.c_str(), s.c_str()) < 0) fail(name);
   }
+  /// The group `name` holding info's title, description and math_info.
+  void info(const std::string& name, const FclibInfo& info) const {
+    group(name);
+    text(name + "/title", info.title);
+    text(name + "/description", info.description);
+    text(name + "/math_info", info.math_info);
+  }
   /// M in compressed columns (nz = −1), the form FCLIB's merit function reads.
   void matrix(const std::string& name, SpMat M) const {
     M.makeCompressed();
@@ -262,6 +270,26 @@ class Writer {
   std::string what_;
   hid_t file_;
 };
+
+/// Each contact's mu, in contact order.
+VecX contact_mu(const StoredProblem& p) {
+  VecX mu(p.cones.contacts());
+  for (long i = 0; i < p.cones.contacts(); ++i) mu(i) = p.cones.mu(i);
+  return mu;
+}
+
+/// A new HDF5 file at `path`, whole or not at all (write_file_atomically), its datasets written
+/// by `body`; HDF5's own messages off (cbps's name the dataset).
+void write_hdf5(const std::string& path,
+                const std::string& what,
+                const std::function<void(const Writer&)>& body) {
+  const QuietHdf5 quiet;
+  write_file_atomically(path, what, [&](const std::string& temporary) {
+    File file(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+    if (file.id() < 0) throw InputError(what + ": cannot create " + temporary);
+    body(Writer(what, file.id()));
+  });
+}
 
 /// The file's row order: each contact's rows (normal, t1, t2) in contact order, then every
 /// free row; file_row[k] is row k's place. InputError for a row that is neither.
@@ -454,13 +482,8 @@ void write_global(const std::string& path,
   const SpMatRow J = order * p.J;  // J's row k at file_row[k]
   const SpMat Ht = J.topRows(m), Gt = J.bottomRows(e);
   const VecX b = order * p.b;
-  VecX mu(p.cones.contacts());
-  for (long i = 0; i < p.cones.contacts(); ++i) mu(i) = p.cones.mu(i);
-  const QuietHdf5 quiet;
-  write_file_atomically(path, what, [&](const std::string& temporary) {
-    File file(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
-    if (file.id() < 0) throw InputError(what + ": cannot create " + temporary);
-    const Writer out(what, file.id());
+  const VecX mu = contact_mu(p);
+  write_hdf5(path, what, [&](const Writer& out) {
     out.group("/fclib_global");
     out.ints("/fclib_global/spacedim", {3});
     out.matrix("/fclib_global/M", M);
@@ -471,10 +494,7 @@ void write_global(const std::string& path,
     out.doubles("/fclib_global/vectors/w", -b.head(m));
     out.doubles("/fclib_global/vectors/mu", mu);
     if (e > 0) out.doubles("/fclib_global/vectors/b", -b.tail(e));
-    out.group("/fclib_global/info");
-    out.text("/fclib_global/info/title", info.title);
-    out.text("/fclib_global/info/description", info.description);
-    out.text("/fclib_global/info/math_info", info.math_info);
+    out.info("/fclib_global/info", info);
     if (lambda != nullptr) {
       const VecX x = order * (*lambda);
       const VecX v = p.Minv * (SpMat(J.transpose()) * x);
@@ -577,13 +597,8 @@ void write_fclib(const std::string& path,
   }
   const VecX b = order * p.b;
   const VecX q = -b.head(m), s = -b.tail(e);
-  VecX mu(p.cones.contacts());
-  for (long i = 0; i < p.cones.contacts(); ++i) mu(i) = p.cones.mu(i);
-  const QuietHdf5 quiet;
-  write_file_atomically(path, what, [&](const std::string& temporary) {
-    File file(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
-    if (file.id() < 0) throw InputError(what + ": cannot create " + temporary);
-    const Writer out(what, file.id());
+  const VecX mu = contact_mu(p);
+  write_hdf5(path, what, [&](const Writer& out) {
     out.group("/fclib_local");
     out.ints("/fclib_local/spacedim", {3});
     out.matrix("/fclib_local/W", W);
@@ -595,10 +610,7 @@ void write_fclib(const std::string& path,
     out.doubles("/fclib_local/vectors/q", q);
     out.doubles("/fclib_local/vectors/mu", mu);
     if (e > 0) out.doubles("/fclib_local/vectors/s", s);
-    out.group("/fclib_local/info");
-    out.text("/fclib_local/info/title", info.title);
-    out.text("/fclib_local/info/description", info.description);
-    out.text("/fclib_local/info/math_info", info.math_info);
+    out.info("/fclib_local/info", info);
     if (lambda != nullptr) {
       const VecX x = order * (*lambda);
       out.group("/solution");
