@@ -126,7 +126,7 @@ def _deg(x):
 
 @generator("cones-box", BOX_CONE)
 def _box(src):
-    j = src.json(BOX_CONE, "cbps-box-cone/2")
+    j = src.json(BOX_CONE, "cbps-box-cone/3")
     by = {(r["law"], r["phi_deg"]): r for r in need(j, "rows", where=BOX_CONE)}
     rows = []
     for phi in sorted({r["phi_deg"] for r in j["rows"]}):
@@ -145,17 +145,24 @@ def _box(src):
 
 @generator("cones-stack", BOX_CONE)
 def _stack(src):
-    j = src.json(BOX_CONE, "cbps-box-cone/2")
+    j = src.json(BOX_CONE, "cbps-box-cone/3")
     by = {(r["law"], r["phi_deg"]): r for r in need(j, "stack", where=BOX_CONE)}
     rows = []
+    slide = need(j, "stack_slide_tan_over_mu", where=BOX_CONE)
     for phi in sorted({r["phi_deg"] for r in j["stack"]}):
         laws = [by[(law, phi)] for law in ("paper", "coulomb", "cone")]
-        worst = max(abs(r["start_tan_over_mu"] - r["start_tan_over_mu_closed"]) for r in laws)
+        worst = max(abs(r[k] - r[k + "_closed"]) / max(1.0, abs(r[k + "_closed"]))
+                    for r in laws for k in ("start_tan_over_mu", "acceleration", "turn_deg"))
+        apart = max(r["boxes_apart"] for r in laws)
         rows.append([f"{phi:g}°"] + [f"{r['start_tan_over_mu']:.5f}" for r in laws] +
-                    [f"{laws[0]['start_tan_over_mu_closed']:.5f}", sci(worst)])
+                    [f"{laws[0]['start_tan_over_mu_closed']:.5f}"] +
+                    [f"{r['acceleration']:.4f}" for r in laws] +
+                    [_deg(laws[0]["turn_deg"]), sci(worst), sci(apart)])
     return table(["φ", "tan a*/μ paper", "tan a*/μ coulomb", "tan a*/μ cone",
-                  "closed form, paper: 1/(3 max(cos φ, sin φ))", "largest gap to the closed forms"],
-                 rows, "rrrrrr")
+                  "closed form, paper: 1/(3 max(cos φ, sin φ))",
+                  f"accel. paper (m/s², tan a = {slide:g} μ)", "accel. coulomb", "accel. cone",
+                  "turn, paper", "largest gap to the closed forms",
+                  "boxes' accelerations apart (m/s²)"], rows, "rrrrrrrrrrr")
 
 
 PYRAMID_RUN = "validation/results/cones-pyramid/summary.json"

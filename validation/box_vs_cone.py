@@ -26,12 +26,19 @@ same ratio of push to load, so none slides sooner); under the paper's box, whose
 mu |g·n| times the mass of the contact's movable bodies (rows/friction.cpp), the ground's rows
 hold only the bottom box's weight while the push is the whole stack's: tan a* = mu / (3 max(cos
 phi, sin phi)), a third of Coulomb's (the interfaces above, bounded by two boxes' mass, hold
-longer).
+longer). Sliding at tan a = 1.5 mu (below 1, where the stack would tip), the three boxes
+move as one under every law (the forces that would make them so need at most each interface's
+bound: the cone's and Coulomb's box's exactly theirs), under the cone and Coulomb's box at one
+box's acceleration, under the paper's box with a third of the friction per axis:
+g (sin a cos phi − mu cos a / 3, sin a sin phi − mu cos a / 3), a component that cannot beat it
+staying 0.
 
 Measured: the tilt a* by bisection on "the cube moves" (speed above 1e-9 m/s after 10 steps of
 1/240 s from rest; 30 halvings from [0, 60°]); the acceleration v/t after 24 steps (0.1 s) at
-tan a = 2 mu, its size and its direction's turn from phi; for the stack a* alone ("moves": any
-box). Writes OUT_DIR/box_vs_cone.json (format cbps-box-cone/2) and OUT_DIR/box_vs_cone.png.
+tan a = 2 mu, its size and its direction's turn from phi; for the stack a* ("moves": any box)
+and each box's acceleration after 24 steps at tan a = 1.5 mu, the bottom box's size and turn and
+the largest difference between the boxes'. Writes OUT_DIR/box_vs_cone.json (format
+cbps-box-cone/3) and OUT_DIR/box_vs_cone.png.
 """
 import json
 import math
@@ -50,6 +57,7 @@ PHIS = [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0]
 CUBE = [0.1, 0.1, 0.1]  # half extents, m
 STACK = 3  # flat boxes in the stack
 FLAT = [0.3, 0.1, 0.3]
+STACK_SLIDE = 1.5  # the stack's sliding tilt, tan a / mu: below 1 (tan a = 0.75), where it tips
 
 
 def simulate(law, a, phi, steps, boxes=1, half=CUBE):
@@ -91,15 +99,27 @@ def stack_start(law, phi):
     return box / STACK if law == "paper" else box
 
 
+def sliding(law, phi, tan_over_mu, share=1.0):
+    """(acceleration m/s², turn from phi in degrees) at tan a = tan_over_mu mu: the cone's
+    friction mu N against the velocity, a box's `share` of mu N per axis where that component
+    slides (a share 1 / STACK: the paper's box under the stack)."""
+    a = math.atan(tan_over_mu * MU)
+    if law == "cone":
+        return G * (math.sin(a) - MU * math.cos(a)), 0.0
+    ax = max(0.0, G * (math.sin(a) * math.cos(phi) - share * MU * math.cos(a)))
+    az = max(0.0, G * (math.sin(a) * math.sin(phi) - share * MU * math.cos(a)))
+    return math.hypot(ax, az), math.degrees(math.atan2(az, ax) - phi)
+
+
 def closed_form(law, phi):
     """(tan a* / mu, acceleration m/s², turn from phi in degrees) at tan a = 2 mu."""
-    a = math.atan(2.0 * MU)
-    if law == "cone":
-        return 1.0, G * (math.sin(a) - MU * math.cos(a)), 0.0
-    start = 1.0 / max(math.cos(phi), math.sin(phi))
-    ax = max(0.0, G * (math.sin(a) * math.cos(phi) - MU * math.cos(a)))
-    az = max(0.0, G * (math.sin(a) * math.sin(phi) - MU * math.cos(a)))
-    return start, math.hypot(ax, az), math.degrees(math.atan2(az, ax) - phi)
+    start = 1.0 if law == "cone" else 1.0 / max(math.cos(phi), math.sin(phi))
+    return (start,) + sliding(law, phi, 2.0)
+
+
+def stack_slide(law, phi):
+    """(acceleration m/s², turn in degrees) of the stack at tan a = STACK_SLIDE mu."""
+    return sliding(law, phi, STACK_SLIDE, 1.0 / STACK if law == "paper" else 1.0)
 
 
 def measure():
@@ -130,8 +150,17 @@ def measure_stack():
             phi = math.radians(deg)
             print(f"box_vs_cone: stack, {law}, phi {deg:g} degrees", file=sys.stderr, flush=True)
             start = math.tan(critical_tilt(law, phi, STACK, FLAT)) / MU
+            steps = 24
+            v = simulate(law, math.atan(STACK_SLIDE * MU), phi, steps, STACK, FLAT)
+            acc = v / (steps * DT)  # one row per box, bottom first
+            want = stack_slide(law, phi)
             rows.append({"law": law, "phi_deg": deg, "start_tan_over_mu": start,
-                         "start_tan_over_mu_closed": stack_start(law, phi)})
+                         "start_tan_over_mu_closed": stack_start(law, phi),
+                         "acceleration": float(np.hypot(acc[0, 0], acc[0, 2])),
+                         "acceleration_closed": want[0],
+                         "turn_deg": math.degrees(math.atan2(acc[0, 2], acc[0, 0]) - phi),
+                         "turn_deg_closed": want[1],
+                         "boxes_apart": float(np.abs(acc - acc[0]).max())})
     return rows
 
 
@@ -139,7 +168,7 @@ def plot(rows, stack, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 4, figsize=(16, 3.6))
+    fig, axes = plt.subplots(1, 5, figsize=(20, 3.6))
     style = {"paper": ("tab:blue", "o"), "coulomb": ("tab:orange", "s"), "cone": ("tab:green", "^")}
     phis = np.linspace(0.0, 45.0, 91)
     for law in LAWS:
@@ -155,10 +184,15 @@ def plot(rows, stack, path):
         axes[3].plot([r["phi_deg"] for r in stack if r["law"] == law],
                      [r["start_tan_over_mu"] for r in stack if r["law"] == law], marker,
                      color=color, mfc="none", label=law)
+        axes[4].plot(phis, [stack_slide(law, math.radians(p))[0] for p in phis], color=color, lw=1)
+        axes[4].plot([r["phi_deg"] for r in stack if r["law"] == law],
+                     [r["acceleration"] for r in stack if r["law"] == law], marker,
+                     color=color, mfc="none", label=law)
     axes[0].set_ylabel("tan a* / mu (sliding starts)")
     axes[1].set_ylabel("acceleration at tan a = 2 mu, m/s²")
     axes[2].set_ylabel("turn of the sliding direction, degrees")
     axes[3].set_ylabel(f"tan a* / mu, stack of {STACK} flat boxes")
+    axes[4].set_ylabel(f"stack's acceleration at tan a = {STACK_SLIDE:g} mu, m/s²")
     for ax in axes:
         ax.set_xlabel("push direction phi from the friction axis, degrees")
         ax.grid(alpha=0.3)
@@ -174,8 +208,9 @@ def main():
     os.makedirs(out, exist_ok=True)
     rows = measure()
     stack = measure_stack()
-    result = {"format": "cbps-box-cone/2", "mu": MU, "dt": DT, "rows": rows,
+    result = {"format": "cbps-box-cone/3", "mu": MU, "dt": DT, "rows": rows,
               "stack": stack, "stack_boxes": {"count": STACK, "half_extents": FLAT},
+              "stack_slide_tan_over_mu": STACK_SLIDE,
               "command": "validation/box_vs_cone.py " + out}
     tmp = os.path.join(out, "box_vs_cone.json.tmp")
     with open(tmp, "w") as f:
