@@ -143,13 +143,14 @@ def _box(src):
                   "largest gap to the closed forms"], rows, "rrrrrrrrr")
 
 
-@generator("cones-stack", BOX_CONE)
-def _stack(src):
+def _pile(src, name, closed_paper):
+    """A pile's table: where sliding starts, its acceleration, the paper's turn, against the
+    closed forms, and how far its boxes' accelerations are apart."""
     j = src.json(BOX_CONE, "cbps-box-cone/3")
-    by = {(r["law"], r["phi_deg"]): r for r in need(j, "stack", where=BOX_CONE)}
+    by = {(r["law"], r["phi_deg"]): r for r in need(j, name, where=BOX_CONE)}
+    slide = need(j, "piles_slide_tan_over_mu", where=BOX_CONE)
     rows = []
-    slide = need(j, "stack_slide_tan_over_mu", where=BOX_CONE)
-    for phi in sorted({r["phi_deg"] for r in j["stack"]}):
+    for phi in sorted({r["phi_deg"] for r in j[name]}):
         laws = [by[(law, phi)] for law in ("paper", "coulomb", "cone")]
         worst = max(abs(r[k] - r[k + "_closed"]) / max(1.0, abs(r[k + "_closed"]))
                     for r in laws for k in ("start_tan_over_mu", "acceleration", "turn_deg"))
@@ -159,10 +160,20 @@ def _stack(src):
                     [f"{r['acceleration']:.4f}" for r in laws] +
                     [_deg(laws[0]["turn_deg"]), sci(worst), sci(apart)])
     return table(["φ", "tan a*/μ paper", "tan a*/μ coulomb", "tan a*/μ cone",
-                  "closed form, paper: 1/(3 max(cos φ, sin φ))",
+                  f"closed form, paper: {closed_paper}",
                   f"accel. paper (m/s², tan a = {slide:g} μ)", "accel. coulomb", "accel. cone",
                   "turn, paper", "largest gap to the closed forms",
                   "boxes' accelerations apart (m/s²)"], rows, "rrrrrrrrrrr")
+
+
+@generator("cones-stack", BOX_CONE)
+def _stack(src):
+    return _pile(src, "stack", "1/(3 max(cos φ, sin φ))")
+
+
+@generator("cones-pyramid-pile", BOX_CONE)
+def _pyramid_pile(src):
+    return _pile(src, "pyramid", "1/(2 max(cos φ, sin φ))")
 
 
 PYRAMID_RUN = "validation/results/cones-pyramid/summary.json"

@@ -33,12 +33,19 @@ box's acceleration, under the paper's box with a third of the friction per axis:
 g (sin a cos phi − mu cos a / 3, sin a sin phi − mu cos a / 3), a component that cannot beat it
 staying 0.
 
+The pyramid: the built-in scene's 2-D pyramid of base 3 (rows of 3, 2 and 1 boxes, each on two
+below, 1 m boxes 0.1 m apart in a row), its boxes 3 m deep so that it slides before it tips
+sideways. The same argument: under the cone and Coulomb's box it starts and slides as one box;
+under the paper's box the ground's rows hold the bottom row's 3 boxes of its 6 (each interface
+above, bounded by two boxes' mass per contact, holds more), so tan a* = mu / (2 max(cos phi,
+sin phi)) and the friction per axis while sliding is half of mu N.
+
 Measured: the tilt a* by bisection on "the cube moves" (speed above 1e-9 m/s after 10 steps of
 1/240 s from rest; 30 halvings from [0, 60°]); the acceleration v/t after 24 steps (0.1 s) at
-tan a = 2 mu, its size and its direction's turn from phi; for the stack a* ("moves": any box)
-and each box's acceleration after 24 steps at tan a = 1.5 mu, the bottom box's size and turn and
-the largest difference between the boxes'. Writes OUT_DIR/box_vs_cone.json (format
-cbps-box-cone/3) and OUT_DIR/box_vs_cone.png.
+tan a = 2 mu, its size and its direction's turn from phi; for the stack and the pyramid a*
+("moves": any box) and each box's acceleration after 24 steps at tan a = 1.5 mu, the bottom
+box's size and turn and the largest difference between the boxes'. Writes
+OUT_DIR/box_vs_cone.json (format cbps-box-cone/3) and OUT_DIR/box_vs_cone.png.
 """
 import json
 import math
@@ -57,17 +64,43 @@ PHIS = [0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0]
 CUBE = [0.1, 0.1, 0.1]  # half extents, m
 STACK = 3  # flat boxes in the stack
 FLAT = [0.3, 0.1, 0.3]
-STACK_SLIDE = 1.5  # the stack's sliding tilt, tan a / mu: below 1 (tan a = 0.75), where it tips
+PYRAMID = 3  # boxes in the pyramid's bottom row
+DEEP = [0.5, 0.5, 1.5]  # the pyramid's boxes: the built-in scene's 1 m, 3 m deep (no tipping)
+PYRAMID_GAP = 0.1  # m between neighbours in a row, the built-in scene's
+PILE_SLIDE = 1.5  # the piles' sliding tilt, tan a / mu: below 1 (tan a = 0.75), where they tip
 
 
-def simulate(law, a, phi, steps, boxes=1, half=CUBE):
-    """The velocities (m/s, one row per box, bottom first) after `steps` steps from rest of
-    `boxes` boxes of half extents `half` stacked on the plane tilted by a (rad), pushed along
-    phi (rad) from world x."""
+def cube():
+    """One cube on the plane: [(half extents, position)]."""
+    return [(CUBE, [0.0, CUBE[1], 0.0])]
+
+
+def stack():
+    """STACK flat boxes one on another, bottom first."""
+    return [(FLAT, [0.0, FLAT[1] * (2 * i + 1), 0.0]) for i in range(STACK)]
+
+
+def pyramid():
+    """The built-in 2-D pyramid of base PYRAMID (row k: PYRAMID − k boxes, each on two below),
+    bottom row first, its boxes DEEP."""
+    pitch = 2 * DEEP[0] + PYRAMID_GAP
+    return [(DEEP, [(i + 0.5 * row) * pitch, DEEP[1] * (2 * row + 1), 0.0])
+            for row in range(PYRAMID) for i in range(PYRAMID - row)]
+
+
+# Each pile's share of its weight that the paper's box lets the ground hold per axis: the ground
+# rows' bound is mu |g·n| times the bottom box's mass, the push the whole pile's.
+PILES = {"stack": (stack, 1.0 / STACK),
+         "pyramid": (pyramid, PYRAMID / (PYRAMID * (PYRAMID + 1) / 2))}
+
+
+def simulate(law, a, phi, steps, pile=cube):
+    """The velocities (m/s, one row per box, in pile()'s order) after `steps` steps from rest of
+    the pile on the plane tilted by a (rad), pushed along phi (rad) from world x."""
     bodies = [{"name": "ground", "shape": {"type": "plane"}, "static": True}]
-    for i in range(boxes):
+    for i, (half, position) in enumerate(pile()):
         bodies.append({"name": f"box{i}", "shape": {"type": "box", "half_extents": half},
-                       "mass": 1.0, "position": [0.0, half[1] * (2 * i + 1), 0.0]})
+                       "mass": 1.0, "position": position})
     scene = {"name": "box-vs-cone",
              "world": {"gravity": [G * math.sin(a) * math.cos(phi), -G * math.cos(a),
                                    G * math.sin(a) * math.sin(phi)],
@@ -78,31 +111,22 @@ def simulate(law, a, phi, steps, boxes=1, half=CUBE):
     for _ in range(steps):
         sim.step()
     by_name = {b["name"]: b["v"] for b in sim.bodies()}
-    return np.array([by_name[f"box{i}"] for i in range(boxes)])
+    return np.array([by_name[f"box{i}"] for i in range(len(bodies) - 1)])
 
 
-def critical_tilt(law, phi, boxes=1, half=CUBE):
+def critical_tilt(law, phi, pile=cube):
     lo, hi = 0.0, math.radians(60.0)
     for _ in range(30):
         mid = 0.5 * (lo + hi)
-        moves = np.linalg.norm(simulate(law, mid, phi, 10, boxes, half), axis=1).max() > 1e-9
+        moves = np.linalg.norm(simulate(law, mid, phi, 10, pile), axis=1).max() > 1e-9
         lo, hi = (lo, mid) if moves else (mid, hi)
     return 0.5 * (lo + hi)
-
-
-def stack_start(law, phi):
-    """tan a* / mu of the stack: the cone's 1, Coulomb's box's 1 / max(cos, sin), the paper's a
-    STACK-th of that (its ground rows hold one box's weight)."""
-    if law == "cone":
-        return 1.0
-    box = 1.0 / max(math.cos(phi), math.sin(phi))
-    return box / STACK if law == "paper" else box
 
 
 def sliding(law, phi, tan_over_mu, share=1.0):
     """(acceleration m/s², turn from phi in degrees) at tan a = tan_over_mu mu: the cone's
     friction mu N against the velocity, a box's `share` of mu N per axis where that component
-    slides (a share 1 / STACK: the paper's box under the stack)."""
+    slides (a pile under the paper's box: PILES' share)."""
     a = math.atan(tan_over_mu * MU)
     if law == "cone":
         return G * (math.sin(a) - MU * math.cos(a)), 0.0
@@ -111,15 +135,14 @@ def sliding(law, phi, tan_over_mu, share=1.0):
     return math.hypot(ax, az), math.degrees(math.atan2(az, ax) - phi)
 
 
-def closed_form(law, phi):
-    """(tan a* / mu, acceleration m/s², turn from phi in degrees) at tan a = 2 mu."""
-    start = 1.0 if law == "cone" else 1.0 / max(math.cos(phi), math.sin(phi))
-    return (start,) + sliding(law, phi, 2.0)
-
-
-def stack_slide(law, phi):
-    """(acceleration m/s², turn in degrees) of the stack at tan a = STACK_SLIDE mu."""
-    return sliding(law, phi, STACK_SLIDE, 1.0 / STACK if law == "paper" else 1.0)
+def closed_form(law, phi, share=1.0, tan_over_mu=2.0):
+    """(tan a* / mu, acceleration m/s², turn from phi in degrees at tan a = tan_over_mu mu) of
+    one box, or of a pile whose ground the paper's box lets hold `share` of its weight."""
+    if law == "cone":
+        start = 1.0
+    else:
+        start = (share if law == "paper" else 1.0) / max(math.cos(phi), math.sin(phi))
+    return (start,) + sliding(law, phi, tan_over_mu, share if law == "paper" else 1.0)
 
 
 def measure():
@@ -143,62 +166,60 @@ def measure():
     return rows
 
 
-def measure_stack():
+def measure_pile(name):
+    """A pile's tilt a* ("moves": any box) and, at tan a = PILE_SLIDE mu, its first (bottom) box's
+    acceleration after 24 steps, its turn, and the largest difference between its boxes'."""
+    pile, share = PILES[name]
     rows = []
+    steps = 24
     for law in LAWS:
         for deg in PHIS:
             phi = math.radians(deg)
-            print(f"box_vs_cone: stack, {law}, phi {deg:g} degrees", file=sys.stderr, flush=True)
-            start = math.tan(critical_tilt(law, phi, STACK, FLAT)) / MU
-            steps = 24
-            v = simulate(law, math.atan(STACK_SLIDE * MU), phi, steps, STACK, FLAT)
-            acc = v / (steps * DT)  # one row per box, bottom first
-            want = stack_slide(law, phi)
+            print(f"box_vs_cone: {name}, {law}, phi {deg:g} degrees", file=sys.stderr, flush=True)
+            start = math.tan(critical_tilt(law, phi, pile)) / MU
+            v = simulate(law, math.atan(PILE_SLIDE * MU), phi, steps, pile)
+            acc = v / (steps * DT)
+            want = closed_form(law, phi, share, PILE_SLIDE)
             rows.append({"law": law, "phi_deg": deg, "start_tan_over_mu": start,
-                         "start_tan_over_mu_closed": stack_start(law, phi),
+                         "start_tan_over_mu_closed": want[0],
                          "acceleration": float(np.hypot(acc[0, 0], acc[0, 2])),
-                         "acceleration_closed": want[0],
+                         "acceleration_closed": want[1],
                          "turn_deg": math.degrees(math.atan2(acc[0, 2], acc[0, 0]) - phi),
-                         "turn_deg_closed": want[1],
+                         "turn_deg_closed": want[2],
                          "boxes_apart": float(np.abs(acc - acc[0]).max())})
     return rows
 
 
-def plot(rows, stack, path):
+def plot(rows, piles, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 5, figsize=(20, 3.6))
+    fig, axes = plt.subplots(3, 3, figsize=(14, 10))
     style = {"paper": ("tab:blue", "o"), "coulomb": ("tab:orange", "s"), "cone": ("tab:green", "^")}
     phis = np.linspace(0.0, 45.0, 91)
-    for law in LAWS:
-        color, marker = style[law]
-        mine = [r for r in rows if r["law"] == law]
-        x = [r["phi_deg"] for r in mine]
-        curves = [closed_form(law, math.radians(p)) for p in phis]
-        for ax, key, k in ((axes[0], "start_tan_over_mu", 0), (axes[1], "acceleration", 1),
-                           (axes[2], "turn_deg", 2)):
-            ax.plot(phis, [c[k] for c in curves], color=color, lw=1)
-            ax.plot(x, [r[key] for r in mine], marker, color=color, mfc="none", label=law)
-        axes[3].plot(phis, [stack_start(law, math.radians(p)) for p in phis], color=color, lw=1)
-        axes[3].plot([r["phi_deg"] for r in stack if r["law"] == law],
-                     [r["start_tan_over_mu"] for r in stack if r["law"] == law], marker,
-                     color=color, mfc="none", label=law)
-        axes[4].plot(phis, [stack_slide(law, math.radians(p))[0] for p in phis], color=color, lw=1)
-        axes[4].plot([r["phi_deg"] for r in stack if r["law"] == law],
-                     [r["acceleration"] for r in stack if r["law"] == law], marker,
-                     color=color, mfc="none", label=law)
-    axes[0].set_ylabel("tan a* / mu (sliding starts)")
-    axes[1].set_ylabel("acceleration at tan a = 2 mu, m/s²")
-    axes[2].set_ylabel("turn of the sliding direction, degrees")
-    axes[3].set_ylabel(f"tan a* / mu, stack of {STACK} flat boxes")
-    axes[4].set_ylabel(f"stack's acceleration at tan a = {STACK_SLIDE:g} mu, m/s²")
-    for ax in axes:
+    shares = {"cube": 1.0, "stack": PILES["stack"][1], "pyramid": PILES["pyramid"][1]}
+    slide = {"cube": 2.0, "stack": PILE_SLIDE, "pyramid": PILE_SLIDE}
+    measured = {"cube": rows, "stack": piles["stack"], "pyramid": piles["pyramid"]}
+    titles = {"cube": "one cube", "stack": f"stack of {STACK} flat boxes",
+              "pyramid": f"2-D pyramid of base {PYRAMID} ({PYRAMID * (PYRAMID + 1) // 2} boxes)"}
+    for i, pile in enumerate(("cube", "stack", "pyramid")):
+        for law in LAWS:
+            color, marker = style[law]
+            mine = [r for r in measured[pile] if r["law"] == law]
+            curves = [closed_form(law, math.radians(p), shares[pile], slide[pile]) for p in phis]
+            for k, key in enumerate(("start_tan_over_mu", "acceleration", "turn_deg")):
+                axes[i, k].plot(phis, [c[k] for c in curves], color=color, lw=1)
+                axes[i, k].plot([r["phi_deg"] for r in mine], [r[key] for r in mine], marker,
+                                color=color, mfc="none", label=law)
+        axes[i, 0].set_ylabel(f"{titles[pile]}:\ntan a* / mu (sliding starts)")
+        axes[i, 1].set_ylabel(f"acceleration at tan a = {slide[pile]:g} mu, m/s²")
+        axes[i, 2].set_ylabel("turn of the sliding direction, degrees")
+    for ax in axes.flat:
         ax.set_xlabel("push direction phi from the friction axis, degrees")
         ax.grid(alpha=0.3)
-    axes[0].legend(title="lines: closed form")
+    axes[0, 0].legend(title="lines: closed form")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
 
 
 def main():
@@ -207,16 +228,20 @@ def main():
     out = sys.argv[1]
     os.makedirs(out, exist_ok=True)
     rows = measure()
-    stack = measure_stack()
+    piles = {name: measure_pile(name) for name in PILES}
     result = {"format": "cbps-box-cone/3", "mu": MU, "dt": DT, "rows": rows,
-              "stack": stack, "stack_boxes": {"count": STACK, "half_extents": FLAT},
-              "stack_slide_tan_over_mu": STACK_SLIDE,
+              "stack": piles["stack"], "stack_boxes": {"count": STACK, "half_extents": FLAT},
+              "pyramid": piles["pyramid"],
+              "pyramid_boxes": {"base": PYRAMID, "count": len(pyramid()), "half_extents": DEEP,
+                                "gap": PYRAMID_GAP},
+              "piles_slide_tan_over_mu": PILE_SLIDE,
+              "ground_share_paper": {name: share for name, (_, share) in PILES.items()},
               "command": "validation/box_vs_cone.py " + out}
     tmp = os.path.join(out, "box_vs_cone.json.tmp")
     with open(tmp, "w") as f:
         json.dump(result, f, indent=1)
     os.replace(tmp, os.path.join(out, "box_vs_cone.json"))
-    plot(rows, stack, os.path.join(out, "box_vs_cone.png"))
+    plot(rows, piles, os.path.join(out, "box_vs_cone.png"))
     print(f"box_vs_cone: wrote {out}/box_vs_cone.json and box_vs_cone.png", file=sys.stderr)
 
 
