@@ -862,10 +862,11 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
       << " N, rounding floor " << floor << " N)";
   if (!reached && counts.spent())
     msg << "; stopped at its budget of " << kMaxFactorizations << " factorizations";
-  else if (!reached && S.law.law == ConeLaw::Coulomb && counts.rounds > 0)
-    msg << "; Coulomb's law: the fixed point on De Saxcé's term s = mu |u_t| stopped reducing "
-           "the residual and the semismooth Newton steps on Coulomb's own map did not finish "
-           "(docs/cones.md)";
+  if (!reached && S.law.law == ConeLaw::Coulomb)
+    msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
+           "point with De Saxce's term refreshed, the fixed point on s = mu |u_t| and the "
+           "semismooth Newton steps on Coulomb's own map each stopped short of it, and on a "
+           "singular A it may have no solution (docs/cones.md)";
   return finish(reached ? Termination::Direct : Termination::NotConverged, msg.str());
 }
 
