@@ -155,19 +155,21 @@ SiconosKind kind_of(const std::string& kind) { return parse_siconos_kind(kind, "
 void bind_io(py::module_& m) {
   py::class_<StoredProblem>(m,
                             "Problem",
-                            "A stored boxed problem (6.2): A (csr), b, cmin, cmax; from a `cbps "
-                            "matrices` folder also J, Minv, v1, fext, dt (else None) and cfm.")
+                            "A stored boxed problem (6.2): A (csr), b, cmin, cmax; J and Minv "
+                            "where it has them (a `cbps matrices` folder, an FCLIB global "
+                            "problem of rigid bodies), v1, fext, dt from a folder with all of "
+                            "them (else None), and cfm.")
       .def_property_readonly("A", [](const StoredProblem& p) { return to_csr(p.A); })
       .def_property_readonly("b", [](const StoredProblem& p) { return to_numpy(p.b); })
       .def_property_readonly("cmin", [](const StoredProblem& p) { return to_numpy(p.cmin); })
       .def_property_readonly("cmax", [](const StoredProblem& p) { return to_numpy(p.cmax); })
       .def_property_readonly("J",
                              [](const StoredProblem& p) -> py::object {
-                               return p.has_bodies() ? to_csr(p.J) : py::none();
+                               return p.has_jacobian() ? to_csr(p.J) : py::none();
                              })
       .def_property_readonly("Minv",
                              [](const StoredProblem& p) -> py::object {
-                               return p.has_bodies() ? to_csr(p.Minv) : py::none();
+                               return p.has_jacobian() ? to_csr(p.Minv) : py::none();
                              })
       .def_property_readonly("v1",
                              [](const StoredProblem& p) -> py::object {

@@ -17,6 +17,7 @@
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/peers/peers.hpp"
+#include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "convert.hpp"
 
@@ -461,6 +462,35 @@ void bind_solve(py::module_& m) {
   m.def("solver_spec_help",
         &solver_spec_help,
         "every name the --solver grammar accepts, one line each, as `--help` prints it");
+  // The libraries' threads under the exact path (cbps/solvers/threads.hpp): the command line's
+  // --threads, which the module leaves to the caller (the BLAS is numpy's too when it is the
+  // same library).
+  const auto report = [](const ThreadReport& r) {
+    py::dict d;
+    d["requested"] = r.requested;
+    d["blas"] = r.blas;
+    d["blas_kind"] = r.blas_kind;
+    d["blas_threads"] = r.blas_threads;
+    d["openmp_threads"] = r.openmp_threads;
+    return d;
+  };
+  m.def(
+      "set_threads",
+      [report](int threads) {
+        if (threads < 0) throw InputError("threads " + std::to_string(threads) + ": must be >= 0");
+        return report(set_threads(threads));
+      },
+      py::arg("threads"),
+      "the threads of the BLAS and OpenMP under the exact path (CHOLMOD), as the command line's "
+      "--threads N sets them (1: one thread, CHOLMOD's own parallel loops included; 0: the "
+      "libraries' defaults); for the whole process, numpy's BLAS too when it is the same "
+      "library. Returns what they run with now, as cbps.threads()");
+  m.def(
+      "threads",
+      [report]() { return report(thread_report()); },
+      "what the libraries under the exact path run with: requested, blas (the library's file), "
+      "blas_kind, blas_threads, openmp_threads (1 when OpenMP's regions are inactive, 0 without "
+      "OpenMP), as summary.json's threads");
 }
 
 }  // namespace cbps::python

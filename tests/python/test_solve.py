@@ -69,6 +69,24 @@ def test_read_problem_gives_the_same_problem_as_scipy(chain_folder):
     assert p.dt == pytest.approx(1 / 240, rel=1e-15)
 
 
+def test_read_problem_of_an_fclib_global_problem(tmp_path):
+    """A cone step written as FCLIB's global problem (`cbps matrices --fclib F --global`) reads
+    back as its folder: J and Minv as scipy reads the folder's, A = J Minv J^T and b to
+    round-off, the contacts' cones."""
+    folder, file = tmp_path / "stack", tmp_path / "stack.hdf5"
+    cli("matrices", "stack", "--param", "n=2", "--param", "friction=cone", "--solver", "direct",
+        "--step", 5, "--quiet", "--out", folder, "--fclib", file, "--global")
+    p = cbps.read_problem(str(file))
+    assert (p.J != mm(folder, "J.mtx")).nnz == 0
+    Minv = mm(folder, "Minv.mtx")
+    assert abs(p.Minv - Minv).max() <= 1e-12 * abs(Minv).max()
+    A = mm(folder, "A.mtx")
+    assert abs(p.A - A).max() <= 1e-12 * abs(A).max()
+    assert np.max(np.abs(p.b - mm(folder, "b.mtx"))) <= 1e-12 * np.max(np.abs(p.b))
+    assert p.v1 is None and p.dt is None  # no bodies' state in an FCLIB file
+    assert p.cones["law"] == "coulomb" and len(p.cones["normal_row"]) * 3 == len(p.b)
+
+
 def test_every_method_is_reachable(chain_folder):
     """Every method `cbps converge` knows, by its spec text, on the chain with J and Minv (for
     matrix-free and shock) and blocks (block-pgs): each ends at a residual, computed here, below
@@ -218,3 +236,20 @@ def test_exact_paths_solve_a_zero_row(method):
     lam, summary = cbps.solve(A, [1, 1, 1], [0] * 3, [np.inf, np.inf, 5], method)
     assert np.allclose(lam, [1 / 3, 1 / 3, 5], rtol=0, atol=1e-14)
     assert summary["residual"] <= 1e-15
+
+
+def test_set_threads_as_the_command_line_sets_them():
+    """cbps.set_threads(1) gives the libraries one thread, as --threads 1 does (OpenMP's regions
+    inactive: CHOLMOD's parallel loops name their own team of 4), and the direct path still
+    solves; threads() reports the same."""
+    r = cbps.set_threads(1)
+    assert r["requested"] == 1 and r["blas_threads"] == 1
+    assert r["openmp_threads"] in (0, 1)  # 0: no OpenMP runtime loaded
+    assert cbps.threads() == r
+    n = 400
+    A = sp.diags([-np.ones(n - 1), 4.0 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1], format="csr")
+    b = np.linspace(-1.0, 1.0, n)
+    lam, summary = cbps.solve(A, b, np.full(n, -np.inf), np.full(n, np.inf), method="direct")
+    assert np.max(np.abs(A @ lam - b)) <= 1e-12
+    with pytest.raises(cbps.InputError, match="threads -1"):
+        cbps.set_threads(-1)
