@@ -5,10 +5,9 @@
 // bounds ±mu lambda_n that the step's lambda satisfies at its fixed point, said in labels.json;
 // with Coulomb's cone (friction=cone) its contacts in cones.json, and with --fclib FILE the same
 // problem as an FCLIB local problem (global with --global) with its solution. With a box
-// (friction=paper or coulomb),
-// --fclib FILE --cone LAW writes the step's A and b posed on Coulomb's cone instead, which the
-// step did not solve: the file's info says so, and its /solution is the cone answer of the exact
-// path where that is verified (docs/cones.md).
+// (friction=paper or coulomb), --fclib FILE --cone LAW writes the step's A and b posed on Coulomb's
+// cone instead, which the step did not solve: the file's info says so, and its /solution is the
+// cone answer of the exact path where that is verified (docs/cones.md).
 #include <cstdio>
 #include <memory>
 

@@ -16,6 +16,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/output_file.hpp"
+#include "cbps/system/system.hpp"
 
 namespace cbps {
 
@@ -412,27 +413,25 @@ StoredProblem read_global(const Reader& in, VecX* solution) {
           entries.emplace_back(row0 + it.col(), it.row(), it.value());
     J.setFromTriplets(entries.begin(), entries.end());
   }
-  const SpMat Jc(J), Jt(J.transpose());
   const VecX fv = Eigen::Map<const VecX>(f.data(), n);
-  SpMat Minv, MinvJt;
+  SpMat Minv, A;  // A = J M⁻¹ Jᵀ (6.2.9)
   VecX Minv_f;
   std::string failure;
   const bool blocks = block_inverse(M, Minv, failure);
   if (!failure.empty()) in.fail("/fclib_global/M", failure);
   if (blocks) {
-    MinvJt = Minv * Jt;
+    A = compute_A(J, Minv);
     Minv_f = Minv * fv;
-  } else {
+  } else {  // M⁻¹ is not formed: M⁻¹ Jᵀ by its sparse LDLᵀ
     const Eigen::SimplicialLDLT<SpMat> ldlt(M);  // M's lower triangle (symmetric, checked)
     if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all())
       in.fail("/fclib_global/M", "not symmetric positive definite (its LDL^T has a pivot <= 0)");
-    MinvJt = ldlt.solve(Jt);
+    A = J * SpMat(ldlt.solve(SpMat(J.transpose())));
     Minv_f = ldlt.solve(fv);
   }
   StoredProblem p;
-  const SpMat A = Jc * MinvJt;
   p.A = 0.5 * (A + SpMat(A.transpose()));  // symmetric to the bit, as J M⁻¹ Jᵀ is
-  const VecX q = Jc * Minv_f;
+  const VecX q = J * Minv_f;
   p.b.resize(m + e);
   for (long k = 0; k < m; ++k) p.b(k) = -(q(k) + w[static_cast<std::size_t>(k)]);
   for (long k = 0; k < e; ++k) p.b(m + k) = -(q(m + k) + bG[static_cast<std::size_t>(k)]);

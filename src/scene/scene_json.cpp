@@ -647,10 +647,8 @@ Scene read_scene(const Node& root, const std::string& default_name) {
   if (has(root, "duration")) scene.duration = positive(child(root, "duration"));
   if (has(root, "world")) scene.world = read_world(child(root, "world"));
   if (has(root, "solver")) scene.solver = read_solver(child(root, "solver"));
-  // A cone scene's default method is nsgs, the paper's PGS (7.1.1) on cones (docs/cones.md).
-  if (scene.world.friction == FrictionModel::Cone &&
-      !(has(root, "solver") && has(child(root, "solver"), "method")))
-    scene.solver.method = Method::Nsgs;
+  if (!(has(root, "solver") && has(child(root, "solver"), "method")))
+    scene.solver.method = scene.world.default_method();
 
   const Node bodies = required(root, "bodies");
   check_array(bodies);

@@ -51,6 +51,11 @@ struct World {
 
   /// The settings of the row stage (5.2–5.4) taken from this world.
   RowSettings rows() const;
+  /// The method a scene of this world solves with when none is named: the paper's PGS (7.1.1),
+  /// on friction cones its cone form nsgs (docs/cones.md).
+  Method default_method() const {
+    return friction == FrictionModel::Cone ? Method::Nsgs : Method::Pgs;
+  }
 };
 
 /// A scene's solver, as scene files and `--solver` give it: what SolverOptions a step solves

@@ -20,8 +20,7 @@ void read_contact_world(const ParameterValues& p, Scene& scene) {
                          : friction == "cone"  ? FrictionModel::Cone
                                                : FrictionModel::Paper;
   cone_law_from_string(p.word("cone", "coulomb|ccp"), scene.world.cone);
-  // The paper's PGS (7.1.1) on cones is nsgs: a cone scene's default method, pgs's on the box.
-  if (scene.world.friction == FrictionModel::Cone) scene.solver.method = Method::Nsgs;
+  scene.solver.method = scene.world.default_method();
   scene.world.restitution = p.number("restitution", 0.0, 1.0);
   scene.world.push =
       p.word("push", "original|improved") == "improved" ? PushMode::Improved : PushMode::Original;
