@@ -23,8 +23,13 @@ void explain_space(const SolverSpec& spec,
   if (s.space == "body") {
     r.space_reason = "body: J and Minv present";
   } else if (s.space == "row") {
+    const std::string moved = p.cones.empty()
+                                  ? ""
+                                  : ", or a body-space solve of direct on cones lost accuracy "
+                                    "and it moved to row space (its message says when)";
     r.space_reason = p.has_jacobian() ? "row: J and Minv present, but Minv is not block diagonal "
-                                        "with definite 6 x 6 blocks or A is not J Minv J^T"
+                                        "with definite 6 x 6 blocks or A is not J Minv J^T" +
+                                            moved
                                       : "row: " + p.without_jacobian;
   } else if (spec.method == Method::Direct) {
     r.space_reason = "none: " + std::to_string(p.rows()) +

@@ -12,12 +12,14 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <sstream>
+#include <string>
 #include <vector>
 
-#include "cbps/solvers/exact/cholmod_factor.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/system/cone_problem.hpp"
+#include "interior_system.hpp"
 
 namespace cbps {
 
@@ -71,17 +73,7 @@ constexpr int kMaxFixedPoint = 20;
 constexpr double kArmijo = 1e-4;
 constexpr double kSmallestStep = 1e-10;
 
-/// One constraint of the interior point: a finite bound of a row no contact owns, s = a (x_row −
-/// h) ≥ 0 (a = ±1), or a contact's cone, s = (a x_n, x_t1, x_t2) in the second-order cone
-/// (a = mu, row the normal). `at` is its first entry in s and z.
-struct Constraint {
-  int row = 0;
-  int at = 0;
-  bool cone = false;
-  double a = 1.0;
-  double h = 0.0;
-  int size() const { return cone ? 3 : 1; }
-};
+using Constraint = ConeConstraint;
 
 /// The scaled problem and what every stage reads: A' = A / md, b' = b / bn, λ = (bn / md) x.
 struct Setup {
@@ -97,9 +89,11 @@ struct Setup {
   std::vector<int> contact_at;  ///< row → contact owning it as its normal, −1 otherwise
   std::vector<char> in_cone;
   std::vector<Constraint> constraints;
-  int entries = 0;          ///< length of s and z
-  VecX rho_row;             ///< the box rows' Newton scaling 1/A'_kk
-  std::vector<double> rho;  ///< each contact's 1/λmax(A'_αα)
+  int entries = 0;                        ///< length of s and z
+  VecX rho_row;                           ///< the box rows' Newton scaling 1/A'_kk
+  std::vector<double> rho;                ///< each contact's 1/λmax(A'_αα)
+  const BoxedProblem* problem = nullptr;  ///< the problem as given (J, Minv, cfm)
+  std::optional<std::vector<Mat6>> M;     ///< the bodies' masses, for body space
 
   /// A residual in N expressed in the units of x (the scaled λ): times md / bn.
   double in_x_units(double newtons) const { return newtons * md / bn; }
@@ -107,6 +101,8 @@ struct Setup {
 
 Setup make_setup(const BoxedProblem& p) {
   Setup S;
+  S.problem = &p;
+  S.M = body_masses(p);
   S.c = p.rows();
   const Eigen::Index c = S.c;
   double md = 0.0;
@@ -265,6 +261,10 @@ struct Counts {
   int rounds = 0;         ///< Coulomb's fixed-point rounds
   int alart_curnier = 0;  ///< Coulomb's Levenberg–Marquardt steps on Alart–Curnier's function
   int desaxce = 0;        ///< interior iterations with De Saxcé's term refreshed (Coulomb)
+  /// Where the interior point's Newton systems were solved: "body" while all were, "row" once
+  /// any was, "" before the first.
+  std::string space;
+  int body_factorizations = 0;  ///< interior factorizations in body space
   bool spent() const { return factorizations >= kMaxFactorizations; }
 };
 
@@ -352,35 +352,6 @@ bool nt_scaling(
   return true;
 }
 
-/// The interior Newton matrix A' + Eᵀ W⁻² E + ρ I, fixed rows replaced by the identity. Its
-/// pattern (A's, the diagonal, each contact's 3×3 block) is the same at every iteration.
-SpMat newton_matrix(const Setup& S, const std::vector<Mat3>& Winv, double proximal) {
-  const Eigen::Index c = S.c;
-  std::vector<Triplet> t;
-  t.reserve(std::size_t(S.A.nonZeros() + 9 * Eigen::Index(S.constraints.size()) + c));
-  for (int j = 0; j < S.A.outerSize(); ++j) {
-    if (S.fixed[std::size_t(j)]) continue;
-    for (SpMat::InnerIterator a(S.A, j); a; ++a)
-      if (!S.fixed[std::size_t(a.row())]) t.emplace_back(int(a.row()), j, a.value());
-  }
-  for (Eigen::Index k = 0; k < c; ++k)
-    t.emplace_back(int(k), int(k), S.fixed[std::size_t(k)] ? 1.0 : proximal);
-  for (std::size_t j = 0; j < S.constraints.size(); ++j) {
-    const Constraint& k = S.constraints[j];
-    if (!k.cone) {
-      t.emplace_back(k.row, k.row, Winv[j](0, 0) * Winv[j](0, 0));
-      continue;
-    }
-    const Vec3 scale(k.a, 1.0, 1.0);
-    const Mat3 block = scale.asDiagonal() * (Winv[j] * Winv[j]) * scale.asDiagonal();
-    for (int r = 0; r < 3; ++r)
-      for (int q = 0; q < 3; ++q) t.emplace_back(k.row + r, k.row + q, block(r, q));
-  }
-  SpMat H(c, c);
-  H.setFromTriplets(t.begin(), t.end());
-  return H;
-}
-
 /// Stage 1: the interior point on the CCP of right side b (scaled), until its CCP residual meets
 /// target(x) or the gap closes; returns the iterate of least CCP residual. The equations:
 ///   rx = A'x − b − Eᵀz,   rs = s − (E x − h),   λ = W z = W⁻¹ s,
@@ -429,8 +400,16 @@ VecX interior(const Setup& S,
   for (const Constraint& k : S.constraints) e(k.at) = 1.0;
   VecX s = e, z = e;  // the cones' axes
   std::vector<Mat3> W(S.constraints.size()), Winv(S.constraints.size());
-  CholmodFactor factor;
-  bool analysed = false;
+  InteriorSystem system(*S.problem, S.A, S.md, S.fixed, S.constraints, S.M ? &*S.M : nullptr);
+  const int factorizations_before = counts.factorizations;
+  int counted_body = 0;
+  const auto tally = [&] {  // what the system factored, into the counts
+    counts.factorizations = factorizations_before + system.factorizations();
+    counts.factor_nnz = std::max(counts.factor_nnz, system.factor_nonzeros());
+    counts.body_factorizations += system.body_factorizations() - counted_body;
+    counted_body = system.body_factorizations();
+    if (counts.space != "row") counts.space = system.space();
+  };
   VecX best = x;
   double best_r = judged(x);
   for (int it = 0; it < kMaxInterior; ++it) {
@@ -448,11 +427,8 @@ VecX interior(const Setup& S,
     if (!nt_scaling(S, s, z, W, Winv)) break;  // on a boundary: the best iterate stands
     const VecX lam = block_times(S, W, z);
     if (!strictly_inside(S, lam)) break;  // rounding put λ on a boundary: no direction
-    const SpMat H = newton_matrix(S, Winv, proximal);
-    const bool ok = analysed ? factor.refactor(H, 0.0) : factor.factor(H, 0.0);
-    analysed = true;
-    ++counts.factorizations;
-    counts.factor_nnz = std::max(counts.factor_nnz, factor.nonzeros());
+    bool ok = system.factor(W, Winv, proximal);
+    tally();
     if (!ok) break;
     ++counts.interior;
     auto direction = [&](const VecX& r_lambda, VecX& dx, VecX& ds, VecX& dz) {
@@ -460,18 +436,22 @@ VecX interior(const Setup& S,
       VecX rhs = -rx + E_transpose(S, block_times(S, Winv, tv + block_times(S, Winv, rs)));
       for (Eigen::Index k = 0; k < c; ++k)
         if (S.fixed[std::size_t(k)]) rhs(k) = 0.0;
-      factor.solve(rhs, dx);
+      ok = ok && system.solve(rhs, dx);
+      tally();
+      if (!ok) return;
       ds = E_times(S, dx, false) - rs;
       dz = block_times(S, Winv, tv - block_times(S, Winv, ds));
     };
     VecX dx, ds, dz;
     const VecX ll = jordan_product(S, lam, lam);
     direction(-ll, dx, ds, dz);
+    if (!ok) break;
     const double a_aff = std::min({1.0, step_to_boundary(S, s, ds), step_to_boundary(S, z, dz)});
     const double gap_aff = (s + a_aff * ds).dot(z + a_aff * dz) / m;
     const double sigma = std::pow(std::max(gap_aff, 0.0) / gap, 3.0);
     const VecX corrector = jordan_product(S, block_times(S, Winv, ds), block_times(S, W, dz));
     direction(-ll + sigma * gap * e - corrector, dx, ds, dz);
+    if (!ok) break;
     // The fraction of the way to the boundary: kStepToBoundary, or 1 − gap once the affine step
     // is nearly full on the relaxation (its fast local phase).
     const double tau =
@@ -798,7 +778,6 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
                                 const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SolverSummary summary;
-  summary.space = "row";
   const Eigen::Index c = problem.rows();
   if (lambda.size() != c) lambda = VecX::Zero(c);
   auto finish = [&](Termination termination, const std::string& message) {
@@ -847,6 +826,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   summary.crossover = counts.outer;
   summary.factorizations = counts.factorizations;
   summary.factor_nnz = counts.factor_nnz;
+  summary.space = counts.space;
   const double floor = residual_floor(problem, lambda);
   const bool reached = summary.residual <= std::max(options.tolerance, floor);
   std::ostringstream msg;
@@ -857,8 +837,15 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     msg << " (" << counts.desaxce << " with De Saxce's term refreshed), " << counts.alart_curnier
         << " Alart-Curnier steps, " << counts.rounds << " fixed-point rounds";
   msg << ", ";
-  msg << counts.outer << " proximal steps, " << counts.factorizations
-      << " factorizations; residual " << summary.residual << " N (tolerance " << options.tolerance
+  msg << counts.outer << " proximal steps, " << counts.factorizations << " factorizations";
+  if (counts.body_factorizations > 0) {
+    msg << " (" << counts.body_factorizations << " interior ones in body space, M + Jt Omega J";
+    if (counts.space == "row")
+      msg << ", the rest in row space once a body-space solve's backward error exceeded "
+          << kBodyAccuracy;
+    msg << ")";
+  }
+  msg << "; residual " << summary.residual << " N (tolerance " << options.tolerance
       << " N, rounding floor " << floor << " N)";
   if (!reached && counts.spent())
     msg << "; stopped at its budget of " << kMaxFactorizations << " factorizations";

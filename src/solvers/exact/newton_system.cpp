@@ -30,33 +30,11 @@ constexpr long kUpdateRefresh = 4;
 /// lower triangle), assembled here from precomputed positions, so CHOLMOD analyses it once.
 class BodySpace final : public NewtonSystem {
  public:
-  /// nullptr when Minv is not block diagonal with positive definite 6×6 blocks.
+  /// nullptr when body_masses() finds no M.
   static std::unique_ptr<NewtonSystem> make(const BoxedProblem& problem) {
-    const SpMat& Minv = *problem.Minv;
-    const Eigen::Index n6 = Minv.rows();
-    if (n6 % 6 != 0 || Minv.cols() != n6 || problem.J->cols() != n6) return nullptr;
-    const Eigen::Index blocks = n6 / 6;
-    std::vector<Eigen::Matrix<double, 6, 6>> M(static_cast<std::size_t>(blocks),
-                                               Eigen::Matrix<double, 6, 6>::Zero());
-    for (Eigen::Index j = 0; j < n6; ++j) {
-      for (SpMat::InnerIterator it(Minv, j); it; ++it) {
-        if (it.row() / 6 != j / 6) {
-          if (it.value() != 0.0) return nullptr;  // not block diagonal
-          continue;
-        }
-        M[std::size_t(j / 6)](it.row() % 6, j % 6) = it.value();
-      }
-    }
-    for (auto& block : M) {  // M = Minv⁻¹, block by block
-      const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(block);
-      if (llt.info() != Eigen::Success || !block.isApprox(block.transpose(), 1e-12)) return nullptr;
-      block = llt.solve(Eigen::Matrix<double, 6, 6>::Identity());
-      block = (0.5 * (block + block.transpose())).eval();
-    }
-    // A = J Minv Jᵀ + cfm I is the contract of BoxedProblem; a stored folder whose A says
-    // otherwise is solved in row space, on its A.
-    if (!(factors_mismatch(problem) <= kFactorsTolerance)) return nullptr;
-    return std::unique_ptr<BodySpace>(new BodySpace(problem, std::move(M)));
+    std::optional<std::vector<Mat6>> M = body_masses(problem);
+    if (!M) return nullptr;
+    return std::unique_ptr<BodySpace>(new BodySpace(problem, std::move(*M)));
   }
 
   bool factor(const VecX& d, const std::vector<char>& dropped) override {
@@ -155,7 +133,7 @@ class BodySpace final : public NewtonSystem {
     return true;
   }
 
-  BodySpace(const BoxedProblem& problem, std::vector<Eigen::Matrix<double, 6, 6>> M)
+  BodySpace(const BoxedProblem& problem, std::vector<Mat6> M)
       : J_(problem.J), Minv_(problem.Minv), cfm_(problem.cfm), M_(std::move(M)) {
     factor_.set_simplicial(true);
     // The lower triangle's pattern: every M block, and every pair of columns a row of J joins.
@@ -195,7 +173,7 @@ class BodySpace final : public NewtonSystem {
   const SpMatRow* J_;
   const SpMat* Minv_;
   double cfm_;
-  std::vector<Eigen::Matrix<double, 6, 6>> M_;
+  std::vector<Mat6> M_;
   SpMat H_;                      ///< lower triangle of M + Jᵀ D⁻¹ J
   std::vector<int> m_position_;  ///< where each M block's lower entries sit in H_'s values
   std::vector<long> j_start_;    ///< row k's pairs start here in j_position_
@@ -409,6 +387,34 @@ SolverSummary solve_around_null_rows(
   msg << "; residual " << s.residual << " N";
   s.message = msg.str();
   return s;
+}
+
+std::optional<std::vector<Mat6>> body_masses(const BoxedProblem& problem) {
+  if (!problem.has_factors()) return std::nullopt;
+  const SpMat& Minv = *problem.Minv;
+  const Eigen::Index n6 = Minv.rows();
+  if (n6 % 6 != 0 || Minv.cols() != n6 || problem.J->cols() != n6) return std::nullopt;
+  std::vector<Mat6> M(static_cast<std::size_t>(n6 / 6), Mat6::Zero());
+  for (Eigen::Index j = 0; j < n6; ++j) {
+    for (SpMat::InnerIterator it(Minv, j); it; ++it) {
+      if (it.row() / 6 != j / 6) {
+        if (it.value() != 0.0) return std::nullopt;  // not block diagonal
+        continue;
+      }
+      M[std::size_t(j / 6)](it.row() % 6, j % 6) = it.value();
+    }
+  }
+  for (Mat6& block : M) {  // M = Minv⁻¹, block by block
+    const Eigen::LLT<Mat6> llt(block);
+    if (llt.info() != Eigen::Success || !block.isApprox(block.transpose(), 1e-12))
+      return std::nullopt;
+    block = llt.solve(Mat6::Identity());
+    block = (0.5 * (block + block.transpose())).eval();
+  }
+  // A = J Minv Jᵀ + cfm I is the contract of BoxedProblem; a stored folder whose A says
+  // otherwise is solved in row space, on its A.
+  if (!(factors_mismatch(problem) <= kFactorsTolerance)) return std::nullopt;
+  return M;
 }
 
 double factors_mismatch(const BoxedProblem& problem) {

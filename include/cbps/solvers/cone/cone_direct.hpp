@@ -16,9 +16,11 @@ namespace cbps {
 ///      program solvers", 2010). A contact's cone is K_mu, a second-order cone once its normal
 ///      row is scaled by mu (s = (mu λ_n, λ_t1, λ_t2)); a finite bound of a row no contact owns
 ///      is a cone of dimension one; rows with cmin = cmax are fixed; a contact with mu = 0 is
-///      its normal's bound and two tangent rows fixed at 0. Each iteration factors
+///      its normal's bound and two tangent rows fixed at 0. Each iteration solves with
 ///      A + Eᵀ W⁻² E + ρ I (W the scaling, 3×3 blocks per contact; ρ = options.direct.proximal)
-///      by CHOLMOD in row space, one analysis for the solve, steps 0.99 of the way to the
+///      by CHOLMOD, in body space (M + Jᵀ Ω J) where the problem has J and Minv and the solves
+///      stay accurate, in row space otherwise (src/solvers/cone/interior_system.hpp), one
+///      analysis for the solve, steps 0.99 of the way to the
 ///      cones' boundary (1 − gap once the centring weight σ < 1e-3: the fast local phase), and
 ///      keeps the iterate of least residual, until that meets the target or the gap closes
 ///      (1e-14). On a singular A with
