@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Measures the exact path on friction cones against nsgs and Siconos' fc3d solvers on the cone
 pyramids of issue 31, and writes what docs/cones.md's bench tables show as JSON (format
-cbps-cones/2).
+cbps-cones/3).
 
     /usr/bin/python3 scripts/measure_cones.py CBPS OUT.json [--work DIR] [--quick]
                      [--siconos-timeout S]
@@ -15,6 +15,9 @@ for each law (`--cone ccp`, `--cone coulomb`):
 - "direct": `cbps lcp F --cone LAW --solver direct --json` (its status, residual in N, the
   relative residual residual / scale with scale = max(1, ‖b‖∞, max |A_ij|), FCLIB's MERIT_1 and
   the wall time of the solve);
+- "direct_body": the same on the folder, `cbps lcp W/pyramidB --cone LAW --solver direct
+  --json`, which has J and Minv, so that the interior point's Newton systems are solved in body
+  space (M + Jᵀ Ω J, docs/cones.md; the local file has only W and works in row space on W + B);
 - "nsgs_1000": `cbps lcp F --cone LAW --solver nsgs --iterations 1000 --tolerance 0 --json`, the
   time of 1,000 sweeps (the target's yardstick) and the residual they reach.
 
@@ -31,7 +34,9 @@ The states of issue 31's own measurements ("box_states"): `cbps matrices pyramid
 --param mu=0.5 --step 3 --out W/pyramidB-box --fclib W/pyramidB-box.hdf5 --cone coulomb` for B =
 3, 5, 10 and 20: the pyramid stepped 3 times under the paper's box by its default method (pgs)
 while it settles, its step's A and b posed on Coulomb's cone; there contacts slide, stick and
-open at velocities near 1e-8 m/s. Measured the same way, Coulomb's law only.
+open at velocities near 1e-8 m/s. Measured the same way, Coulomb's law only; "direct_body" there
+solves the same step written as an FCLIB global file (`... --fclib W/pyramidB-box-global.hdf5
+--cone coulomb --global`: M, H, and so J and Minv).
 
 --quick (a check of the script itself): base 3 only, Siconos limited to 20 s. The load average
 after each command is recorded. Exit 1 without writing OUT when CBPS changes during the run.
@@ -53,7 +58,7 @@ import measure_peers as peers  # run(), BINARY, git_commit(): the same job contr
 from cbps_files import write_json
 from cbps_problem import cone_natural_maps, scale_of  # scripts/cbps_problem.py
 
-FORMAT = "cbps-cones/2"
+FORMAT = "cbps-cones/3"
 BASES = [3, 5, 10, 20]
 LAWS = ["ccp", "coulomb"]
 MU = "0.5"
@@ -77,8 +82,8 @@ def coulomb_measures(A, b, mu, r):
             "fclib_merit": float(np.linalg.norm(norms) / (1.0 + np.sqrt(np.linalg.norm(b))))}
 
 
-def lcp(cbps, work, hdf5, law, solver):
-    args = ["lcp", hdf5, "--cone", law, "--solver", solver, "--json"]
+def lcp(cbps, work, source, law, solver):
+    args = ["lcp", source, "--cone", law, "--solver", solver, "--json"]
     if solver == "nsgs":
         args += ["--iterations", "1000", "--tolerance", "0"]
     log("cbps " + " ".join(args))
@@ -92,7 +97,7 @@ def lcp(cbps, work, hdf5, law, solver):
     entry.update(status=j["status"], residual=j["residual"], scale=j["scale"],
                  residual_relative=peers.relative(j["residual"], j["scale"]),
                  fclib_merit=j["cone"]["fclib_merit"], wall_time_s=j["wall_time_s"],
-                 iterations=j["iterations"], message=j["message"])
+                 iterations=j["iterations"], space=j["space"], message=j["message"])
     return entry, np.array(j["lambda"], dtype=float)
 
 
@@ -138,10 +143,18 @@ def measure(cbps, work, base, siconos_timeout, state):
         args = ["matrices", "pyramid", "--param", f"base={base}", "--param", f"mu={MU}",
                 "--step", str(BOX_STEP), "--out", folder, "--fclib", hdf5, "--cone", "coulomb",
                 "--quiet"]
-    log("cbps " + " ".join(args))
-    code, _, err, _ = peers.run([cbps] + args, work)
-    if code != 0:
-        sys.exit(f"measure_cones: cbps {' '.join(args)}: exit {code}: {err.strip()}")
+    body = folder  # where J and Minv are: the folder, or the box state's FCLIB global file
+    commands = [args]
+    if state == "box":
+        body = os.path.join(work, name + "-global.hdf5")
+        commands.append(args[:args.index("--out")] + ["--out", folder + "-global", "--fclib",
+                                                      body, "--cone", "coulomb", "--global",
+                                                      "--quiet"])
+    for command in commands:
+        log("cbps " + " ".join(command))
+        code, _, err, _ = peers.run([cbps] + command, work)
+        if code != 0:
+            sys.exit(f"measure_cones: cbps {' '.join(command)}: exit {code}: {err.strip()}")
     A = scipy.io.mmread(os.path.join(folder, "A.mtx")).toarray()
     b = scipy.io.mmread(os.path.join(folder, "b.mtx")).ravel()
     with open(os.path.join(folder, "labels.json")) as f:  # a contact's rows: normal, t1, t2
@@ -150,13 +163,15 @@ def measure(cbps, work, base, siconos_timeout, state):
     if contacts * 3 != len(b):
         sys.exit(f"measure_cones: {folder}: {len(b)} rows are not {contacts} contacts' rows")
     entry = {"name": name, "base": base, "contacts": len(mu), "rows": len(b), "state": state,
-             "command": "cbps " + " ".join(args).replace(work + os.sep, ""), "laws": {}}
+             "command": "; ".join("cbps " + " ".join(c).replace(work + os.sep, "")
+                                  for c in commands), "laws": {}}
     for law in (LAWS if state == "cone" else ["coulomb"]):
         direct, lam = lcp(cbps, work, hdf5, law, "direct")
         if law == "coulomb" and lam is not None:
             direct["residual_here"] = coulomb_measures(A, b, mu, lam)["residual"]
+        direct_body, _ = lcp(cbps, work, body, law, "direct")
         nsgs, _ = lcp(cbps, work, hdf5, law, "nsgs")
-        entry["laws"][law] = {"direct": direct, "nsgs_1000": nsgs}
+        entry["laws"][law] = {"direct": direct, "direct_body": direct_body, "nsgs_1000": nsgs}
     entry["siconos"] = [siconos(cbps, work, hdf5, s, siconos_timeout, (A, b, mu))
                         for s in SICONOS]
     return entry
