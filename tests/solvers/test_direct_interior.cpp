@@ -526,6 +526,32 @@ TEST_CASE("interior path: body space and row space give the same answer on the s
   }
 }
 
+TEST_CASE("interior path: a warm start near the answer finishes by the crossover alone",
+          "[direct][interior]") {
+  // The next step's guess is the last answer on a nearby state; 0.9 λ* stands for it here: rows
+  // at 0 stay there, every other value is 10% off (a row at a nonzero bound moves inside it).
+  // The crossover from it must end Direct without the interior point and give the cold
+  // answer's w and Jᵀλ (unique where λ is not).
+  const SceneStep c = GENERATE(values<SceneStep>(kSmallContactSteps));
+  const System& sys = stepped(c.name, c.values, c.steps);
+  const BoxedProblem problem = sys.problem();
+  const double scale = scale_of(problem);
+  VecX cold;
+  const SolverSummary sc = solve_direct(problem, cold, interior());
+  REQUIRE(sc.termination == Termination::Direct);
+  VecX warm = 0.9 * cold;
+  const SolverSummary sw = solve_direct(problem, warm, interior());
+  INFO(c.name << ": cold " << sc.message << "\nwarm " << sw.message);
+  CHECK(sw.termination == Termination::Direct);
+  CHECK(sw.message.rfind("direct (warm", 0) == 0);
+  CHECK(sw.iterations == 0);  // no interior iteration
+  CHECK(sw.space == "body");
+  CHECK(natural_map_residual(problem, warm) <= kResidual * scale);
+  CHECK(inf_norm(sys.A * (warm - cold)) <= kDegenerateAgreement * scale);
+  const VecX f = force(sys, cold);
+  CHECK(inf_norm(force(sys, warm) - f) <= kDegenerateAgreement * std::max(1.0, inf_norm(f)));
+}
+
 // ---------------------------------------------------------------------------------------------
 // 5. Constraint-force mixing.
 

@@ -45,6 +45,12 @@ constexpr double kNearBound = 1e-4;
 /// costs a solve of the whole problem (the base-10 pyramid, one island of 1,200 rows: 13 ms in
 /// body space against 60 ms on A(F, F); the 100-column stack's 120-row islands the other way).
 constexpr Eigen::Index kRowSpaceFinish = 500;
+/// A warm start's crossover (warm_finish) takes at most this many proximal steps before the
+/// interior point runs from scratch: 0.9 λ* of the base-6 pyramid and the 10-box stack needs 26
+/// and 25 (tests/solvers/test_direct_interior.cpp), the cold crossover from the interior point's
+/// partition 24 and 19; most steps update the body-space factor instead of making it anew (the
+/// stack's 25: 5 factorizations).
+constexpr int kWarmSteps = 30;
 
 /// Where a row sits in the crossover's partition.
 enum class Place : unsigned char { Free, Lower, Upper, Fixed };
@@ -422,6 +428,35 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
 
 namespace {
 
+/// A warm start (the last step's answer, carried by contact persistence): the crossover from its
+/// partition, in body space where the problem has J and Minv, at most kWarmSteps proximal steps.
+/// True, with s filled, when that reaches the tolerance; the interior point is then not needed.
+bool warm_finish(const BoxedProblem& problem,
+                 VecX& lambda,
+                 const SolverOptions& options,
+                 SolverSummary& s) {
+  SolverOptions o = options;
+  o.direct.max_outer_iterations = kWarmSteps;
+  const std::unique_ptr<NewtonSystem> newton = make_newton_system(problem);
+  VecX x = lambda;
+  const SolverSummary w = finish_active_set(problem, x, o, newton.get(), kCrossoverEpsilon);
+  if (w.termination != Termination::Direct) return false;
+  lambda = x;
+  s.islands = 1;
+  s.space = newton->space();
+  s.crossover = w.iterations;
+  s.pivots = w.pivots;
+  s.factorizations = w.factorizations + newton->factorizations();
+  s.updates = newton->updates();
+  s.factor_nnz = std::max(w.factor_nnz, newton->factor_nonzeros());
+  std::ostringstream msg;
+  msg << "direct (warm: the crossover from the guess's partition, " << s.space
+      << " space): " << s.crossover << " proximal steps and " << s.pivots << " pivots, "
+      << s.factorizations << " factorizations";
+  s.message = msg.str();
+  return true;
+}
+
 /// solve_direct on a problem without null rows (solve_around_null_rows).
 SolverSummary solve_direct_coupled(const BoxedProblem& problem,
                                    VecX& lambda,
@@ -465,6 +500,10 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
     lambda = guess;
     s.islands = 1;
     return finish("direct: the guess already solves it");
+  }
+  if (!guess.isZero(0.0) && warm_finish(problem, guess, options, s)) {
+    lambda = guess;
+    return finish(s.message);
   }
   SolverSummary inner;
   InteriorSolver solver(problem, options, inner);
