@@ -501,7 +501,8 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
     s.islands = 1;
     return finish("direct: the guess already solves it");
   }
-  if (!guess.isZero(0.0) && warm_finish(problem, guess, options, s)) {
+  const bool warm_tried = !guess.isZero(0.0);
+  if (warm_tried && warm_finish(problem, guess, options, s)) {
     lambda = guess;
     return finish(s.message);
   }
@@ -520,6 +521,9 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
        << ") " << s.crossover << " proximal steps and " << s.pivots << " pivots, "
        << s.factorizations << " factorizations";
   if (s.updates > 0) what << " and " << s.updates << " rows updated in a factor";
+  if (warm_tried)
+    what << "; before it, the warm start's crossover did not finish in " << kWarmSteps
+         << " proximal steps";
   // The rounding floor grows with ‖λ‖∞, so a λ driven off by inconsistent equality rows would
   // meet it: past 1e8 × λ's natural scale (|b_k| / A_kk, the finite bounds) it is no answer.
   double natural = 1.0;
