@@ -89,11 +89,10 @@ struct Setup {
   std::vector<int> contact_at;  ///< row → contact owning it as its normal, −1 otherwise
   std::vector<char> in_cone;
   std::vector<Constraint> constraints;
-  int entries = 0;                        ///< length of s and z
-  VecX rho_row;                           ///< the box rows' Newton scaling 1/A'_kk
-  std::vector<double> rho;                ///< each contact's 1/λmax(A'_αα)
-  const BoxedProblem* problem = nullptr;  ///< the problem as given (J, Minv, cfm)
-  std::optional<std::vector<Mat6>> M;     ///< the bodies' masses, for body space
+  int entries = 0;                  ///< length of s and z
+  VecX rho_row;                     ///< the box rows' Newton scaling 1/A'_kk
+  std::vector<double> rho;          ///< each contact's 1/λmax(A'_αα)
+  std::optional<BodyFactors> body;  ///< what body space reads, where the problem has it
 
   /// A residual in N expressed in the units of x (the scaled λ): times md / bn.
   double in_x_units(double newtons) const { return newtons * md / bn; }
@@ -101,8 +100,7 @@ struct Setup {
 
 Setup make_setup(const BoxedProblem& p) {
   Setup S;
-  S.problem = &p;
-  S.M = body_masses(p);
+  S.body = body_factors(p);
   S.c = p.rows();
   const Eigen::Index c = S.c;
   double md = 0.0;
@@ -400,14 +398,13 @@ VecX interior(const Setup& S,
   for (const Constraint& k : S.constraints) e(k.at) = 1.0;
   VecX s = e, z = e;  // the cones' axes
   std::vector<Mat3> W(S.constraints.size()), Winv(S.constraints.size());
-  InteriorSystem system(*S.problem, S.A, S.md, S.fixed, S.constraints, S.M ? &*S.M : nullptr);
+  InteriorSystem system(S.A, S.md, S.fixed, S.constraints, S.body ? &*S.body : nullptr);
   const int factorizations_before = counts.factorizations;
-  int counted_body = 0;
+  const int body_before = counts.body_factorizations;
   const auto tally = [&] {  // what the system factored, into the counts
     counts.factorizations = factorizations_before + system.factorizations();
+    counts.body_factorizations = body_before + system.body_factorizations();
     counts.factor_nnz = std::max(counts.factor_nnz, system.factor_nonzeros());
-    counts.body_factorizations += system.body_factorizations() - counted_body;
-    counted_body = system.body_factorizations();
     if (counts.space != "row") counts.space = system.space();
   };
   VecX best = x;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <optional>
 
 namespace cbps {
 
@@ -15,26 +16,37 @@ constexpr int kRefinements = 2;
 
 }  // namespace
 
-InteriorSystem::InteriorSystem(const BoxedProblem& problem,
-                               const SpMat& A_scaled,
-                               double md,
-                               const std::vector<char>& fixed,
-                               const std::vector<ConeConstraint>& constraints,
-                               const std::vector<Mat6>* M)
-    : A_(A_scaled), md_(md), fixed_(fixed), constraints_(constraints), body_(M != nullptr) {
-  if (!body_) return;
-  factor_.set_simplicial(true);  // as the boxed body space: half the time with reference BLAS
-  J_ = *problem.J;
-  Jt_ = J_.transpose();
-  Minv_ = *problem.Minv;
-  cfm_ = problem.cfm;
+std::optional<BodyFactors> body_factors(const BoxedProblem& problem) {
+  const std::optional<std::vector<Mat6>> M = body_masses(problem);
+  if (!M) return std::nullopt;
+  BodyFactors f;
+  f.J = *problem.J;
+  f.Jt = f.J.transpose();
+  f.Minv = *problem.Minv;
+  f.cfm = problem.cfm;
   std::vector<Triplet> t;
   t.reserve(36 * M->size());
   for (std::size_t b = 0; b < M->size(); ++b)
     for (int j = 0; j < 6; ++j)
       for (int i = 0; i < 6; ++i) t.emplace_back(int(6 * b) + i, int(6 * b) + j, (*M)[b](i, j));
-  M_.resize(J_.cols(), J_.cols());
-  M_.setFromTriplets(t.begin(), t.end());
+  f.M.resize(f.J.cols(), f.J.cols());
+  f.M.setFromTriplets(t.begin(), t.end());
+  return f;
+}
+
+InteriorSystem::InteriorSystem(const SpMat& A_scaled,
+                               double md,
+                               const std::vector<char>& fixed,
+                               const std::vector<ConeConstraint>& constraints,
+                               const BodyFactors* body)
+    : A_(A_scaled),
+      md_(md),
+      fixed_(fixed),
+      constraints_(constraints),
+      factors_(body),
+      body_(body != nullptr) {
+  // As the boxed body space: half the time with Debian's reference BLAS.
+  if (body_) factor_.set_simplicial(true);
 }
 
 bool InteriorSystem::factor(const std::vector<Mat3>& W, const std::vector<Mat3>& Winv, double rho) {
@@ -89,7 +101,8 @@ bool InteriorSystem::factor_bodies(const std::vector<Mat3>& W,
                                    const std::vector<Mat3>& Winv,
                                    double rho) {
   const Eigen::Index c = A_.rows();
-  const double delta = md_ * rho + cfm_;
+  const BodyFactors& f = *factors_;
+  const double delta = md_ * rho + f.cfm;
   VecX diagonal = VecX::Constant(c, rho);  // B on the rows no cone owns
   std::vector<char> in_cone(std::size_t(c), 0);
   std::vector<Triplet> t;
@@ -114,26 +127,33 @@ bool InteriorSystem::factor_bodies(const std::vector<Mat3>& W,
   for (Eigen::Index k = 0; k < c; ++k) {
     if (in_cone[std::size_t(k)]) continue;
     const bool out = fixed_[std::size_t(k)] != 0;
-    t.emplace_back(int(k), int(k), out ? 0.0 : 1.0 / (md_ * diagonal(k) + cfm_));
+    t.emplace_back(int(k), int(k), out ? 0.0 : 1.0 / (md_ * diagonal(k) + f.cfm));
   }
   Omega_.resize(c, c);
   Omega_.setFromTriplets(t.begin(), t.end());
-  const SpMat OJ = Omega_ * J_;
-  const SpMat H = M_ + SpMat(Jt_ * OJ);
+  const SpMat OJ = Omega_ * f.J;
+  const SpMat H = f.M + SpMat(f.Jt * OJ);
   return factor_matrix(H);
 }
 
 void InteriorSystem::apply(const VecX& r, VecX& x) const {
   const VecX y = Omega_ * (md_ * r);
-  const VecX g = Jt_ * y;
+  const VecX g = factors_->Jt * y;
   VecX u;
   factor_.solve(g, u);
-  x = Omega_ * (md_ * r - J_ * u);
+  x = Omega_ * (md_ * r - factors_->J * u);
 }
 
-VecX InteriorSystem::times(const VecX& x) const {
-  VecX y = J_ * (Minv_ * (Jt_ * x));
-  y = (y + cfm_ * x) / md_ + rho_ * x;
+VecX InteriorSystem::A_times(const VecX& x) const {
+  const BodyFactors& f = *factors_;
+  VecX y = (f.J * (f.Minv * (f.Jt * x)) + f.cfm * x) / md_;
+  for (Eigen::Index k = 0; k < y.size(); ++k)
+    if (fixed_[std::size_t(k)]) y(k) = 0.0;
+  return y;
+}
+
+VecX InteriorSystem::B_times(const VecX& x) const {
+  VecX y = rho_ * x;
   for (std::size_t j = 0; j < constraints_.size(); ++j) {
     const ConeConstraint& k = constraints_[j];
     if (!k.cone) {
@@ -150,13 +170,12 @@ VecX InteriorSystem::times(const VecX& x) const {
 }
 
 double InteriorSystem::backward_error(const VecX& r, const VecX& x) const {
-  const VecX Ax = (J_ * (Minv_ * (Jt_ * x)) + cfm_ * x) / md_;
-  const VecX Kx = times(x);
-  VecX residual = r - Kx;
+  const VecX Ax = A_times(x), Bx = B_times(x);
+  VecX residual = r - Ax - Bx;
   for (Eigen::Index k = 0; k < r.size(); ++k)
     if (fixed_[std::size_t(k)]) residual(k) = 0.0;
-  const double size = Ax.lpNorm<Eigen::Infinity>() + (Kx - Ax).lpNorm<Eigen::Infinity>() +
-                      r.lpNorm<Eigen::Infinity>();
+  const double size =
+      Ax.lpNorm<Eigen::Infinity>() + Bx.lpNorm<Eigen::Infinity>() + r.lpNorm<Eigen::Infinity>();
   return size > 0.0 ? residual.lpNorm<Eigen::Infinity>() / size : 0.0;
 }
 
@@ -165,7 +184,7 @@ bool InteriorSystem::solve(const VecX& r, VecX& x) {
     apply(r, x);
     for (int pass = 0; pass < kRefinements; ++pass) {
       VecX dx;
-      apply(r - times(x), dx);
+      apply(r - A_times(x) - B_times(x), dx);
       x += dx;
     }
     if (backward_error(r, x) <= kBodyAccuracy) return true;

@@ -29,6 +29,16 @@ struct ConeConstraint {
   int size() const { return cone ? 3 : 1; }
 };
 
+/// What body space reads of a problem, formed once per solve: J (column-major) and Jᵀ, Minv,
+/// M = Minv⁻¹ (body_masses()) and the CFM in A.
+struct BodyFactors {
+  SpMat J, Jt, Minv, M;
+  double cfm = 0.0;
+};
+
+/// The problem's BodyFactors where body_masses() finds M, nullopt otherwise (row space).
+std::optional<BodyFactors> body_factors(const BoxedProblem& problem);
+
 /// The interior point's Newton matrix on the problem scaled to max A_kk = 1 (A' = A / md):
 ///   A' + B,   B = Σ_k E_kᵀ W_k⁻² E_k + ρ I,
 /// E_k a constraint's map from x to its s (a bound's a on its row, a cone's diag(mu, 1, 1) on
@@ -53,14 +63,13 @@ struct ConeConstraint {
 /// backward error exceeds kBodyAccuracy is done again in row space, and the object stays there.
 class InteriorSystem {
  public:
-  /// A_scaled = A / md; fixed: the rows out of the system; M: the bodies' mass matrices for
-  /// body space, or nullptr for row space. Every argument must outlive the object.
-  InteriorSystem(const BoxedProblem& problem,
-                 const SpMat& A_scaled,
+  /// A_scaled = A / md; fixed: the rows out of the system; body: what body space reads, or
+  /// nullptr for row space. Every argument must outlive the object.
+  InteriorSystem(const SpMat& A_scaled,
                  double md,
                  const std::vector<char>& fixed,
                  const std::vector<ConeConstraint>& constraints,
-                 const std::vector<Mat6>* M);
+                 const BodyFactors* body);
   /// Factors for the scalings W (Winv = W⁻¹), one per constraint (a bound's in its (0, 0)
   /// entry), and ρ; false when CHOLMOD fails.
   bool factor(const std::vector<Mat3>& W, const std::vector<Mat3>& Winv, double rho);
@@ -81,8 +90,9 @@ class InteriorSystem {
   bool factor_bodies(const std::vector<Mat3>& W, const std::vector<Mat3>& Winv, double rho);
   /// One Woodbury application (body space).
   void apply(const VecX& r, VecX& x) const;
-  /// (A' + B) x (body space), zero on the fixed rows.
-  VecX times(const VecX& x) const;
+  /// A' x = (J (Minv (Jᵀ x)) + cfm x) / md and B x (body space), both zero on the fixed rows.
+  VecX A_times(const VecX& x) const;
+  VecX B_times(const VecX& x) const;
   /// The analysed factor of H, or a new analysis where H's pattern differs from the last.
   bool factor_matrix(const SpMat& H);
   /// The body-space solve's backward error (see the class).
@@ -92,15 +102,14 @@ class InteriorSystem {
   double md_;
   const std::vector<char>& fixed_;
   const std::vector<ConeConstraint>& constraints_;
+  const BodyFactors* factors_ = nullptr;
   bool body_ = false;
   int body_factorizations_ = 0;
   int factorizations_ = 0;
   long nonzeros_ = 0;
   // Body space.
-  SpMat J_, Jt_, Minv_, M_;
-  double cfm_ = 0.0;
   SpMat Omega_;
-  std::vector<Mat3> Winv_;  ///< the last scaling, for times()
+  std::vector<Mat3> Winv_;  ///< the last scaling, for B_times()
   double rho_ = 0.0;
   // Both.
   CholmodFactor factor_;
