@@ -225,6 +225,7 @@ py::dict summary_dict(const SolverSummary& s) {
   d["factor_nnz"] = s.factor_nnz;
   d["updates"] = s.updates;
   d["space"] = s.space;
+  d["route"] = s.route;  // direct: "guess", "warm", "interior", "active-set", "linear"
   // A peer's own word and times (siconos:NAME, bullet:NAME); None for cbps's methods.
   const bool peer = !s.peer_status.empty();
   d["peer_status"] = peer ? py::object(py::str(s.peer_status)) : py::none();

@@ -25,6 +25,21 @@ void CsvFile::integer(long x) {
   first_ = false;
 }
 
+void CsvFile::text(const std::string& x) {
+  if (!first_) std::fputc(',', f_);
+  first_ = false;
+  if (x.find_first_of(",\"\r\n") == std::string::npos) {
+    std::fputs(x.c_str(), f_);
+    return;
+  }
+  std::fputc('"', f_);
+  for (const char c : x) {
+    if (c == '"') std::fputc('"', f_);
+    std::fputc(c, f_);
+  }
+  std::fputc('"', f_);
+}
+
 void CsvFile::end_row() {
   std::fputc('\n', f_);
   first_ = true;

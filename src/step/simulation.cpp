@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "cbps/rows/build_rows.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/guard.hpp"
 #include "cbps/step/push.hpp"
@@ -41,7 +42,9 @@ std::string stage_name(Stage stage, Method method, PushMode push) {
 }
 
 Simulation::Simulation(Scene scene)
-    : scene_(std::move(scene)), collision_stage_(scene_.has_contact_pairs()) {}
+    : scene_(std::move(scene)),
+      exact_memory_(make_exact_memory()),
+      collision_stage_(scene_.has_contact_pairs()) {}
 
 StepReport Simulation::step() {
   const auto start = Clock::now();
@@ -192,6 +195,7 @@ VecX Simulation::warm_lambda(const System& sys, const WarmStart& warm, bool scal
 SolverOptions Simulation::step_options(const SolverSettings& settings) const {
   SolverOptions options = settings.options();
   options.seed = settings.seed + static_cast<std::uint64_t>(steps_);  // new permutations each step
+  options.direct.memory = exact_memory_;
   return options;
 }
 

@@ -24,6 +24,8 @@ void add_step(RunTotals& t, const Simulation& sim, const StepReport& r) {
   t.max_rows = std::max(t.max_rows, r.rows);
   t.max_contacts = std::max(t.max_contacts, r.contacts);
   t.stage_times += r.times;
+  if (!r.solver.route.empty()) ++t.routes[r.solver.route];
+  if (!r.position_solver.route.empty()) ++t.position_routes[r.position_solver.route];
   t.max_penetration = std::max(t.max_penetration, r.max_penetration);
   for (const std::string& stage : sim.stages()) {
     if (std::find(t.stages.begin(), t.stages.end(), stage) == t.stages.end())
@@ -146,8 +148,10 @@ bool TrajectoryRecorder::after_step(const Simulation& sim, const StepReport&, lo
 
 StepsRecorder::StepsRecorder(const std::string& path, bool timing)
     : csv_(path,
-           timing ? "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,wall_time_s"
-                  : "t,rows,warm_rows,iterations,residual,max_constraint_error,energy"),
+           timing
+               ? "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,direct_route,"
+                 "wall_time_s,solve_time_s"
+               : "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,direct_route"),
       timing_(timing) {}
 
 bool StepsRecorder::after_step(const Simulation& sim, const StepReport& r, long) {
@@ -158,7 +162,11 @@ bool StepsRecorder::after_step(const Simulation& sim, const StepReport& r, long)
   csv_.num(r.solver.residual);
   csv_.num(r.max_constraint_error);
   csv_.num(sim.energy());
-  if (timing_) csv_.num(r.wall_time_s);
+  csv_.text(r.solver.route);
+  if (timing_) {
+    csv_.num(r.wall_time_s);
+    csv_.num(r.times.solve);
+  }
   csv_.end_row();
   return true;
 }
@@ -223,6 +231,8 @@ nlohmann::json run_summary_json(const Scene& scene,
   summary["energy_initial"] = number_json(t.energy_initial);
   summary["energy_final"] = number_json(t.energy_final);
   summary["stages"] = t.stages;
+  if (!t.routes.empty()) summary["direct_routes"] = t.routes;
+  if (!t.position_routes.empty()) summary["direct_routes_position"] = t.position_routes;
   if (timing) {
     const StageTimes& s = t.stage_times;
     summary["wall_time_s"] = t.wall_time_s;

@@ -67,7 +67,9 @@ TEST_CASE("cbps run --out writes summary.json, trajectory.csv and steps.csv", "[
   CHECK(rows == 3 * 25);  // 3 bodies at t = 0 and after each of 24 steps
   std::ifstream steps(out / "steps.csv");
   std::getline(steps, header);
-  CHECK(header == "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,wall_time_s");
+  CHECK(header ==
+        "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,direct_route,"
+        "wall_time_s,solve_time_s");
   fs::remove_all(dir);
 }
 

@@ -1,13 +1,17 @@
 // `cbps run` beyond its files (test_cli.cpp): a divergence keeps the steps before it and exits 1,
 // scene files set the divergence limits and cfm, cfm's effect is reported, and the same inputs
-// give byte-identical outputs.
+// give byte-identical outputs, and the direct path says per step how it reached its answer.
 #include <stdlib.h>
 
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
+#include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "fixture.hpp"
 
@@ -155,4 +159,43 @@ TEST_CASE("a one-process command started by mpirun -n 2 is refused on every rank
   CHECK(run_cli("run chain --steps 2 --quiet --out " + out).code == 0);
   ::unsetenv("OMPI_COMM_WORLD_SIZE");
   ::unsetenv("OMPI_COMM_WORLD_RANK");
+}
+
+TEST_CASE("cbps run --solver direct says per step how the exact path reached its answer",
+          "[cli][direct]") {
+  // The base-8 pyramid (768 rows, the interior point's size) at rest: the first step has no
+  // guess, so the interior point; every later step starts from the last step's lambda, which
+  // either already solves it or is finished by the crossover from its partition.
+  const auto dir = scratch_dir("routes");
+  const auto out = dir / "out";
+  const auto r = run_cli(
+      "run pyramid --param base=8 --param push=original --steps 12 --solver direct --quiet --out " +
+      out.string());
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  std::ifstream steps(out / "steps.csv");
+  std::string line;
+  std::getline(steps, line);
+  const std::string header = "t,rows,warm_rows,iterations,residual,max_constraint_error,energy,";
+  REQUIRE(line == header + "direct_route,wall_time_s,solve_time_s");
+  std::map<std::string, long> counted;
+  for (long k = 0; std::getline(steps, line); ++k) {
+    std::vector<std::string> fields;
+    std::stringstream row(line);
+    for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+    REQUIRE(fields.size() == 10);
+    const std::string& route = fields[7];
+    CAPTURE(k, line);
+    if (k == 0)
+      CHECK(route == "interior");
+    else
+      CHECK((route == "warm" || route == "guess"));
+    CHECK(std::stod(fields[9]) >= 0.0);  // solve_time_s, s
+    ++counted[route];
+  }
+  const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+  CHECK(summary["max_residual"].get<double>() <= 1e-9);
+  CHECK(summary["direct_routes"].get<std::map<std::string, long>>() == counted);
+  CHECK(!summary.contains("direct_routes_position"));  // one system per step (original push)
+  CHECK(counted["warm"] > 0);
 }

@@ -55,7 +55,7 @@ TEST_CASE("body space: a factor updated as rows leave and join solves what a fre
   const BoxedProblem problem = sys.problem();
   const Eigen::Index c = problem.rows();
   REQUIRE(c > 40);
-  std::unique_ptr<NewtonSystem> updated = make_body_space(problem);
+  std::shared_ptr<NewtonSystem> updated = make_body_space(problem);
   REQUIRE(updated != nullptr);
   CHECK(std::string(updated->space()) == "body");
 
@@ -72,7 +72,7 @@ TEST_CASE("body space: a factor updated as rows leave and join solves what a fre
   CHECK(updated->factorizations() == 1);
   CHECK(updated->updates() == 5);
 
-  std::unique_ptr<NewtonSystem> fresh = make_body_space(problem);
+  std::shared_ptr<NewtonSystem> fresh = make_body_space(problem);
   REQUIRE(fresh->factor(d, dropped));
   CHECK(fresh->updates() == 0);
 
@@ -109,7 +109,7 @@ TEST_CASE(
   const System& sys = stack_system();
   const BoxedProblem problem = sys.problem();
   const Eigen::Index c = problem.rows();
-  std::unique_ptr<NewtonSystem> body = make_body_space(problem);
+  std::shared_ptr<NewtonSystem> body = make_body_space(problem);
   REQUIRE(body != nullptr);
   VecX x(c), y;
   for (Eigen::Index k = 0; k < c; ++k) x(k) = 1.0 + double(k % 7);  // N
@@ -123,8 +123,46 @@ TEST_CASE(
   changed.coeffRef(0, 0) *= 1.5;
   const BoxedProblem other{changed, problem.b, problem.cmin, problem.cmax, problem.J, problem.Minv};
   CHECK(make_body_space(other) == nullptr);
-  std::unique_ptr<NewtonSystem> row = make_newton_system(other);
+  std::shared_ptr<NewtonSystem> row = make_newton_system(other);
   CHECK(std::string(row->space()) == "row");
   row->times_A(x, y);
   CHECK(y == changed * x);
+}
+
+TEST_CASE(
+    "body space kept in an ExactMemory serves the next problem of J's pattern and solves what a "
+    "fresh one solves",
+    "[direct][newton]") {
+  const System& sys = stack_system();
+  const BoxedProblem problem = sys.problem();
+  const Eigen::Index c = problem.rows();
+  const std::shared_ptr<ExactMemory> memory = make_exact_memory();
+  const std::shared_ptr<NewtonSystem> first = make_body_space(problem, memory.get());
+  REQUIRE(first != nullptr);
+  VecX d = VecX::Constant(c, 1e-3 * problem.A.diagonal().maxCoeff());
+  std::vector<char> dropped(std::size_t(c), 0);
+  REQUIRE(first->factor(d, dropped));
+  // The next step's problem: the same pattern of J, other values (here Minv halved, so A too).
+  const SpMat Minv2 = 0.5 * *problem.Minv;
+  const SpMat A2 = 0.5 * problem.A;
+  const BoxedProblem next{A2, problem.b, problem.cmin, problem.cmax, problem.J, &Minv2};
+  const std::shared_ptr<NewtonSystem> kept = make_body_space(next, memory.get());
+  CHECK(kept.get() == first.get());  // the same object: its pattern and analysis reused
+  CHECK(kept->factorizations() == 0);
+  for (Eigen::Index k = 0; k < c; k += 3) dropped[std::size_t(k)] = 1;
+  VecX r(c), x;
+  for (Eigen::Index k = 0; k < c; ++k) r(k) = std::sin(0.3 * double(k));  // m/s²
+  REQUIRE(kept->factor(d, dropped));
+  REQUIRE(kept->solve(d, dropped, r, x));
+  const VecX expected = dense_solve(A2, d, dropped, r);
+  CHECK((x - expected).lpNorm<Eigen::Infinity>() <= 1e-9 * expected.lpNorm<Eigen::Infinity>());
+  // A J of another pattern (its last row left out) gets a body space of its own.
+  const SpMatRow J3 = problem.J->topRows(c - 1);
+  const SpMat A3 = problem.A.topLeftCorner(c - 1, c - 1);
+  const VecX b3 = problem.b.head(c - 1), lo3 = problem.cmin.head(c - 1),
+             hi3 = problem.cmax.head(c - 1);
+  const BoxedProblem smaller{A3, b3, lo3, hi3, &J3, problem.Minv};
+  const std::shared_ptr<NewtonSystem> other = make_body_space(smaller, memory.get());
+  REQUIRE(other != nullptr);
+  CHECK(other.get() != first.get());
 }

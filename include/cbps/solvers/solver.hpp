@@ -23,6 +23,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,6 +32,11 @@
 #include "cbps/system/boxed_problem.hpp"
 
 namespace cbps {
+
+/// What the exact path keeps from one solve to the next (direct.hpp, make_exact_memory): the
+/// body-space pattern of M + Jᵀ D⁻¹ J and CHOLMOD's analysis of it, reused while J's pattern
+/// stays the same. Private to the library.
+struct ExactMemory;
 
 /// The methods, each one name on the command line, in scene files and in summaries
 /// (to_string / method_from_string read the one table of methods, methods.hpp).
@@ -226,6 +232,9 @@ struct SolverOptions {
     int start_sweeps = 5;          ///< PGS sweeps (7.1.1) that choose the first active set
     bool split_islands =
         true;  ///< active-set: solve independent blocks of A apart (exact either way)
+    /// direct: what it keeps between solves (make_exact_memory, direct.hpp); a running
+    /// Simulation holds one for all its steps. Null: every solve analyses its pattern anew.
+    std::shared_ptr<ExactMemory> memory;
   } direct;
   /// Iterative solvers call this after every sweep with the sweep count, lambda and the seconds
   /// spent in sweeps so far (the call itself is not timed); false ends the solve
@@ -269,6 +278,11 @@ struct SolverSummary {
   long factor_nnz = 0;    ///< direct: nonzeros of its Cholesky factor
   long updates = 0;       ///< direct: rows added to or removed from a factor by updates
   std::string space;      ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
+  /// direct: how it reached its answer (kRoutes in direct.hpp): "guess" (the guess already
+  /// solved it), "warm" (the crossover from the guess's partition), "interior" (the interior
+  /// point, then the crossover), "active-set" (few rows), "linear" (no bounded row); "" for the
+  /// other methods
+  std::string route;
   /// A peer's own word on its answer ("info 0", "returned true"; peers.hpp), empty for cbps's
   /// methods; whether that word was success; and the seconds spent converting the problem to
   /// the peer's storage (in wall_time_s, reported apart: the dense peers' conversion).

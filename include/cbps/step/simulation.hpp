@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -115,7 +116,8 @@ class Simulation {
   SolverSummary solve_system(const System& sys, VecX& lambda) const {
     return solve_system(sys, sys.b, lambda, scene_.solver);
   }
-  /// The solver options of this step from `settings`: its seed advanced by the steps done.
+  /// The solver options of this step from `settings`: its seed advanced by the steps done, the
+  /// direct path's memory of the steps before (SolverOptions::Direct::memory).
   SolverOptions step_options(const SolverSettings& settings) const;
   /// The same with other solver settings (e.g. the direct path for a cross-check).
   SolverSummary solve_system(const System& sys,
@@ -172,6 +174,8 @@ class Simulation {
   double t_ = 0.0;
   long steps_ = 0;
   WarmStart warm_;  ///< row id → last lambda, N
+  /// What the direct path keeps from step to step (SolverOptions::Direct::memory).
+  std::shared_ptr<ExactMemory> exact_memory_;
   /// row id → last λ_position − λ, N: the position system's push increment (8.1)
   WarmStart warm_position_;
   /// Last step's contact points, for contact persistence (World::contact_persistence).

@@ -4,6 +4,7 @@
 // recorders, and summary.json (docs/outputs.md).
 #pragma once
 
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -33,6 +34,9 @@ struct RunTotals {
   double max_penetration = 0.0;         ///< m
   double cfm_acceleration_error = 0.0;  ///< m/s², max eps |lambda| (StepReport)
   StageTimes stage_times;               ///< summed over the steps, s
+  /// The direct path's routes (SolverSummary::route) → steps that took them: the step's system
+  /// (the velocity system with the improved push), and the position system (8.1)
+  std::map<std::string, long> routes, position_routes;
   std::vector<std::string> stages;      ///< every stage that ran, in order of first appearance
   /// The divergence guard's error when it stopped the run (the steps before it are counted).
   std::optional<DivergenceError> diverged;

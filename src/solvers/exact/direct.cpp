@@ -77,7 +77,7 @@ class InteriorSolver {
     for (Eigen::Index k = 0; k < c; ++k)
       if (!(a_(k) > 0.0)) a_(k) = max_diagonal_;  // for the crossover's λ − w/A_kk only
     row_sum_ = max_abs_row_sum(A_);
-    newton_ = make_newton_system(problem);
+    newton_ = make_newton_system(problem, options.direct.memory.get());
     stats_.space = newton_->space();
   }
 
@@ -394,7 +394,7 @@ class InteriorSolver {
   int bounds_ = 0;
   double max_diagonal_ = 0.0;
   double row_sum_ = 0.0;  ///< max_i Σ_k |A_ik|, for the rounding floor
-  std::unique_ptr<NewtonSystem> newton_;
+  std::shared_ptr<NewtonSystem> newton_;
   std::vector<Place> place_;
   bool solved_ = false;             ///< the interior point met the tolerance
   bool crossover_in_rows_ = false;  ///< the crossover factored A(F, F) (small islands)
@@ -437,7 +437,8 @@ bool warm_finish(const BoxedProblem& problem,
                  SolverSummary& s) {
   SolverOptions o = options;
   o.direct.max_outer_iterations = kWarmSteps;
-  const std::unique_ptr<NewtonSystem> newton = make_newton_system(problem);
+  const std::shared_ptr<NewtonSystem> newton =
+      make_newton_system(problem, options.direct.memory.get());
   VecX x = lambda;
   const SolverSummary w = finish_active_set(problem, x, o, newton.get(), kCrossoverEpsilon);
   if (w.termination != Termination::Direct) return false;
@@ -480,12 +481,11 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
     bounded = problem.cmin(k) != problem.cmax(k) &&
               (std::isfinite(problem.cmin(k)) || std::isfinite(problem.cmax(k)));
   }
-  if (!bounded || n < options.direct.interior_from_rows) {
-    // No bounded row: one linear solve (the active-set path's all-unbounded case). Few rows:
-    // the active-set path, exact to round-off where the free blocks are definite.
+  if (!bounded) {
+    // No bounded row: one linear solve (the active-set path's all-unbounded case).
     s = solve_active_set(problem, lambda, options);
-    s.message =
-        (bounded ? "direct (few rows, active set): " : "direct (no bounded rows): ") + s.message;
+    s.message = "direct (no bounded rows): " + s.message;
+    s.route = "linear";
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
   }
@@ -495,16 +495,29 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   VecX guess = lambda;
   for (Eigen::Index k = 0; k < n; ++k)
     guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
-  if (!guess.isZero(0.0) && natural_map_residual(problem, guess) <=
-                                std::max(options.tolerance, residual_floor(problem, guess))) {
+  const bool warm_tried = !guess.isZero(0.0);
+  if (warm_tried && natural_map_residual(problem, guess) <=
+                        std::max(options.tolerance, residual_floor(problem, guess))) {
     lambda = guess;
     s.islands = 1;
+    s.route = "guess";
     return finish("direct: the guess already solves it");
   }
-  const bool warm_tried = !guess.isZero(0.0);
   if (warm_tried && warm_finish(problem, guess, options, s)) {
     lambda = guess;
+    s.route = "warm";
     return finish(s.message);
+  }
+  if (n < options.direct.interior_from_rows) {
+    // Few rows: the active-set path, exact to round-off where the free blocks are definite.
+    s = solve_active_set(problem, lambda, options);
+    s.message = "direct (few rows, active set): " + s.message;
+    if (warm_tried)
+      s.message += "; before it, the warm start's crossover did not finish in " +
+                   std::to_string(kWarmSteps) + " proximal steps";
+    s.route = "active-set";
+    s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return s;
   }
   SolverSummary inner;
   InteriorSolver solver(problem, options, inner);
@@ -512,6 +525,7 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   const bool solved = solver.solve(x);
   s = inner;
   s.islands = 1;
+  s.route = "interior";
   s.termination = solved ? Termination::Direct : Termination::NotConverged;
   lambda = x;
   std::ostringstream what;

@@ -24,17 +24,47 @@ namespace {
 constexpr long kUpdateRows = 64;
 constexpr long kUpdateFraction = 50;
 constexpr long kUpdateRefresh = 4;
+/// ExactMemory keeps the body spaces of this many patterns.
+constexpr std::size_t kKeptBodySpaces = 2;
 
 /// Body space: (J Minv Jᵀ + diag D)⁻¹ r = D⁻¹ (r − J u), u = (M + Jᵀ D⁻¹ J)⁻¹ Jᵀ D⁻¹ r
 /// (Woodbury), D = d + cfm; D⁻¹ = 0 on dropped rows. H = M + Jᵀ D⁻¹ J keeps one pattern (its
 /// lower triangle), assembled here from precomputed positions, so CHOLMOD analyses it once.
 class BodySpace final : public NewtonSystem {
  public:
-  /// nullptr when body_masses() finds no M.
-  static std::unique_ptr<NewtonSystem> make(const BoxedProblem& problem) {
-    std::optional<std::vector<Mat6>> M = body_masses(problem);
-    if (!M) return nullptr;
-    return std::unique_ptr<BodySpace>(new BodySpace(problem, std::move(*M)));
+  BodySpace(const BoxedProblem& problem, std::vector<Mat6> M)
+      : J_(problem.J),
+        Minv_(problem.Minv),
+        cfm_(problem.cfm),
+        M_(std::move(M)),
+        j_outer_(J_->outerIndexPtr(), J_->outerIndexPtr() + J_->rows() + 1),
+        j_inner_(J_->innerIndexPtr(), J_->innerIndexPtr() + J_->nonZeros()) {
+    form_pattern();
+  }
+
+  /// True when the problem's J has the pattern this body space was made for (the same rows,
+  /// columns and nonzero positions): then H keeps its pattern and CHOLMOD its analysis.
+  bool same_pattern(const BoxedProblem& problem) const {
+    const SpMatRow& J = *problem.J;
+    if (J.cols() != static_cast<Eigen::Index>(6 * M_.size()) ||
+        J.rows() + 1 != static_cast<Eigen::Index>(j_outer_.size()) ||
+        J.nonZeros() != static_cast<Eigen::Index>(j_inner_.size()))
+      return false;
+    return std::equal(j_outer_.begin(), j_outer_.end(), J.outerIndexPtr()) &&
+           std::equal(j_inner_.begin(), j_inner_.end(), J.innerIndexPtr());
+  }
+
+  /// This body space for another problem of the same pattern (same_pattern): its J, Minv, M and
+  /// cfm, nothing factored yet, the counts from zero; the pattern and its analysis are kept.
+  void rebind(const BoxedProblem& problem, std::vector<Mat6> M) {
+    J_ = problem.J;
+    Minv_ = problem.Minv;
+    cfm_ = problem.cfm;
+    M_ = std::move(M);
+    factored_ = false;
+    factorizations_ = 0;
+    updates_ = 0;
+    updated_rows_ = 0;
   }
 
   bool factor(const VecX& d, const std::vector<char>& dropped) override {
@@ -133,8 +163,8 @@ class BodySpace final : public NewtonSystem {
     return true;
   }
 
-  BodySpace(const BoxedProblem& problem, std::vector<Mat6> M)
-      : J_(problem.J), Minv_(problem.Minv), cfm_(problem.cfm), M_(std::move(M)) {
+  /// H's lower pattern and where each M block and each pair of J's entries adds into it.
+  void form_pattern() {
     factor_.set_simplicial(true);
     // The lower triangle's pattern: every M block, and every pair of columns a row of J joins.
     const SpMatRow& J = *J_;
@@ -174,6 +204,8 @@ class BodySpace final : public NewtonSystem {
   const SpMat* Minv_;
   double cfm_;
   std::vector<Mat6> M_;
+  std::vector<int> j_outer_;  ///< J's pattern (outer and inner indices), for same_pattern
+  std::vector<int> j_inner_;
   SpMat H_;                      ///< lower triangle of M + Jᵀ D⁻¹ J
   std::vector<int> m_position_;  ///< where each M block's lower entries sit in H_'s values
   std::vector<long> j_start_;    ///< row k's pairs start here in j_position_
@@ -437,14 +469,36 @@ double factors_mismatch(const BoxedProblem& problem) {
   return difference / size.maxCoeff();  // +inf for A = 0 with J Minv Jᵀ ≠ 0; NaN stays NaN
 }
 
-std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem) {
+/// The body spaces of the latest solves, the most recent last: at most kKeptBodySpaces (the
+/// improved push's velocity and position systems take turns, 8.1).
+struct ExactMemory {
+  std::vector<std::shared_ptr<BodySpace>> body;
+};
+
+std::shared_ptr<ExactMemory> make_exact_memory() { return std::make_shared<ExactMemory>(); }
+
+std::shared_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem, ExactMemory* memory) {
   if (!problem.has_factors()) return nullptr;
-  return BodySpace::make(problem);
+  std::optional<std::vector<Mat6>> M = body_masses(problem);
+  if (!M) return nullptr;
+  if (memory == nullptr) return std::make_shared<BodySpace>(problem, std::move(*M));
+  auto& kept = memory->body;
+  for (auto it = kept.begin(); it != kept.end(); ++it) {
+    if (!(*it)->same_pattern(problem)) continue;
+    std::shared_ptr<BodySpace> found = *it;
+    found->rebind(problem, std::move(*M));
+    kept.erase(it);
+    kept.push_back(found);
+    return found;
+  }
+  kept.push_back(std::make_shared<BodySpace>(problem, std::move(*M)));
+  if (kept.size() > kKeptBodySpaces) kept.erase(kept.begin());
+  return kept.back();
 }
 
-std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem) {
-  std::unique_ptr<NewtonSystem> system = make_body_space(problem);
-  if (!system) system = std::make_unique<RowSpace>(problem.A);
+std::shared_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem, ExactMemory* memory) {
+  std::shared_ptr<NewtonSystem> system = make_body_space(problem, memory);
+  if (!system) system = std::make_shared<RowSpace>(problem.A);
   return system;
 }
 

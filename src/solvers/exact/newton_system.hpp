@@ -72,10 +72,14 @@ std::optional<std::vector<Mat6>> body_masses(const BoxedProblem& problem);
 
 /// Body space when the problem has J and Minv, Minv is block diagonal with positive definite
 /// 6×6 blocks and A x = J Minv Jᵀ x + cfm x holds on a test vector (to 1e-12 of |A| |x|); null
-/// otherwise.
-std::unique_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem);
+/// otherwise. With `memory`, a body space kept there for a J of the same pattern is taken (its
+/// H pattern and CHOLMOD analysis reused, nothing factored yet) and a new one is kept there.
+/// The returned system reads the problem's J and Minv: it serves while the problem lives.
+std::shared_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem,
+                                              ExactMemory* memory = nullptr);
 /// Body space where it can, row space otherwise.
-std::unique_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem);
+std::shared_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem,
+                                                 ExactMemory* memory = nullptr);
 
 /// What both exact paths check first. Throws std::invalid_argument when A, b, cmin and cmax
 /// differ in size. False, with s filled, when A or b has a non-finite entry or a bound is NaN

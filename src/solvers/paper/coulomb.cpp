@@ -48,6 +48,8 @@ SolverSummary direct_fixed_point(const BoxedProblem& bounded,
     total.factorizations += s.factorizations;
     total.pivots += s.pivots;
     total.islands = s.islands;
+    total.space = s.space;
+    if (total.route.empty()) total.route = s.route;  // later rounds start from the round before
     total.singular = total.singular || s.singular;
     total.termination = s.termination;
     if (!s.ok()) break;

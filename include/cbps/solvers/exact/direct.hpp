@@ -11,11 +11,18 @@ namespace cbps {
 /// The exact path for the boxed problem of 6.2 (cmin ≤ lambda ≤ cmax, w = A lambda − b,
 /// complementarity), A symmetric positive semidefinite, sparse: the minimiser of the bound-
 /// constrained QP min ½ λᵀAλ − bᵀλ over the box (its optimality conditions are 6.2's).
-///   1. A problem with no bounded row, or with fewer rows than options.direct.interior_from_rows,
-///      goes to the active-set path whole (solve_active_set: one CHOLMOD factorization for an
-///      equality system; exact to round-off where the free blocks are definite). A guess that
-///      already meets the tolerance is returned as it is. Rows with cmin = cmax are fixed.
-///   2. A primal-dual interior-point method with Mehrotra's predictor-corrector (Mehrotra, SIAM
+///   1. A problem with no bounded row goes to the active-set path whole (solve_active_set: one
+///      CHOLMOD factorization for an equality system). A guess that already meets the tolerance
+///      is returned as it is (route "guess"). Any other nonzero guess (a running scene's last λ)
+///      goes to the crossover of 3. first, from its own partition, in body space where it can,
+///      for at most 30 proximal steps (kWarmSteps, direct.cpp; route "warm"); only where that does
+///      not finish does the rest run. A problem with fewer rows than
+///      options.direct.interior_from_rows then goes to the active-set path whole (exact to
+///      round-off where the free blocks are definite; route "active-set"). Rows with cmin = cmax
+///      are fixed. With options.direct.memory, body space keeps its pattern and CHOLMOD's analysis
+///      from one solve to the next while J's pattern stays (make_exact_memory).
+///   2. (route "interior") A primal-dual interior-point method with Mehrotra's predictor-corrector
+///   (Mehrotra, SIAM
 ///      J. Optim. 2(4) 1992; for QPs as in Gertz & Wright, OOQP, ACM TOMS 29(1) 2003), from the
 ///      box's centre: slack s = λ − cmin and multiplier z ≥ 0 on every finite lower bound,
 ///      t = cmax − λ and y ≥ 0 on every finite upper bound, w = z − y. Each iteration solves
@@ -55,11 +62,17 @@ namespace cbps {
 /// infeasible box), with the best λ found; NonFinite for non-finite A or b. The summary's
 /// iterations are the interior iterations; crossover counts the active-set path's outer
 /// (proximal) steps; it reports the factorizations, the rows updated in a factor, the largest
-/// factor's nonzeros and the space (body or row). With CFM, solve() hands A + eps E here with
-/// problem.cfm = eps, so the body space factors D = Σ + ρ + eps.
+/// factor's nonzeros, the space (body or row) and the route (SolverSummary::route). With CFM,
+/// solve() hands A + eps E here with problem.cfm = eps, so the body space factors D = Σ + ρ + eps.
 SolverSummary solve_direct(const BoxedProblem& problem,
                            VecX& lambda,
                            const SolverOptions& options = {});
+
+/// A fresh ExactMemory for SolverOptions::direct.memory: hand the same one to a sequence of
+/// solves of problems that keep J's pattern (the steps of a running scene) and each solve after
+/// the first reuses the body-space pattern and CHOLMOD's analysis of it (of the latest two
+/// patterns). Not for solves running at the same time.
+std::shared_ptr<ExactMemory> make_exact_memory();
 
 /// The natural-map residual no solve can go below at lambda: 64 u (max_i Σ_k |A_ik| ‖λ‖∞ +
 /// ‖b‖∞), u the unit roundoff: the rounding of w = A λ − b, with room for the solves' own.
