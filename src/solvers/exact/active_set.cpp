@@ -100,6 +100,7 @@ class IslandSolver {
       ++stats_.iterations;
       VecX x = lambda;
       const Pivoting result = pivot(eps, lambda, x);
+      if (result == Pivoting::OverBudget) break;
       if (result == Pivoting::Singular) {
         if (eps > 0.0) break;  // A + εI not definite: A is not positive semidefinite
         eps = options_.direct.epsilon * max_diagonal_;
@@ -142,7 +143,8 @@ class IslandSolver {
   }
 
  private:
-  enum class Pivoting { Solved, Singular, Failed };
+  /// OverBudget: the pivoting rounds of the whole solve passed max_rounds_.
+  enum class Pivoting { Solved, Singular, Failed, OverBudget };
 
   Place initial_place(Eigen::Index i, double value) const {
     if (cmin_(i) == cmax_(i)) return Place::Fixed;
@@ -217,6 +219,8 @@ class IslandSolver {
     }
     const long limit = 100 + 5 * static_cast<long>(m);
     for (long round = 0; round < limit; ++round) {
+      ++rounds_;
+      if (max_rounds_ >= 0 && rounds_ > max_rounds_) return Pivoting::OverBudget;
       F.clear();
       for (Eigen::Index i = 0; i < m; ++i) {
         if (place_[std::size_t(i)] == Place::Free) F.push_back(static_cast<int>(i));
@@ -342,6 +346,9 @@ class IslandSolver {
 
  public:
   bool finishing_ = false;  ///< finish_active_set on A(F, F): at least one step before stopping
+  /// Pivoting rounds (each one solve of a free block) allowed in the whole solve; −1: no limit.
+  long max_rounds_ = -1;
+  long rounds_ = 0;  ///< pivoting rounds so far
 
  private:
   std::vector<char> dropped_;  ///< the rows not in factor_rows_ (newton_)
@@ -432,12 +439,14 @@ SolverSummary finish_active_set(const BoxedProblem& problem,
                                 VecX& lambda,
                                 const SolverOptions& options,
                                 NewtonSystem* newton,
-                                double eps_start) {
+                                double eps_start,
+                                long max_rounds) {
   SolverSummary s;
   SolverOptions o = options;
   o.direct.start_sweeps = 0;
   IslandSolver island(problem, o, s, newton, newton != nullptr ? eps_start : 0.0);
   island.finishing_ = newton == nullptr;
+  island.max_rounds_ = max_rounds;
   s.termination = island.solve(lambda) ? Termination::Direct : Termination::NotConverged;
   return s;
 }

@@ -46,11 +46,22 @@ constexpr double kNearBound = 1e-4;
 /// body space against 60 ms on A(F, F); the 100-column stack's 120-row islands the other way).
 constexpr Eigen::Index kRowSpaceFinish = 500;
 /// A warm start's crossover (warm_finish) takes at most this many proximal steps before the
-/// interior point runs from scratch: 0.9 λ* of the base-6 pyramid and the 10-box stack needs 26
-/// and 25 (tests/solvers/test_direct_interior.cpp), the cold crossover from the interior point's
-/// partition 24 and 19; most steps update the body-space factor instead of making it anew (the
-/// stack's 25: 5 factorizations).
+/// interior point runs from scratch (the cold crossover from the interior point's partition
+/// takes 19 to 24 on the 10-box stack and the base-6 pyramid stepped by PGS);
 constexpr int kWarmSteps = 30;
+/// … and at most this many pivoting rounds in all (each one solve with the free block, about
+/// 0.4 ms on the base-20 pyramid's 4,800 rows, where the cold interior point takes about 20 ms).
+/// The last step's answer in a scene stepped by the direct path needs 1 to a few
+/// (tests/solvers/test_direct_interior.cpp); on states stepped by PGS, settling with its errors,
+/// even the last step's exact answer needed 200 to 400 (0.9 λ* likewise), and PGS's λ under
+/// `--check` on the base-20 pyramid 233 on one step and 49,473 (9 s, unfinished) on the next:
+/// there the interior point is the cheaper way.
+constexpr long kWarmRounds = 100;
+/// What a message adds when the warm crossover ran out of those.
+constexpr const char* kWarmUnfinished =
+    "; before it, the warm start's crossover did not finish in 30 proximal steps and 100 "
+    "pivoting rounds";
+static_assert(kWarmSteps == 30 && kWarmRounds == 100, "kWarmUnfinished names them");
 
 /// Where a row sits in the crossover's partition.
 enum class Place : unsigned char { Free, Lower, Upper, Fixed };
@@ -429,7 +440,8 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
 namespace {
 
 /// A warm start (the last step's answer, carried by contact persistence): the crossover from its
-/// partition, in body space where the problem has J and Minv, at most kWarmSteps proximal steps.
+/// partition, in body space where the problem has J and Minv, at most kWarmSteps proximal steps
+/// and kWarmRounds pivoting rounds.
 /// True, with s filled, when that reaches the tolerance; the interior point is then not needed.
 bool warm_finish(const BoxedProblem& problem,
                  VecX& lambda,
@@ -440,7 +452,8 @@ bool warm_finish(const BoxedProblem& problem,
   const std::shared_ptr<NewtonSystem> newton =
       make_newton_system(problem, options.direct.memory.get());
   VecX x = lambda;
-  const SolverSummary w = finish_active_set(problem, x, o, newton.get(), kCrossoverEpsilon);
+  const SolverSummary w =
+      finish_active_set(problem, x, o, newton.get(), kCrossoverEpsilon, kWarmRounds);
   if (w.termination != Termination::Direct) return false;
   lambda = x;
   s.islands = 1;
@@ -512,9 +525,7 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
     // Few rows: the active-set path, exact to round-off where the free blocks are definite.
     s = solve_active_set(problem, lambda, options);
     s.message = "direct (few rows, active set): " + s.message;
-    if (warm_tried)
-      s.message += "; before it, the warm start's crossover did not finish in " +
-                   std::to_string(kWarmSteps) + " proximal steps";
+    if (warm_tried) s.message += kWarmUnfinished;
     s.route = "active-set";
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
@@ -535,9 +546,7 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
        << ") " << s.crossover << " proximal steps and " << s.pivots << " pivots, "
        << s.factorizations << " factorizations";
   if (s.updates > 0) what << " and " << s.updates << " rows updated in a factor";
-  if (warm_tried)
-    what << "; before it, the warm start's crossover did not finish in " << kWarmSteps
-         << " proximal steps";
+  if (warm_tried) what << kWarmUnfinished;
   // The rounding floor grows with ‖λ‖∞, so a λ driven off by inconsistent equality rows would
   // meet it: past 1e8 × λ's natural scale (|b_k| / A_kk, the finite bounds) it is no answer.
   double natural = 1.0;
