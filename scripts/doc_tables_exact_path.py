@@ -3,6 +3,7 @@ and exact paths, and the direct path's known limits.
 """
 import math
 import re
+import statistics
 
 from doc_tables_common import (  # scripts/doc_tables_common.py
     dur, generator, need, num, sci, table, thousands)
@@ -13,6 +14,7 @@ from doc_tables_common import (  # scripts/doc_tables_common.py
 
 DIRECT = "bench/results/direct-amd-epyc-2cpu.json"
 EXACT = "bench/results/exact-amd-epyc-2cpu.json"
+WARM = "bench/results/warm-amd-epyc-2cpu.json"
 
 
 def _pgs_cell(p):
@@ -138,3 +140,42 @@ def _limits_pyramid(src):
     solve = need(s, "stage_times_s", "solve", where=LIMITS_PYRAMID)
     return (f"{steps} steps in {dur(s['wall_time_s'])}: {dur(solve / steps)} per step in the "
             f"solve stage ({s['rows']:,} rows, {dur(s['wall_time_s'] / steps)} per step in all)")
+
+
+# ---------------------------------------------------------------------------------------------
+# Warm exact steps in running scenes (scripts/measure_warm.py).
+
+_ROUTE_ORDER = ("guess", "warm", "interior", "active-set", "linear")
+
+
+def _routes(counts):
+    return ", ".join(f"{counts[r]} {r}" for r in _ROUTE_ORDER if counts.get(r))
+
+
+@generator("bench-warm", WARM)
+def _bench_warm(src):
+    d = src.json(WARM)
+    rows = []
+    for s in need(d, "scenes", where=WARM):
+        runs = s["runs"]
+        direct = statistics.median(r["direct"]["solve_per_step_s"] for r in runs)
+        sweep = statistics.median(r["pgs_sweep_s"] for r in runs)
+        sweeps = s["sweeps_median"]
+        rows.append([s["scene"], s["push"], thousands(s["rows"]), dur(direct), dur(sweep),
+                     f"**{sweeps:.1f}**" if sweeps <= 10 else f"{sweeps:.1f} (over 10)",
+                     f"{s['cold_sweeps']:.0f}", f"{sci(s['max_residual_N'])} N",
+                     _routes(runs[0]["direct"]["routes"])])
+    return table(["scene", "push", "rows", "direct a step", "1 PGS sweep", "in sweeps",
+                  "cold, in sweeps", "largest residual", "routes (all steps, first run)"],
+                 rows, "llrrrrrrl")
+
+
+@generator("bench-warm-check", WARM)
+def _bench_warm_check(src):
+    c = need(src.json(WARM), "check", where=WARM)
+    runs = c["runs"]
+    plain = statistics.median(r["plain_s"] for r in runs)
+    checked = statistics.median(r["checked_s"] for r in runs)
+    unverified = max(r["direct_unverified"] for r in runs)
+    return (f"{dur(plain)} without `--check`, {dur(checked)} with it: "
+            f"{c['ratio_median']:.0f}× (median of {len(runs)}; {unverified} steps unverified)")
