@@ -202,6 +202,8 @@ class RunArrays : public StepObserver {
     constraint_error_.push_back(r.max_constraint_error);
     energy_.push_back(sim.energy());
     wall_.push_back(r.wall_time_s);
+    solve_.push_back(r.times.solve);
+    routes_.push_back(r.solver.route);
     if (done % record_every_ == 0) sample(sim);
     if (Clock::now() - checked_ > std::chrono::milliseconds(100)) {
       checked_ = Clock::now();
@@ -231,6 +233,8 @@ class RunArrays : public StepObserver {
     per_step["max_constraint_error"] = py::array_t<double>(count, constraint_error_.data());
     per_step["energy"] = py::array_t<double>(count, energy_.data());
     per_step["wall_time_s"] = py::array_t<double>(count, wall_.data());
+    per_step["solve_time_s"] = py::array_t<double>(count, solve_.data());
+    per_step["direct_route"] = py::cast(routes_);  // a list of str, "" for other methods
     out["steps"] = per_step;
     return out;
   }
@@ -252,7 +256,8 @@ class RunArrays : public StepObserver {
   long record_every_;
   long bodies_ = 0;
   std::vector<double> t_, x_, q_, v_, omega_;
-  std::vector<double> step_t_, residual_, constraint_error_, energy_, wall_;
+  std::vector<double> step_t_, residual_, constraint_error_, energy_, wall_, solve_;
+  std::vector<std::string> routes_;  ///< SolverSummary::route per step
   std::vector<long> rows_, warm_rows_, contacts_, iterations_;
   Clock::time_point checked_ = Clock::now();
 };
@@ -414,7 +419,7 @@ void bind_simulation(py::module_& m) {
            "(k, bodies, 4) w x y z, v (k, bodies, 3) m/s, omega (k, bodies, 3) rad/s at the "
            "start and after every record_every-th step, and 'steps': per-step arrays t, rows, "
            "warm_rows, contacts, iterations, residual, max_constraint_error, energy, "
-           "wall_time_s")
+           "wall_time_s, solve_time_s, and direct_route (a list of str)")
       .def("system",
            &PySimulation::system,
            "the last step's system with its lam and v2 (InputError before the first step)")

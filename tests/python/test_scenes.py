@@ -98,3 +98,22 @@ def test_free_fall_by_hand():
     body = sim.bodies()[0]
     assert body["name"] == "ball" and body["mass"] == 2.0
     np.testing.assert_array_equal(body["x"], traj["x"][-1, 0])
+
+
+def test_run_reports_the_direct_routes_as_cbps_run(tmp_path):
+    """The direct path's route per step in sim.run's steps equals `cbps run`'s steps.csv
+    direct_route: on the base-8 pyramid the first step has no guess (the interior point) and
+    every later one starts from the last step's answer (guess or warm); under PGS it is empty."""
+    out = tmp_path / "run"
+    cli("run", "pyramid", "--param", "base=8", "--param", "push=original", "--steps", 10,
+        "--solver", "direct", "--out", out)
+    with open(out / "steps.csv", newline="", encoding="utf-8") as f:
+        expected = [row["direct_route"] for row in csv.DictReader(f)]
+    scene = cbps.scene("pyramid", base=8, push="original")
+    scene.solver = "direct"
+    steps = cbps.Simulation(scene).run(steps=10)["steps"]
+    assert steps["direct_route"] == expected
+    assert expected[0] == "interior" and set(expected[1:]) <= {"guess", "warm"}
+    assert steps["solve_time_s"].shape == (10,) and np.all(steps["solve_time_s"] >= 0)
+    pgs = cbps.Simulation(cbps.scene("pyramid", base=8)).run(steps=2)["steps"]
+    assert pgs["direct_route"] == ["", ""]
