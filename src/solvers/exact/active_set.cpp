@@ -48,7 +48,8 @@ class IslandSolver {
                const SolverOptions& options,
                SolverSummary& stats,
                NewtonSystem* newton = nullptr,
-               double eps_start = 0.0)
+               double eps_start = 0.0,
+               double row_sum = -1.0)
       : problem_(problem),
         A_(problem.A),
         b_(problem.b),
@@ -66,7 +67,7 @@ class IslandSolver {
       bounded_ = bounded_ || std::isfinite(cmin_(j)) || std::isfinite(cmax_(j));
     }
     local_.assign(static_cast<std::size_t>(m), -1);
-    row_sum_ = max_abs_row_sum(A_);
+    row_sum_ = row_sum >= 0.0 ? row_sum : max_abs_row_sum(A_);
   }
 
   /// Solves from the guess in lambda; true when the residual reached the tolerance.
@@ -86,8 +87,10 @@ class IslandSolver {
     // A finish from an interior point takes at least one step on its partition: on a definite
     // free block that step is exact to round-off.
     // A guess at the rounding floor is taken as it is (as solve_direct takes one).
-    if (r <= tolerance(lambda) && newton_ == nullptr && eps_start_ == 0.0 && !finishing_)
+    if (r <= tolerance(lambda) && newton_ == nullptr && eps_start_ == 0.0 && !finishing_) {
+      stats_.residual = r;
       return true;
+    }
     double best_r = r;
     VecX best = lambda;
     // Plain active set first (exact when the free blocks are definite); the body-space solve
@@ -128,7 +131,10 @@ class IslandSolver {
       } else {
         ++stall;
       }
-      if (may_stop(r_new, r, options_.tolerance, floor(lambda))) return true;
+      if (may_stop(r_new, r, options_.tolerance, floor(lambda))) {
+        stats_.residual = r_new;
+        return true;
+      }
       // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
       // block: once the active set holds, a smaller ε converges faster.
       const double eps_floor = options_.direct.epsilon_floor * max_diagonal_;
@@ -139,6 +145,7 @@ class IslandSolver {
       r = r_new;
     }
     lambda = best;
+    stats_.residual = best_r;
     return best_r <= tolerance(best);  // at the floor, though the last steps still reduced it
   }
 
@@ -440,13 +447,13 @@ SolverSummary finish_active_set(const BoxedProblem& problem,
                                 const SolverOptions& options,
                                 NewtonSystem* newton,
                                 double eps_start,
-                                long max_rounds) {
+                                const FinishHints& hints) {
   SolverSummary s;
   SolverOptions o = options;
   o.direct.start_sweeps = 0;
-  IslandSolver island(problem, o, s, newton, newton != nullptr ? eps_start : 0.0);
+  IslandSolver island(problem, o, s, newton, newton != nullptr ? eps_start : 0.0, hints.row_sum);
   island.finishing_ = newton == nullptr;
-  island.max_rounds_ = max_rounds;
+  island.max_rounds_ = hints.max_rounds;
   s.termination = island.solve(lambda) ? Termination::Direct : Termination::NotConverged;
   return s;
 }

@@ -446,16 +446,20 @@ namespace {
 bool warm_finish(const BoxedProblem& problem,
                  VecX& lambda,
                  const SolverOptions& options,
+                 double row_sum,
                  SolverSummary& s) {
   SolverOptions o = options;
   o.direct.max_outer_iterations = kWarmSteps;
   const std::shared_ptr<NewtonSystem> newton =
       make_newton_system(problem, options.direct.memory.get());
   VecX x = lambda;
-  const SolverSummary w =
-      finish_active_set(problem, x, o, newton.get(), kCrossoverEpsilon, kWarmRounds);
+  FinishHints hints;
+  hints.max_rounds = kWarmRounds;
+  hints.row_sum = row_sum;
+  const SolverSummary w = finish_active_set(problem, x, o, newton.get(), kCrossoverEpsilon, hints);
   if (w.termination != Termination::Direct) return false;
   lambda = x;
+  s.residual = w.residual;
   s.islands = 1;
   s.space = newton->space();
   s.crossover = w.iterations;
@@ -480,8 +484,9 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   SolverSummary s;
   if (lambda.size() != n) lambda = VecX::Zero(n);
   s.termination = Termination::Direct;
-  const auto finish = [&](const std::string& what) {
-    s.residual = natural_map_residual(problem, lambda);
+  // `known`: lambda's residual is already in s.residual (one pass over A saved).
+  const auto finish = [&](const std::string& what, bool known = false) {
+    if (!known) s.residual = natural_map_residual(problem, lambda);
     if (!std::isfinite(s.residual)) s.termination = Termination::NonFinite;
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::ostringstream msg;
@@ -509,17 +514,20 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   for (Eigen::Index k = 0; k < n; ++k)
     guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
   const bool warm_tried = !guess.isZero(0.0);
-  if (warm_tried && natural_map_residual(problem, guess) <=
-                        std::max(options.tolerance, residual_floor(problem, guess))) {
-    lambda = guess;
-    s.islands = 1;
-    s.route = "guess";
-    return finish("direct: the guess already solves it");
+  const double row_sum = warm_tried ? max_abs_row_sum(problem.A) : 0.0;
+  if (warm_tried) {
+    s.residual = natural_map_residual(problem, guess);
+    if (s.residual <= std::max(options.tolerance, residual_floor(row_sum, problem.b, guess))) {
+      lambda = guess;
+      s.islands = 1;
+      s.route = "guess";
+      return finish("direct: the guess already solves it", true);
+    }
   }
-  if (warm_tried && warm_finish(problem, guess, options, s)) {
+  if (warm_tried && warm_finish(problem, guess, options, row_sum, s)) {
     lambda = guess;
     s.route = "warm";
-    return finish(s.message);
+    return finish(s.message, true);
   }
   if (n < options.direct.interior_from_rows) {
     // Few rows: the active-set path, exact to round-off where the free blocks are definite.

@@ -92,14 +92,19 @@ bool check_input(const BoxedProblem& problem, const char* who, SolverSummary& s)
 /// PGS sweeps: rows at a bound start there): the exact path's crossover. With `newton`, its free
 /// blocks (A + εI)(F, F) are solved by it with the other rows dropped, ε starting at eps_start ·
 /// max A_kk (> 0); without, by CHOLMOD on A(F, F) from ε = 0 (exact in finitely many steps
-/// where the free block is definite). At most max_rounds pivoting rounds (each one solve with
-/// a free block) in all, −1: no limit. Termination::Direct or NotConverged; counts in the
-/// summary.
+/// where the free block is definite). Termination::Direct or NotConverged; counts in the
+/// summary, and the residual of the λ returned (N).
+struct FinishHints {
+  /// Pivoting rounds allowed in all (each one solve with a free block); −1: no limit.
+  long max_rounds = -1;
+  /// max_abs_row_sum(A) when the caller has it (one pass over A saved), else −1.
+  double row_sum = -1.0;
+};
 SolverSummary finish_active_set(const BoxedProblem& problem,
                                 VecX& lambda,
                                 const SolverOptions& options,
                                 NewtonSystem* newton,
                                 double eps_start,
-                                long max_rounds = -1);
+                                const FinishHints& hints = {});
 
 }  // namespace cbps
