@@ -55,7 +55,6 @@ import numpy as np
 import scipy.io
 
 import measure_peers as peers  # run(), BINARY, git_commit(): the same job control
-from cbps_files import write_json
 from cbps_problem import cone_natural_maps, scale_of  # scripts/cbps_problem.py
 
 FORMAT = "cbps-cones/3"
@@ -200,11 +199,7 @@ def main():
                "nproc": os.cpu_count(), "quick": args.quick, "siconos_timeout_s": timeout,
                "problems": [measure(cbps, work, base, timeout, "cone") for base in bases],
                "box_states": [measure(cbps, work, base, timeout, "box") for base in bases]}
-    results["wall_time_s"] = time.monotonic() - start
-    peers.check_binary()
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    write_json(args.out, results)
-    log(f"wrote {args.out} ({results['wall_time_s']:.0f} s)")
+    peers.write_results(args.out, results, start, log)
 
 
 if __name__ == "__main__":

@@ -107,6 +107,17 @@ def run(cmd, cwd, timeout=TIMEOUT_S):
         return None, out, err, time.monotonic() - start
 
 
+def write_results(out, results, start, say):
+    """Stamps results with the wall time since `start` (time.monotonic()), stops (nothing
+    written) when CBPS was rebuilt meanwhile, writes OUT (its folder made) and says so by
+    `say`: the end of every measure_*.py that runs CBPS through run()."""
+    results["wall_time_s"] = time.monotonic() - start
+    check_binary()
+    os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+    write_json(out, results)
+    say(f"wrote {out} ({results['wall_time_s']:.0f} s)")
+
+
 def relative(residual, scale):
     r, s = read_number(residual), read_number(scale)
     if r is None or s is None or s == 0:
@@ -291,11 +302,7 @@ def main():
                "nproc": nproc, "quick": args.quick}
     results["exact_path"] = exact_path(cbps, work, args.quick)
     results["profile"] = profile(cbps, work, args.quick)
-    results["wall_time_s"] = time.monotonic() - start
-    check_binary()
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    write_json(args.out, results)
-    log(f"wrote {args.out} ({results['wall_time_s']:.0f} s)")
+    write_results(args.out, results, start, log)
     errors = [f"{p['name']} {r['solver']}: {r['message']}" for p in
               results["exact_path"]["problems"] for r in p["runs"] if r["status"] == "error"]
     if errors:

@@ -45,7 +45,6 @@ import tempfile
 import time
 
 import measure_peers as peers  # run(), BINARY, git_commit(): the same job control
-from cbps_files import write_json
 
 FORMAT = "cbps-warm/1"
 SCENES = [  # (name, cbps run arguments, steps)
@@ -162,11 +161,7 @@ def main():
                "scenes": [measure_scene(cbps, work, label, a, n, push, repeats)
                           for label, a, n in scenes for push in PUSHES],
                "check": measure_check(cbps, work, 20 if args.quick else 120, repeats)}
-    results["wall_time_s"] = time.monotonic() - start
-    peers.check_binary()
-    os.makedirs(os.path.dirname(os.path.abspath(args.out)), exist_ok=True)
-    write_json(args.out, results)
-    log(f"wrote {args.out} ({results['wall_time_s']:.0f} s)")
+    peers.write_results(args.out, results, start, log)
 
 
 if __name__ == "__main__":
