@@ -1,7 +1,9 @@
 // The whole system (paper 6.1) and the system equation (6.2).
 #include "cbps/system/system.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "cbps/base/error.hpp"
 
@@ -132,9 +134,118 @@ VecX stack_forces(const std::vector<Body>& bodies,
   return f;
 }
 
+namespace {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+/// The 6×6 blocks of Minv by body; empty when Minv is not block diagonal in 6×6 blocks.
+std::vector<Eigen::Matrix<double, 6, 6>> minv_blocks(const SpMat& Minv) {
+  const Eigen::Index n6 = Minv.cols();
+  if (n6 % 6 != 0 || Minv.rows() != n6) return {};
+  std::vector<Eigen::Matrix<double, 6, 6>> blocks(static_cast<std::size_t>(n6 / 6));
+  for (auto& block : blocks) block.setZero();
+  for (Eigen::Index j = 0; j < n6; ++j) {
+    for (SpMat::InnerIterator it(Minv, j); it; ++it) {
+      if (it.row() / 6 != j / 6) return {};
+      blocks[std::size_t(j / 6)](it.row() % 6, j % 6) = it.value();
+    }
+  }
+  return blocks;
+}
+
+/// Σ_i a_i b_i in the order of i.
+double dot6(const Vec6& a, const Vec6& b) {
+  double sum = 0.0;
+  for (int i = 0; i < 6; ++i) sum += a(i) * b(i);
+  return sum;
+}
+
+}  // namespace
+
 SpMat compute_A(const SpMatRow& J, const SpMat& Minv) {
-  const SpMat MinvJt = Minv * J.transpose();
-  return J * MinvJt;  // A = J M⁻¹ Jᵀ (6.2.9)
+  // A = J M⁻¹ Jᵀ (6.2.9). Where M⁻¹ is block diagonal by body (every step's), A_kl =
+  // Σ_B J_kB · (M⁻¹_B J_lBᵀ) over the bodies B that rows k and l share, in ascending B, formed
+  // column by column from the rows of each body without the general sparse products (most of
+  // the assembly's time). A_kl above the diagonal is the same expression as A_lk below it
+  // (J_lB · M⁻¹_B J_kBᵀ), so A is exactly symmetric. Otherwise (an FCLIB file's M), the
+  // general products J (M⁻¹ Jᵀ).
+  const auto blocks = minv_blocks(Minv);
+  if (blocks.empty() && J.cols() > 0) {
+    const SpMat MinvJt = Minv * J.transpose();
+    return J * MinvJt;
+  }
+  const Eigen::Index c = J.rows();
+  // For every row k and body B it acts on (bodies ascending within a row): J_kB and
+  // w_kB = M⁻¹_B J_kBᵀ; and for every body, its pairs, rows ascending (body_start, by_body).
+  std::vector<long> row_start(std::size_t(c) + 1, 0);
+  std::vector<int> pair_body, pair_row;
+  std::vector<Vec6> pair_j, pair_w;
+  pair_body.reserve(std::size_t(J.nonZeros()));
+  std::vector<long> body_start(blocks.size() + 1, 0);
+  for (Eigen::Index k = 0; k < c; ++k) {
+    row_start[std::size_t(k)] = static_cast<long>(pair_body.size());
+    for (SpMatRow::InnerIterator it(J, k); it;) {
+      const Eigen::Index B = it.col() / 6;
+      Vec6 jB = Vec6::Zero();
+      for (; it && it.col() / 6 == B; ++it) jB(it.col() % 6) = it.value();
+      ++body_start[std::size_t(B) + 1];
+      pair_body.push_back(static_cast<int>(B));
+      pair_row.push_back(static_cast<int>(k));
+      pair_j.push_back(jB);
+      pair_w.push_back(blocks[std::size_t(B)] * jB);
+    }
+  }
+  row_start[std::size_t(c)] = static_cast<long>(pair_body.size());
+  for (std::size_t B = 0; B < blocks.size(); ++B) body_start[B + 1] += body_start[B];
+  std::vector<long> by_body(pair_body.size());
+  {
+    std::vector<long> next(body_start.begin(), body_start.end() - 1);
+    for (std::size_t p = 0; p < pair_body.size(); ++p)
+      by_body[std::size_t(next[std::size_t(pair_body[p])]++)] = static_cast<long>(p);
+  }
+  // At most Σ_l Σ_(B of l) (rows of B) entries (rows sharing two bodies count twice).
+  long bound = 0;
+  for (const int B : pair_body)
+    bound += body_start[std::size_t(B) + 1] - body_start[std::size_t(B)];
+
+  SpMat A(c, c);
+  A.resizeNonZeros(static_cast<Eigen::Index>(bound));
+  int* outer = A.outerIndexPtr();
+  int* inner = A.innerIndexPtr();
+  double* value = A.valuePtr();
+  long nnz = 0;
+  VecX sum = VecX::Zero(c);
+  std::vector<char> seen(std::size_t(c), 0);
+  std::vector<int> touched;
+  outer[0] = 0;
+  for (Eigen::Index l = 0; l < c; ++l) {
+    touched.clear();
+    for (long q = row_start[std::size_t(l)]; q < row_start[std::size_t(l) + 1]; ++q) {
+      const std::size_t B = std::size_t(pair_body[std::size_t(q)]);
+      for (long b = body_start[B]; b < body_start[B + 1]; ++b) {
+        const long p = by_body[std::size_t(b)];
+        const int k = pair_row[std::size_t(p)];
+        // Below the diagonal J_kB · w_lB; above it the entry (l, k)'s own expression.
+        sum(k) += k >= l ? dot6(pair_j[std::size_t(p)], pair_w[std::size_t(q)])
+                         : dot6(pair_j[std::size_t(q)], pair_w[std::size_t(p)]);
+        if (!seen[std::size_t(k)]) {
+          seen[std::size_t(k)] = 1;
+          touched.push_back(k);
+        }
+      }
+    }
+    std::sort(touched.begin(), touched.end());
+    for (const int k : touched) {
+      inner[nnz] = k;
+      value[nnz] = sum(k);
+      ++nnz;
+      sum(k) = 0.0;
+      seen[std::size_t(k)] = 0;
+    }
+    outer[l + 1] = static_cast<int>(nnz);
+  }
+  A.resizeNonZeros(static_cast<Eigen::Index>(nnz));  // shrinking keeps the storage
+  return A;
 }
 
 VecX compute_b(const VecX& upsilon,

@@ -10,7 +10,9 @@
 #include "cbps/body/body.hpp"
 #include "cbps/rows/distance.hpp"
 #include "cbps/rows/row.hpp"
+#include "cbps/step/simulation.hpp"
 #include "cbps/system/system.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
 
@@ -149,4 +151,31 @@ TEST_CASE("assemble_system: two masses hung from the world along x, J, Minv, A, 
   CHECK(velocity.upsilon_push == (VecX(2) << 0.0, -4.0).finished());
   CHECK(velocity.b == (VecX(2) << -65.0, 91.0).finished());
   CHECK(MatX(velocity.A) == MatX(sys.A));
+}
+
+TEST_CASE(
+    "compute_A on a stepped pyramid: J Minv Jt as Eigen's sparse products form it, exactly "
+    "symmetric",
+    "[system]") {
+  // The base-5 pyramid after 10 PGS steps: contact and friction rows on rotated boxes (Minv's
+  // blocks full 3×3 inverse inertias). The reference is the general product J (Minv Jᵀ), an
+  // independent formation; they may differ by rounding only.
+  Simulation sim(test::contact_scene("pyramid", {{"base", "5"}}, "pgs"));
+  for (int s = 0; s < 10; ++s) sim.step();
+  const System sys = sim.build_system();
+  REQUIRE(sys.rows() > 100);
+  const SpMat MinvJt = sys.Minv * sys.J.transpose();
+  const SpMat expected = sys.J * MinvJt;
+  const SpMat& A = sys.A;
+  CHECK(A.nonZeros() <= expected.nonZeros());
+  const double size = MatX(expected).cwiseAbs().maxCoeff();
+  CHECK((MatX(A) - MatX(expected)).cwiseAbs().maxCoeff() <= 1e-14 * size);
+  const SpMat At = A.transpose();
+  CHECK((MatX(A) - MatX(At)).cwiseAbs().maxCoeff() == 0.0);
+  // Minv not block diagonal by body: the general products, unchanged.
+  SpMat coupled = sys.Minv;
+  coupled.coeffRef(0, 6) = 1e-3;
+  coupled.coeffRef(6, 0) = 1e-3;
+  const SpMat general = sys.J * SpMat(coupled * sys.J.transpose());
+  CHECK((MatX(compute_A(sys.J, coupled)) - MatX(general)).cwiseAbs().maxCoeff() == 0.0);
 }
