@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "cbps/io/json_numbers.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
@@ -93,28 +94,39 @@ void CrossCheck::start(Simulation& sim) {
   direct.method = Method::Direct;
   direct.tolerance = 0.0;  // the reference: to the direct path's rounding floor
   const double cfm = sim.scene().solver.cfm;
-  sim.set_observer(
-      [this, &sim, direct, cfm](const System& sys, const VecX& lambda, const VecX& v2) {
-        VecX lambda_direct = lambda;
-        const SolverSummary s = sim.solve_system(sys, sys.b, lambda_direct, direct);
-        if (s.termination != Termination::Direct) ++direct_short;
-        // Verified as `cbps lcp` verifies: residual ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|).
-        if (!(s.residual <= kLcpSolvedTolerance * scale_of(sys.problem()))) ++direct_unverified;
-        const VecX v2_direct = compute_v2(sys, lambda_direct);
-        const double difference = v2.size() > 0 ? (v2 - v2_direct).lpNorm<Eigen::Infinity>() : 0.0;
-        max_velocity_difference = std::max(max_velocity_difference, difference);
-        if (tolerance_ >= 0.0 && !(difference <= tolerance_)) {
-          if (first_beyond < 0) {
-            first_beyond = sim.steps_done();
-            first_beyond_difference = difference;
-          }
-          ++steps_beyond;
-        }
-        max_residual =
-            std::max(max_residual, coulomb_residual(sys.problem(), sys.coulomb(), lambda, cfm));
-        max_direct_residual = std::max(max_direct_residual, s.residual);
-        ++steps_checked;
-      });
+  const int interior_from_rows = direct.options().direct.interior_from_rows;
+  sim.set_observer([this, &sim, direct, cfm, interior_from_rows](
+                       const System& sys, const VecX& lambda, const VecX& v2) {
+    // Where the interior point runs (interior_from_rows and more), the iterative λ is the
+    // direct path's guess only when it already solves the step to the rounding floor (then
+    // taken as it is): elsewhere the solve starts from λ = 0, since the warm crossover from
+    // an iterative λ rarely finishes there and spends its 100 pivoting rounds first (the
+    // base-20 pyramid under PGS: every step, docs/exact-path.md). Fewer rows: the active-set
+    // path, which tries the guess and then λ = 0 and keeps the better.
+    VecX lambda_direct = lambda;
+    const BoxedProblem problem = sys.problem();
+    if (sys.rows() >= interior_from_rows &&
+        !(natural_map_residual(problem, lambda) <= residual_floor(problem, lambda)))
+      lambda_direct.setZero();
+    const SolverSummary s = sim.solve_system(sys, sys.b, lambda_direct, direct);
+    if (s.termination != Termination::Direct) ++direct_short;
+    // Verified as `cbps lcp` verifies: residual ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|).
+    if (!(s.residual <= kLcpSolvedTolerance * scale_of(sys.problem()))) ++direct_unverified;
+    const VecX v2_direct = compute_v2(sys, lambda_direct);
+    const double difference = v2.size() > 0 ? (v2 - v2_direct).lpNorm<Eigen::Infinity>() : 0.0;
+    max_velocity_difference = std::max(max_velocity_difference, difference);
+    if (tolerance_ >= 0.0 && !(difference <= tolerance_)) {
+      if (first_beyond < 0) {
+        first_beyond = sim.steps_done();
+        first_beyond_difference = difference;
+      }
+      ++steps_beyond;
+    }
+    max_residual =
+        std::max(max_residual, coulomb_residual(sys.problem(), sys.coulomb(), lambda, cfm));
+    max_direct_residual = std::max(max_direct_residual, s.residual);
+    ++steps_checked;
+  });
 }
 
 nlohmann::json CrossCheck::json() const {

@@ -37,7 +37,7 @@ struct RunTotals {
   /// The direct path's routes (SolverSummary::route) → steps that took them: the step's system
   /// (the velocity system with the improved push), and the position system (8.1)
   std::map<std::string, long> routes, position_routes;
-  std::vector<std::string> stages;      ///< every stage that ran, in order of first appearance
+  std::vector<std::string> stages;  ///< every stage that ran, in order of first appearance
   /// The divergence guard's error when it stopped the run (the steps before it are counted).
   std::optional<DivergenceError> diverged;
   bool stopped = false;  ///< an observer stopped the run before its last step
@@ -65,7 +65,9 @@ class StepObserver {
 RunTotals run_steps(Simulation& sim, long steps, const std::vector<StepObserver*>& observers = {});
 
 /// `cbps run --check`: every step's system solved again by the direct path (interior point with
-/// crossover, 6.2) from the iterative solver's lambda, and v2 compared (v2 is unique where
+/// crossover, 6.2) from the iterative solver's lambda (from interior_from_rows rows on only
+/// when that already solves the step to the rounding floor, else from 0), and v2 compared (v2
+/// is unique where
 /// lambda is not). Attaches itself to the simulation's system observer in start().
 class CrossCheck : public StepObserver {
  public:
