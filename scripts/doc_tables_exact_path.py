@@ -163,7 +163,7 @@ def _bench_warm(src):
         sweeps = s["sweeps_median"]
         rows.append([s["scene"], s["push"], thousands(s["rows"]), dur(direct), dur(sweep),
                      f"**{sweeps:.1f}**" if sweeps <= 10 else f"{sweeps:.1f} (over 10)",
-                     f"{s['cold_sweeps']:.0f}", f"{sci(s['max_residual_N'])} N",
+                     f"{s['cold_sweeps']:.0f}", f"{sci(s['max_residual_N'], 3)} N",
                      _routes(runs[0]["direct"]["routes"])])
     return table(["scene", "push", "rows", "direct a step", "1 PGS sweep", "in sweeps",
                   "cold, in sweeps", "largest residual", "routes (all steps, first run)"],
@@ -178,4 +178,4 @@ def _bench_warm_check(src):
     checked = statistics.median(r["checked_s"] for r in runs)
     unverified = max(r["direct_unverified"] for r in runs)
     return (f"{dur(plain)} without `--check`, {dur(checked)} with it: "
-            f"{c['ratio_median']:.0f}× (median of {len(runs)}; {unverified} steps unverified)")
+            f"{c['ratio_median']:.2f}× (median of {len(runs)}; {unverified} steps unverified)")
