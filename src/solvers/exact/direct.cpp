@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "cbps/solvers/exact/active_set.hpp"
+#include "cbps/solvers/exact/interior_point.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "newton_system.hpp"
 
@@ -20,26 +21,9 @@ namespace cbps {
 
 namespace {
 
-constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon() / 2.0;
-/// The fraction of the way to the boundary an interior step goes (Mehrotra's damping).
-constexpr double kStepToBoundary = 0.995;
-/// Gondzio's multiple centrality correctors (Gondzio, Comput. Optim. Appl. 6 1996): at most
-/// this many per iteration, each aiming at a step kCorrectorAspiration times longer, moving
-/// the trial products s z, t y into [kCorrectorBand σμ, σμ / kCorrectorBand], and kept when
-/// the step grows by kCorrectorGain of what was aimed at (his values: 2, 0.1, 0.1). Three
-/// correctors: base-40 pyramid 49 interior iterations instead of 63 (one: 55, two: 51).
-constexpr int kCorrectors = 3;
-constexpr double kCorrectorAspiration = 2.0;
-constexpr double kCorrectorBand = 0.1;
-constexpr double kCorrectorGain = 0.1;
 /// The crossover's first proximal ε, a fraction of max A_kk: small, because the interior point's
 /// partition is close (its proximal steps contract the error by about ε/(σ + ε)).
 constexpr double kCrossoverEpsilon = 1e-6;
-/// Rows within this fraction of λ's scale (‖b‖∞ / max A_kk) of a bound start the crossover at
-/// it: the active set frees wrong-signed rows all at once but blocks rows one at a time, so a
-/// partition that errs towards the bound needs far fewer steps (pyramid base 20, measured when
-/// every step was a factorization: 301 instead of 1,026).
-constexpr double kNearBound = 1e-4;
 /// Islands up to this many rows finish apart on CHOLMOD factors of A's free block (row space);
 /// larger ones in body space, where one factor is updated from step to step but each step
 /// costs a solve of the whole problem (the base-10 pyramid, one island of 1,200 rows: 13 ms in
@@ -63,46 +47,39 @@ constexpr const char* kWarmUnfinished =
     "pivoting rounds";
 static_assert(kWarmSteps == 30 && kWarmRounds == 100, "kWarmUnfinished names them");
 
-/// Where a row sits in the crossover's partition.
-enum class Place : unsigned char { Free, Lower, Upper, Fixed };
-
 /// The whole solve: the interior iterations, then the crossover.
 class InteriorSolver {
  public:
   InteriorSolver(const BoxedProblem& problem, const SolverOptions& options, SolverSummary& stats)
-      : p_(problem), A_(problem.A), b_(problem.b), options_(options), stats_(stats) {
-    const Eigen::Index c = A_.rows();
-    lower_.assign(std::size_t(c), 0);
-    upper_.assign(std::size_t(c), 0);
-    fixed_.assign(std::size_t(c), 0);
-    a_ = A_.diagonal();
-    for (Eigen::Index k = 0; k < c; ++k) {
-      const std::size_t K = std::size_t(k);
-      fixed_[K] = problem.cmin(k) == problem.cmax(k);
-      lower_[K] = !fixed_[K] && std::isfinite(problem.cmin(k));
-      upper_[K] = !fixed_[K] && std::isfinite(problem.cmax(k));
-      bounds_ += lower_[K] + upper_[K];
-      max_diagonal_ = std::max(max_diagonal_, a_(k));
-    }
-    if (!(max_diagonal_ > 0.0)) max_diagonal_ = 1.0;
-    for (Eigen::Index k = 0; k < c; ++k)
-      if (!(a_(k) > 0.0)) a_(k) = max_diagonal_;  // for the crossover's λ − w/A_kk only
-    row_sum_ = max_abs_row_sum(A_);
+      : p_(problem),
+        A_(problem.A),
+        options_(options),
+        stats_(stats),
+        diagonal_(problem.A.diagonal()),
+        rows_{problem.b,
+              problem.cmin,
+              problem.cmax,
+              diagonal_,
+              scale_of(problem),
+              max_abs_row_sum(problem.A)} {
     newton_ = make_newton_system(problem, options.direct.memory.get());
     stats_.space = newton_->space();
   }
 
   /// The interior iterations, then the crossover; true when lambda reaches the tolerance.
   bool solve(VecX& lambda) {
-    interior(lambda);
+    const InteriorOutcome interior =
+        run_interior_point(rows_, *newton_, RowReduction(), options_, lambda);
+    stats_.iterations = interior.iterations;
+    stats_.factor_nnz = std::max(stats_.factor_nnz, interior.factor_nnz);
     const bool small = A_.rows() <= kRowSpaceFinish;
-    if (solved_ && !small) {
+    if (interior.solved && !small) {
       stats_.factorizations += newton_->factorizations();
       return true;
     }
     // The crossover starts from the interior point's partition: bound rows at their bounds.
     for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-      const Place place = place_[std::size_t(k)];
+      const Place place = interior.place[std::size_t(k)];
       if (place == Place::Lower || place == Place::Fixed) lambda(k) = p_.cmin(k);
       if (place == Place::Upper) lambda(k) = p_.cmax(k);
     }
@@ -145,269 +122,14 @@ class InteriorSolver {
     return x.termination == Termination::Direct;
   }
 
-  /// The rounding floor of the residual at lambda, N.
-  double floor(const VecX& lambda) const { return residual_floor(row_sum_, b_, lambda); }
-
  private:
-  bool newton_solve(const VecX& d, const std::vector<char>& dropped, const VecX& r, VecX& x) {
-    return newton_->solve(d, dropped, r, x, 0);
-  }
-
-  bool factor(const VecX& d, const std::vector<char>& dropped) {
-    const bool ok = newton_->factor(d, dropped);
-    stats_.factor_nnz = std::max(stats_.factor_nnz, newton_->factor_nonzeros());
-    return ok;
-  }
-
-  /// The interior point's iterate, slacks s = λ − cmin and t = cmax − λ (N) with their
-  /// multipliers z and y (m/s²), and its work vectors: the residual, the Newton systems'
-  /// diagonal and right-hand side, the predictor's direction (the _aff ones), the direction,
-  /// and a corrector with the corrected direction.
-  struct Interior {
-    VecX s, t, z, y;
-    VecX w, r_d, d, rhs;
-    VecX dl_aff, dz_aff, dy_aff, dl, dz, dy;
-    VecX dc, cdl, cz, cy;
-  };
-
-  /// Mehrotra's predictor-corrector on min ½ λᵀAλ − bᵀλ over the box, from the box's centre.
-  void interior(VecX& lambda) {
-    const Eigen::Index c = A_.rows();
-    const double b_norm = b_.size() > 0 ? b_.lpNorm<Eigen::Infinity>() : 0.0;
-    const double lambda_scale = b_norm > 0.0 ? b_norm / max_diagonal_ : 1.0;  // N
-    const double w_scale = b_norm > 0.0 ? b_norm : max_diagonal_;             // m/s²
-    const double rho = options_.direct.proximal * max_diagonal_;
-    Interior v;
-    start(lambda, v, lambda_scale, w_scale);
-    const std::vector<char> dropped(fixed_.begin(), fixed_.end());
-    const double mu_stop = options_.direct.interior_mu * scale_of(p_) * std::max(1.0, lambda_scale);
-    // Stationarity only to the square root of that: the proximal term ρ and rounding hold it
-    // near 1e-11 · scale on singular A, and the crossover settles the rest.
-    const double r_stop = std::sqrt(options_.direct.interior_mu) * scale_of(p_);
-    v.r_d.resize(c);
-    v.d.resize(c);
-    v.rhs.resize(c);
-    for (VecX* x : {&v.dz, &v.dy, &v.dz_aff, &v.dy_aff, &v.cdl, &v.cz, &v.cy}) x->resize(c);
-    double r_before = std::numeric_limits<double>::infinity();  // the last iteration's residual
-    for (int it = 0; it < options_.direct.max_interior; ++it) {
-      newton_->times_A(lambda, v.w);
-      v.w -= b_;
-      double mu = 0.0;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        v.r_d(k) = fixed_[std::size_t(k)] ? 0.0 : v.w(k) - v.z(k) + v.y(k);
-        mu += v.s(k) * v.z(k) + v.t(k) * v.y(k);
-      }
-      mu /= std::max(bounds_, 1);
-      const double r_norm = v.r_d.size() > 0 ? v.r_d.lpNorm<Eigen::Infinity>() : 0.0;
-      if (!std::isfinite(mu) || !std::isfinite(r_norm)) break;
-      // An interior point that already meets the tolerance needs no crossover.
-      const double r_natural = natural_map_residual(v.w, lambda, p_.cmin, p_.cmax);
-      if (may_stop(r_natural, r_before, options_.tolerance, floor(lambda))) {
-        solved_ = true;
-        break;
-      }
-      r_before = r_natural;
-      if (mu <= mu_stop && r_norm <= r_stop) break;
-      ++stats_.iterations;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        v.d(k) = rho;
-        if (lower_[std::size_t(k)]) v.d(k) += v.z(k) / v.s(k);
-        if (upper_[std::size_t(k)]) v.d(k) += v.y(k) / v.t(k);
-      }
-      if (!factor(v.d, dropped)) break;
-      double sigma = 0.0;
-      if (!mehrotra(v, dropped, mu, sigma)) break;
-      const double alpha = gondzio(v, dropped, sigma, mu);
-      take_step(lambda, v, alpha);
-    }
-    suggest_partition(v, lambda_scale);
-  }
-
-  /// The starting point: λ at the box's centre (or lambda_scale inside a single bound), the
-  /// slacks from it, each multiplier w_scale beyond what w at λ asks of it.
-  void start(VecX& lambda, Interior& v, double lambda_scale, double w_scale) {
-    const Eigen::Index c = A_.rows();
-    const VecX& lo = p_.cmin;
-    const VecX& hi = p_.cmax;
-    v.s = VecX::Zero(c);
-    v.t = VecX::Zero(c);
-    v.z = VecX::Zero(c);
-    v.y = VecX::Zero(c);
-    lambda.resize(c);
-    for (Eigen::Index k = 0; k < c; ++k) {
-      const std::size_t K = std::size_t(k);
-      if (fixed_[K]) {
-        lambda(k) = lo(k);
-      } else if (lower_[K] && upper_[K]) {
-        lambda(k) = 0.5 * (lo(k) + hi(k));
-      } else if (lower_[K]) {
-        lambda(k) = lo(k) + lambda_scale;
-      } else if (upper_[K]) {
-        lambda(k) = hi(k) - lambda_scale;
-      } else {
-        lambda(k) = 0.0;
-      }
-      if (lower_[K]) v.s(k) = lambda(k) - lo(k);
-      if (upper_[K]) v.t(k) = hi(k) - lambda(k);
-    }
-    newton_->times_A(lambda, v.w);
-    v.w -= b_;
-    for (Eigen::Index k = 0; k < c; ++k) {
-      const std::size_t K = std::size_t(k);
-      if (lower_[K]) v.z(k) = std::max(v.w(k), 0.0) + w_scale;
-      if (upper_[K]) v.y(k) = std::max(-v.w(k), 0.0) + w_scale;
-    }
-  }
-
-  /// Mehrotra's predictor (σ = 0) and corrector (centring σμ and his second-order term) on the
-  /// factored system: the direction (dl, dz, dy) and σ; false when a solve fails.
-  bool mehrotra(Interior& v, const std::vector<char>& dropped, double mu, double& sigma) {
-    const Eigen::Index c = A_.rows();
-    const VecX &s = v.s, &t = v.t, &z = v.z, &y = v.y;
-    v.rhs = -v.r_d - z + y;
-    if (!newton_solve(v.d, dropped, v.rhs, v.dl_aff)) return false;
-    for (Eigen::Index k = 0; k < c; ++k) {
-      v.dz_aff(k) = lower_[std::size_t(k)] ? -z(k) - z(k) / s(k) * v.dl_aff(k) : 0.0;
-      v.dy_aff(k) = upper_[std::size_t(k)] ? -y(k) + y(k) / t(k) * v.dl_aff(k) : 0.0;
-    }
-    const double a_aff = step_length(s, t, z, y, v.dl_aff, v.dz_aff, v.dy_aff, 1.0);
-    double mu_aff = 0.0;
-    for (Eigen::Index k = 0; k < c; ++k) {
-      if (lower_[std::size_t(k)])
-        mu_aff += (s(k) + a_aff * v.dl_aff(k)) * (z(k) + a_aff * v.dz_aff(k));
-      if (upper_[std::size_t(k)])
-        mu_aff += (t(k) - a_aff * v.dl_aff(k)) * (y(k) + a_aff * v.dy_aff(k));
-    }
-    mu_aff /= std::max(bounds_, 1);
-    sigma = std::pow(std::clamp(mu_aff / mu, 0.0, 1.0), 3);
-    for (Eigen::Index k = 0; k < c; ++k) {
-      v.rhs(k) = -v.r_d(k);
-      if (lower_[std::size_t(k)]) {
-        const double cl = sigma * mu - s(k) * z(k) - v.dl_aff(k) * v.dz_aff(k);
-        v.rhs(k) += cl / s(k);
-        v.dz(k) = cl;  // completed below
-      }
-      if (upper_[std::size_t(k)]) {
-        const double cu = sigma * mu - t(k) * y(k) + v.dl_aff(k) * v.dy_aff(k);
-        v.rhs(k) -= cu / t(k);
-        v.dy(k) = cu;
-      }
-    }
-    if (!newton_solve(v.d, dropped, v.rhs, v.dl)) return false;
-    for (Eigen::Index k = 0; k < c; ++k) {
-      v.dz(k) = lower_[std::size_t(k)] ? (v.dz(k) - z(k) * v.dl(k)) / s(k) : 0.0;
-      v.dy(k) = upper_[std::size_t(k)] ? (v.dy(k) + y(k) * v.dl(k)) / t(k) : 0.0;
-    }
-    return true;
-  }
-
-  /// Gondzio's centrality correctors on the direction: the factor is the cost here, a solve is
-  /// cheap, so each corrector that lengthens the step saves part of an iteration. The step
-  /// length along the (corrected) direction.
-  double gondzio(Interior& v, const std::vector<char>& dropped, double sigma, double mu) {
-    const Eigen::Index c = A_.rows();
-    const VecX &s = v.s, &t = v.t, &z = v.z, &y = v.y;
-    double alpha = step_length(s, t, z, y, v.dl, v.dz, v.dy, kStepToBoundary);
-    for (int corrector = 0; corrector < kCorrectors && alpha < 1.0; ++corrector) {
-      const double reach = std::min(1.0, kCorrectorAspiration * alpha);
-      const double low = kCorrectorBand * sigma * mu, high = sigma * mu / kCorrectorBand;
-      const auto target = [&](double x) {  // the move of a product x towards [low, high]
-        return std::max(std::clamp(x, low, high) - x, -high);
-      };
-      for (Eigen::Index k = 0; k < c; ++k) {
-        const std::size_t K = std::size_t(k);
-        v.rhs(k) = 0.0;
-        v.cz(k) = lower_[K] ? target((s(k) + reach * v.dl(k)) * (z(k) + reach * v.dz(k))) : 0.0;
-        v.cy(k) = upper_[K] ? target((t(k) - reach * v.dl(k)) * (y(k) + reach * v.dy(k))) : 0.0;
-        if (lower_[K]) v.rhs(k) += v.cz(k) / s(k);
-        if (upper_[K]) v.rhs(k) -= v.cy(k) / t(k);
-      }
-      if (!newton_solve(v.d, dropped, v.rhs, v.dc)) break;
-      for (Eigen::Index k = 0; k < c; ++k) {
-        const std::size_t K = std::size_t(k);
-        v.cdl(k) = v.dl(k) + v.dc(k);
-        v.cz(k) = lower_[K] ? v.dz(k) + (v.cz(k) - z(k) * v.dc(k)) / s(k) : 0.0;
-        v.cy(k) = upper_[K] ? v.dy(k) + (v.cy(k) + y(k) * v.dc(k)) / t(k) : 0.0;
-      }
-      const double corrected = step_length(s, t, z, y, v.cdl, v.cz, v.cy, kStepToBoundary);
-      if (!(corrected >= alpha + kCorrectorGain * (reach - alpha))) break;
-      alpha = corrected;
-      v.dl.swap(v.cdl);
-      v.dz.swap(v.cz);
-      v.dy.swap(v.cy);
-    }
-    return alpha;
-  }
-
-  /// λ, the slacks and the multipliers a step alpha along the direction.
-  void take_step(VecX& lambda, Interior& v, double alpha) const {
-    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-      if (fixed_[std::size_t(k)]) continue;
-      lambda(k) += alpha * v.dl(k);
-      if (lower_[std::size_t(k)]) {
-        v.s(k) += alpha * v.dl(k);
-        v.z(k) += alpha * v.dz(k);
-      }
-      if (upper_[std::size_t(k)]) {
-        v.t(k) -= alpha * v.dl(k);
-        v.y(k) += alpha * v.dy(k);
-      }
-    }
-  }
-
-  /// The partition the interior point suggests: a row is at its bound when its multiplier
-  /// outweighs its slack (z > A_kk s, units m/s² against kg⁻¹ N) or its slack is near 0.
-  void suggest_partition(const Interior& v, double lambda_scale) {
-    const Eigen::Index c = A_.rows();
-    const double near = kNearBound * lambda_scale;
-    place_.assign(std::size_t(c), Place::Free);
-    for (Eigen::Index k = 0; k < c; ++k) {
-      const std::size_t K = std::size_t(k);
-      if (fixed_[K])
-        place_[K] = Place::Fixed;
-      else if (lower_[K] && (v.z(k) > a_(k) * v.s(k) || v.s(k) <= near))
-        place_[K] = Place::Lower;
-      else if (upper_[K] && (v.y(k) > a_(k) * v.t(k) || v.t(k) <= near))
-        place_[K] = Place::Upper;
-    }
-  }
-
-  /// The longest step ≤ 1 (times `fraction` of the way to the boundary) keeping s, t, z, y ≥ 0.
-  double step_length(const VecX& s,
-                     const VecX& t,
-                     const VecX& z,
-                     const VecX& y,
-                     const VecX& dl,
-                     const VecX& dz,
-                     const VecX& dy,
-                     double fraction) const {
-    double alpha = 1.0 / fraction;
-    for (Eigen::Index k = 0; k < s.size(); ++k) {
-      if (lower_[std::size_t(k)]) {
-        if (dl(k) < 0.0) alpha = std::min(alpha, -s(k) / dl(k));
-        if (dz(k) < 0.0) alpha = std::min(alpha, -z(k) / dz(k));
-      }
-      if (upper_[std::size_t(k)]) {
-        if (dl(k) > 0.0) alpha = std::min(alpha, t(k) / dl(k));
-        if (dy(k) < 0.0) alpha = std::min(alpha, -y(k) / dy(k));
-      }
-    }
-    return std::min(1.0, fraction * alpha);
-  }
-
   const BoxedProblem& p_;
   const SpMat& A_;
-  const VecX& b_;
   const SolverOptions& options_;
   SolverSummary& stats_;
-  std::vector<char> lower_, upper_, fixed_;
-  VecX a_;  ///< A_kk (max A_kk where that is 0)
-  int bounds_ = 0;
-  double max_diagonal_ = 0.0;
-  double row_sum_ = 0.0;  ///< max_i Σ_k |A_ik|, for the rounding floor
+  const VecX diagonal_;      ///< A_kk
+  const InteriorRows rows_;  ///< the whole problem's rows (one process)
   std::shared_ptr<NewtonSystem> newton_;
-  std::vector<Place> place_;
-  bool solved_ = false;             ///< the interior point met the tolerance
   bool crossover_in_rows_ = false;  ///< the crossover factored A(F, F) (small islands)
   bool crossover_in_body_ = false;  ///< the crossover factored in body space (large islands)
 
@@ -424,7 +146,7 @@ class InteriorSolver {
 double residual_floor(double row_sum, const VecX& b, const VecX& lambda) {
   const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
   const double bn = b.size() > 0 ? b.lpNorm<Eigen::Infinity>() : 0.0;
-  return 64.0 * kUnitRoundoff * (row_sum * l + bn);
+  return residual_floor_of(row_sum, bn, l);
 }
 
 bool may_stop(double r, double r_before, double tolerance, double floor) {

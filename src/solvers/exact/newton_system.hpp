@@ -1,6 +1,6 @@
-// The Newton matrices of the exact path, A + diag(d) on the rows kept (rows dropped have
-// x_k = 0), factored by CHOLMOD in body space (M + Jᵀ D⁻¹ J) when J and Minv are known, in row
-// space otherwise. Private to the library: direct.cpp and active_set.cpp use it.
+// The Newton matrices of the exact path (NewtonSystem, interior_point.hpp), factored by CHOLMOD
+// in body space (M + Jᵀ D⁻¹ J) when J and Minv are known, in row space otherwise. Private to the
+// library: direct.cpp and active_set.cpp use it.
 #pragma once
 
 #include <functional>
@@ -8,39 +8,10 @@
 #include <optional>
 #include <vector>
 
+#include "cbps/solvers/exact/interior_point.hpp"
 #include "cbps/solvers/solver.hpp"
 
 namespace cbps {
-
-/// A + diag(d) of the rows kept (d_k > 0); the rows dropped (fixed rows, rows at a bound) are
-/// out of the system, x_k = 0. factor() once per d and dropped rows, then solve() any number of
-/// times. The pattern of what is factored never changes, so CHOLMOD analyses it once.
-class NewtonSystem {
- public:
-  virtual ~NewtonSystem() = default;
-  /// Factors with the diagonal d (kept rows) and the dropped rows; false when CHOLMOD fails.
-  virtual bool factor(const VecX& d, const std::vector<char>& dropped) = 0;
-  /// x ≈ (A + diag d)⁻¹ r on the kept rows, 0 on the dropped ones (one application).
-  virtual void apply(const VecX& r, VecX& x) const = 0;
-  /// Nonzeros of the Cholesky factor (CHOLMOD's count).
-  virtual long factor_nonzeros() const = 0;
-  /// Numeric factorizations so far, and rows added or removed by updates of a factor.
-  virtual int factorizations() const = 0;
-  virtual long updates() const { return 0; }
-  /// "body" or "row".
-  virtual const char* space() const = 0;
-  /// y = A x for the problem's A (with any CFM in it); in body space as J (Minv (Jᵀ x)) + cfm x,
-  /// several times cheaper than A's own product where A fills (a row of J has at most 12
-  /// nonzeros, a row of A one per row its bodies share: 80 on average on the base-40 pyramid).
-  virtual void times_A(const VecX& x, VecX& y) const = 0;
-  /// apply() followed by two passes of iterative refinement against A + diag(d); false if the
-  /// result is not finite.
-  bool solve(const VecX& d,
-             const std::vector<char>& dropped,
-             const VecX& r,
-             VecX& x,
-             int refinements = 2) const;
-};
 
 /// The exact paths' way around the null rows of A (no nonzero entry in column k, so none in row
 /// k of a symmetric A: a row whose j_c acts on nothing), which CHOLMOD cannot factor: their
