@@ -16,8 +16,10 @@
 #include <utility>
 #include <vector>
 
+#include "../src/solvers/exact/newton_system.hpp"
 #include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/exact/interior_point.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
@@ -196,6 +198,60 @@ TEST_CASE("interior path: pyramids and a multi-column stack meet the QP optimali
   const double decrease = largest_decrease(problem, lambda, rng);
   INFO("objective " << f << ", largest decrease found " << decrease);
   CHECK(decrease <= 1e-9 * std::max(1.0, std::abs(f)));
+}
+
+TEST_CASE(
+    "bulk crossover (the distributed exact path's) from the interior point's partition meets the "
+    "QP optimality conditions and the pivoting crossover's objective",
+    "[direct][interior][bulk]") {
+  struct Case {
+    std::string name;
+    std::map<std::string, std::string> values;
+    int steps;
+  };
+  const Case c = GENERATE(values<Case>({
+      {"pyramid", {{"base", "10"}}, 30},
+      {"pyramid", {{"base", "14"}}, 20},
+      {"stack", {{"n", "10"}, {"columns", "5"}}, 1},
+  }));
+  const System& sys = stepped(c.name, c.values, c.steps);
+  const BoxedProblem problem = sys.problem();
+  const double scale = scale_of(problem);
+  INFO(c.name << " after " << c.steps << " steps: " << sys.rows() << " rows, scale " << scale);
+  const std::shared_ptr<NewtonSystem> newton = make_body_space(problem);
+  REQUIRE(newton != nullptr);
+  const VecX diagonal = problem.A.diagonal();
+  const InteriorRows rows{
+      problem.b, problem.cmin, problem.cmax, diagonal, scale, max_abs_row_sum(problem.A)};
+  const SolverOptions options = interior();
+  VecX lambda;
+  const InteriorOutcome start = run_interior_point(rows, *newton, RowReduction(), options, lambda);
+  CHECK(start.iterations > 0);
+  CHECK_FALSE(start.solved);  // the tolerance needs a crossover here
+  const CrossoverOutcome x =
+      bulk_crossover(rows, *newton, RowReduction(), options, start.place, lambda);
+  INFO(x.rounds << " proximal steps, " << x.steps << " solves, " << x.moved
+                << " rows moved, residual " << x.residual << " N");
+  CHECK(x.solved);
+  CHECK(x.steps >= x.rounds);
+  const double tol = kResidual * scale;
+  CHECK(natural_map_residual(problem, lambda) <= tol);
+  CHECK(x.residual == Approx(natural_map_residual(problem, lambda)).margin(1e-3 * tol));
+  const Kkt k = kkt(problem, lambda, tol);
+  INFO("worst row " << k.worst_row << ": w violation " << k.w_violation << ", outside the box "
+                    << k.outside_box);
+  CHECK(k.outside_box == 0.0);
+  CHECK(k.w_violation <= tol);
+  // The same minimum as the serial path (its pivoting crossover, an independent finish): λ may
+  // differ where A is singular, the objective may not (slack as in the test above).
+  VecX serial;
+  REQUIRE(solve_direct(problem, serial, options).termination == Termination::Direct);
+  const double f = objective(sys.A, sys.b, lambda);
+  const double f_serial = objective(sys.A, sys.b, serial);
+  INFO("objective " << f << ", serial " << f_serial);
+  CHECK(std::abs(f - f_serial) <= 1e-9 * std::max(1.0, std::abs(f)));
+  std::mt19937 rng(22);
+  CHECK(largest_decrease(problem, lambda, rng) <= 1e-9 * std::max(1.0, std::abs(f)));
 }
 
 // ---------------------------------------------------------------------------------------------

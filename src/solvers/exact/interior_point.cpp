@@ -31,6 +31,16 @@ constexpr double kCorrectorGain = 0.1;
 /// partition that errs towards the bound needs far fewer steps (pyramid base 20, measured when
 /// every step was a factorization: 301 instead of 1,026).
 constexpr double kNearBound = 1e-4;
+/// The bulk crossover's first proximal ε, a fraction of max A_kk (direct.cpp's
+/// kCrossoverEpsilon), and the factor it is reduced by (active_set.cpp's kEpsilonStep); its
+/// active-set rounds per proximal step at most, and the refinement passes of each solve.
+constexpr double kProximalEpsilon = 1e-6;
+constexpr int kInnerRounds = 30;
+constexpr int kRefinements = 2;
+constexpr double kEpsilonStep = 10.0;
+/// Rows whose bound the blocked step reaches within this fraction of their own step block too.
+constexpr double kTie = 1e-3;
+
 double max_abs(const VecX& x) { return x.size() > 0 ? x.lpNorm<Eigen::Infinity>() : 0.0; }
 
 /// The rows' bounds and the whole problem's sizes, as both methods here need them.
@@ -115,8 +125,7 @@ class InteriorPoint {
     Interior v;
     start(lambda, v, lambda_scale, w_scale);
     const std::vector<char>& dropped = k_.fixed;
-    const double mu_stop =
-        options_.direct.interior_mu * rows_.scale * std::max(1.0, lambda_scale);
+    const double mu_stop = options_.direct.interior_mu * rows_.scale * std::max(1.0, lambda_scale);
     // Stationarity only to the square root of that: the proximal term ρ and rounding hold it
     // near 1e-11 · scale on singular A, and the crossover settles the rest.
     const double r_stop = std::sqrt(options_.direct.interior_mu) * rows_.scale;
@@ -137,8 +146,7 @@ class InteriorPoint {
       const double r_norm = all_.max(max_abs(v.r_d));
       if (!std::isfinite(mu) || !std::isfinite(r_norm)) break;
       // An interior point that already meets the tolerance needs no crossover.
-      const double r_natural =
-          all_.max(natural_map_residual(v.w, lambda, rows_.cmin, rows_.cmax));
+      const double r_natural = all_.max(natural_map_residual(v.w, lambda, rows_.cmin, rows_.cmax));
       if (may_stop(r_natural, r_before, options_.tolerance, floor(lambda))) {
         out_.solved = true;
         break;
@@ -355,6 +363,175 @@ InteriorOutcome run_interior_point(const InteriorRows& rows,
                                    const SolverOptions& options,
                                    VecX& lambda) {
   return InteriorPoint(rows, newton, all, options).run(lambda);
+}
+
+CrossoverOutcome bulk_crossover(const InteriorRows& rows,
+                                NewtonSystem& newton,
+                                const RowReduction& all,
+                                const SolverOptions& options,
+                                std::vector<Place> place,
+                                VecX& lambda) {
+  const Bounds k(rows, all);
+  const Eigen::Index c = rows.b.size();
+  double epsilon = kProximalEpsilon * k.max_diagonal;  // kg⁻¹
+  const double epsilon_floor = options.direct.epsilon_floor * k.max_diagonal;
+  CrossoverOutcome out;
+  VecX d = VecX::Constant(c, epsilon);
+  bool settled = false;  // the last proximal step moved no row
+  std::vector<char> dropped(std::size_t(c), 0);
+  VecX w, g(c), r(c), dx, center, trial(c), w_trial;
+  bool refactor = true;  // the partition or ε changed since the last factorization
+  // This process's part of q(x') − q(λ) for the subproblem's q (below) with g its gradient at λ
+  // and w' = A x' − b: gᵀδ + ½ δᵀ(w' − w) + ε/2 |δ|², δ = x' − λ, formed from the gradients
+  // (near the answer q's values differ by less than their rounding).
+  const auto q_change = [&](const VecX& gradient, const VecX& x, const VecX& w_x) {
+    double change = 0.0;
+    for (Eigen::Index i = 0; i < c; ++i) {
+      const double delta = x(i) - lambda(i);
+      change += gradient(i) * delta + 0.5 * delta * (w_x(i) - w(i)) + 0.5 * epsilon * delta * delta;
+    }
+    return change;
+  };
+  double r_before = std::numeric_limits<double>::infinity();
+  const auto at_place = [&]() {
+    long changed = 0;
+    for (Eigen::Index i = 0; i < c; ++i) {
+      const std::size_t K = std::size_t(i);
+      if (place[K] == Place::Lower || place[K] == Place::Fixed) lambda(i) = rows.cmin(i);
+      if (place[K] == Place::Upper) lambda(i) = rows.cmax(i);
+      const char drop = place[K] != Place::Free;
+      changed += drop != dropped[K];
+      dropped[K] = drop;
+    }
+    return all.sum(static_cast<double>(changed)) > 0.0;
+  };
+  at_place();
+  for (;; ++out.rounds) {
+    newton.times_A(lambda, w);
+    w -= rows.b;
+    out.residual = all.max(natural_map_residual(w, lambda, rows.cmin, rows.cmax));
+    const double floor = residual_floor_of(rows.row_sum, k.b_norm, all.max(max_abs(lambda)));
+    if (may_stop(out.residual, r_before, options.tolerance, floor)) {
+      out.solved = true;
+      return out;
+    }
+    if (out.rounds >= options.direct.max_outer_iterations || !std::isfinite(out.residual))
+      return out;
+    // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
+    // block: once the partition holds and a step no longer halves the residual, a smaller ε.
+    if (settled && out.residual > 0.5 * r_before && epsilon > epsilon_floor) {
+      epsilon = std::max(epsilon / kEpsilonStep, epsilon_floor);
+      d.setConstant(epsilon);
+      refactor = true;
+    }
+    r_before = out.residual;
+    // The proximal subproblem min q(x) = ½ xᵀAx − bᵀx + ε/2 |x − center|² over the box
+    // (strongly convex: its free block A_FF + ε I is definite), by a primal active-set method
+    // from x = center = λ, its gradient g = w + ε (x − center).
+    center = lambda;
+    bool release_one = false;  // a blocked step made no progress: free one row at a time
+    settled = true;
+    for (int inner = 0; inner < kInnerRounds; ++inner) {
+      for (Eigen::Index i = 0; i < c; ++i) {
+        g(i) = w(i) + epsilon * (lambda(i) - center(i));
+        r(i) = dropped[std::size_t(i)] ? 0.0 : -g(i);
+      }
+      if (refactor && !newton.factor(d, dropped)) return out;
+      refactor = false;
+      if (!newton.solve(d, dropped, r, dx, kRefinements) || !all.all(dx.allFinite())) return out;
+      ++out.steps;
+      // The Newton step of the free rows, clamped into the box.
+      long clamped = 0;
+      for (Eigen::Index i = 0; i < c; ++i) {
+        trial(i) = lambda(i) + dx(i);
+        if (trial(i) < rows.cmin(i) || trial(i) > rows.cmax(i)) {
+          trial(i) = clamp(trial(i), rows.cmin(i), rows.cmax(i));
+          ++clamped;
+        }
+      }
+      clamped = static_cast<long>(all.sum(static_cast<double>(clamped)));
+      newton.times_A(trial, w_trial);
+      w_trial -= rows.b;
+      if (clamped == 0) {
+        // A full step: λ minimises the subproblem on this face. Free every bound row whose
+        // gradient pulls it inwards (g / A_kk > 0, N); none: the subproblem is solved.
+        lambda.swap(trial);
+        w.swap(w_trial);
+        // After a blocked step of length 0 only the worst row is freed (the serial crossover's
+        // rule, active_set.cpp): rows freed together may block each other at once again.
+        const auto violation = [&](Eigen::Index i) {
+          const std::size_t K = std::size_t(i);
+          const double gi = w(i) + epsilon * (lambda(i) - center(i));
+          return place[K] == Place::Lower   ? -gi / k.a(i)
+                 : place[K] == Place::Upper ? gi / k.a(i)
+                                            : 0.0;
+        };
+        double worst = 0.0;
+        for (Eigen::Index i = 0; i < c; ++i) worst = std::max(worst, violation(i));
+        worst = all.max(worst);
+        if (!(worst > 0.0)) break;
+        long freed = 0;
+        for (Eigen::Index i = 0; i < c; ++i) {
+          const double v = violation(i);
+          if (v > 0.0 && (!release_one || v >= worst)) {
+            place[std::size_t(i)] = Place::Free;
+            ++freed;
+          }
+        }
+        freed = static_cast<long>(all.sum(static_cast<double>(freed)));
+        out.moved += freed;
+        refactor = at_place() || refactor;
+        settled = false;
+        continue;
+      }
+      // Rows past a bound. The clamped step is taken, the rows it clamps going to their bounds
+      // all at once, when it lowers the subproblem's objective q; otherwise the step stops at the
+      // first bound a row reaches (α ≤ 1 along a descent direction on this face: q falls), and
+      // the rows reaching it there (within kTie of their own step) block. Either way q falls, so
+      // the partitions never cycle.
+      const bool taken = all.sum(q_change(g, trial, w_trial)) < 0.0;
+      if (taken) {
+        lambda.swap(trial);
+        w.swap(w_trial);
+      } else {
+        double alpha = 1.0;
+        for (Eigen::Index i = 0; i < c; ++i) {
+          if (lambda(i) + dx(i) < rows.cmin(i))
+            alpha = std::min(alpha, (rows.cmin(i) - lambda(i)) / dx(i));
+          if (lambda(i) + dx(i) > rows.cmax(i))
+            alpha = std::min(alpha, (rows.cmax(i) - lambda(i)) / dx(i));
+        }
+        alpha = std::max(all.min(alpha), 0.0);
+        release_one = release_one || alpha == 0.0;
+        for (Eigen::Index i = 0; i < c; ++i) {
+          const double x = lambda(i) + alpha * dx(i);
+          // The rows at the first bound (to rounding) block there.
+          lambda(i) = dx(i) < 0.0 && x <= rows.cmin(i) + kTie * std::abs(dx(i))   ? rows.cmin(i)
+                      : dx(i) > 0.0 && x >= rows.cmax(i) - kTie * std::abs(dx(i)) ? rows.cmax(i)
+                                                                                  : x;
+        }
+        newton.times_A(lambda, w);
+        w -= rows.b;
+      }
+      long blocked = 0;
+      for (Eigen::Index i = 0; i < c; ++i) {
+        const std::size_t K = std::size_t(i);
+        if (place[K] != Place::Free) continue;
+        // Only rows moving out of the box block: after a step of 0, a row just freed at its
+        // bound whose step points inwards stays free.
+        if (k.lower[K] && dx(i) < 0.0 && lambda(i) <= rows.cmin(i))
+          place[K] = Place::Lower;
+        else if (k.upper[K] && dx(i) > 0.0 && lambda(i) >= rows.cmax(i))
+          place[K] = Place::Upper;
+        else
+          continue;
+        ++blocked;
+      }
+      out.moved += static_cast<long>(all.sum(static_cast<double>(blocked)));
+      refactor = at_place() || refactor;
+      settled = false;
+    }
+  }
 }
 
 }  // namespace cbps

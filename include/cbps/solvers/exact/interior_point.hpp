@@ -1,8 +1,9 @@
 // The interior point of the exact path (direct.hpp, its step 2) on one process's rows of the
-// boxed problem of 6.2, written so that it can run on rows spread over the ranks of an MPI job:
-// everything here works row by row, except the Newton system's products and solves
-// (NewtonSystem) and the sums, maxima and minima over all rows (RowReduction), which on one
-// process are the identity. The serial exact path (direct.cpp) runs it.
+// boxed problem of 6.2, and a crossover that moves rows in bulk, written so that both run on rows
+// spread over the ranks of an MPI job (src/distributed/exact.cpp): everything here works row by
+// row, except the Newton system's products and solves (NewtonSystem) and the sums, maxima and
+// minima over all rows (RowReduction), which on one process are the identity. The serial exact
+// path (direct.cpp) runs the same interior point, then its pivoting crossover.
 //
 //   Symbol   This process's part                                 Unit
 //   b        its rows of b = upsilon/dt − J (v1/dt + Minv fext)  m/s²
@@ -99,6 +100,38 @@ InteriorOutcome run_interior_point(const InteriorRows& rows,
                                    const RowReduction& all,
                                    const SolverOptions& options,
                                    VecX& lambda);
+
+/// What the bulk crossover did.
+struct CrossoverOutcome {
+  bool solved = false;   ///< the natural-map residual met the tolerance (or may_stop's floor)
+  int rounds = 0;        ///< proximal steps
+  int steps = 0;         ///< solves with the Newton system (each with kRefinements passes)
+  long moved = 0;        ///< rows that changed place, in all
+  double residual = 0.;  ///< the natural-map residual at the end, N
+};
+
+/// The crossover of direct.hpp's step 3 in a form that runs on rows spread over ranks (the
+/// pivoting crossover works on one process's A, its islands and its factor's rank-one updates).
+/// From `place` (run_interior_point's), rows at a bound are put at it; then proximal steps, each
+/// solving min q(x) = ½ xᵀAx − bᵀx + ε/2 |x − λ|² over the box (strongly convex) by a primal
+/// active-set method: the free rows' Newton step with (A + εI)_FF (NewtonSystem with the bound
+/// rows dropped, refined twice), clamped into the box; when that lowers q its clamped rows go to
+/// their bounds all at once, else the step stops at the first bound a row reaches and the rows
+/// reaching theirs there (within 1e-3 of their own step) block; after a full step every bound row
+/// whose gradient pulls it inwards is freed at once (after a blocked step of length 0 only the
+/// worst). q falls at every round, so partitions never repeat; at most 30 rounds a step. ε starts
+/// at 1e-6 max A_kk and falls tenfold, down to options.direct.epsilon_floor · max A_kk, whenever a
+/// step moved no row and did not halve the residual (the contraction is ε/(σ + ε) for an
+/// eigenvalue σ of the free block). Stops at options.tolerance (may_stop) or after
+/// options.direct.max_outer_iterations proximal steps. Only row-by-row work, sums and extremes,
+/// and the Newton system, so it runs on rows spread over ranks as on one process; each change of
+/// the free rows is a new factorization (or an update, where the NewtonSystem makes one).
+CrossoverOutcome bulk_crossover(const InteriorRows& rows,
+                                NewtonSystem& newton,
+                                const RowReduction& all,
+                                const SolverOptions& options,
+                                std::vector<Place> place,
+                                VecX& lambda);
 
 /// The rounding floor of the residual (direct.hpp's residual_floor) with ‖b‖∞ and ‖λ‖∞ given.
 double residual_floor_of(double row_sum, double b_norm, double lambda_norm);
