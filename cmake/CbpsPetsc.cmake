@@ -2,8 +2,9 @@
 # With CBPS_PETSC (default ON: "use it when found") and PETSc found by pkg-config (Debian:
 # petsc-dev; `scripts/setup.sh --with-petsc`), src/distributed/ is built into the library
 # cbps_distributed, linked into the cbps executable only, and the CLI gets CBPS_HAVE_PETSC (cbps
-# lcp, and tao:TYPE in cbps converge/profile --solvers). The tests labelled `petsc`
-# (tests/petsc/test_tao.py, test_tao_studies.py) run it alone and under mpirun at 1 and 2 ranks.
+# lcp: tao:TYPE, and direct under mpirun; tao:TYPE in cbps converge/profile --solvers). The tests
+# labelled `petsc` (tests/petsc/test_tao.py, test_tao_studies.py, test_direct_mpi.py) run it
+# alone and under mpirun at 1 and 2 ranks.
 # Without PETSc (or with CBPS_PETSC=OFF, or under the sanitizers: ASan inside Open MPI reports
 # the MPI library's own allocations), a status line says why, `--solver tao:TYPE` exits 2 saying
 # the build has no PETSc, and a test named petsc-not-built (petsc-not-built-under-sanitizers)
@@ -107,6 +108,17 @@ foreach(_mode system bad-input)
            COMMAND ${cbps_generate_driver} ${_mode} "${CMAKE_BINARY_DIR}/petsc-generate-${_mode}")
   set_tests_properties(petsc-generate-${_mode} PROPERTIES
     LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
+endforeach()
+
+# tests/petsc/test_direct_mpi.py MODE: the exact path under MPI (`mpirun -n R cbps lcp FOLDER
+# --solver direct`) at 1 and 2 ranks against the serial exact path on contact and chain folders,
+# and its bad input.
+foreach(_mode solve bad-input)
+  add_test(NAME petsc-direct-${_mode}
+           COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_direct_mpi.py"
+                   $<TARGET_FILE:cbps> ${_mode} "${CMAKE_BINARY_DIR}/petsc-direct-${_mode}")
+  set_tests_properties(petsc-direct-${_mode} PROPERTIES
+    LABELS petsc TIMEOUT 300 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
 endforeach()
 
 # scripts/measure_generate.py --quick: the measurement behind docs/distributed.md's generated

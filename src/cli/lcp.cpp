@@ -10,6 +10,10 @@
 // writes --out, through the same report as every other solver, and every rank exits with the
 // same code.
 //
+// `mpirun -n N cbps lcp FOLDER --solver direct` runs the exact path under MPI
+// (distributed/exact.hpp, docs/distributed.md#the-exact-path-under-mpi): every rank reads its rows
+// of J, b, cmin, cmax and its bodies' rows of Minv, and reports as the TAO path does.
+//
 // `--generate chain --rows N --solver tao:TYPE` builds the problem instead of reading it, each
 // rank only its own rows (distributed/generate.hpp, docs/distributed.md#generated-problems),
 // and reports through the same report(); no rank holds the whole problem.
@@ -20,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <memory>
@@ -27,6 +32,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
+#include "cbps/distributed/exact.hpp"
 #include "cbps/distributed/generate.hpp"
 #include "cbps/distributed/tao.hpp"
 #include "cbps/io/matrix_market.hpp"
@@ -144,6 +150,20 @@ StoredProblem read_lcp_problem(const LcpOptions& o) {
   return p;
 }
 
+/// True when an MPI launcher started this process (mpirun, mpiexec: Open MPI's
+/// OMPI_COMM_WORLD_SIZE or MPICH's PMI_SIZE, as main.cpp's mpi_job reads them): then `--solver
+/// direct` is the exact path under MPI, at any number of ranks.
+bool launched_by_mpirun() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (std::getenv(name) != nullptr) return true;
+  return false;
+}
+
+/// --solver direct under an MPI launcher (launched_by_mpirun): the exact path under MPI.
+bool is_distributed_direct(const LcpOptions& o) {
+  return o.solver == "direct" && launched_by_mpirun();
+}
+
 /// --out must not be the problem's own folder.
 void check_out_is_not_problem(const LcpOptions& o) {
   std::error_code ec;
@@ -185,6 +205,10 @@ double peak_memory_mb() {
 /// rows of a generated problem (0 for a read one).
 long check_distributed_options(const LcpOptions& o, const std::string& type) {
   const bool generated = !o.generate.empty();
+  if (is_distributed_direct(o) && !generated) {
+    check_out_is_not_problem(o);
+    return 0;
+  }
   if (generated && !is_tao_solver(o.solver))
     throw InputError("--generate: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
                      ": a generated problem is solved by tao:TYPE with TYPE one of " +
@@ -224,6 +248,14 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
     kind = "generated";
     return distributed::generate_chain(
         {{"n", std::to_string(rows)}}, session.rank(), session.size());
+  }
+  if (is_distributed_direct(o)) {
+    if (!fs::is_directory(o.problem, ec))
+      throw InputError("--solver direct under mpirun: " + o.problem +
+                       ": not a cbps matrices folder; the exact path under MPI works in body "
+                       "space and reads J and Minv by rows (a Siconos file has neither)");
+    kind = "cbps matrices folder, J and Minv read by rows";
+    return distributed::read_folder_factors(o.problem, session.rank(), session.size());
   }
   if (fs::is_directory(o.problem, ec)) {
     kind = "cbps matrices folder, read by rows";
@@ -316,6 +348,44 @@ int report_tao(const LcpOptions& o,
   return report(named, facts, o.solver, r, at.wall, dir, extras);
 }
 
+/// Rank 0's report of the exact path under MPI, through the same report() as every solver.
+int report_direct(const LcpOptions& o,
+                  const distributed::MpiSession& session,
+                  const distributed::LocalSystem& local,
+                  distributed::DirectResult& d,
+                  const TaoReport& at,
+                  OutputDir* dir) {
+  const std::string ranks =
+      std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
+  LcpOutcome r;
+  r.lambda = d.lambda;
+  r.iterations = d.iterations;
+  r.space = "body";
+  r.space_reason = "body: J and Minv read by rows, H = M + Jt D^-1 J factored by SuperLU_dist on " + ranks;
+  r.message = d.message;
+  OutcomeExtras extras;
+  extras.residual = d.residual;
+  extras.fields["ranks"] = session.size();
+  extras.fields["direct"] = {{"solved", d.solved},
+                             {"interior_iterations", d.iterations},
+                             {"crossover_steps", d.crossover},
+                             {"crossover_solves", d.solves},
+                             {"rows_moved", d.moved},
+                             {"factorizations", d.factorizations},
+                             {"low_rank_rows", d.updates}};
+  extras.fields["read_wall_time_s"] = at.read_wall;
+  extras.fields["rank_memory_mb"] = at.memory;
+  LcpFacts facts;
+  facts.rows = at.rows;
+  facts.cfm = local.cfm;
+  facts.kind = at.kind + " on " + ranks;
+  facts.scale = d.scale;
+  facts.lambda_in_json = at.rows <= kMaxGatheredRows;
+  LcpOptions named = o;
+  named.problem = local.description;
+  return report(named, facts, o.solver, r, at.wall, dir, extras);
+}
+
 /// `cbps lcp PROBLEM --solver tao:TYPE` and `cbps lcp --generate chain --rows N --solver
 /// tao:TYPE` on every rank of the MPI job (one without mpirun). Each rank holds only its rows
 /// (generate.hpp). TAO solves the distributed problem and rank 0 reports. Bad input on any rank
@@ -352,6 +422,38 @@ int lcp_distributed_command(const LcpOptions& o) {
     return code;
   }
 
+  int code = 1;
+  if (is_distributed_direct(o)) {
+    SolverOptions options;
+    options.method = Method::Direct;
+    options.tolerance = o.tolerance;
+    std::optional<distributed::DirectResult> d;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      d = distributed::solve_direct_local(session, *local, options);
+    } catch (...) {
+      failure = std::current_exception();  // bad Minv blocks, found by the rank that holds them
+    }
+    const int first_bad = session.first_failing_rank(failure != nullptr);
+    if (first_bad < session.size()) {
+      code = session.broadcast(failure ? exit_code_of(failure) : 0, first_bad);
+      if (session.rank() == first_bad) std::rethrow_exception(failure);
+      return code;
+    }
+    at.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    at.memory = session.gather(peak_memory_mb());
+    if (session.rank() == 0) {
+      try {
+        code = report_direct(o, session, *local, *d, at, dir.get());
+      } catch (...) {
+        failure = std::current_exception();
+        code = exit_code_of(failure);
+      }
+    }
+    code = session.broadcast(code);
+    if (failure) std::rethrow_exception(failure);
+    return code;
+  }
   distributed::TaoOptions options;
   options.type = at.type;
   options.max_iterations = o.iterations;
@@ -362,7 +464,6 @@ int lcp_distributed_command(const LcpOptions& o) {
   at.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   at.memory = session.gather(peak_memory_mb());
 
-  int code = 1;
   failure = nullptr;
   if (session.rank() == 0) {
     try {
@@ -398,7 +499,7 @@ int lcp_command(const LcpOptions& o) {
     throw InputError(
         "PROBLEM: missing; give a cbps matrices folder or a Siconos .dat file "
         "(or --generate SCENE --rows N)");
-  if (is_tao_solver(o.solver)) return lcp_distributed(o);
+  if (is_tao_solver(o.solver) || is_distributed_direct(o)) return lcp_distributed(o);
   // The spec first: a bad name is reported before the data are read.
   std::optional<SolverSpec> given;
   if (!o.solver.empty()) given = parse_cli_solver_spec(o.solver, "--solver");

@@ -26,14 +26,14 @@ std::pair<long, long> mpi_job() {
 }
 
 /// True when the parsed command runs distributed, one part on every rank of an MPI job:
-/// `cbps lcp` with `--solver tao:TYPE` or `--generate` (docs/distributed.md).
+/// `cbps lcp` with `--solver tao:TYPE`, `--solver direct` or `--generate` (docs/distributed.md).
 bool runs_distributed(const CLI::App& app) {
   const CLI::App* lcp = app.get_subcommand("lcp");
   if (lcp == nullptr || !lcp->parsed()) return false;
   const CLI::Option* solver = lcp->get_option("--solver");
   const std::string name = solver->count() > 0 ? solver->as<std::string>() : std::string();
   const bool tao = name == "tao" || name.rfind("tao:", 0) == 0;  // as lcp reads it
-  return tao || lcp->get_option("--generate")->count() > 0;
+  return tao || name == "direct" || lcp->get_option("--generate")->count() > 0;
 }
 
 int run(int argc, char** argv) {
@@ -92,8 +92,8 @@ int run(int argc, char** argv) {
       std::cerr << "cbps: " << command->get_name() << ": runs in one process, and this is one of "
                 << size
                 << " started by mpirun; run it without mpirun (only `cbps lcp "
-                   "--solver tao:TYPE` and `cbps lcp --generate` are distributed, "
-                   "docs/distributed.md)\n";
+                   "--solver tao:TYPE`, `cbps lcp --solver direct` and `cbps lcp --generate` "
+                   "are distributed, docs/distributed.md)\n";
     return 2;
   }
   try {

@@ -1,6 +1,9 @@
 // Each rank's rows of a stored problem (include/cbps/distributed/generate.hpp): the parallel
 // read of `cbps lcp FOLDER --solver tao:TYPE` under mpirun. No PETSc or MPI here.
+#include <Eigen/Cholesky>
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "cbps/base/error.hpp"
 #include "cbps/distributed/generate.hpp"
@@ -17,6 +20,38 @@ void add_cfm(LocalSystem& local) {
   if (local.cfm == 0.0) return;
   for (long i = 0; i < local.rows(); ++i) local.A.coeffRef(i, local.first_row + i) += local.cfm;
   local.A.makeCompressed();
+}
+
+/// A body's 6×6 matrix.
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+/// The mass matrices of this rank's bodies, Minv's 6×6 diagonal blocks inverted; InputError
+/// naming `file` when Minv has an entry outside them or a block is not symmetric positive
+/// definite.
+std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& file) {
+  std::vector<Mat6> M(std::size_t(local.bodies));
+  std::vector<Mat6> blocks(std::size_t(local.bodies), Mat6::Zero());
+  for (Eigen::Index i = 0; i < local.Minv.rows(); ++i)
+    for (SpMatRow::InnerIterator it(local.Minv, i); it; ++it) {
+      const long body = (local.first_body * 6 + i) / 6;
+      if (it.col() / 6 != body)
+        throw InputError(file + ": entry (" +
+                         std::to_string(local.first_body * 6 + i + 1) + ", " +
+                         std::to_string(it.col() + 1) +
+                         ") couples two bodies; body space needs Minv block diagonal (6.1.2)");
+      blocks[std::size_t(body - local.first_body)](i % 6, it.col() % 6) = it.value();
+    }
+  for (long B = 0; B < local.bodies; ++B) {
+    const Mat6& block = blocks[std::size_t(B)];
+    const Eigen::LLT<Mat6> llt(block);
+    if ((block - block.transpose()).cwiseAbs().maxCoeff() > 1e-12 * block.cwiseAbs().maxCoeff() ||
+        llt.info() != Eigen::Success)
+      throw InputError(file + ": the 6x6 block of body " +
+                       std::to_string(local.first_body + B + 1) +
+                       " is not symmetric positive definite; body space needs M = Minv^-1");
+    M[std::size_t(B)] = llt.solve(Mat6::Identity());
+  }
+  return M;
 }
 
 }  // namespace
@@ -53,6 +88,58 @@ LocalSystem read_folder_rows(const std::string& dir, int rank, int size) {
       local.b, local.cmin, local.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"), first);
   local.cfm = read_cfm(dir);
   add_cfm(local);
+  return local;
+}
+
+LocalSystem read_folder_factors(const std::string& dir, int rank, int size) {
+  namespace fs = std::filesystem;
+  const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
+  for (const char* name : {"J.mtx", "Minv.mtx"}) {
+    std::error_code ec;
+    if (!fs::is_regular_file(file(name), ec))
+      throw InputError(file(name) + ": missing; the exact path under MPI works in body space and "
+                       "needs the folder's J and Minv (cbps matrices writes them)");
+  }
+  const auto [c, columns] = read_matrix_market_size(file("J.mtx"));
+  if (columns % 6 != 0)
+    throw InputError(file("J.mtx") + ": " + std::to_string(columns) +
+                     " columns, not 6 per body (6.1)");
+  const auto [minv_rows, minv_columns] = read_matrix_market_size(file("Minv.mtx"));
+  if (minv_rows != columns || minv_columns != columns)
+    throw InputError(file("Minv.mtx") + ": " + std::to_string(minv_rows) + " x " +
+                     std::to_string(minv_columns) + ", J has " + std::to_string(columns) +
+                     " columns");
+  for (const char* name : {"b.mtx", "cmin.mtx", "cmax.mtx"}) {
+    const long n = read_matrix_market_size(file(name)).first;
+    if (n != c)
+      throw InputError(file(name) + ": has " + std::to_string(n) + " rows, J has " +
+                       std::to_string(c));
+  }
+  long first = 0;
+  long last = 0;
+  split_ownership(c, rank, size, first, last);
+  const RowRange mine{first, last};
+  long first_body = 0;
+  long last_body = 0;
+  split_ownership(columns / 6, rank, size, first_body, last_body);
+
+  LocalSystem local;
+  local.description = dir;
+  local.total_rows = c;
+  local.total_columns = columns;
+  local.first_row = first;
+  local.J = SpMatRow(read_matrix_market_sparse_rows(file("J.mtx"), mine));
+  local.first_body = first_body;
+  local.bodies = last_body - first_body;
+  local.Minv = SpMatRow(
+      read_matrix_market_sparse_rows(file("Minv.mtx"), RowRange{6 * first_body, 6 * last_body}));
+  local.M = body_masses(local, file("Minv.mtx"));
+  local.b = read_matrix_market_vector_rows(file("b.mtx"), mine);
+  local.cmin = read_matrix_market_vector_rows(file("cmin.mtx"), mine);
+  local.cmax = read_matrix_market_vector_rows(file("cmax.mtx"), mine);
+  check_bounds(
+      local.b, local.cmin, local.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"), first);
+  local.cfm = read_cfm(dir);
   return local;
 }
 

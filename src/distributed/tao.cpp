@@ -1,5 +1,5 @@
 // The boxed problem of 6.2 as a bound-constrained quadratic program on PETSc/TAO under MPI
-// (include/cbps/distributed/tao.hpp). The only file that includes PETSc or MPI.
+// (include/cbps/distributed/tao.hpp).
 //
 // References for the methods (docs/distributed.md has the list): the TAO users manual (PETSc
 // 3.18, "TAO: Optimization Solvers", the bound-constrained and quadratic solvers) and the papers
@@ -21,32 +21,11 @@
 #include "cbps/base/error.hpp"
 #include "cbps/distributed/generate.hpp"
 #include "cbps/io/stored_problem.hpp"
+#include "petsc_util.hpp"
 
 namespace cbps::distributed {
 
 namespace {
-
-/// A PETSc error as the contract wants it: ComputationError (exit 1) in a job of one rank; in a
-/// job of several the other ranks may be waiting in a collective call this rank will never
-/// reach, so the whole job is aborted with exit code 1 instead of hanging.
-void check(PetscErrorCode code, const char* call) {
-  if (code == 0) return;
-  const char* text = nullptr;
-  PetscErrorMessage(code, &text, nullptr);
-  const std::string message = std::string("PETSc: ") + call + " failed: " +
-                              (text != nullptr ? text : "error " + std::to_string(code));
-  int initialized = 0;
-  int size = 1;
-  MPI_Initialized(&initialized);
-  if (initialized) MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  if (size > 1) {
-    std::fprintf(stderr, "cbps: %s (aborting all %d ranks)\n", message.c_str(), size);
-    MPI_Abort(PETSC_COMM_WORLD, 1);
-  }
-  throw ComputationError(message);
-}
-
-#define CBPS_PETSC_CHECK(call) check((call), #call)
 
 /// PETSc objects freed when the solve leaves, in any way.
 struct Objects {
@@ -314,51 +293,6 @@ TaoResult solve_tao(const MpiSession& session,
 
 namespace {
 
-/// This rank's rows `local` (global columns) as its rows of a MATAIJ of `columns` global
-/// columns, of which this rank owns [column_begin, column_begin + owned_columns): the rows of
-/// the whole matrix are the ranks' `local` in rank order.
-Mat matrix_from_rows(const SpMatRow& local, long columns, long column_begin, long owned_columns) {
-  Mat M = nullptr;
-  CBPS_PETSC_CHECK(MatCreate(PETSC_COMM_WORLD, &M));
-  CBPS_PETSC_CHECK(MatSetSizes(M,
-                               static_cast<PetscInt>(local.rows()),
-                               static_cast<PetscInt>(owned_columns),
-                               PETSC_DETERMINE,
-                               static_cast<PetscInt>(columns)));
-  // MATAIJ: MATMPIAIJ on more than one rank, MATSEQAIJ on one, where PETSc's default
-  // preconditioner (ILU, inside the Newton and interior-point types' KSP) exists only for the
-  // sequential format; on more ranks the default is block Jacobi with ILU on each rank's block.
-  CBPS_PETSC_CHECK(MatSetType(M, MATAIJ));
-  std::vector<PetscInt> diagonal(static_cast<std::size_t>(local.rows()), 0);
-  std::vector<PetscInt> off_diagonal(static_cast<std::size_t>(local.rows()), 0);
-  for (Eigen::Index i = 0; i < local.outerSize(); ++i)
-    for (SpMatRow::InnerIterator it(local, i); it; ++it) {
-      const bool own_column = it.col() >= column_begin && it.col() < column_begin + owned_columns;
-      ++(own_column ? diagonal : off_diagonal)[static_cast<std::size_t>(i)];
-    }
-  CBPS_PETSC_CHECK(MatMPIAIJSetPreallocation(M, 0, diagonal.data(), 0, off_diagonal.data()));
-  CBPS_PETSC_CHECK(MatSeqAIJSetPreallocation(M, 0, diagonal.data()));
-  PetscInt row_begin = 0;
-  PetscInt row_end = 0;
-  CBPS_PETSC_CHECK(MatGetOwnershipRange(M, &row_begin, &row_end));
-  std::vector<PetscInt> cols;
-  std::vector<PetscScalar> values;
-  for (Eigen::Index i = 0; i < local.outerSize(); ++i) {
-    cols.clear();
-    values.clear();
-    for (SpMatRow::InnerIterator it(local, i); it; ++it) {
-      cols.push_back(static_cast<PetscInt>(it.col()));
-      values.push_back(it.value());
-    }
-    const PetscInt row = row_begin + static_cast<PetscInt>(i);
-    CBPS_PETSC_CHECK(MatSetValues(
-        M, 1, &row, static_cast<PetscInt>(cols.size()), cols.data(), values.data(), INSERT_VALUES));
-  }
-  CBPS_PETSC_CHECK(MatAssemblyBegin(M, MAT_FINAL_ASSEMBLY));
-  CBPS_PETSC_CHECK(MatAssemblyEnd(M, MAT_FINAL_ASSEMBLY));
-  return M;
-}
-
 /// max over this rank's entries of |A_ij|, then over the ranks.
 double largest_entry(Mat A) {
   PetscInt begin = 0;
@@ -375,26 +309,6 @@ double largest_entry(Mat A) {
   double all = 0.0;
   MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
   return all;
-}
-
-/// The whole of v on rank 0 (empty elsewhere); bounds back to ±kInf.
-VecX gather_vector(Vec v) {
-  Vec on_0 = nullptr;
-  VecScatter to_0 = nullptr;
-  CBPS_PETSC_CHECK(VecScatterCreateToZero(v, &to_0, &on_0));
-  CBPS_PETSC_CHECK(VecScatterBegin(to_0, v, on_0, INSERT_VALUES, SCATTER_FORWARD));
-  CBPS_PETSC_CHECK(VecScatterEnd(to_0, v, on_0, INSERT_VALUES, SCATTER_FORWARD));
-  PetscInt size = 0;
-  CBPS_PETSC_CHECK(VecGetLocalSize(on_0, &size));
-  VecX x(size);
-  const PetscScalar* all = nullptr;
-  CBPS_PETSC_CHECK(VecGetArrayRead(on_0, &all));
-  for (PetscInt i = 0; i < size; ++i)
-    x[i] = all[i] >= PETSC_INFINITY ? kInf : all[i] <= PETSC_NINFINITY ? -kInf : all[i];
-  CBPS_PETSC_CHECK(VecRestoreArrayRead(on_0, &all));
-  VecScatterDestroy(&to_0);
-  VecDestroy(&on_0);
-  return x;
 }
 
 /// The whole of A on rank 0 (c×c; 0×0 elsewhere): each rank's rows as triplets, gathered.

@@ -21,6 +21,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cbps/base/types.hpp"
 #include "cbps/system/boxed_problem.hpp"
@@ -43,6 +44,17 @@ struct LocalSystem {
   /// Read from a file: A's symmetry is not known and is checked on the distributed matrix
   /// before the solve (generated rows are symmetric by construction, J Minv Jᵀ).
   bool check_symmetric = false;
+  /// For the exact path under MPI (exact.hpp), which works in body space and never forms A
+  /// (A is then empty): this rank's rows of J (rows()×6n, kg⁻¹ᐟ² units of 5.1: N per unit λ),
+  /// and the rows [6 first_body, 6 (first_body + bodies)) of Minv (6n×6n, block diagonal, kg⁻¹
+  /// and kg⁻¹ m⁻²): the bodies split_ownership gives this rank.
+  SpMatRow J;
+  SpMatRow Minv;
+  long first_body = 0;
+  long bodies = 0;
+  /// These bodies' mass matrices, their 6×6 blocks of Minv inverted (kg, kg m²; 6.1.2): what
+  /// body space factors beside Jᵀ D⁻¹ J.
+  std::vector<Eigen::Matrix<double, 6, 6>> M;
   long rows() const { return static_cast<long>(b.size()); }
 };
 
@@ -63,6 +75,15 @@ LocalSystem generate_chain(const std::map<std::string, std::string>& values, int
 /// rank parses the whole files but stores only its rows, so no rank holds the problem.
 /// J, Minv, v1 and fext are not read. Throws InputError naming the file and line.
 LocalSystem read_folder_rows(const std::string& dir, int rank, int size);
+
+/// Rank `rank` of `size`'s part of the `cbps matrices` folder `dir` for the exact path under MPI:
+/// its rows of J, b, cmin and cmax (split_ownership of the c rows), its bodies' rows of Minv
+/// (split_ownership of the n = columns / 6 bodies) with their mass matrices, and cfm.txt's eps;
+/// A is not read. The sizes are checked as read_problem checks them, and Minv's blocks (block
+/// diagonal, each symmetric positive definite); every rank parses the whole files but stores only
+/// its part. Throws InputError naming the file and line or body, or saying the folder has no J
+/// or Minv.
+LocalSystem read_folder_factors(const std::string& dir, int rank, int size);
 
 /// Rank `rank` of `size`'s rows of a problem one process holds whole (a Siconos file, read by
 /// every rank): A's rows (with `cfm` on the diagonal), b, cmin, cmax.

@@ -438,7 +438,8 @@ CrossoverOutcome bulk_crossover(const InteriorRows& rows,
       }
       if (refactor && !newton.factor(d, dropped)) return out;
       refactor = false;
-      if (!newton.solve(d, dropped, r, dx, kRefinements) || !all.all(dx.allFinite())) return out;
+      const bool finite = newton.solve(d, dropped, r, dx, kRefinements);
+      if (!all.all(finite)) return out;  // every rank's answer: the same return everywhere
       ++out.steps;
       // The Newton step of the free rows, clamped into the box.
       long clamped = 0;
