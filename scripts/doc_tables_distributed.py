@@ -28,6 +28,40 @@ def _tao_measured(src):
 
 
 # ---------------------------------------------------------------------------------------------
+# The exact path under MPI (scripts/measure_direct_mpi.py: bench/results/direct-mpi-*.json).
+
+DIRECT_MPI = "bench/results/direct-mpi-amd-epyc-2cpu.json"
+
+
+def _direct_cells(run):
+    d = run.get("direct")
+    if d is None:
+        counts = run.get("tao", {}).get("reason", "–")
+    else:
+        counts = (f"{d['interior_iterations']} + {d['crossover_steps']} steps, "
+                  f"{d['factorizations']} factorizations, {d['low_rank_rows']} low-rank rows")
+    memory = ", ".join(str(round(m)) for m in run.get("rank_memory_mb", [])) or "–"
+    return [run["status"], sci(run["residual_N"]), sci(run["residual_N"] / run["scale"]),
+            dur(run["solve_s"]), dur(run["process_s"]), memory, counts]
+
+
+@generator("direct-mpi", DIRECT_MPI)
+def _direct_mpi(src):
+    r = src.json(DIRECT_MPI)
+    rows = []
+    for f in need(r, "folders", where=DIRECT_MPI):
+        name = f"{f['folder']} ({thousands(f['rows'])} rows)"
+        rows.append([name, "`direct`, one process"] + _direct_cells(f["serial"]))
+        for run in f["mpi"]:
+            rows.append(["", f"`direct`, `mpirun -n {run['ranks']}`"] + _direct_cells(run))
+        for run in f["tao"]:
+            rows.append(["", f"`{run['tao']['type']}`, `mpirun -n {run['ranks']}`, 300 iterations"]
+                        + _direct_cells(run))
+    return table(("folder", "solver", "status", "residual (N)", "relative", "solve",
+                  "process", "memory per rank (MB)", "what it did"), rows, "llllrrrrl")
+
+
+# ---------------------------------------------------------------------------------------------
 # The generated chain (scripts/measure_generate.py: validation/results/distributed/generate.json).
 
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/system/boxed_problem.hpp"
@@ -365,174 +366,237 @@ InteriorOutcome run_interior_point(const InteriorRows& rows,
   return InteriorPoint(rows, newton, all, options).run(lambda);
 }
 
+namespace {
+
+/// bulk_crossover's state and its named steps (interior_point.hpp describes the method).
+class BulkCrossover {
+ public:
+  BulkCrossover(const InteriorRows& rows,
+                NewtonSystem& newton,
+                const RowReduction& all,
+                const SolverOptions& options,
+                std::vector<Place> place,
+                VecX& lambda)
+      : rows_(rows),
+        newton_(newton),
+        all_(all),
+        options_(options),
+        k_(rows, all),
+        c_(rows.b.size()),
+        place_(std::move(place)),
+        lambda_(lambda),
+        epsilon_(kProximalEpsilon * k_.max_diagonal),
+        d_(VecX::Constant(c_, epsilon_)),
+        dropped_(std::size_t(c_), 0),
+        g_(c_),
+        r_(c_),
+        trial_(c_) {}
+
+  CrossoverOutcome run() {
+    at_place();
+    const double epsilon_floor = options_.direct.epsilon_floor * k_.max_diagonal;
+    for (;; ++out_.rounds) {
+      update_w(lambda_, w_);
+      out_.residual = all_.max(natural_map_residual(w_, lambda_, rows_.cmin, rows_.cmax));
+      const double floor = residual_floor_of(rows_.row_sum, k_.b_norm, all_.max(max_abs(lambda_)));
+      if (may_stop(out_.residual, r_before_, options_.tolerance, floor)) {
+        out_.solved = true;
+        return out_;
+      }
+      if (out_.rounds >= options_.direct.max_outer_iterations || !std::isfinite(out_.residual))
+        return out_;
+      // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
+      // block: once the partition holds and a step no longer halves the residual, a smaller ε.
+      if (settled_ && out_.residual > 0.5 * r_before_ && epsilon_ > epsilon_floor) {
+        epsilon_ = std::max(epsilon_ / kEpsilonStep, epsilon_floor);
+        d_.setConstant(epsilon_);
+        refactor_ = true;
+      }
+      r_before_ = out_.residual;
+      if (!proximal_step()) return out_;
+    }
+  }
+
+ private:
+  /// w = A x − b.
+  void update_w(const VecX& x, VecX& w) const {
+    newton_.times_A(x, w);
+    w -= rows_.b;
+  }
+
+  /// Bound rows to their bounds, dropped rows from the places; true when any rank's dropped
+  /// rows changed.
+  bool at_place() {
+    long changed = 0;
+    for (Eigen::Index i = 0; i < c_; ++i) {
+      const std::size_t K = std::size_t(i);
+      if (place_[K] == Place::Lower || place_[K] == Place::Fixed) lambda_(i) = rows_.cmin(i);
+      if (place_[K] == Place::Upper) lambda_(i) = rows_.cmax(i);
+      const char drop = place_[K] != Place::Free;
+      changed += drop != dropped_[K];
+      dropped_[K] = drop;
+    }
+    const bool any = all_.sum(static_cast<double>(changed)) > 0.0;
+    refactor_ = refactor_ || any;
+    return any;
+  }
+
+  /// This process's part of q(x) − q(λ) for the subproblem's q with g its gradient at λ and
+  /// w_x = A x − b: gᵀδ + ½ δᵀ(w_x − w) + ε/2 |δ|², δ = x − λ, formed from the gradients
+  /// (near the answer q's values differ by less than their rounding).
+  double q_change(const VecX& x, const VecX& w_x) const {
+    double change = 0.0;
+    for (Eigen::Index i = 0; i < c_; ++i) {
+      const double delta = x(i) - lambda_(i);
+      change += g_(i) * delta + 0.5 * delta * (w_x(i) - w_(i)) + 0.5 * epsilon_ * delta * delta;
+    }
+    return change;
+  }
+
+  /// The proximal subproblem min q(x) = ½ xᵀAx − bᵀx + ε/2 |x − center|² over the box
+  /// (strongly convex: its free block A_FF + ε I is definite), by a primal active-set method
+  /// from x = center = λ, its gradient g = w + ε (x − center), at most kInnerRounds rounds.
+  /// False when a factorization or a solve failed.
+  bool proximal_step() {
+    center_ = lambda_;
+    release_one_ = false;
+    settled_ = true;
+    for (int inner = 0; inner < kInnerRounds; ++inner) {
+      for (Eigen::Index i = 0; i < c_; ++i) {
+        g_(i) = w_(i) + epsilon_ * (lambda_(i) - center_(i));
+        r_(i) = dropped_[std::size_t(i)] ? 0.0 : -g_(i);
+      }
+      if (refactor_ && !newton_.factor(d_, dropped_)) return false;
+      refactor_ = false;
+      const bool finite = newton_.solve(d_, dropped_, r_, dx_, kRefinements);
+      if (!all_.all(finite)) return false;  // every rank's answer: the same return everywhere
+      ++out_.steps;
+      // The Newton step of the free rows, clamped into the box.
+      long clamped = 0;
+      for (Eigen::Index i = 0; i < c_; ++i) {
+        trial_(i) = lambda_(i) + dx_(i);
+        if (trial_(i) < rows_.cmin(i) || trial_(i) > rows_.cmax(i)) {
+          trial_(i) = clamp(trial_(i), rows_.cmin(i), rows_.cmax(i));
+          ++clamped;
+        }
+      }
+      update_w(trial_, w_trial_);
+      if (all_.sum(static_cast<double>(clamped)) == 0.0) {
+        // A full step: λ minimises the subproblem on this face.
+        lambda_.swap(trial_);
+        w_.swap(w_trial_);
+        if (!free_rows()) break;  // no bound row pulls inwards: the subproblem is solved
+        continue;
+      }
+      block_rows();
+    }
+    return true;
+  }
+
+  /// After a full step: every bound row whose gradient pulls it inwards (g / A_kk > 0, N) is
+  /// freed, or after a blocked step of length 0 only the worst (the serial crossover's rule,
+  /// active_set.cpp: rows freed together may block each other at once again). False when none.
+  bool free_rows() {
+    const auto violation = [&](Eigen::Index i) {
+      const std::size_t K = std::size_t(i);
+      const double gi = w_(i) + epsilon_ * (lambda_(i) - center_(i));
+      return place_[K] == Place::Lower   ? -gi / k_.a(i)
+             : place_[K] == Place::Upper ? gi / k_.a(i)
+                                         : 0.0;
+    };
+    double worst = 0.0;
+    for (Eigen::Index i = 0; i < c_; ++i) worst = std::max(worst, violation(i));
+    worst = all_.max(worst);
+    if (!(worst > 0.0)) return false;
+    long freed = 0;
+    for (Eigen::Index i = 0; i < c_; ++i) {
+      const double v = violation(i);
+      if (v > 0.0 && (!release_one_ || v >= worst)) {
+        place_[std::size_t(i)] = Place::Free;
+        ++freed;
+      }
+    }
+    out_.moved += static_cast<long>(all_.sum(static_cast<double>(freed)));
+    at_place();
+    settled_ = false;
+    return true;
+  }
+
+  /// Rows past a bound. The clamped step (in trial_, w_trial_) is taken, the rows it clamps
+  /// going to their bounds all at once, when it lowers q; otherwise the step stops at the first
+  /// bound a row reaches (α ≤ 1 along a descent direction on this face: q falls), and the rows
+  /// reaching theirs there (within kTie of their own step) block. Either way q falls, so the
+  /// partitions never cycle.
+  void block_rows() {
+    if (all_.sum(q_change(trial_, w_trial_)) < 0.0) {
+      lambda_.swap(trial_);
+      w_.swap(w_trial_);
+    } else {
+      double alpha = 1.0;
+      for (Eigen::Index i = 0; i < c_; ++i) {
+        if (lambda_(i) + dx_(i) < rows_.cmin(i))
+          alpha = std::min(alpha, (rows_.cmin(i) - lambda_(i)) / dx_(i));
+        if (lambda_(i) + dx_(i) > rows_.cmax(i))
+          alpha = std::min(alpha, (rows_.cmax(i) - lambda_(i)) / dx_(i));
+      }
+      alpha = std::max(all_.min(alpha), 0.0);
+      release_one_ = release_one_ || alpha == 0.0;
+      for (Eigen::Index i = 0; i < c_; ++i) {
+        const double x = lambda_(i) + alpha * dx_(i);
+        const double tie = kTie * std::abs(dx_(i));
+        lambda_(i) = dx_(i) < 0.0 && x <= rows_.cmin(i) + tie   ? rows_.cmin(i)
+                     : dx_(i) > 0.0 && x >= rows_.cmax(i) - tie ? rows_.cmax(i)
+                                                                : x;
+      }
+      update_w(lambda_, w_);
+    }
+    long blocked = 0;
+    for (Eigen::Index i = 0; i < c_; ++i) {
+      const std::size_t K = std::size_t(i);
+      if (place_[K] != Place::Free) continue;
+      // Only rows moving out of the box block: after a step of 0, a row just freed at its
+      // bound whose step points inwards stays free.
+      if (k_.lower[K] && dx_(i) < 0.0 && lambda_(i) <= rows_.cmin(i))
+        place_[K] = Place::Lower;
+      else if (k_.upper[K] && dx_(i) > 0.0 && lambda_(i) >= rows_.cmax(i))
+        place_[K] = Place::Upper;
+      else
+        continue;
+      ++blocked;
+    }
+    out_.moved += static_cast<long>(all_.sum(static_cast<double>(blocked)));
+    at_place();
+    settled_ = false;
+  }
+
+  const InteriorRows& rows_;
+  NewtonSystem& newton_;
+  const RowReduction& all_;
+  const SolverOptions& options_;
+  const Bounds k_;
+  const Eigen::Index c_;
+  std::vector<Place> place_;
+  VecX& lambda_;
+  double epsilon_;  ///< the proximal ε, kg⁻¹
+  VecX d_;          ///< ε on every row: the Newton system's diagonal
+  std::vector<char> dropped_;
+  VecX w_, g_, r_, dx_, center_, trial_, w_trial_;
+  bool refactor_ = true;      ///< the partition or ε changed since the last factorization
+  bool settled_ = false;      ///< the last proximal step moved no row
+  bool release_one_ = false;  ///< a blocked step made no progress: free one row at a time
+  double r_before_ = std::numeric_limits<double>::infinity();
+  CrossoverOutcome out_;
+};
+
+}  // namespace
+
 CrossoverOutcome bulk_crossover(const InteriorRows& rows,
                                 NewtonSystem& newton,
                                 const RowReduction& all,
                                 const SolverOptions& options,
                                 std::vector<Place> place,
                                 VecX& lambda) {
-  const Bounds k(rows, all);
-  const Eigen::Index c = rows.b.size();
-  double epsilon = kProximalEpsilon * k.max_diagonal;  // kg⁻¹
-  const double epsilon_floor = options.direct.epsilon_floor * k.max_diagonal;
-  CrossoverOutcome out;
-  VecX d = VecX::Constant(c, epsilon);
-  bool settled = false;  // the last proximal step moved no row
-  std::vector<char> dropped(std::size_t(c), 0);
-  VecX w, g(c), r(c), dx, center, trial(c), w_trial;
-  bool refactor = true;  // the partition or ε changed since the last factorization
-  // This process's part of q(x') − q(λ) for the subproblem's q (below) with g its gradient at λ
-  // and w' = A x' − b: gᵀδ + ½ δᵀ(w' − w) + ε/2 |δ|², δ = x' − λ, formed from the gradients
-  // (near the answer q's values differ by less than their rounding).
-  const auto q_change = [&](const VecX& gradient, const VecX& x, const VecX& w_x) {
-    double change = 0.0;
-    for (Eigen::Index i = 0; i < c; ++i) {
-      const double delta = x(i) - lambda(i);
-      change += gradient(i) * delta + 0.5 * delta * (w_x(i) - w(i)) + 0.5 * epsilon * delta * delta;
-    }
-    return change;
-  };
-  double r_before = std::numeric_limits<double>::infinity();
-  const auto at_place = [&]() {
-    long changed = 0;
-    for (Eigen::Index i = 0; i < c; ++i) {
-      const std::size_t K = std::size_t(i);
-      if (place[K] == Place::Lower || place[K] == Place::Fixed) lambda(i) = rows.cmin(i);
-      if (place[K] == Place::Upper) lambda(i) = rows.cmax(i);
-      const char drop = place[K] != Place::Free;
-      changed += drop != dropped[K];
-      dropped[K] = drop;
-    }
-    return all.sum(static_cast<double>(changed)) > 0.0;
-  };
-  at_place();
-  for (;; ++out.rounds) {
-    newton.times_A(lambda, w);
-    w -= rows.b;
-    out.residual = all.max(natural_map_residual(w, lambda, rows.cmin, rows.cmax));
-    const double floor = residual_floor_of(rows.row_sum, k.b_norm, all.max(max_abs(lambda)));
-    if (may_stop(out.residual, r_before, options.tolerance, floor)) {
-      out.solved = true;
-      return out;
-    }
-    if (out.rounds >= options.direct.max_outer_iterations || !std::isfinite(out.residual))
-      return out;
-    // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
-    // block: once the partition holds and a step no longer halves the residual, a smaller ε.
-    if (settled && out.residual > 0.5 * r_before && epsilon > epsilon_floor) {
-      epsilon = std::max(epsilon / kEpsilonStep, epsilon_floor);
-      d.setConstant(epsilon);
-      refactor = true;
-    }
-    r_before = out.residual;
-    // The proximal subproblem min q(x) = ½ xᵀAx − bᵀx + ε/2 |x − center|² over the box
-    // (strongly convex: its free block A_FF + ε I is definite), by a primal active-set method
-    // from x = center = λ, its gradient g = w + ε (x − center).
-    center = lambda;
-    bool release_one = false;  // a blocked step made no progress: free one row at a time
-    settled = true;
-    for (int inner = 0; inner < kInnerRounds; ++inner) {
-      for (Eigen::Index i = 0; i < c; ++i) {
-        g(i) = w(i) + epsilon * (lambda(i) - center(i));
-        r(i) = dropped[std::size_t(i)] ? 0.0 : -g(i);
-      }
-      if (refactor && !newton.factor(d, dropped)) return out;
-      refactor = false;
-      const bool finite = newton.solve(d, dropped, r, dx, kRefinements);
-      if (!all.all(finite)) return out;  // every rank's answer: the same return everywhere
-      ++out.steps;
-      // The Newton step of the free rows, clamped into the box.
-      long clamped = 0;
-      for (Eigen::Index i = 0; i < c; ++i) {
-        trial(i) = lambda(i) + dx(i);
-        if (trial(i) < rows.cmin(i) || trial(i) > rows.cmax(i)) {
-          trial(i) = clamp(trial(i), rows.cmin(i), rows.cmax(i));
-          ++clamped;
-        }
-      }
-      clamped = static_cast<long>(all.sum(static_cast<double>(clamped)));
-      newton.times_A(trial, w_trial);
-      w_trial -= rows.b;
-      if (clamped == 0) {
-        // A full step: λ minimises the subproblem on this face. Free every bound row whose
-        // gradient pulls it inwards (g / A_kk > 0, N); none: the subproblem is solved.
-        lambda.swap(trial);
-        w.swap(w_trial);
-        // After a blocked step of length 0 only the worst row is freed (the serial crossover's
-        // rule, active_set.cpp): rows freed together may block each other at once again.
-        const auto violation = [&](Eigen::Index i) {
-          const std::size_t K = std::size_t(i);
-          const double gi = w(i) + epsilon * (lambda(i) - center(i));
-          return place[K] == Place::Lower   ? -gi / k.a(i)
-                 : place[K] == Place::Upper ? gi / k.a(i)
-                                            : 0.0;
-        };
-        double worst = 0.0;
-        for (Eigen::Index i = 0; i < c; ++i) worst = std::max(worst, violation(i));
-        worst = all.max(worst);
-        if (!(worst > 0.0)) break;
-        long freed = 0;
-        for (Eigen::Index i = 0; i < c; ++i) {
-          const double v = violation(i);
-          if (v > 0.0 && (!release_one || v >= worst)) {
-            place[std::size_t(i)] = Place::Free;
-            ++freed;
-          }
-        }
-        freed = static_cast<long>(all.sum(static_cast<double>(freed)));
-        out.moved += freed;
-        refactor = at_place() || refactor;
-        settled = false;
-        continue;
-      }
-      // Rows past a bound. The clamped step is taken, the rows it clamps going to their bounds
-      // all at once, when it lowers the subproblem's objective q; otherwise the step stops at the
-      // first bound a row reaches (α ≤ 1 along a descent direction on this face: q falls), and
-      // the rows reaching it there (within kTie of their own step) block. Either way q falls, so
-      // the partitions never cycle.
-      const bool taken = all.sum(q_change(g, trial, w_trial)) < 0.0;
-      if (taken) {
-        lambda.swap(trial);
-        w.swap(w_trial);
-      } else {
-        double alpha = 1.0;
-        for (Eigen::Index i = 0; i < c; ++i) {
-          if (lambda(i) + dx(i) < rows.cmin(i))
-            alpha = std::min(alpha, (rows.cmin(i) - lambda(i)) / dx(i));
-          if (lambda(i) + dx(i) > rows.cmax(i))
-            alpha = std::min(alpha, (rows.cmax(i) - lambda(i)) / dx(i));
-        }
-        alpha = std::max(all.min(alpha), 0.0);
-        release_one = release_one || alpha == 0.0;
-        for (Eigen::Index i = 0; i < c; ++i) {
-          const double x = lambda(i) + alpha * dx(i);
-          // The rows at the first bound (to rounding) block there.
-          lambda(i) = dx(i) < 0.0 && x <= rows.cmin(i) + kTie * std::abs(dx(i))   ? rows.cmin(i)
-                      : dx(i) > 0.0 && x >= rows.cmax(i) - kTie * std::abs(dx(i)) ? rows.cmax(i)
-                                                                                  : x;
-        }
-        newton.times_A(lambda, w);
-        w -= rows.b;
-      }
-      long blocked = 0;
-      for (Eigen::Index i = 0; i < c; ++i) {
-        const std::size_t K = std::size_t(i);
-        if (place[K] != Place::Free) continue;
-        // Only rows moving out of the box block: after a step of 0, a row just freed at its
-        // bound whose step points inwards stays free.
-        if (k.lower[K] && dx(i) < 0.0 && lambda(i) <= rows.cmin(i))
-          place[K] = Place::Lower;
-        else if (k.upper[K] && dx(i) > 0.0 && lambda(i) >= rows.cmax(i))
-          place[K] = Place::Upper;
-        else
-          continue;
-        ++blocked;
-      }
-      out.moved += static_cast<long>(all.sum(static_cast<double>(blocked)));
-      refactor = at_place() || refactor;
-      settled = false;
-    }
-  }
+  return BulkCrossover(rows, newton, all, options, std::move(place), lambda).run();
 }
 
 }  // namespace cbps
