@@ -55,8 +55,8 @@ def _direct_mpi(src):
         for run in f["mpi"]:
             rows.append(["", f"`direct`, `mpirun -n {run['ranks']}`"] + _direct_cells(run))
         for run in f["tao"]:
-            rows.append(["", f"`{run['tao']['type']}`, `mpirun -n {run['ranks']}`, 300 iterations"]
-                        + _direct_cells(run))
+            rows.append(["", f"`tao:{run['tao']['type']}`, `mpirun -n {run['ranks']}`, "
+                             f"{r['tao_iterations']} iterations"] + _direct_cells(run))
     return table(("folder", "solver", "status", "residual (N)", "relative", "solve",
                   "process", "memory per rank (MB)", "what it did"), rows, "llllrrrrl")
 

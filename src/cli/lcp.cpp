@@ -549,7 +549,9 @@ void register_lcp(CLI::App& app, Action& run) {
           "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
           "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
           "`mpirun -n N` (symmetric A; TYPE one of " +
-          distributed::tao_type_list() + "; only in a build with PETSc, docs/distributed.md)");
+          distributed::tao_type_list() + "; only in a build with PETSc, docs/distributed.md); "
+          "direct under `mpirun -n N` (any N) is the exact path across the ranks, each reading "
+          "its rows of a folder's J and Minv (docs/distributed.md#the-exact-path-under-mpi)");
   cmd->add_option("--iterations",
                   o->iterations,
                   "the iterative methods (all but direct, active-set and lemke): at most this "
