@@ -242,6 +242,8 @@ def mode_bad_input(cbps, root):
     chain = os.path.join(root, "chain")
     foreign = os.path.join(root, "foreign-out")
     os.makedirs(foreign, exist_ok=True)
+    # A leftover of an earlier run would hide a refused command's write below.
+    shutil.rmtree(os.path.join(root, "one-process"), ignore_errors=True)
     with open(os.path.join(foreign, "mine.txt"), "w") as f:
         f.write("a user's file\n")
     nonsym = os.path.join(root, "nonsym.dat")
@@ -256,7 +258,7 @@ def mode_bad_input(cbps, root):
         (["lcp", chain, "--solver", "tao:bqpip", "--out", foreign], "mine.txt"),
         # A command that runs in one process is refused under mpirun -n 2, said once, with
         # nothing written (before, each rank solved, printed and wrote --out at once).
-        (["lcp", chain, "--solver", "direct", "--out", os.path.join(root, "one-process")],
+        (["lcp", chain, "--solver", "pgs", "--out", os.path.join(root, "one-process")],
          "without mpirun"),
         (["run", "chain", "--steps", "2", "--out", os.path.join(root, "one-process")],
          "without mpirun"),
