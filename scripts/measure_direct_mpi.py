@@ -31,8 +31,6 @@ import platform
 import shlex
 import shutil
 import sys
-import tempfile
-import time
 
 import measure_peers as peers  # run(), BINARY, git_commit(), write_results()
 
@@ -105,12 +103,7 @@ def main():
     ap.add_argument("--work")
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
-    start = time.monotonic()
-    work = os.path.abspath(args.work or tempfile.mkdtemp(prefix="cbps_measure_direct_mpi_"))
-    os.makedirs(work, exist_ok=True)
-    cbps = os.path.abspath(args.cbps)
-    peers.BINARY.update(path=cbps, mtime=os.stat(cbps).st_mtime)
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    start, work, cbps, root = peers.begin(args, "cbps_measure_direct_mpi_")
     results = {"format": FORMAT,
                "command": shlex.join(["scripts/measure_direct_mpi.py"] + sys.argv[1:]),
                "cbps_commit": peers.git_commit(root),

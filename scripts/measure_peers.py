@@ -281,6 +281,18 @@ def git_commit(root):
     return r.stdout.strip() if r.returncode == 0 else None
 
 
+def begin(args, prefix):
+    """The common start of a measure_*.py that runs CBPS through run(): its clock, its work
+    folder (--work, else a new temporary one named PREFIX...), CBPS's path and modification time
+    (BINARY, checked by run()) and the repository's root, as (start, work, cbps, root)."""
+    start = time.monotonic()
+    work = os.path.abspath(args.work or tempfile.mkdtemp(prefix=prefix))
+    os.makedirs(work, exist_ok=True)
+    cbps = os.path.abspath(args.cbps)
+    BINARY.update(path=cbps, mtime=os.stat(cbps).st_mtime)
+    return start, work, cbps, os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("cbps")

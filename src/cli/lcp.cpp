@@ -27,6 +27,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -296,6 +297,41 @@ struct TaoReport {
   std::vector<double> memory;
 };
 
+/// "1 rank", "2 ranks".
+std::string ranks_text(const distributed::MpiSession& session) {
+  return std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
+}
+
+/// What every distributed report adds (ranks, each rank's memory, the time to read or build the
+/// rows) and its facts (rows, cfm, the scale measured on the distributed problem), then report().
+int report_ranks(const LcpOptions& o,
+                 const distributed::MpiSession& session,
+                 const distributed::LocalSystem& local,
+                 const TaoReport& at,
+                 const LcpOutcome& r,
+                 double scale,
+                 OutcomeExtras& extras,
+                 OutputDir* dir) {
+  extras.fields["ranks"] = session.size();
+  if (!o.generate.empty())
+    extras.fields["generated"] = {{"scene", o.generate},
+                                  {"description", local.description},
+                                  {"step", 0},
+                                  {"wall_time_s", at.read_wall}};
+  else
+    extras.fields["read_wall_time_s"] = at.read_wall;
+  extras.fields["rank_memory_mb"] = at.memory;
+  LcpFacts facts;
+  facts.rows = at.rows;
+  facts.cfm = local.cfm;
+  facts.kind = at.kind + " on " + ranks_text(session);
+  facts.scale = scale;
+  facts.lambda_in_json = at.rows <= kMaxGatheredRows;
+  LcpOptions named = o;
+  named.problem = local.description;
+  return report(named, facts, o.solver, r, at.wall, dir, extras);
+}
+
 /// Rank 0's report of TAO's answer, through the same report() as every solver (the residual
 /// and scale measured on the distributed vectors); the exit code.
 int report_tao(const LcpOptions& o,
@@ -311,8 +347,7 @@ int report_tao(const LcpOptions& o,
                      "lambda, whose gradient is A lambda - b only then); max |A - A^T| = " +
                      number_text(t.asymmetry) + "; `cbps lcp --solver lemke` solves any square A");
   if (system_dir != nullptr) write_gathered(t.gathered, local.description, *system_dir);
-  const std::string ranks =
-      std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
+  const std::string ranks = ranks_text(session);
   LcpOutcome r;
   r.lambda = t.lambda;
   r.iterations = t.iterations;
@@ -322,30 +357,13 @@ int report_tao(const LcpOptions& o,
               ranks;
   OutcomeExtras extras;
   extras.residual = t.residual;
-  extras.fields["ranks"] = session.size();
   extras.fields["tao"] = {{"type", at.type},
                           {"reason", t.reason},
                           {"converged", t.converged},
                           {"stop", t.stop},
                           {"measure", number_json(t.tao_residual)},
                           {"gatol", o.tolerance}};
-  if (!o.generate.empty())
-    extras.fields["generated"] = {{"scene", o.generate},
-                                  {"description", local.description},
-                                  {"step", 0},
-                                  {"wall_time_s", at.read_wall}};
-  else
-    extras.fields["read_wall_time_s"] = at.read_wall;
-  extras.fields["rank_memory_mb"] = at.memory;
-  LcpFacts facts;
-  facts.rows = at.rows;
-  facts.cfm = local.cfm;
-  facts.kind = at.kind + " on " + ranks;
-  facts.scale = t.scale;
-  facts.lambda_in_json = at.rows <= kMaxGatheredRows;
-  LcpOptions named = o;
-  named.problem = local.description;
-  return report(named, facts, o.solver, r, at.wall, dir, extras);
+  return report_ranks(o, session, local, at, r, t.scale, extras, dir);
 }
 
 /// Rank 0's report of the exact path under MPI, through the same report() as every solver.
@@ -355,17 +373,16 @@ int report_direct(const LcpOptions& o,
                   distributed::DirectResult& d,
                   const TaoReport& at,
                   OutputDir* dir) {
-  const std::string ranks =
-      std::to_string(session.size()) + (session.size() == 1 ? " rank" : " ranks");
+  const std::string ranks = ranks_text(session);
   LcpOutcome r;
   r.lambda = d.lambda;
   r.iterations = d.iterations;
   r.space = "body";
-  r.space_reason = "body: J and Minv read by rows, H = M + Jt D^-1 J factored by SuperLU_dist on " + ranks;
+  r.space_reason =
+      "body: J and Minv read by rows, H = M + Jt D^-1 J factored by SuperLU_dist on " + ranks;
   r.message = d.message;
   OutcomeExtras extras;
   extras.residual = d.residual;
-  extras.fields["ranks"] = session.size();
   extras.fields["direct"] = {{"solved", d.solved},
                              {"interior_iterations", d.iterations},
                              {"crossover_steps", d.crossover},
@@ -373,17 +390,26 @@ int report_direct(const LcpOptions& o,
                              {"rows_moved", d.moved},
                              {"factorizations", d.factorizations},
                              {"low_rank_rows", d.updates}};
-  extras.fields["read_wall_time_s"] = at.read_wall;
-  extras.fields["rank_memory_mb"] = at.memory;
-  LcpFacts facts;
-  facts.rows = at.rows;
-  facts.cfm = local.cfm;
-  facts.kind = at.kind + " on " + ranks;
-  facts.scale = d.scale;
-  facts.lambda_in_json = at.rows <= kMaxGatheredRows;
-  LcpOptions named = o;
-  named.problem = local.description;
-  return report(named, facts, o.solver, r, at.wall, dir, extras);
+  return report_ranks(o, session, local, at, r, d.scale, extras, dir);
+}
+
+/// `report()` (rank 0's report, returning its exit code) run on rank 0 alone; every rank returns
+/// that code. An exception on rank 0 is rethrown there (main reports it, exit 2 or 1) once every
+/// rank has the code, so none waits for rank 0.
+int reported_by_rank_0(const distributed::MpiSession& session, const std::function<int()>& report) {
+  int code = 1;
+  std::exception_ptr failure;
+  if (session.rank() == 0) {
+    try {
+      code = report();
+    } catch (...) {
+      failure = std::current_exception();
+      code = exit_code_of(failure);
+    }
+  }
+  code = session.broadcast(code);
+  if (failure) std::rethrow_exception(failure);
+  return code;
 }
 
 /// `cbps lcp PROBLEM --solver tao:TYPE` and `cbps lcp --generate chain --rows N --solver
@@ -422,37 +448,16 @@ int lcp_distributed_command(const LcpOptions& o) {
     return code;
   }
 
-  int code = 1;
   if (is_distributed_direct(o)) {
     SolverOptions options;
     options.method = Method::Direct;
     options.tolerance = o.tolerance;
-    std::optional<distributed::DirectResult> d;
     const auto start = std::chrono::steady_clock::now();
-    try {
-      d = distributed::solve_direct_local(session, *local, options);
-    } catch (...) {
-      failure = std::current_exception();  // bad Minv blocks, found by the rank that holds them
-    }
-    const int first_bad = session.first_failing_rank(failure != nullptr);
-    if (first_bad < session.size()) {
-      code = session.broadcast(failure ? exit_code_of(failure) : 0, first_bad);
-      if (session.rank() == first_bad) std::rethrow_exception(failure);
-      return code;
-    }
+    distributed::DirectResult d = distributed::solve_direct_local(session, *local, options);
     at.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     at.memory = session.gather(peak_memory_mb());
-    if (session.rank() == 0) {
-      try {
-        code = report_direct(o, session, *local, *d, at, dir.get());
-      } catch (...) {
-        failure = std::current_exception();
-        code = exit_code_of(failure);
-      }
-    }
-    code = session.broadcast(code);
-    if (failure) std::rethrow_exception(failure);
-    return code;
+    return reported_by_rank_0(session,
+                              [&] { return report_direct(o, session, *local, d, at, dir.get()); });
   }
   distributed::TaoOptions options;
   options.type = at.type;
@@ -463,19 +468,8 @@ int lcp_distributed_command(const LcpOptions& o) {
       distributed::solve_tao_local(session, *local, options, !o.write_system.empty());
   at.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   at.memory = session.gather(peak_memory_mb());
-
-  failure = nullptr;
-  if (session.rank() == 0) {
-    try {
-      code = report_tao(o, session, *local, t, at, dir.get(), system_dir.get());
-    } catch (...) {
-      failure = std::current_exception();
-      code = exit_code_of(failure);
-    }
-  }
-  code = session.broadcast(code);
-  if (failure) std::rethrow_exception(failure);
-  return code;
+  return reported_by_rank_0(
+      session, [&] { return report_tao(o, session, *local, t, at, dir.get(), system_dir.get()); });
 }
 #endif
 
@@ -549,7 +543,8 @@ void register_lcp(CLI::App& app, Action& run) {
           "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
           "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
           "`mpirun -n N` (symmetric A; TYPE one of " +
-          distributed::tao_type_list() + "; only in a build with PETSc, docs/distributed.md); "
+          distributed::tao_type_list() +
+          "; only in a build with PETSc, docs/distributed.md); "
           "direct under `mpirun -n N` (any N) is the exact path across the ranks, each reading "
           "its rows of a folder's J and Minv (docs/distributed.md#the-exact-path-under-mpi)");
   cmd->add_option("--iterations",

@@ -35,8 +35,7 @@ std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& file)
     for (SpMatRow::InnerIterator it(local.Minv, i); it; ++it) {
       const long body = (local.first_body * 6 + i) / 6;
       if (it.col() / 6 != body)
-        throw InputError(file + ": entry (" +
-                         std::to_string(local.first_body * 6 + i + 1) + ", " +
+        throw InputError(file + ": entry (" + std::to_string(local.first_body * 6 + i + 1) + ", " +
                          std::to_string(it.col() + 1) +
                          ") couples two bodies; body space needs Minv block diagonal (6.1.2)");
       blocks[std::size_t(body - local.first_body)](i % 6, it.col() % 6) = it.value();
@@ -54,6 +53,33 @@ std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& file)
   return M;
 }
 
+/// b, cmin and cmax have the c rows of `matrix` (A or J), as read_problem checks.
+void check_vector_sizes(const std::string& dir, long c, const char* matrix) {
+  for (const char* name : {"b.mtx", "cmin.mtx", "cmax.mtx"}) {
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    const long n = read_matrix_market_size(path).first;
+    if (n != c)
+      throw InputError(path + ": has " + std::to_string(n) + " rows, " + matrix + " has " +
+                       std::to_string(c));
+  }
+}
+
+/// This rank's rows `mine` of b, cmin and cmax (their bounds checked) and cfm.txt's eps.
+void read_vectors(LocalSystem& local, const std::string& dir, RowRange mine) {
+  const auto file = [&](const char* name) { return (std::filesystem::path(dir) / name).string(); };
+  local.b = read_matrix_market_vector_rows(file("b.mtx"), mine);
+  local.cmin = read_matrix_market_vector_rows(file("cmin.mtx"), mine);
+  local.cmax = read_matrix_market_vector_rows(file("cmax.mtx"), mine);
+  check_bounds(local.b,
+               local.cmin,
+               local.cmax,
+               file("cmin.mtx"),
+               file("cmax.mtx"),
+               file("b.mtx"),
+               mine.first);
+  local.cfm = read_cfm(dir);
+}
+
 }  // namespace
 
 LocalSystem read_folder_rows(const std::string& dir, int rank, int size) {
@@ -64,12 +90,7 @@ LocalSystem read_folder_rows(const std::string& dir, int rank, int size) {
   if (columns != c)
     throw InputError(file("A.mtx") + ": A is " + std::to_string(c) + " x " +
                      std::to_string(columns) + ", not square");
-  for (const char* name : {"b.mtx", "cmin.mtx", "cmax.mtx"}) {
-    const long n = read_matrix_market_size(file(name)).first;
-    if (n != c)
-      throw InputError(file(name) + ": has " + std::to_string(n) + " rows, A has " +
-                       std::to_string(c));
-  }
+  check_vector_sizes(dir, c, "A");
   long first = 0;
   long last = 0;
   split_ownership(c, rank, size, first, last);
@@ -81,12 +102,7 @@ LocalSystem read_folder_rows(const std::string& dir, int rank, int size) {
   local.first_row = first;
   local.check_symmetric = true;
   local.A = SpMatRow(read_matrix_market_sparse_rows(file("A.mtx"), mine));
-  local.b = read_matrix_market_vector_rows(file("b.mtx"), mine);
-  local.cmin = read_matrix_market_vector_rows(file("cmin.mtx"), mine);
-  local.cmax = read_matrix_market_vector_rows(file("cmax.mtx"), mine);
-  check_bounds(
-      local.b, local.cmin, local.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"), first);
-  local.cfm = read_cfm(dir);
+  read_vectors(local, dir, mine);
   add_cfm(local);
   return local;
 }
@@ -97,7 +113,8 @@ LocalSystem read_folder_factors(const std::string& dir, int rank, int size) {
   for (const char* name : {"J.mtx", "Minv.mtx"}) {
     std::error_code ec;
     if (!fs::is_regular_file(file(name), ec))
-      throw InputError(file(name) + ": missing; the exact path under MPI works in body space and "
+      throw InputError(file(name) +
+                       ": missing; the exact path under MPI works in body space and "
                        "needs the folder's J and Minv (cbps matrices writes them)");
   }
   const auto [c, columns] = read_matrix_market_size(file("J.mtx"));
@@ -109,12 +126,7 @@ LocalSystem read_folder_factors(const std::string& dir, int rank, int size) {
     throw InputError(file("Minv.mtx") + ": " + std::to_string(minv_rows) + " x " +
                      std::to_string(minv_columns) + ", J has " + std::to_string(columns) +
                      " columns");
-  for (const char* name : {"b.mtx", "cmin.mtx", "cmax.mtx"}) {
-    const long n = read_matrix_market_size(file(name)).first;
-    if (n != c)
-      throw InputError(file(name) + ": has " + std::to_string(n) + " rows, J has " +
-                       std::to_string(c));
-  }
+  check_vector_sizes(dir, c, "J");
   long first = 0;
   long last = 0;
   split_ownership(c, rank, size, first, last);
@@ -134,12 +146,7 @@ LocalSystem read_folder_factors(const std::string& dir, int rank, int size) {
   local.Minv = SpMatRow(
       read_matrix_market_sparse_rows(file("Minv.mtx"), RowRange{6 * first_body, 6 * last_body}));
   local.M = body_masses(local, file("Minv.mtx"));
-  local.b = read_matrix_market_vector_rows(file("b.mtx"), mine);
-  local.cmin = read_matrix_market_vector_rows(file("cmin.mtx"), mine);
-  local.cmax = read_matrix_market_vector_rows(file("cmax.mtx"), mine);
-  check_bounds(
-      local.b, local.cmin, local.cmax, file("cmin.mtx"), file("cmax.mtx"), file("b.mtx"), first);
-  local.cfm = read_cfm(dir);
+  read_vectors(local, dir, mine);
   return local;
 }
 

@@ -29,7 +29,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from cbps_problem import natural_map_residual, read_mtx, scale_of  # noqa: E402
+import test_tao as t  # noqa: E402
 
 PROBLEMS = {
     "pyramid": ["matrices", "pyramid", "--param", "base=10", "--step", "30"],
@@ -40,19 +42,7 @@ PROBLEMS = {
 RANKS = (1, 2)
 TIMEOUT_S = 120  # a hung rank fails the test instead of stalling the suite
 SOLVED = 1e-9    # kLcpSolvedTolerance: solved means residual <= 1e-9 * scale
-failures = []
-
-
-def check(ok, what):
-    if not ok:
-        failures.append(what)
-        print(f"FAILED: {what}", file=sys.stderr)
-    return ok
-
-
-def mpirun():
-    exe = os.environ.get("CBPS_MPIEXEC") or shutil.which("mpirun")
-    return exe if exe and os.path.exists(exe) else None
+check, mpirun, failures = t.check, t.mpirun, t.failures  # tests/petsc/test_tao.py's
 
 
 def run(args, ranks=None):

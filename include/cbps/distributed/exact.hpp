@@ -7,8 +7,9 @@
 // H = M + Jᵀ D⁻¹ J assembled from every rank's rows into PETSc's distributed MATAIJ and factored
 // by SuperLU_dist across the ranks (LU without row permutation: H is symmetric positive
 // definite). Not MUMPS: Siconos' library in the same program brings MUMPS's sequential build,
-// whose symbols take the place of the parallel one's (each rank would factor alone). Built only with PETSc
-// (CBPS_HAVE_PETSC); src/distributed/exact.cpp includes PETSc, nothing here names its types.
+// whose symbols take the place of the parallel one's (each rank would factor alone). Built only
+// with PETSc (CBPS_HAVE_PETSC); src/distributed/exact.cpp includes PETSc, nothing here names its
+// types.
 //
 //   Symbol   Shape   Unit          In PETSc
 //   J        c×6n    (5.1)         MATAIJ, rows as the vectors of λ, columns by body
@@ -31,26 +32,26 @@ struct DirectResult {
   VecX lambda;           ///< c, N: on rank 0 the whole answer, on the other ranks empty
   bool solved = false;   ///< the natural-map residual met options.tolerance (or may_stop's floor)
   double residual = 0.;  ///< natural-map residual of 6.2 at lambda, N (the same on every rank)
-  double scale = 0.;     ///< max(1, ‖b‖∞, max A_kk) (scale_of: max |A_ij| = max A_kk, A ⪰ 0)
-  int iterations = 0;    ///< interior-point iterations
-  int crossover = 0;     ///< the crossover's proximal steps (0: the interior point sufficed)
-  int solves = 0;        ///< the crossover's solves with the Newton system
-  long moved = 0;        ///< rows the crossover moved between free and bound
-  int factorizations = 0;     ///< numeric factorizations of H (SuperLU_dist)
-  long updates = 0;           ///< rows joining or leaving by low-rank corrections instead
-  long local_rows = 0;        ///< rows of λ this rank holds
-  long local_bodies = 0;      ///< bodies this rank holds (its rows of Minv and H)
-  std::string message;        ///< one line for the report
+  double scale = 0.;   ///< max(1, ‖b‖∞, max A_kk) (scale_of: max |A_ij| = max A_kk, A ⪰ 0)
+  int iterations = 0;  ///< interior-point iterations
+  int crossover = 0;   ///< the crossover's proximal steps (0: the interior point sufficed)
+  int solves = 0;      ///< the crossover's solves with the Newton system
+  long moved = 0;      ///< rows the crossover moved between free and bound
+  int factorizations = 0;  ///< numeric factorizations of H (SuperLU_dist)
+  long updates = 0;        ///< rows joining or leaving by low-rank corrections instead
+  long local_rows = 0;     ///< rows of λ this rank holds
+  long local_bodies = 0;   ///< bodies this rank holds (its rows of Minv and H)
+  std::string message;     ///< one line for the report
 };
 
 /// The exact path on `local` (read_folder_factors): the interior point from the box's centre,
 /// then, unless it met the tolerance, the crossover that runs on rows spread over ranks
 /// (bulk_crossover). options.tolerance, options.direct (max_interior, interior_mu, proximal,
 /// max_outer_iterations, epsilon_floor) as on one process; local.cfm is added to D (the boxed
-/// problem of A + eps E, as `cbps lcp` solves a folder with cfm.txt). Collective: every rank
-/// calls it. Minv's 6×6 blocks must be symmetric positive definite (InputError naming the body,
-/// on the rank that holds it: the caller's reduction reports it). A PETSc error aborts the job
-/// as every distributed path does.
+/// problem of A + eps E, as `cbps lcp` solves a folder with cfm.txt); local.M its bodies' mass
+/// matrices (read_folder_factors checks and inverts Minv's blocks). Collective: every rank
+/// calls it. A PETSc error aborts the job as every distributed path does (ComputationError on
+/// one rank).
 DirectResult solve_direct_local(const MpiSession& session,
                                 LocalSystem& local,
                                 const SolverOptions& options);
