@@ -55,7 +55,7 @@ class MpiReduction final : public RowReduction {
   }
 };
 
-/// A PETSc vector over this rank's rows or bodies, laid out as `like`'s rows (or columns).
+/// The body space's work vectors: two laid out as λ's rows, two as the bodies' columns of J.
 struct Vectors {
   Vec rows = nullptr;   ///< c entries, this rank's rows
   Vec rows2 = nullptr;  ///< another
