@@ -2,10 +2,10 @@
 // crossover on each rank's rows, their Newton systems in body space on PETSc and SuperLU_dist.
 //
 // Low-rank corrections: the crossover changes the free rows a few at a time, and SuperLU_dist
-// has no factor update. A row k joining or leaving changes H by Δω_k J_kᵀ J_k, so for a set of changed
-// rows U = [J_kᵀ], C = diag(Δω_k) (Woodbury; as in the Schur-complement updates of active-set QP
-// solvers, Gill, Murray, Saunders & Wright, "Sparse matrix methods in optimization", SIAM J. Sci.
-// Stat. Comput. 5(3) 1984):
+// has no factor update. A row k joining or leaving changes H by Δω_k J_kᵀ J_k, so for a set of
+// changed rows U = [J_kᵀ], C = diag(Δω_k) (Woodbury; as in the Schur-complement updates of
+// active-set QP solvers, Gill, Murray, Saunders & Wright, "Sparse matrix methods in optimization",
+// SIAM J. Sci. Stat. Comput. 5(3) 1984):
 //   (H₀ + U C Uᵀ)⁻¹ g = z₀ − Z S⁻¹ Uᵀ z₀,  z₀ = H₀⁻¹ g,  Z = H₀⁻¹ U,  S = C⁻¹ + Uᵀ Z,
 // one solve with the old factor per changed row (kept while the row stays changed) and a small
 // dense S on every rank; past kMaxCorrections changed rows H is factored anew.
@@ -57,9 +57,9 @@ class MpiReduction final : public RowReduction {
 
 /// The body space's work vectors: two laid out as λ's rows, two as the bodies' columns of J.
 struct Vectors {
-  Vec rows = nullptr;   ///< c entries, this rank's rows
-  Vec rows2 = nullptr;  ///< another
-  Vec bodies = nullptr; ///< 6n entries, this rank's bodies
+  Vec rows = nullptr;    ///< c entries, this rank's rows
+  Vec rows2 = nullptr;   ///< another
+  Vec bodies = nullptr;  ///< 6n entries, this rank's bodies
   Vec bodies2 = nullptr;
   ~Vectors() {
     for (Vec* v : {&rows, &rows2, &bodies, &bodies2}) VecDestroy(v);
@@ -103,8 +103,7 @@ class DistributedBodySpace final : public NewtonSystem {
       PetscBool given = PETSC_FALSE;
       CBPS_PETSC_CHECK(PetscOptionsHasName(nullptr, nullptr, "-mat_superlu_dist_rowperm", &given));
       if (!given)
-        CBPS_PETSC_CHECK(
-            PetscOptionsSetValue(nullptr, "-mat_superlu_dist_rowperm", "NOROWPERM"));
+        CBPS_PETSC_CHECK(PetscOptionsSetValue(nullptr, "-mat_superlu_dist_rowperm", "NOROWPERM"));
       CBPS_PETSC_CHECK(MatGetFactor(H_, MATSOLVERSUPERLU_DIST, MAT_FACTOR_LU, &F_));
       IS rows = nullptr, columns = nullptr;
       CBPS_PETSC_CHECK(MatGetOrdering(H_, MATORDERINGNATURAL, &rows, &columns));
@@ -226,13 +225,8 @@ class DistributedBodySpace final : public NewtonSystem {
       values.assign(m * m, 0.0);
       for (std::size_t a = 0; a < m; ++a)
         for (std::size_t c = 0; c < m; ++c) values[a * m + c] = w * j[a] * j[c];
-      CBPS_PETSC_CHECK(MatSetValues(target,
-                                    PetscInt(m),
-                                    index.data(),
-                                    PetscInt(m),
-                                    index.data(),
-                                    values.data(),
-                                    ADD_VALUES));
+      CBPS_PETSC_CHECK(MatSetValues(
+          target, PetscInt(m), index.data(), PetscInt(m), index.data(), values.data(), ADD_VALUES));
     }
   }
 
@@ -271,10 +265,18 @@ class DistributedBodySpace final : public NewtonSystem {
     std::vector<int> counts(std::size_t(size), 0);
     MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, PETSC_COMM_WORLD);
     std::vector<int> displacements(std::size_t(size), 0);
-    for (int r = 1; r < size; ++r) displacements[std::size_t(r)] = displacements[std::size_t(r - 1)] + counts[std::size_t(r - 1)];
+    for (int r = 1; r < size; ++r)
+      displacements[std::size_t(r)] =
+          displacements[std::size_t(r - 1)] + counts[std::size_t(r - 1)];
     std::vector<double> every(std::size_t(2 * count));
-    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, every.data(), counts.data(), displacements.data(),
-                   MPI_DOUBLE, PETSC_COMM_WORLD);
+    MPI_Allgatherv(mine.data(),
+                   n,
+                   MPI_DOUBLE,
+                   every.data(),
+                   counts.data(),
+                   displacements.data(),
+                   MPI_DOUBLE,
+                   PETSC_COMM_WORLD);
     std::vector<Changed> changed;
     for (long i = 0; i < count; ++i) {
       const long row = static_cast<long>(every[std::size_t(2 * i)]);
@@ -331,7 +333,11 @@ class DistributedBodySpace final : public NewtonSystem {
     }
     CBPS_PETSC_CHECK(VecRestoreArrayRead(v_.rows2, &values));
     VecX every(mine.size());
-    MPI_Allreduce(mine.data(), every.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM,
+    MPI_Allreduce(mine.data(),
+                  every.data(),
+                  static_cast<int>(mine.size()),
+                  MPI_DOUBLE,
+                  MPI_SUM,
                   PETSC_COMM_WORLD);
     return every;
   }
@@ -432,8 +438,7 @@ DirectResult solve_direct_local(const MpiSession& session,
     r.iterations = interior.iterations;
     r.solved = interior.solved;
     if (!r.solved) {
-      const CrossoverOutcome x =
-          bulk_crossover(rows, newton, all, options, interior.place, lambda);
+      const CrossoverOutcome x = bulk_crossover(rows, newton, all, options, interior.place, lambda);
       r.solved = x.solved;
       r.crossover = x.rounds;
       r.solves = x.steps;
@@ -459,10 +464,10 @@ DirectResult solve_direct_local(const MpiSession& session,
   MatDestroy(&Minv);
   std::ostringstream msg;
   msg << "direct under MPI (interior point, body space M + Jt D^-1 J on SuperLU_dist across "
-      << session.size() << (session.size() == 1 ? " rank" : " ranks") << "): " << r.iterations << " interior iterations, crossover "
-      << r.crossover << " proximal steps and " << r.solves << " solves moving " << r.moved
-      << " rows, " << r.factorizations << " factorizations and " << r.updates
-      << " rows corrected by low-rank updates, residual " << r.residual << " N";
+      << session.size() << (session.size() == 1 ? " rank" : " ranks") << "): " << r.iterations
+      << " interior iterations, crossover " << r.crossover << " proximal steps and " << r.solves
+      << " solves moving " << r.moved << " rows, " << r.factorizations << " factorizations and "
+      << r.updates << " rows corrected by low-rank updates, residual " << r.residual << " N";
   if (!r.solved) msg << "; stopped short of the tolerance";
   r.message = msg.str();
   return r;
