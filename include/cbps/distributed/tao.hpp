@@ -1,8 +1,9 @@
 // The boxed problem of 6.2 on PETSc/TAO under MPI: `cbps lcp PROBLEM --solver tao:TYPE`, run
 // alone or as `mpirun -n N cbps lcp ...` (docs/distributed.md). Built only when PETSc is found
-// (CMake option CBPS_PETSC; the macro CBPS_HAVE_PETSC); src/distributed/tao.cpp is the only file
-// that includes PETSc or MPI, so nothing here names a PETSc type. kTaoTypes, is_tao_type and
-// tao_type_list are here for every build (the CLI's --help names the types either way).
+// (CMake option CBPS_PETSC; the macro CBPS_HAVE_PETSC); only src/distributed/'s .cpp files (and
+// its private petsc_util.hpp) include PETSc or MPI, so nothing here names a PETSc type. kTaoTypes,
+// is_tao_type and tao_type_list are here for every build (the CLI's --help names the types either
+// way).
 //
 // With A symmetric positive semidefinite (A = J Minv Jᵀ, 6.2.9) the boxed problem is the
 // bound-constrained quadratic program
