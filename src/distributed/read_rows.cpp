@@ -1,6 +1,5 @@
 // Each rank's rows of a stored problem (include/cbps/distributed/generate.hpp): the parallel
 // read of `cbps lcp FOLDER --solver tao:TYPE` under mpirun. No PETSc or MPI here.
-#include <Eigen/Cholesky>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -9,6 +8,7 @@
 #include "cbps/distributed/generate.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/exact/interior_point.hpp"
 
 namespace cbps::distributed {
 
@@ -21,9 +21,6 @@ void add_cfm(LocalSystem& local) {
   for (long i = 0; i < local.rows(); ++i) local.A.coeffRef(i, local.first_row + i) += local.cfm;
   local.A.makeCompressed();
 }
-
-/// A body's 6×6 matrix.
-using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 /// The mass matrices of this rank's bodies, Minv's 6×6 diagonal blocks inverted; InputError
 /// naming `file` when Minv has an entry outside them or a block is not symmetric positive
@@ -40,16 +37,11 @@ std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& file)
                          ") couples two bodies; body space needs Minv block diagonal (6.1.2)");
       blocks[std::size_t(body - local.first_body)](i % 6, it.col() % 6) = it.value();
     }
-  for (long B = 0; B < local.bodies; ++B) {
-    const Mat6& block = blocks[std::size_t(B)];
-    const Eigen::LLT<Mat6> llt(block);
-    if ((block - block.transpose()).cwiseAbs().maxCoeff() > 1e-12 * block.cwiseAbs().maxCoeff() ||
-        llt.info() != Eigen::Success)
+  for (long B = 0; B < local.bodies; ++B)
+    if (!body_mass(blocks[std::size_t(B)], M[std::size_t(B)]))
       throw InputError(file + ": the 6x6 block of body " +
                        std::to_string(local.first_body + B + 1) +
                        " is not symmetric positive definite; body space needs M = Minv^-1");
-    M[std::size_t(B)] = llt.solve(Mat6::Identity());
-  }
   return M;
 }
 

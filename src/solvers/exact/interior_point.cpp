@@ -396,7 +396,9 @@ class BulkCrossover {
     at_place();
     const double epsilon_floor = options_.direct.epsilon_floor * k_.max_diagonal;
     for (;; ++out_.rounds) {
-      update_w(lambda_, w_);
+      // w at λ: the proximal step leaves it current unless putting rows at their bounds moved λ.
+      if (w_stale_) update_w(lambda_, w_);
+      w_stale_ = false;
       out_.residual = all_.max(natural_map_residual(w_, lambda_, rows_.cmin, rows_.cmax));
       const double floor = residual_floor_of(rows_.row_sum, k_.b_norm, all_.max(max_abs(lambda_)));
       if (may_stop(out_.residual, r_before_, options_.tolerance, floor)) {
@@ -430,8 +432,13 @@ class BulkCrossover {
     long changed = 0;
     for (Eigen::Index i = 0; i < c_; ++i) {
       const std::size_t K = std::size_t(i);
-      if (place_[K] == Place::Lower || place_[K] == Place::Fixed) lambda_(i) = rows_.cmin(i);
-      if (place_[K] == Place::Upper) lambda_(i) = rows_.cmax(i);
+      const double at = place_[K] == Place::Lower || place_[K] == Place::Fixed ? rows_.cmin(i)
+                        : place_[K] == Place::Upper                            ? rows_.cmax(i)
+                                                                               : lambda_(i);
+      if (at != lambda_(i)) {
+        lambda_(i) = at;
+        w_stale_ = true;
+      }
       const char drop = place_[K] != Place::Free;
       changed += drop != dropped_[K];
       dropped_[K] = drop;
@@ -462,6 +469,8 @@ class BulkCrossover {
     release_one_ = false;
     settled_ = true;
     for (int inner = 0; inner < kInnerRounds; ++inner) {
+      if (w_stale_) update_w(lambda_, w_);
+      w_stale_ = false;
       for (Eigen::Index i = 0; i < c_; ++i) {
         g_(i) = w_(i) + epsilon_ * (lambda_(i) - center_(i));
         r_(i) = dropped_[std::size_t(i)] ? 0.0 : -g_(i);
@@ -582,6 +591,7 @@ class BulkCrossover {
   std::vector<char> dropped_;
   VecX w_, g_, r_, dx_, center_, trial_, w_trial_;
   bool refactor_ = true;      ///< the partition or ε changed since the last factorization
+  bool w_stale_ = true;       ///< λ moved since w_ = A λ − b was formed
   bool settled_ = false;      ///< the last proximal step moved no row
   bool release_one_ = false;  ///< a blocked step made no progress: free one row at a time
   double r_before_ = std::numeric_limits<double>::infinity();

@@ -421,6 +421,15 @@ SolverSummary solve_around_null_rows(
   return s;
 }
 
+bool body_mass(const Mat6& Minv_block, Mat6& M_block) {
+  const Eigen::LLT<Mat6> llt(Minv_block);
+  if (llt.info() != Eigen::Success || !Minv_block.isApprox(Minv_block.transpose(), 1e-12))
+    return false;
+  const Mat6 inverse = llt.solve(Mat6::Identity());
+  M_block = 0.5 * (inverse + inverse.transpose());
+  return true;
+}
+
 std::optional<std::vector<Mat6>> body_masses(const BoxedProblem& problem) {
   if (!problem.has_factors()) return std::nullopt;
   const SpMat& Minv = *problem.Minv;
@@ -436,13 +445,8 @@ std::optional<std::vector<Mat6>> body_masses(const BoxedProblem& problem) {
       M[std::size_t(j / 6)](it.row() % 6, j % 6) = it.value();
     }
   }
-  for (Mat6& block : M) {  // M = Minv⁻¹, block by block
-    const Eigen::LLT<Mat6> llt(block);
-    if (llt.info() != Eigen::Success || !block.isApprox(block.transpose(), 1e-12))
-      return std::nullopt;
-    block = llt.solve(Mat6::Identity());
-    block = (0.5 * (block + block.transpose())).eval();
-  }
+  for (Mat6& block : M)  // M = Minv⁻¹, block by block
+    if (!body_mass(block, block)) return std::nullopt;
   // A = J Minv Jᵀ + cfm I is the contract of BoxedProblem; a stored folder whose A says
   // otherwise is solved in row space, on its A.
   if (!(factors_mismatch(problem) <= kFactorsTolerance)) return std::nullopt;

@@ -33,9 +33,6 @@ inline constexpr double kFactorsTolerance = 1e-12;
 /// ≤ kFactorsTolerance (else it works in row space, on A); solve() refuses matrix-free above it.
 double factors_mismatch(const BoxedProblem& problem);
 
-/// A body's mass matrix (6×6, kg and kg m²), the inverse of its block of Minv.
-using Mat6 = Eigen::Matrix<double, 6, 6>;
-
 /// M = Minv⁻¹ block by block, when the problem has J and Minv, Minv is block diagonal with
 /// symmetric positive definite 6×6 blocks and A x = J Minv Jᵀ x + cfm x holds on factors_mismatch's
 /// test vector (to kFactorsTolerance): what body space factors (M + Jᵀ D⁻¹ J); nullopt otherwise.

@@ -51,6 +51,13 @@ class NewtonSystem {
              int refinements = 2) const;
 };
 
+/// A body's 6×6 matrix: its block of Minv (kg⁻¹, kg⁻¹ m⁻²) or of M (kg, kg m²).
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+
+/// M_B = (Minv_B)⁻¹ for one body's block of Minv (6.1.2), symmetrised; false when the block is
+/// not symmetric (to 1e-12) or not positive definite: body space then cannot factor M + Jᵀ D⁻¹ J.
+bool body_mass(const Mat6& Minv_block, Mat6& M_block);
+
 /// Sums, maxima and minima over all rows of the problem from each process's own: the identity
 /// on one process (this class), an MPI all-reduce on rows spread over ranks. Collective there.
 class RowReduction {
