@@ -99,11 +99,11 @@ foreach(_mode ${cbps_petsc_modes})
     RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
 endforeach()
 
-# tests/petsc/test_generate.py MODE: `cbps lcp --generate chain` at 1 and 2 ranks against the
-# serial `cbps matrices chain --step 0` (its own folder), and its bad input.
+# tests/petsc/test_generate.py MODE: `cbps lcp --generate chain|pyramid` at 1, 2 and 3 ranks
+# against the serial `cbps matrices chain|pyramid --step 0` (its own folder), and its bad input.
 set(cbps_generate_driver "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_generate.py"
                          $<TARGET_FILE:cbps>)
-foreach(_mode system bad-input)
+foreach(_mode system pyramid bad-input)
   add_test(NAME petsc-generate-${_mode}
            COMMAND ${cbps_generate_driver} ${_mode} "${CMAKE_BINARY_DIR}/petsc-generate-${_mode}")
   set_tests_properties(petsc-generate-${_mode} PROPERTIES

@@ -43,6 +43,7 @@
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/system.hpp"
 #include "common.hpp"
 #include "tao_solvers.hpp"
 
@@ -61,7 +62,7 @@ struct LcpOptions {
   std::string out;
   std::string siconos = "auto";
   std::string cone;      ///< --cone coulomb|ccp: an FCLIB file's law (default: Coulomb's, FCLIB's)
-  std::string generate;  ///< --generate SCENE: built per rank instead of read (only chain)
+  std::string generate;  ///< --generate SCENE: built per rank instead of read (chain, pyramid)
   std::string rows;      ///< --rows N (text: 1e6 accepted)
   std::string write_system;  ///< --write-system DIR: the generated A, b, cmin, cmax (small)
 };
@@ -160,9 +161,10 @@ bool launched_by_mpirun() {
   return false;
 }
 
-/// --solver direct under an MPI launcher (launched_by_mpirun): the exact path under MPI.
+/// --solver direct under an MPI launcher (launched_by_mpirun) or on a generated problem: the
+/// exact path under MPI.
 bool is_distributed_direct(const LcpOptions& o) {
-  return o.solver == "direct" && launched_by_mpirun();
+  return o.solver == "direct" && (launched_by_mpirun() || !o.generate.empty());
 }
 
 /// --out must not be the problem's own folder.
@@ -206,28 +208,32 @@ double peak_memory_mb() {
 /// rows of a generated problem (0 for a read one).
 long check_distributed_options(const LcpOptions& o, const std::string& type) {
   const bool generated = !o.generate.empty();
-  if (is_distributed_direct(o) && !generated) {
-    check_out_is_not_problem(o);
-    return 0;
+  if (generated && !o.problem.empty())
+    throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
+                     ") or --generate, not both");
+  if (generated && o.generate != "chain" && o.generate != "pyramid")
+    throw InputError("--generate " + o.generate +
+                     ": unknown; the generators are chain (solved by tao:TYPE) and pyramid "
+                     "(solved by direct)");
+  if (o.generate == "pyramid" && o.solver != "direct")
+    throw InputError("--generate pyramid: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
+                     ": a generated pyramid is solved by the exact path, --solver direct (each "
+                     "rank builds its rows of J and Minv; A, which TAO needs, is never formed)");
+  if (!is_distributed_direct(o)) {
+    if (generated && !is_tao_solver(o.solver))
+      throw InputError("--generate: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
+                       ": a generated chain is solved by tao:TYPE with TYPE one of " +
+                       distributed::tao_type_list());
+    if (!distributed::is_tao_type(type))
+      throw InputError("--solver " + o.solver + ": " +
+                       (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
+                       "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
   }
-  if (generated && !is_tao_solver(o.solver))
-    throw InputError("--generate: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
-                     ": a generated problem is solved by tao:TYPE with TYPE one of " +
-                     distributed::tao_type_list());
-  if (!distributed::is_tao_type(type))
-    throw InputError("--solver " + o.solver + ": " +
-                     (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
-                     "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
   if (!generated) {
     check_out_is_not_problem(o);
     return 0;
   }
-  if (!o.problem.empty())
-    throw InputError("--generate " + o.generate + ": give either PROBLEM (" + o.problem +
-                     ") or --generate, not both");
-  if (o.generate != "chain")
-    throw InputError("--generate " + o.generate + ": unknown; the only generator is chain");
-  if (o.rows.empty()) throw InputError("--generate chain: --rows N is required");
+  if (o.rows.empty()) throw InputError("--generate " + o.generate + ": --rows N is required");
   const long rows = parse_rows(o.rows);
   if (!o.write_system.empty() && rows > kMaxGatheredRows)
     throw InputError("--write-system: " + std::to_string(rows) +
@@ -238,6 +244,16 @@ long check_distributed_options(const LcpOptions& o, const std::string& type) {
   return rows;
 }
 
+/// The base of the smallest pyramid with at least `rows` rows: 12 base² (base² box pairs in
+/// contact, the ground's base and two under each of the other boxes, of 4 points with one
+/// contact and two friction rows each, 5.3, 5.4), so base = ⌈√(rows / 12)⌉.
+long pyramid_base_for(long rows) {
+  auto base = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(rows) / 12.0)));
+  while (base > 1 && 12 * (base - 1) * (base - 1) >= rows) --base;
+  while (12 * base * base < rows) ++base;
+  return base;
+}
+
 /// This rank's rows: generated, read by rows from a `cbps matrices` folder, or cut from a
 /// Siconos file every rank reads (small, dense); `kind` says which, for report().
 distributed::LocalSystem local_rows(const LcpOptions& o,
@@ -245,10 +261,15 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
                                     const distributed::MpiSession& session,
                                     std::string& kind) {
   std::error_code ec;
-  if (!o.generate.empty()) {
+  if (o.generate == "chain") {
     kind = "generated";
     return distributed::generate_chain(
         {{"n", std::to_string(rows)}}, session.rank(), session.size());
+  }
+  if (o.generate == "pyramid") {
+    kind = "generated, J and Minv built per rank";  // numbered by lcp_distributed_command
+    return distributed::generate_pyramid(
+        {{"base", std::to_string(pyramid_base_for(rows))}}, session.rank(), session.size());
   }
   if (is_distributed_direct(o)) {
     if (!fs::is_directory(o.problem, ec))
@@ -277,7 +298,10 @@ void write_gathered(distributed::GatheredSystem& g,
                     const std::string& description,
                     OutputDir& dir) {
   StoredProblem gathered;  // g is written once, then unused: moved
-  gathered.A = std::move(g.A);
+  // The exact path's problems come as J and Minv: A = J Minv Jᵀ (6.2.9) formed here (small).
+  gathered.A = g.J.rows() > 0 ? compute_A(g.J, g.Minv) : std::move(g.A);
+  gathered.J = std::move(g.J);
+  gathered.Minv = std::move(g.Minv);
   gathered.b = std::move(g.b);
   gathered.cmin = std::move(g.cmin);
   gathered.cmax = std::move(g.cmax);
@@ -372,14 +396,16 @@ int report_direct(const LcpOptions& o,
                   const distributed::LocalSystem& local,
                   distributed::DirectResult& d,
                   const TaoReport& at,
-                  OutputDir* dir) {
+                  OutputDir* dir,
+                  OutputDir* system_dir) {
+  if (system_dir != nullptr) write_gathered(d.gathered, local.description, *system_dir);
   const std::string ranks = ranks_text(session);
   LcpOutcome r;
   r.lambda = d.lambda;
   r.iterations = d.iterations;
   r.space = "body";
-  r.space_reason =
-      "body: J and Minv read by rows, H = M + Jt D^-1 J factored by SuperLU_dist on " + ranks;
+  r.space_reason = std::string("body: J and Minv ") + (o.generate.empty() ? "read" : "built") +
+                   " by rows, H = M + Jt D^-1 J factored by SuperLU_dist on " + ranks;
   r.message = d.message;
   OutcomeExtras extras;
   extras.residual = d.residual;
@@ -435,7 +461,6 @@ int lcp_distributed_command(const LcpOptions& o) {
       system_dir = std::make_unique<OutputDir>(o.write_system);
     const auto reading = std::chrono::steady_clock::now();
     local = local_rows(o, rows, session, at.kind);
-    at.rows = local->total_rows;
     at.read_wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - reading).count();
   } catch (...) {
@@ -448,16 +473,21 @@ int lcp_distributed_command(const LcpOptions& o) {
     return code;
   }
 
+  if (o.generate == "pyramid")  // each rank's rows follow the previous rank's (generate.hpp)
+    local->first_row = session.sum_before(local->rows(), local->total_rows);
+  at.rows = local->total_rows;
   if (is_distributed_direct(o)) {
     SolverOptions options;
     options.method = Method::Direct;
     options.tolerance = o.tolerance;
     const auto start = std::chrono::steady_clock::now();
-    distributed::DirectResult d = distributed::solve_direct_local(session, *local, options);
+    distributed::DirectResult d =
+        distributed::solve_direct_local(session, *local, options, !o.write_system.empty());
     at.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     at.memory = session.gather(peak_memory_mb());
-    return reported_by_rank_0(session,
-                              [&] { return report_direct(o, session, *local, d, at, dir.get()); });
+    return reported_by_rank_0(session, [&] {
+      return report_direct(o, session, *local, d, at, dir.get(), system_dir.get());
+    });
   }
   distributed::TaoOptions options;
   options.type = at.type;
@@ -571,16 +601,19 @@ void register_lcp(CLI::App& app, Action& run) {
   add_cone_option(cmd, o->cone);
   cmd->add_option("--generate",
                   o->generate,
-                  "instead of PROBLEM, build the problem per rank, no rank holding all of it: "
-                  "chain (the built-in scene at step 0, one row per link; with --rows and "
-                  "--solver tao:TYPE; only in a build with PETSc, docs/distributed.md)");
+                  "instead of PROBLEM, build the problem per rank, no rank holding all of it "
+                  "(the built-in scene at step 0, numbered as `cbps matrices SCENE --step 0`; "
+                  "with --rows; only in a build with PETSc, docs/distributed.md): chain (one "
+                  "row per link, A's rows; --solver tao:TYPE) or pyramid (contact and friction "
+                  "rows, J's rows and the bodies' Minv; --solver direct)");
   cmd->add_option("--rows",
                   o->rows,
-                  "--generate: the problem's rows, 1 to 1e7 (1e6 accepted; chain: its links)");
+                  "--generate: the problem's rows, 1 to 1e7 (1e6 accepted; chain: its links; "
+                  "pyramid: at least this many, the smallest base with 12 base^2 >= N)");
   cmd->add_option("--write-system",
                   o->write_system,
-                  "--generate: also write the generated A, b, cmin, cmax here, gathered onto "
-                  "rank 0 (a debugging aid, at most " +
+                  "--generate: also write the generated A, b, cmin, cmax (pyramid: and J, "
+                  "Minv) here, gathered onto rank 0 (a debugging aid, at most " +
                       std::to_string(kMaxGatheredRows) + " rows)");
   add_json_flag(cmd, o->json, "the result");
   add_out_option(

@@ -372,11 +372,24 @@ SpMatRow absolute(const SpMatRow& m) {
   return a;
 }
 
+/// The whole of a vector laid out as J's rows (this rank's `mine`) on rank 0, empty elsewhere.
+/// Collective.
+VecX gather_rows(Mat J, const VecX& mine) {
+  Vec v = nullptr;
+  CBPS_PETSC_CHECK(MatCreateVecs(J, nullptr, &v));
+  CBPS_PETSC_CHECK(VecPlaceArray(v, mine.data()));
+  VecX whole = gather_vector(v);
+  CBPS_PETSC_CHECK(VecResetArray(v));
+  VecDestroy(&v);
+  return whole;
+}
+
 }  // namespace
 
 DirectResult solve_direct_local(const MpiSession& session,
                                 LocalSystem& local,
-                                const SolverOptions& options) {
+                                const SolverOptions& options,
+                                bool gather) {
   DirectResult r;
   r.local_rows = local.rows();
   r.local_bodies = local.bodies;
@@ -386,6 +399,13 @@ DirectResult solve_direct_local(const MpiSession& session,
   Mat J = matrix_from_rows(local.J, columns, column_begin, owned_columns);
   Mat Minv = matrix_from_rows(local.Minv, columns, column_begin, owned_columns);
   const MpiReduction all;
+  if (gather) {
+    r.gathered.J = gather_matrix(J);
+    r.gathered.Minv = gather_matrix(Minv);
+    r.gathered.b = gather_rows(J, local.b);
+    r.gathered.cmin = gather_rows(J, local.cmin);
+    r.gathered.cmax = gather_rows(J, local.cmax);
+  }
 
   // A_kk = J_k Minv J_kᵀ (+ cfm) from the rows of J Minv; max_i Σ_k |A_ik| bounded above by
   // (|J Minv| |J|ᵀ 1)_i (+ cfm), for the rounding floor; scale_of = max(1, ‖b‖∞, max A_kk).
@@ -452,14 +472,7 @@ DirectResult solve_direct_local(const MpiSession& session,
     r.factorizations = newton.factorizations();
     r.updates = newton.updates();
   }
-  {
-    Vec v = nullptr;
-    CBPS_PETSC_CHECK(MatCreateVecs(J, nullptr, &v));
-    CBPS_PETSC_CHECK(VecPlaceArray(v, lambda.data()));
-    r.lambda = gather_vector(v);
-    CBPS_PETSC_CHECK(VecResetArray(v));
-    VecDestroy(&v);
-  }
+  r.lambda = gather_rows(J, lambda);
   MatDestroy(&J);
   MatDestroy(&Minv);
   std::ostringstream msg;

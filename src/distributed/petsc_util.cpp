@@ -87,4 +87,50 @@ VecX gather_vector(Vec v) {
   return x;
 }
 
+SpMat gather_matrix(Mat A) {
+  int rank = 0;
+  MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  PetscInt begin = 0;
+  PetscInt end = 0;
+  PetscInt rows = 0;
+  PetscInt columns = 0;
+  CBPS_PETSC_CHECK(MatGetOwnershipRange(A, &begin, &end));
+  CBPS_PETSC_CHECK(MatGetSize(A, &rows, &columns));
+  std::vector<double> mine;  // (row, column, value) triples
+  for (PetscInt i = begin; i < end; ++i) {
+    PetscInt count = 0;
+    const PetscInt* cols = nullptr;
+    const PetscScalar* values = nullptr;
+    CBPS_PETSC_CHECK(MatGetRow(A, i, &count, &cols, &values));
+    for (PetscInt k = 0; k < count; ++k)
+      mine.insert(mine.end(), {double(i), double(cols[k]), values[k]});
+    CBPS_PETSC_CHECK(MatRestoreRow(A, i, &count, &cols, &values));
+  }
+  int size = 1;
+  MPI_Comm_size(PETSC_COMM_WORLD, &size);
+  const int count = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<std::size_t>(size), 0);
+  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, PETSC_COMM_WORLD);
+  std::vector<int> displacements(static_cast<std::size_t>(size), 0);
+  for (int r = 1; r < size; ++r) displacements[r] = displacements[r - 1] + counts[r - 1];
+  std::vector<double> all(rank == 0 ? static_cast<std::size_t>(displacements.back() + counts.back())
+                                    : 0);
+  MPI_Gatherv(mine.data(),
+              count,
+              MPI_DOUBLE,
+              all.data(),
+              counts.data(),
+              displacements.data(),
+              MPI_DOUBLE,
+              0,
+              PETSC_COMM_WORLD);
+  if (rank != 0) return SpMat();
+  std::vector<Triplet> triplets;
+  for (std::size_t k = 0; k + 2 < all.size(); k += 3)
+    triplets.emplace_back(static_cast<int>(all[k]), static_cast<int>(all[k + 1]), all[k + 2]);
+  SpMat whole(rows, columns);
+  whole.setFromTriplets(triplets.begin(), triplets.end());
+  return whole;
+}
+
 }  // namespace cbps::distributed

@@ -25,4 +25,8 @@ Mat matrix_from_rows(const SpMatRow& local, long columns, long column_begin, lon
 /// Collective.
 VecX gather_vector(Vec v);
 
+/// The whole of A on rank 0 (0×0 elsewhere): each rank's rows as triplets, gathered. Small
+/// matrices only (--write-system). Collective.
+SpMat gather_matrix(Mat A);
+
 }  // namespace cbps::distributed

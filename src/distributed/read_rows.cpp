@@ -22,29 +22,6 @@ void add_cfm(LocalSystem& local) {
   local.A.makeCompressed();
 }
 
-/// The mass matrices of this rank's bodies, Minv's 6×6 diagonal blocks inverted; InputError
-/// naming `file` when Minv has an entry outside them or a block is not symmetric positive
-/// definite.
-std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& file) {
-  std::vector<Mat6> M(std::size_t(local.bodies));
-  std::vector<Mat6> blocks(std::size_t(local.bodies), Mat6::Zero());
-  for (Eigen::Index i = 0; i < local.Minv.rows(); ++i)
-    for (SpMatRow::InnerIterator it(local.Minv, i); it; ++it) {
-      const long body = (local.first_body * 6 + i) / 6;
-      if (it.col() / 6 != body)
-        throw InputError(file + ": entry (" + std::to_string(local.first_body * 6 + i + 1) + ", " +
-                         std::to_string(it.col() + 1) +
-                         ") couples two bodies; body space needs Minv block diagonal (6.1.2)");
-      blocks[std::size_t(body - local.first_body)](i % 6, it.col() % 6) = it.value();
-    }
-  for (long B = 0; B < local.bodies; ++B)
-    if (!body_mass(blocks[std::size_t(B)], M[std::size_t(B)]))
-      throw InputError(file + ": the 6x6 block of body " +
-                       std::to_string(local.first_body + B + 1) +
-                       " is not symmetric positive definite; body space needs M = Minv^-1");
-  return M;
-}
-
 /// b, cmin and cmax have the c rows of `matrix` (A or J), as read_problem checks.
 void check_vector_sizes(const std::string& dir, long c, const char* matrix) {
   for (const char* name : {"b.mtx", "cmin.mtx", "cmax.mtx"}) {

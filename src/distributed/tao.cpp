@@ -281,6 +281,14 @@ std::vector<double> MpiSession::gather(double value) const {
   return all;
 }
 
+long MpiSession::sum_before(long value, long& total) const {
+  long before = 0;
+  MPI_Exscan(&value, &before, 1, MPI_LONG, MPI_SUM, PETSC_COMM_WORLD);
+  if (rank_ == 0) before = 0;  // MPI_Exscan leaves rank 0's result undefined
+  MPI_Allreduce(&value, &total, 1, MPI_LONG, MPI_SUM, PETSC_COMM_WORLD);
+  return before;
+}
+
 TaoResult solve_tao(const MpiSession& session,
                     const BoxedProblem& problem,
                     const TaoOptions& options) {
@@ -309,51 +317,6 @@ double largest_entry(Mat A) {
   double all = 0.0;
   MPI_Allreduce(&mine, &all, 1, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
   return all;
-}
-
-/// The whole of A on rank 0 (c×c; 0×0 elsewhere): each rank's rows as triplets, gathered.
-SpMat gather_matrix(Mat A, int rank) {
-  PetscInt begin = 0;
-  PetscInt end = 0;
-  PetscInt rows = 0;
-  PetscInt columns = 0;
-  CBPS_PETSC_CHECK(MatGetOwnershipRange(A, &begin, &end));
-  CBPS_PETSC_CHECK(MatGetSize(A, &rows, &columns));
-  std::vector<double> mine;  // (row, column, value) triples
-  for (PetscInt i = begin; i < end; ++i) {
-    PetscInt count = 0;
-    const PetscInt* cols = nullptr;
-    const PetscScalar* values = nullptr;
-    CBPS_PETSC_CHECK(MatGetRow(A, i, &count, &cols, &values));
-    for (PetscInt k = 0; k < count; ++k)
-      mine.insert(mine.end(), {double(i), double(cols[k]), values[k]});
-    CBPS_PETSC_CHECK(MatRestoreRow(A, i, &count, &cols, &values));
-  }
-  int size = 1;
-  MPI_Comm_size(PETSC_COMM_WORLD, &size);
-  const int count = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<std::size_t>(size), 0);
-  MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, PETSC_COMM_WORLD);
-  std::vector<int> displacements(static_cast<std::size_t>(size), 0);
-  for (int r = 1; r < size; ++r) displacements[r] = displacements[r - 1] + counts[r - 1];
-  std::vector<double> all(rank == 0 ? static_cast<std::size_t>(displacements.back() + counts.back())
-                                    : 0);
-  MPI_Gatherv(mine.data(),
-              count,
-              MPI_DOUBLE,
-              all.data(),
-              counts.data(),
-              displacements.data(),
-              MPI_DOUBLE,
-              0,
-              PETSC_COMM_WORLD);
-  if (rank != 0) return SpMat();
-  std::vector<Triplet> triplets;
-  for (std::size_t k = 0; k + 2 < all.size(); k += 3)
-    triplets.emplace_back(static_cast<int>(all[k]), static_cast<int>(all[k + 1]), all[k + 2]);
-  SpMat whole(rows, columns);
-  whole.setFromTriplets(triplets.begin(), triplets.end());
-  return whole;
 }
 
 }  // namespace
@@ -416,7 +379,7 @@ TaoResult solve_tao_local(const MpiSession& session,
   }
   GatheredSystem gathered;
   if (gather) {
-    gathered.A = gather_matrix(o.A, session.rank());
+    gathered.A = gather_matrix(o.A);
     gathered.b = gather_vector(o.b);
     gathered.cmin = gather_vector(o.cmin);
     gathered.cmax = gather_vector(o.cmax);

@@ -276,9 +276,10 @@ System assemble_system(const std::vector<Body>& bodies,
                        const std::vector<Row>& rows,
                        const Vec3& gravity,
                        double dt,
-                       PushMode push) {
+                       PushMode push,
+                       bool form_A) {
   System sys;
-  assemble_system(bodies, rows, gravity, dt, push, sys);
+  assemble_system(bodies, rows, gravity, dt, push, sys, form_A);
   return sys;
 }
 
@@ -287,7 +288,8 @@ void assemble_system(const std::vector<Body>& bodies,
                      const Vec3& gravity,
                      double dt,
                      PushMode push,
-                     System& sys) {
+                     System& sys,
+                     bool form_A) {
   sys.dt = dt;
   sys.push = push;
   map_bodies(bodies, sys);
@@ -329,7 +331,10 @@ void assemble_system(const std::vector<Body>& bodies,
   assemble_Minv(bodies, sys.body_of_block, sys.Minv);
   sys.v1 = stack_velocities(bodies, sys.body_of_block);
   sys.fext = stack_forces(bodies, sys.body_of_block, gravity);
-  sys.A = compute_A(sys.J, sys.Minv);
+  if (form_A)
+    sys.A = compute_A(sys.J, sys.Minv);
+  else
+    sys.A.resize(0, 0);
   sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, dt);
 }
 

@@ -1,6 +1,7 @@
 #!/usr/bin/python3
-"""CTest (label petsc): `cbps lcp --generate chain --rows N --solver tao:TYPE`, the problem built
-per rank (docs/distributed.md), against the serial path's `cbps matrices chain --step 0`.
+"""CTest (label petsc): `cbps lcp --generate chain --rows N --solver tao:TYPE` and `cbps lcp
+--generate pyramid --rows N --solver direct`, the problem built per rank (docs/distributed.md),
+against the serial path's `cbps matrices chain|pyramid --step 0`.
 
     /usr/bin/python3 tests/petsc/test_generate.py CBPS MODE DIR
 
@@ -13,9 +14,19 @@ MODE is one of
               rank_memory_mb has one entry per rank; --out holds the printed object and lambda;
               and a chain of 9000 links at 1 and 2 ranks (more than one generation chunk of
               4096 joints on a rank): A, b, cmin, cmax as above
+  pyramid     pyramids of base 8 (768 rows) at 1, 2 and 3 ranks and of base 46 (25,392 rows; 1,081
+              boxes: two generation chunks of 1,024 boxes on 1 rank, one on each of 2) at 1
+              and 2 ranks: the generated J, Minv, b, cmin, cmax (--write-system) and the A
+              formed from them equal the serial folder's (the same rows in the same order;
+              entries to 1e-12 of the largest, the bounds exactly); the exact path under MPI
+              solved, `ranks` R, its residual the one numpy forms from the serial folder's A
+              (to the rounding floor 64 u (max row sum |A| |lambda|inf + |b|inf)), its objective
+              the serial direct path's (to 1e-9 of |f|) and w = A lambda - b the serial path's
+              (the same at every solution: to 1e-6 * scale)
   bad-input   bad --rows, --generate, PROBLEM with --generate, a solver not tao:TYPE, too few
               links for the ranks, --write-system too large, an --out holding a user's file:
-              exit 2 on both ranks of 2, one message, the folders as they were
+              exit 2 on both ranks of 2, one message, the folders as they were; a pyramid with a
+              solver other than direct, a pyramid too small for rank 0 to hold its bottom row
 
 Exit 0 when every check passes, 77 (skipped) without mpirun. Uses test_tao.py's helpers.
 """
@@ -48,6 +59,70 @@ def compare_system(written, serial, label):
         mine = t.read_mtx(os.path.join(written, bound + ".mtx"))
         t.check(np.array_equal(mine, serial[bound]), f"{label}: {bound} differs")
     print(f"{label}: |A - A_serial| {dA:.3g}, |b - b_serial| {db:.3g}, bounds equal")
+
+
+def compare_factors(written, serial, label):
+    """The generated J and Minv in `written` against the serial folder's, as compare_system."""
+    for name in ("J", "Minv"):
+        mine = t.read_mtx(os.path.join(written, name + ".mtx"))
+        theirs = serial[name] if name in serial else t.read_mtx(
+            os.path.join(serial["folder"], name + ".mtx"))
+        largest = abs(theirs).max()
+        d = abs(mine - theirs).max() if mine.shape == theirs.shape else float("inf")
+        t.check(d <= 1e-12 * largest, f"{label}: |{name} - {name}_serial|max = {d:.3g}")
+
+
+def mode_pyramid(cbps, root):
+    if not t.mpirun():
+        print("petsc SKIPPED: no mpirun (Debian: openmpi-bin; scripts/setup.sh --with-petsc)")
+        return 77
+    os.makedirs(root, exist_ok=True)
+    for base, ranks_list in ((8, (1, 2, 3)), (46, (1, 2))):
+        rows = 12 * base * base
+        name = f"pyramid{base}"
+        folder = os.path.join(root, name)
+        r = t.run([cbps, "matrices", "pyramid", "--param", f"base={base}", "--step", "0",
+                   "--out", folder, "--quiet"])
+        if not t.check(r.returncode == 0, f"cbps matrices: exit {r.returncode} {r.stderr}"):
+            continue
+        serial = t.load(folder)
+        serial["folder"] = folder
+        A, b, cmin, cmax = serial["A"], serial["b"], serial["cmin"], serial["cmax"]
+        r = t.run([cbps, "lcp", folder, "--solver", "direct", "--json"])
+        if not t.check(r.returncode == 0, f"{name}: serial direct path: {r.stderr}"):
+            continue
+        lam_s = np.asarray(json.loads(r.stdout)["lambda"], dtype=float)
+        w_s = A @ lam_s - b
+        f_s = 0.5 * lam_s @ (A @ lam_s) - b @ lam_s
+        for ranks in ranks_list:
+            label = f"generated pyramid of base {base} at {ranks} rank(s)"
+            written = os.path.join(root, f"{name}.generated.{ranks}")
+            r = t.run([cbps, "lcp", "--generate", "pyramid", "--rows", str(rows), "--solver",
+                       "direct", "--json", "--write-system", written], ranks)
+            if not t.check(r.returncode == 0, f"{label}: exit {r.returncode}: {r.stderr}"):
+                continue
+            j = json.loads(r.stdout)
+            compare_system(written, serial, label)
+            compare_factors(written, serial, label)
+            t.check(j["rows"] == rows and j["ranks"] == ranks,
+                    f"{label}: rows {j['rows']}, ranks {j['ranks']}")
+            t.check(j["status"] == "solved", f"{label}: status {j['status']} ({j['message']})")
+            t.check(len(j["rank_memory_mb"]) == ranks, f"{label}: {j['rank_memory_mb']}")
+            lam = np.asarray(j["lambda"], dtype=float)
+            mine = t.natural_map(A, b, cmin, cmax, lam)
+            floor = 64 * 1.11e-16 * (np.max(abs(A).sum(axis=1)) * np.max(np.abs(lam)) +
+                                     np.max(np.abs(b)))
+            t.check(abs(mine - j["residual"]) <= floor,
+                    f"{label}: residual {j['residual']} against {mine} formed from the folder")
+            t.check(mine <= 1e-9 * j["scale"], f"{label}: residual {mine} > 1e-9 * scale")
+            f = 0.5 * lam @ (A @ lam) - b @ lam
+            t.check(abs(f - f_s) <= 1e-9 * max(1.0, abs(f_s)),
+                    f"{label}: objective {f} against the serial path's {f_s}")
+            dw = float(np.max(np.abs((A @ lam - b) - w_s)))
+            t.check(dw <= 1e-6 * j["scale"], f"{label}: |w - w_serial| = {dw}")
+            print(f"{label}: residual {j['residual']:.3g} N, |w - w_serial| {dw:.3g}, "
+                  f"{j['direct']}")
+    return 0
 
 
 def mode_system(cbps, root):
@@ -123,7 +198,9 @@ def mode_bad_input(cbps, root):
         (gen + ["--rows", "1e8"], "--rows 1e8"),
         (gen + ["--rows", "many"], "--rows many"),
         (gen, "--rows N is required"),
-        (["lcp", "--generate", "stack", "--rows", "10", "--solver", "tao:bqpip"], "only"),
+        (["lcp", "--generate", "stack", "--rows", "10", "--solver", "tao:bqpip"], "unknown"),
+        (["lcp", "--generate", "pyramid", "--rows", "1000", "--solver", "tao:bqpip"],
+         "--solver direct"),
         (["lcp", "--generate", "chain", "--rows", "10", "--solver", "pgs"], "tao:TYPE"),
         (gen + ["--rows", "1"], "1 links on 2 ranks"),
         (["lcp", "some-folder", "--generate", "chain", "--rows", "10", "--solver", "tao:bqpip"],
@@ -132,10 +209,14 @@ def mode_bad_input(cbps, root):
         # Only rank 0 opens --out: its refusal must still end rank 1.
         (gen + ["--rows", "10", "--out", foreign], "mine.txt"),
     ]
-    for args, words in cases:
+    # A base-2 pyramid (3 boxes) on 3 ranks: rank 0 holds 1 box of the bottom row's 2.
+    cases.append((["lcp", "--generate", "pyramid", "--rows", "48", "--solver", "direct"],
+                  "bottom row", 3))
+    for args, words, *ranks in cases:
         label = " ".join(args[1:])
-        codes, r = t.rank_exits(cbps, args)
-        t.check(codes == {0: 2, 1: 2}, f"{label}: rank exit codes {codes}, expected 2 on both")
+        codes, r = t.rank_exits(cbps, args, *ranks)
+        expected = {rank: 2 for rank in range(ranks[0] if ranks else 2)}
+        t.check(codes == expected, f"{label}: rank exit codes {codes}, expected 2 on every one")
         t.check(words in r.stderr, f"{label}: stderr does not say '{words}': {r.stderr}")
         t.check(r.stderr.count("cbps: ") == 1, f"{label}: not one message: {r.stderr}")
         print(f"{label}: exit 2 on both ranks; {r.stderr.strip()}")
@@ -146,7 +227,8 @@ def mode_bad_input(cbps, root):
 
 def main():
     cbps, mode, root = sys.argv[1], sys.argv[2], sys.argv[3]
-    code = {"system": mode_system, "bad-input": mode_bad_input}[mode](cbps, root)
+    code = {"system": mode_system, "pyramid": mode_pyramid,
+            "bad-input": mode_bad_input}[mode](cbps, root)
     if code == 77:
         return 77
     print(f"{len(t.failures)} failed" if t.failures else "all passed")

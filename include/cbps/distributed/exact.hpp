@@ -42,6 +42,8 @@ struct DirectResult {
   long local_rows = 0;     ///< rows of λ this rank holds
   long local_bodies = 0;   ///< bodies this rank holds (its rows of Minv and H)
   std::string message;     ///< one line for the report
+  /// solve_direct_local with `gather`: J, Minv, b, cmin, cmax on rank 0 (A not formed).
+  GatheredSystem gathered;
 };
 
 /// The exact path on `local` (read_folder_factors): the interior point from the box's centre,
@@ -50,10 +52,12 @@ struct DirectResult {
 /// max_outer_iterations, epsilon_floor) as on one process; local.cfm is added to D (the boxed
 /// problem of A + eps E, as `cbps lcp` solves a folder with cfm.txt); local.M its bodies' mass
 /// matrices (read_folder_factors checks and inverts Minv's blocks). Collective: every rank
-/// calls it. A PETSc error aborts the job as every distributed path does (ComputationError on
-/// one rank).
+/// calls it. With `gather`, the problem is also gathered onto rank 0 (DirectResult::gathered;
+/// small sizes only, --write-system). A PETSc error aborts the job as every distributed path does
+/// (ComputationError on one rank).
 DirectResult solve_direct_local(const MpiSession& session,
                                 LocalSystem& local,
-                                const SolverOptions& options);
+                                const SolverOptions& options,
+                                bool gather = false);
 
 }  // namespace cbps::distributed

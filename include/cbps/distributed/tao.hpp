@@ -67,6 +67,9 @@ class MpiSession {
   int broadcast(int value, int root = 0) const;
   /// Collective: every rank's `value` on rank 0, in rank order (empty on the other ranks).
   std::vector<double> gather(double value) const;
+  /// Collective: the sum of `value` over the ranks before this one (0 on rank 0), and in
+  /// `total` over every rank (an exclusive prefix sum: numbering rows built per rank).
+  long sum_before(long value, long& total) const;
 
  private:
   int rank_ = 0;
@@ -100,10 +103,12 @@ struct TaoOptions {
 
 /// A whole problem gathered onto rank 0 (small sizes only: --write-system).
 struct GatheredSystem {
-  SpMat A;    ///< c×c, kg⁻¹
-  VecX b;     ///< c, m/s²
-  VecX cmin;  ///< c, N (±kInf for no bound)
-  VecX cmax;  ///< c, N
+  SpMat A;     ///< c×c, kg⁻¹ (the exact path: formed on rank 0 from J and Minv)
+  VecX b;      ///< c, m/s²
+  VecX cmin;   ///< c, N (±kInf for no bound)
+  VecX cmax;   ///< c, N
+  SpMatRow J;  ///< c×6n (the exact path's problems; empty for TAO's)
+  SpMat Minv;  ///< 6n×6n, block diagonal
 };
 
 /// What TAO returned, with the command's own measure of it.

@@ -41,6 +41,18 @@ Scene make_builtin_scene(const std::string& name, const std::map<std::string, st
 /// InputError for a range that is not inside [0, n) or is empty.
 Scene build_chain_range(const std::map<std::string, std::string>& values, long first, long last);
 
+/// The boxes in the bottom row of the built-in scene `pyramid` with NAME=VALUE overrides (its
+/// parameter `base`); the pyramid has base (base + 1) / 2 boxes. Throws InputError as
+/// make_builtin_scene does for a bad base.
+long pyramid_base(const std::map<std::string, std::string>& values);
+
+/// The part of the built-in scene `pyramid` (NAME=VALUE overrides as make_builtin_scene takes
+/// them) that holds its boxes [first, last), numbered as the whole scene numbers them (row by
+/// row from the bottom, left to right in a row): body 0 is the ground, body 1 + i box first + i.
+/// Built by the same code as the whole scene (which is the part [0, base (base + 1) / 2)).
+/// Throws InputError for a range that is not inside the pyramid's boxes.
+Scene build_pyramid_range(const std::map<std::string, std::string>& values, long first, long last);
+
 /// Body builders shared by the built-in scenes and the stress catalogue (src/studies/stress.cpp).
 /// A static ground plane through `point` with outward normal `normal` (unit).
 Body ground_body(const std::string& name, const Vec3& point, const Vec3& normal);

@@ -132,16 +132,21 @@ VecX compute_v2(const System& sys, const VecX& lambda);
 /// reusing the storage it already has (a simulation keeps one System across steps, so large
 /// scenes do not fetch fresh memory from the kernel every step). `push` says whether the rows'
 /// push terms go into upsilon (Original) or wait for the position system (Improved, 8.1).
+/// `form_A`: false leaves A = J Minv Jᵀ out (sys.A empty) for a caller that works in body
+/// space on J and Minv alone (the distributed generator; issue 32's "leave out what the solver
+/// does not read").
 void assemble_system(const std::vector<Body>& bodies,
                      const std::vector<Row>& rows,
                      const Vec3& gravity,
                      double dt,
                      PushMode push,
-                     System& sys);
+                     System& sys,
+                     bool form_A = true);
 System assemble_system(const std::vector<Body>& bodies,
                        const std::vector<Row>& rows,
                        const Vec3& gravity,
                        double dt,
-                       PushMode push);
+                       PushMode push,
+                       bool form_A = true);
 
 }  // namespace cbps

@@ -1,8 +1,10 @@
 // Built-in contact scenes (paper 4, 5.3, 5.4, 8, 12.2): v-corner, stack, pyramid,
 // newtons-cradle, slide, bounce, overlap. Each has an analytic expectation stated where it is
 // built; validation/ and tests/ compare against it.
+#include <algorithm>
 #include <cmath>
 
+#include "cbps/base/error.hpp"
 #include "scene_parameters.hpp"
 
 namespace cbps {
@@ -118,19 +120,37 @@ Scene build_stack(const std::map<std::string, std::string>& values) {
 
 // A 2-D pyramid of boxes on a ground plane: row k (from the bottom) has base − k boxes, each
 // resting on two below; neighbours in a row are `gap` apart so only the rows touch.
+// build_pyramid_range builds the ground and any contiguous run of its boxes (the distributed
+// generator, include/cbps/distributed/generate.hpp); build_pyramid is the run of all of them, so
+// both paths share every box.
 Scene build_pyramid(const std::map<std::string, std::string>& values) {
+  const long base = pyramid_base(values);
+  return build_pyramid_range(values, 0, base * (base + 1) / 2);
+}
+
+long pyramid_base(const std::map<std::string, std::string>& values) {
+  return ParameterValues(*find_builtin_scene("pyramid"), values).integer("base", 1, 10000);
+}
+
+Scene build_pyramid_range(const std::map<std::string, std::string>& values, long first, long last) {
   const ParameterValues p(*find_builtin_scene("pyramid"), values);
   Scene scene;
   scene.name = "pyramid";
   read_contact_world(p, scene);
   const long base = p.integer("base", 1, 10000);
+  const long boxes = base * (base + 1) / 2;
+  if (first < 0 || last > boxes || first > last)
+    throw InputError("pyramid: boxes [" + std::to_string(first) + ", " + std::to_string(last) +
+                     ") are not a part of the " + std::to_string(boxes) + " boxes");
   const double h = 0.5 * p.positive("size");
   const double gap = p.number("gap", 0.0, kInf);
   const double mass = p.positive("mass");
+  scene.bodies.reserve(static_cast<std::size_t>(last - first + 1));
   scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
   const double pitch = 2 * h + gap;
-  for (long row = 0; row < base; ++row) {
-    for (long i = 0; i < base - row; ++i) {
+  long index = 0;  // of the row's first box, counting row by row from the bottom
+  for (long row = 0; row < base && index < last; index += base - row, ++row) {
+    for (long i = std::max(first - index, 0L); i < base - row && index + i < last; ++i) {
       const double x = (static_cast<double>(i) + 0.5 * static_cast<double>(row)) * pitch;
       const double y = h + 2 * h * static_cast<double>(row);
       scene.bodies.push_back(box_body("box" + std::to_string(row) + "_" + std::to_string(i),

@@ -1,0 +1,130 @@
+#!/usr/bin/python3
+"""Measures the exact path under MPI on contact problems generated per rank (`cbps lcp --generate
+pyramid --rows N --solver direct`, docs/distributed.md) against the single-process exact path
+on the same problem, and writes what docs/distributed.md's table and model show as JSON (format
+cbps-generate-pyramid/1).
+
+    /usr/bin/python3 scripts/measure_generate_pyramid.py CBPS OUT.json [--work DIR] [--quick]
+
+For each N of ROWS (the pyramid of the smallest base with 12 base^2 >= N rows):
+
+- "mpi R" for R = 1, 2: `mpirun -n R --oversubscribe cbps lcp --generate pyramid --rows N
+  --solver direct --json`: the command's `wall_time_s` (the solve), `generated.wall_time_s`
+  (building the rank's rows), the process (mpirun's start included), status, residual, scale,
+  the `direct` counts and `rank_memory_mb`;
+- "serial": the same system on one process, `cbps run pyramid --param base=B --param
+  push=original --steps 1 --solver direct --json` (at step 0 the boxes touch at depth 0, so
+  the one system of push=original is the generated one, b included: tests/petsc/
+  test_generate.py compares the generated rows with `cbps matrices pyramid --step 0`): its
+  solve stage (CHOLMOD, the pivoting crossover), its assembly stage (A = J Minv J^T formed),
+  the process, its max_residual and the process's peak memory (wait4's ru_maxrss).
+
+--quick (a check of the script): N = 768 only. Exit 1 without writing OUT when CBPS changes
+during the run. As root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and
+OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1, set here.
+"""
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import shlex
+import subprocess
+import sys
+import time
+
+import measure_direct_mpi as direct  # mpirun()
+import measure_peers as peers  # run(), begin(), git_commit(), write_results(), check_binary()
+
+FORMAT = "cbps-generate-pyramid/1"
+ROWS = (10_000, 100_000, 1_000_000)
+QUICK = (768,)
+RANKS = (1, 2)
+TIMEOUT_S = 1800
+
+
+def log(text):
+    print(f"measure_generate_pyramid: {text}", file=sys.stderr, flush=True)
+
+
+def base_for(rows):
+    """The smallest base with 12 base^2 >= rows (lcp.cpp's pyramid_base_for)."""
+    base = max(1, math.isqrt(max(0, rows // 12)))
+    while 12 * base * base < rows:
+        base += 1
+    return base
+
+
+def generated(cbps, work, rows, ranks):
+    args = [cbps, "lcp", "--generate", "pyramid", "--rows", str(rows), "--solver", "direct",
+            "--json"]
+    cmd = [direct.mpirun(), "-n", str(ranks), "--oversubscribe"] + args
+    code, out, err, seconds = peers.run(cmd, work, timeout=TIMEOUT_S)
+    try:
+        j = json.loads(out)
+    except json.JSONDecodeError:
+        sys.exit(f"measure_generate_pyramid: {shlex.join(cmd)} printed no JSON ({code}): "
+                 f"{err[-500:]}")
+    log(f"{rows} rows at {ranks} rank(s): {j['status']}, residual {j['residual']:.3g} N, "
+        f"{j['wall_time_s']:.2f} s, {j['rank_memory_mb']} MB")
+    return {"command": shlex.join(["mpirun", "-n", str(ranks), "cbps"] + args[1:]),
+            "exit": code, "ranks": j["ranks"], "rows": j["rows"], "process_s": seconds,
+            "solve_s": j["wall_time_s"], "build_s": j["generated"]["wall_time_s"],
+            "description": j["generated"]["description"], "status": j["status"],
+            "residual_N": j["residual"], "scale": j["scale"], "direct": j["direct"],
+            "rank_memory_mb": j["rank_memory_mb"], "load": os.getloadavg()[0]}
+
+
+def serial(cbps, work, rows):
+    base = base_for(rows)
+    args = [cbps, "run", "pyramid", "--param", f"base={base}", "--param", "push=original",
+            "--steps", "1", "--solver", "direct", "--json", "--quiet"]
+    peers.check_binary()
+    start = time.monotonic()
+    # Reaped here by wait4, whose rusage is this child's own: its peak memory. --quiet keeps
+    # stderr short, so reading stdout first cannot block on a full stderr pipe.
+    proc = subprocess.Popen(args, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    out = proc.stdout.read()
+    err = proc.stderr.read()
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    seconds = time.monotonic() - start
+    peak_mb = usage.ru_maxrss / 1024.0
+    try:
+        j = json.loads(out)
+    except json.JSONDecodeError:
+        sys.exit(f"measure_generate_pyramid: {shlex.join(args)} printed no JSON "
+                 f"({proc.returncode}): {err[-500:]}")
+    log(f"{j['rows']} rows on one process: residual {j['max_residual']:.3g} N, solve "
+        f"{j['stage_times_s']['solve']:.2f} s")
+    return {"command": shlex.join(["cbps"] + args[1:]), "exit": proc.returncode,
+            "rows": j["rows"], "process_s": seconds, "solve_s": j["stage_times_s"]["solve"],
+            "assembly_s": j["stage_times_s"]["assembly"], "residual_N": j["max_residual"],
+            "peak_memory_mb": peak_mb, "load": os.getloadavg()[0]}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("cbps")
+    ap.add_argument("out")
+    ap.add_argument("--work")
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    start, work, cbps, root = peers.begin(args, "cbps_measure_generate_pyramid_")
+    runs = []
+    for rows in (QUICK if args.quick else ROWS):
+        runs.append({"rows_requested": rows, "base": base_for(rows),
+                     "mpi": [generated(cbps, work, rows, r) for r in RANKS],
+                     "serial": serial(cbps, work, rows)})
+    results = {"format": FORMAT,
+               "command": shlex.join(["scripts/measure_generate_pyramid.py"] + sys.argv[1:]),
+               "cbps_commit": peers.git_commit(root),
+               "date": datetime.date.today().isoformat(), "machine": platform.node(),
+               "nproc": os.cpu_count(), "quick": args.quick, "runs": runs}
+    peers.write_results(args.out, results, start, log)
+
+
+if __name__ == "__main__":
+    main()
