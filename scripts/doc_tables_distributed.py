@@ -62,6 +62,129 @@ def _direct_mpi(src):
 
 
 # ---------------------------------------------------------------------------------------------
+# Generated contact problems on the exact path under MPI (scripts/measure_generate_pyramid.py:
+# bench/results/generate-pyramid-*.json).
+
+GENERATE_PYRAMID = "bench/results/generate-pyramid-amd-epyc-2cpu.json"
+
+
+def _pyramid_runs(src):
+    return need(src.json(GENERATE_PYRAMID), "runs", where=GENERATE_PYRAMID)
+
+
+@generator("generate-pyramid", GENERATE_PYRAMID)
+def _generate_pyramid(src):
+    rows = []
+    for run in _pyramid_runs(src):
+        s = run["serial"]
+        name = f"{thousands(s['rows'])} (base {run['base']})"
+        rows.append([name, "one process", "solved" if s["exit"] == 0 else f"exit {s['exit']}",
+                     sci(s["residual_N"]), sci(s["residual_N"] / run["mpi"][0]["scale"]), "–",
+                     f"{dur(s['solve_s'])} (+ {dur(s['assembly_s'])} forming A)",
+                     dur(s["process_s"]), str(round(s["peak_memory_mb"])), "–"])
+        for m in run["mpi"]:
+            d = m["direct"]
+            rows.append(["", f"`mpirun -n {m['ranks']}`", m["status"], sci(m["residual_N"]),
+                         sci(m["residual_N"] / m["scale"]), dur(m["build_s"]),
+                         dur(m["solve_s"]), dur(m["process_s"]),
+                         ", ".join(str(round(x)) for x in m["rank_memory_mb"]),
+                         f"{d['interior_iterations']} + {d['crossover_steps']} steps, "
+                         f"{d['factorizations']} factorizations"])
+    return table(("rows", "path", "status", "residual (N)", "relative", "build rows", "solve",
+                  "process", "memory per rank (MB)", "what it did"), rows, "lllrrrrrll")
+
+
+@generator("generate-pyramid-headline", GENERATE_PYRAMID)
+def _generate_pyramid_headline(src):
+    run = max(_pyramid_runs(src), key=lambda x: x["serial"]["rows"])
+    s = run["serial"]
+    parts = []
+    for m in run["mpi"]:
+        parts.append(f"at {m['ranks']} rank{'s' if m['ranks'] > 1 else ''} {m['status']} in "
+                     f"{dur(m['solve_s'])} ({sci(m['residual_N'])} N, "
+                     f"{', '.join(str(round(x)) for x in m['rank_memory_mb'])} MB)")
+    return (f"The {thousands(s['rows'])}-row pyramid (base {run['base']}): "
+            + "; ".join(parts) + f"; one process solved it in {dur(s['solve_s'])} "
+            f"({sci(s['residual_N'])} N) after {dur(s['assembly_s'])} forming A, "
+            f"{round(s['peak_memory_mb'])} MB")
+
+
+def _solve3(M, v):
+    """x with M x = v (3×3, Gaussian elimination with partial pivoting)."""
+    M = [row[:] + [b] for row, b in zip(M, v)]
+    for k in range(3):
+        p = max(range(k, 3), key=lambda i: abs(M[i][k]))
+        M[k], M[p] = M[p], M[k]
+        for i in range(k + 1, 3):
+            f = M[i][k] / M[k][k]
+            M[i] = [a - f * b for a, b in zip(M[i], M[k])]
+    x = [0.0, 0.0, 0.0]
+    for k in (2, 1, 0):
+        x[k] = (M[k][3] - sum(M[k][j] * x[j] for j in range(k + 1, 3))) / M[k][k]
+    return x
+
+
+def pyramid_model(src):
+    """Peak memory of the largest rank = base + shared × rows / ranks + every × rows (MB, bytes
+    a row), fitted by least squares to every MPI run; (base, shared, every, checks)."""
+    runs = [m for run in _pyramid_runs(src) for m in run["mpi"]]
+    X = [(1.0, m["rows"] / m["ranks"] / 2**20, m["rows"] / 2**20) for m in runs]
+    y = [max(m["rank_memory_mb"]) for m in runs]
+    M = [[sum(a[i] * a[j] for a in X) for j in range(3)] for i in range(3)]
+    v = [sum(a[i] * t for a, t in zip(X, y)) for i in range(3)]
+    base, shared, every = _solve3(M, v)
+    checks = [(m, base + shared * a[1] + every * a[2], t) for m, a, t in zip(runs, X, y)]
+    return base, shared, every, checks
+
+
+@generator("generate-pyramid-model", GENERATE_PYRAMID)
+def _generate_pyramid_model(src):
+    base, shared, every, checks = pyramid_model(src)
+    rows = [(thousands(m["rows"]), str(m["ranks"]), str(round(p)), str(round(t)),
+             minus(f"{num(100 * (t - p) / p)} %")) for m, p, t in checks]
+    return (f"Fitted here: an empty rank {round(base)} MB, {round(shared)} bytes a row shared "
+            f"among the ranks and {round(every)} bytes a row on every rank. Against every run:"
+            "\n\n" + table(("rows", "ranks", "model (MB)", "measured, largest rank (MB)",
+                            "off by"), rows, "rrrrr"))
+
+
+@generator("generate-pyramid-model-1e8", GENERATE_PYRAMID)
+def _generate_pyramid_model_1e8(src):
+    base, shared, every, _ = pyramid_model(src)
+    parts = []
+    for ranks in (16, 64, 256):
+        gb = (base + (shared / ranks + every) * 1e8 / 2**20) / 1024
+        parts.append(f"{ranks} ranks {num(gb, 2)} GB each")
+    return (f"By this model 10⁸ rows (base 2,887, 4.2 million boxes) need {num(every * 1e8 / 2**30, 2)} "
+            f"GB on every rank whatever their number, plus their share: " + ", ".join(parts) +
+            ". The part every rank holds is what stops it: 10⁸ rows need it gone (an ordering "
+            "and symbolic analysis that are themselves distributed) before more ranks help")
+
+
+@generator("generate-pyramid-messages", GENERATE_PYRAMID)
+def _generate_pyramid_messages(src):
+    run = max(_pyramid_runs(src), key=lambda x: x["serial"]["rows"])
+    m = next(x for x in run["mpi"] if x["ranks"] == 2)
+    lv, d = m["log_view"], m["direct"]
+    ev = lv["events"]
+    its = max(d["interior_iterations"] + d["crossover_steps"], 1)
+    products = ev["MatMult"]["calls"] + ev["MatMultTranspose"]["calls"]
+    product_messages = ev["MatMult"]["messages"] + ev["MatMultTranspose"]["messages"]
+    return (f"{thousands(m['rows'])} rows at 2 ranks, {its} iterations: PETSc sent "
+            f"{thousands(lv['messages'])} messages ({num(lv['message_bytes'] / 2**20)} MB) and "
+            f"made {thousands(lv['reductions'])} reductions in the whole job; its "
+            f"{thousands(products)} products with `J` and `Jᵀ` sent "
+            f"{thousands(product_messages)} messages of "
+            f"{num(ev['MatMult']['average_bytes'] / 1024)} kB on average "
+            f"({num(product_messages / products / m['ranks'])} a rank a product), "
+            f"and its {thousands(ev['MatAssemblyBegin']['calls'])} matrix assemblies (`H` at "
+            f"each factorization) {thousands(ev['MatAssemblyBegin']['messages'])}; the interior "
+            f"point made "
+            f"{thousands(d['reductions'])} reductions of its own "
+            f"({num(d['reductions'] / its)} an iteration)")
+
+
+# ---------------------------------------------------------------------------------------------
 # The generated chain (scripts/measure_generate.py: validation/results/distributed/generate.json).
 
 

@@ -40,10 +40,10 @@ EXACT_ROWS = 1000000
 EXACT_ROWS_QUICK = 1000
 
 
-def log_view(path):
+def log_view(path, events=("TaoSolve", "KSPSolve", "MatMult")):
     """PETSc's -log_view summary: the job's message count, bytes and reductions (totals over the
-    ranks), and for the events TaoSolve, KSPSolve and MatMult their calls, messages, average
-    message length and reductions (the columns of PETSc 3.18's event table)."""
+    ranks), and for `events` their calls, messages, average message length and reductions (the
+    columns of PETSc 3.18's event table)."""
     out = {"events": {}}
     with open(path) as f:
         for line in f:
@@ -54,7 +54,7 @@ def log_view(path):
                 out["message_bytes"] = float(parts[-1]) if len(parts) >= 8 else 0.0
             elif line.startswith("MPI Reductions:"):
                 out["reductions"] = float(parts[2])
-            elif parts and parts[0] in ("TaoSolve", "KSPSolve", "MatMult") and len(parts) > 10 \
+            elif parts and parts[0] in events and len(parts) > 10 \
                     and parts[0] not in out["events"]:
                 out["events"][parts[0]] = {"calls": int(parts[1]), "messages": float(parts[7]),
                                            "average_bytes": float(parts[8]),

@@ -8,10 +8,16 @@ cbps-generate-pyramid/1).
 
 For each N of ROWS (the pyramid of the smallest base with 12 base^2 >= N rows):
 
-- "mpi R" for R = 1, 2: `mpirun -n R --oversubscribe cbps lcp --generate pyramid --rows N
+- "mpi R" for R = 1, 2 (and 4 at 300,000 rows, oversubscribing the 2 cores: its memory checks
+  the model, its time says nothing): `mpirun -n R --oversubscribe cbps lcp --generate pyramid --rows N
   --solver direct --json`: the command's `wall_time_s` (the solve), `generated.wall_time_s`
   (building the rank's rows), the process (mpirun's start included), status, residual, scale,
-  the `direct` counts and `rank_memory_mb`;
+  the `direct` counts and `rank_memory_mb`; at 2 ranks also PETSc's `-log_view` (through
+  PETSC_OPTIONS): the job's MPI messages, their bytes and reductions, and the calls, messages
+  and reductions of the events MatMult, MatMultTranspose, MatSolve, MatLUFactor and
+  MatAssemblyBegin (SuperLU_dist's own messages inside MatLUFactor and MatSolve, and the
+  interior point's MPI_Allreduce calls, `direct.reductions`, are not PETSc's and are not
+  counted there);
 - "serial": the same system on one process, `cbps run pyramid --param base=B --param
   push=original --steps 1 --solver direct --json` (at step 0 the boxes touch at depth 0, so
   the one system of push=original is the generated one, b included: tests/petsc/
@@ -35,13 +41,16 @@ import sys
 import time
 
 import measure_direct_mpi as direct  # mpirun()
+import measure_generate  # log_view()
 import measure_peers as peers  # run(), begin(), git_commit(), write_results(), check_binary()
 
 FORMAT = "cbps-generate-pyramid/1"
-ROWS = (10_000, 100_000, 1_000_000)
+ROWS = (10_000, 100_000, 300_000, 1_000_000)
 QUICK = (768,)
 RANKS = (1, 2)
+MEMORY_RANKS = {300_000: (4,)}  # more ranks than cores: their memory only (the model's check)
 TIMEOUT_S = 1800
+EVENTS = ("MatMult", "MatMultTranspose", "MatSolve", "MatLUFactor", "MatAssemblyBegin")
 
 
 def log(text):
@@ -60,7 +69,13 @@ def generated(cbps, work, rows, ranks):
     args = [cbps, "lcp", "--generate", "pyramid", "--rows", str(rows), "--solver", "direct",
             "--json"]
     cmd = [direct.mpirun(), "-n", str(ranks), "--oversubscribe"] + args
-    code, out, err, seconds = peers.run(cmd, work, timeout=TIMEOUT_S)
+    view = os.path.join(work, f"log_view_{rows}_{ranks}.txt")
+    if ranks > 1:
+        os.environ["PETSC_OPTIONS"] = f"-log_view :{view}"
+    try:
+        code, out, err, seconds = peers.run(cmd, work, timeout=TIMEOUT_S)
+    finally:
+        os.environ.pop("PETSC_OPTIONS", None)
     try:
         j = json.loads(out)
     except json.JSONDecodeError:
@@ -73,7 +88,8 @@ def generated(cbps, work, rows, ranks):
             "solve_s": j["wall_time_s"], "build_s": j["generated"]["wall_time_s"],
             "description": j["generated"]["description"], "status": j["status"],
             "residual_N": j["residual"], "scale": j["scale"], "direct": j["direct"],
-            "rank_memory_mb": j["rank_memory_mb"], "load": os.getloadavg()[0]}
+            "rank_memory_mb": j["rank_memory_mb"], "load": os.getloadavg()[0],
+            "log_view": measure_generate.log_view(view, EVENTS) if ranks > 1 else None}
 
 
 def serial(cbps, work, rows):
@@ -113,10 +129,12 @@ def main():
     ap.add_argument("--quick", action="store_true")
     args = ap.parse_args()
     start, work, cbps, root = peers.begin(args, "cbps_measure_generate_pyramid_")
+    os.environ.pop("PETSC_OPTIONS", None)
     runs = []
     for rows in (QUICK if args.quick else ROWS):
         runs.append({"rows_requested": rows, "base": base_for(rows),
-                     "mpi": [generated(cbps, work, rows, r) for r in RANKS],
+                     "mpi": [generated(cbps, work, rows, r)
+                             for r in RANKS + MEMORY_RANKS.get(rows, ())],
                      "serial": serial(cbps, work, rows)})
     results = {"format": FORMAT,
                "command": shlex.join(["scripts/measure_generate_pyramid.py"] + sys.argv[1:]),

@@ -415,7 +415,8 @@ int report_direct(const LcpOptions& o,
                              {"crossover_solves", d.solves},
                              {"rows_moved", d.moved},
                              {"factorizations", d.factorizations},
-                             {"low_rank_rows", d.updates}};
+                             {"low_rank_rows", d.updates},
+                             {"reductions", d.reductions}};
   return report_ranks(o, session, local, at, r, d.scale, extras, dir);
 }
 

@@ -38,14 +38,20 @@ class MpiReduction final : public RowReduction {
  public:
   double sum(double x) const override {
     double y = 0.0;
+    ++calls_;
     MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
     return y;
   }
   double max(double x) const override { return extreme(x, MPI_MAX); }
   double min(double x) const override { return extreme(x, MPI_MIN); }
+  /// MPI_Allreduce calls so far (each of one or two doubles): not PETSc's, so not in its log.
+  long calls() const { return calls_; }
 
  private:
-  static double extreme(double x, MPI_Op op) {
+  mutable long calls_ = 0;
+
+  double extreme(double x, MPI_Op op) const {
+    ++calls_;
     const bool nan = std::isnan(x);
     const double in[2] = {nan ? 1.0 : 0.0, nan ? 0.0 : (op == MPI_MAX ? x : -x)};
     double out[2] = {0.0, 0.0};
@@ -469,6 +475,7 @@ DirectResult solve_direct_local(const MpiSession& session,
     newton.times_A(lambda, w);
     w -= local.b;
     r.residual = all.max(natural_map_residual(w, lambda, local.cmin, local.cmax));
+    r.reductions = all.calls();
     r.factorizations = newton.factorizations();
     r.updates = newton.updates();
   }

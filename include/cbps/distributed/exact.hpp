@@ -39,9 +39,12 @@ struct DirectResult {
   long moved = 0;      ///< rows the crossover moved between free and bound
   int factorizations = 0;  ///< numeric factorizations of H (SuperLU_dist)
   long updates = 0;        ///< rows joining or leaving by low-rank corrections instead
-  long local_rows = 0;     ///< rows of λ this rank holds
-  long local_bodies = 0;   ///< bodies this rank holds (its rows of Minv and H)
-  std::string message;     ///< one line for the report
+  /// The interior point's and crossover's reductions over the ranks (MPI_Allreduce of one or
+  /// two doubles: sums, maxima, minima); PETSc's own are in its log (-log_view).
+  long reductions = 0;
+  long local_rows = 0;    ///< rows of λ this rank holds
+  long local_bodies = 0;  ///< bodies this rank holds (its rows of Minv and H)
+  std::string message;    ///< one line for the report
   /// solve_direct_local with `gather`: J, Minv, b, cmin, cmax on rank 0 (A not formed).
   GatheredSystem gathered;
 };
