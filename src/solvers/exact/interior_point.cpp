@@ -39,6 +39,9 @@ constexpr double kProximalEpsilon = 1e-6;
 constexpr int kInnerRounds = 30;
 constexpr int kRefinements = 2;
 constexpr double kEpsilonStep = 10.0;
+/// bulk_crossover: at most this many proximal steps past the first stop at the rounding floor
+/// (a step there that did not lower the residual), while the partition moves or ε may fall.
+constexpr int kFloorSteps = 10;
 /// Rows whose bound the blocked step reaches within this fraction of their own step block too.
 constexpr double kTie = 1e-3;
 
@@ -402,11 +405,26 @@ class BulkCrossover {
       out_.residual = all_.max(natural_map_residual(w_, lambda_, rows_.cmin, rows_.cmax));
       const double floor = residual_floor_of(rows_.row_sum, k_.b_norm, all_.max(max_abs(lambda_)));
       if (may_stop(out_.residual, r_before_, options_.tolerance, floor)) {
-        out_.solved = true;
-        return out_;
+        // At the floor, a step that did not lower the residual ends the crossover, unless the
+        // partition is still moving or ε may still fall (a step contracts the error by about
+        // ε/(σ + ε)): then up to kFloorSteps more steps, with a smaller ε once the partition
+        // holds, keeping the best answer met at the floor whatever they give.
+        if (!(out_.residual < best_residual_)) restore_best();
+        const bool more = !(out_.residual <= options_.tolerance) && floor_steps_ < kFloorSteps &&
+                          (!settled_ || epsilon_ > epsilon_floor);
+        if (!more) return solved();
+        ++floor_steps_;
+        best_lambda_ = lambda_;
+        best_residual_ = out_.residual;
+        if (settled_) {
+          epsilon_ = std::max(epsilon_ / kEpsilonStep, epsilon_floor);
+          d_.setConstant(epsilon_);
+          refactor_ = true;
+        }
+      } else if (out_.rounds >= options_.direct.max_outer_iterations ||
+                 !std::isfinite(out_.residual)) {
+        return best_residual_ < kInf ? (restore_best(), solved()) : out_;
       }
-      if (out_.rounds >= options_.direct.max_outer_iterations || !std::isfinite(out_.residual))
-        return out_;
       // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
       // block: once the partition holds and a step no longer halves the residual, a smaller ε.
       if (settled_ && out_.residual > 0.5 * r_before_ && epsilon_ > epsilon_floor) {
@@ -415,11 +433,24 @@ class BulkCrossover {
         refactor_ = true;
       }
       r_before_ = out_.residual;
-      if (!proximal_step()) return out_;
+      if (!proximal_step()) return best_residual_ < kInf ? (restore_best(), solved()) : out_;
     }
   }
 
  private:
+  CrossoverOutcome solved() {
+    out_.solved = true;
+    return out_;
+  }
+
+  /// Back to the best answer met at the floor, if it is better than λ.
+  void restore_best() {
+    if (!(best_residual_ < out_.residual) && std::isfinite(out_.residual)) return;
+    lambda_ = best_lambda_;
+    out_.residual = best_residual_;
+    w_stale_ = true;
+  }
+
   /// w = A x − b.
   void update_w(const VecX& x, VecX& w) const {
     newton_.times_A(x, w);
@@ -590,7 +621,11 @@ class BulkCrossover {
   VecX d_;          ///< ε on every row: the Newton system's diagonal
   std::vector<char> dropped_;
   VecX w_, g_, r_, dx_, center_, trial_, w_trial_;
-  bool refactor_ = true;      ///< the partition or ε changed since the last factorization
+  bool refactor_ = true;  ///< the partition or ε changed since the last factorization
+  /// The best λ met at the rounding floor before ε fell again, and its residual (kInf: none).
+  VecX best_lambda_;
+  double best_residual_ = kInf;
+  int floor_steps_ = 0;       ///< steps taken past a stop at the floor
   bool w_stale_ = true;       ///< λ moved since w_ = A λ − b was formed
   bool settled_ = false;      ///< the last proximal step moved no row
   bool release_one_ = false;  ///< a blocked step made no progress: free one row at a time
