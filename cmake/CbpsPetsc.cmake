@@ -130,6 +130,16 @@ add_test(NAME petsc-measure-generate-quick
 set_tests_properties(petsc-measure-generate-quick PROPERTIES
   LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
 
+# scripts/measure_generate_pyramid.py --quick: the measurement behind docs/distributed.md's
+# generated contact problems, end to end on 768 rows (exit 1 unless every run is solved).
+add_test(NAME petsc-measure-generate-pyramid-quick
+         COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/scripts/measure_generate_pyramid.py"
+                 $<TARGET_FILE:cbps>
+                 "${CMAKE_BINARY_DIR}/petsc-measure-generate-pyramid/generate-pyramid.json"
+                 --quick --work "${CMAKE_BINARY_DIR}/petsc-measure-generate-pyramid/work")
+set_tests_properties(petsc-measure-generate-pyramid-quick PROPERTIES
+  LABELS petsc TIMEOUT 120 SKIP_RETURN_CODE 77 RUN_SERIAL ON ENVIRONMENT "${cbps_petsc_env}")
+
 # tests/petsc/test_tao_studies.py MODE: TAO's types beside the cbps solvers in one process,
 # `cbps converge` on a 300-row chain against the direct row and `cbps lcp`, `cbps profile` on the
 # quick problem library (docs/distributed.md, "TAO beside PGS"); a few seconds each.

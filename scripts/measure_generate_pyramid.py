@@ -25,8 +25,9 @@ For each N of ROWS (the pyramid of the smallest base with 12 base^2 >= N rows):
   solve stage (CHOLMOD, the pivoting crossover), its assembly stage (A = J Minv J^T formed),
   the process, its max_residual and the process's peak memory (wait4's ru_maxrss).
 
---quick (a check of the script): N = 768 only. Exit 1 without writing OUT when CBPS changes
-during the run. As root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and
+--quick (a check of the script, the test petsc-measure-generate-pyramid-quick): N = 768 only.
+Exit 1 without writing OUT when CBPS changes during the run, and after writing it when a run is
+not solved. As root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and
 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1, set here.
 """
 import argparse
@@ -57,6 +58,15 @@ def log(text):
     print(f"measure_generate_pyramid: {text}", file=sys.stderr, flush=True)
 
 
+def printed_json(cmd, code, out, err):
+    """The JSON object the command printed; stops the script, saying why, when there is none."""
+    try:
+        return json.loads(out)
+    except json.JSONDecodeError:
+        sys.exit(f"measure_generate_pyramid: {shlex.join(cmd)} printed no JSON ({code}): "
+                 f"{err[-500:]}")
+
+
 def base_for(rows):
     """The smallest base with 12 base^2 >= rows (lcp.cpp's pyramid_base_for)."""
     base = max(1, math.isqrt(max(0, rows // 12)))
@@ -76,11 +86,7 @@ def generated(cbps, work, rows, ranks):
         code, out, err, seconds = peers.run(cmd, work, timeout=TIMEOUT_S)
     finally:
         os.environ.pop("PETSC_OPTIONS", None)
-    try:
-        j = json.loads(out)
-    except json.JSONDecodeError:
-        sys.exit(f"measure_generate_pyramid: {shlex.join(cmd)} printed no JSON ({code}): "
-                 f"{err[-500:]}")
+    j = printed_json(cmd, code, out, err)
     log(f"{rows} rows at {ranks} rank(s): {j['status']}, residual {j['residual']:.3g} N, "
         f"{j['wall_time_s']:.2f} s, {j['rank_memory_mb']} MB")
     return {"command": shlex.join(["mpirun", "-n", str(ranks), "cbps"] + args[1:]),
@@ -108,11 +114,7 @@ def serial(cbps, work, rows):
     proc.returncode = os.waitstatus_to_exitcode(status)
     seconds = time.monotonic() - start
     peak_mb = usage.ru_maxrss / 1024.0
-    try:
-        j = json.loads(out)
-    except json.JSONDecodeError:
-        sys.exit(f"measure_generate_pyramid: {shlex.join(args)} printed no JSON "
-                 f"({proc.returncode}): {err[-500:]}")
+    j = printed_json(args, proc.returncode, out, err)
     log(f"{j['rows']} rows on one process: residual {j['max_residual']:.3g} N, solve "
         f"{j['stage_times_s']['solve']:.2f} s")
     return {"command": shlex.join(["cbps"] + args[1:]), "exit": proc.returncode,
@@ -142,6 +144,10 @@ def main():
                "date": datetime.date.today().isoformat(), "machine": platform.node(),
                "nproc": os.cpu_count(), "quick": args.quick, "runs": runs}
     peers.write_results(args.out, results, start, log)
+    unsolved = [m["command"] for run in runs for m in run["mpi"] if m["status"] != "solved"]
+    unsolved += [run["serial"]["command"] for run in runs if run["serial"]["exit"] != 0]
+    if unsolved:
+        sys.exit("measure_generate_pyramid: not solved: " + "; ".join(unsolved))
 
 
 if __name__ == "__main__":
