@@ -204,6 +204,16 @@ double peak_memory_mb() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
+/// The base of the smallest pyramid with at least `rows` rows: 12 base² (base² box pairs in
+/// contact, the ground's base and two under each of the other boxes, of 4 points with one
+/// contact and two friction rows each, 5.3, 5.4), so base = ⌈√(rows / 12)⌉.
+long pyramid_base_for(long rows) {
+  auto base = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(rows) / 12.0)));
+  while (base > 1 && 12 * (base - 1) * (base - 1) >= rows) --base;
+  while (12 * base * base < rows) ++base;
+  return base;
+}
+
 /// The options of the distributed path checked before anything is distributed; the number of
 /// rows of a generated problem (0 for a read one).
 long check_distributed_options(const LcpOptions& o, const std::string& type) {
@@ -219,39 +229,31 @@ long check_distributed_options(const LcpOptions& o, const std::string& type) {
     throw InputError("--generate pyramid: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
                      ": a generated pyramid is solved by the exact path, --solver direct (each "
                      "rank builds its rows of J and Minv; A, which TAO needs, is never formed)");
-  if (!is_distributed_direct(o)) {
-    if (generated && !is_tao_solver(o.solver))
-      throw InputError("--generate: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
-                       ": a generated chain is solved by tao:TYPE with TYPE one of " +
-                       distributed::tao_type_list());
-    if (!distributed::is_tao_type(type))
-      throw InputError("--solver " + o.solver + ": " +
-                       (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
-                       "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
-  }
+  if (o.generate == "chain" && !is_tao_solver(o.solver))
+    throw InputError("--generate: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
+                     ": a generated chain (its rows of A alone) is solved by tao:TYPE with TYPE "
+                     "one of " +
+                     distributed::tao_type_list());
+  if (!is_distributed_direct(o) && !distributed::is_tao_type(type))
+    throw InputError("--solver " + o.solver + ": " +
+                     (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
+                     "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
   if (!generated) {
     check_out_is_not_problem(o);
     return 0;
   }
   if (o.rows.empty()) throw InputError("--generate " + o.generate + ": --rows N is required");
   const long rows = parse_rows(o.rows);
-  if (!o.write_system.empty() && rows > kMaxGatheredRows)
-    throw InputError("--write-system: " + std::to_string(rows) +
+  // The rows generated: a pyramid's 12 base² may exceed the N asked for.
+  const long generated_rows =
+      o.generate == "pyramid" ? 12 * pyramid_base_for(rows) * pyramid_base_for(rows) : rows;
+  if (!o.write_system.empty() && generated_rows > kMaxGatheredRows)
+    throw InputError("--write-system: " + std::to_string(generated_rows) +
                      " rows; it gathers the whole problem onto rank 0 and takes at most " +
                      std::to_string(kMaxGatheredRows));
   if (!o.write_system.empty() && !o.out.empty() && o.write_system == o.out)
     throw InputError("--write-system " + o.write_system + ": the same folder as --out");
   return rows;
-}
-
-/// The base of the smallest pyramid with at least `rows` rows: 12 base² (base² box pairs in
-/// contact, the ground's base and two under each of the other boxes, of 4 points with one
-/// contact and two friction rows each, 5.3, 5.4), so base = ⌈√(rows / 12)⌉.
-long pyramid_base_for(long rows) {
-  auto base = static_cast<long>(std::ceil(std::sqrt(static_cast<double>(rows) / 12.0)));
-  while (base > 1 && 12 * (base - 1) * (base - 1) >= rows) --base;
-  while (12 * base * base < rows) ++base;
-  return base;
 }
 
 /// This rank's rows: generated, read by rows from a `cbps matrices` folder, or cut from a

@@ -26,12 +26,15 @@ MODE is one of
   bad-input   bad --rows, --generate, PROBLEM with --generate, a solver not tao:TYPE, too few
               links for the ranks, --write-system too large, an --out holding a user's file:
               exit 2 on both ranks of 2, one message, the folders as they were; a pyramid with a
-              solver other than direct, a pyramid too small for rank 0 to hold its bottom row
+              solver other than direct, a chain with --solver direct, --write-system on a pyramid of
+              more rows than it gathers (--rows 99999 makes 101,568), a pyramid too small for
+              rank 0 to hold its bottom row
 
 Exit 0 when every check passes, 77 (skipped) without mpirun. Uses test_tao.py's helpers.
 """
 import json
 import os
+import shutil
 import sys
 
 import numpy as np
@@ -187,6 +190,7 @@ def mode_bad_input(cbps, root):
         print("petsc SKIPPED: no mpirun (Debian: openmpi-bin; scripts/setup.sh --with-petsc)")
         return 77
     os.makedirs(root, exist_ok=True)
+    shutil.rmtree(os.path.join(root, "big"), ignore_errors=True)  # a folder no case may make
     foreign = os.path.join(root, "foreign-out")
     os.makedirs(foreign, exist_ok=True)
     with open(os.path.join(foreign, "mine.txt"), "w") as f:
@@ -201,6 +205,9 @@ def mode_bad_input(cbps, root):
         (["lcp", "--generate", "stack", "--rows", "10", "--solver", "tao:bqpip"], "unknown"),
         (["lcp", "--generate", "pyramid", "--rows", "1000", "--solver", "tao:bqpip"],
          "--solver direct"),
+        (["lcp", "--generate", "chain", "--rows", "10", "--solver", "direct"], "tao:TYPE"),
+        (["lcp", "--generate", "pyramid", "--rows", "99999", "--solver", "direct",
+          "--write-system", os.path.join(root, "big")], "101568 rows"),
         (["lcp", "--generate", "chain", "--rows", "10", "--solver", "pgs"], "tao:TYPE"),
         (gen + ["--rows", "1"], "1 links on 2 ranks"),
         (["lcp", "some-folder", "--generate", "chain", "--rows", "10", "--solver", "tao:bqpip"],

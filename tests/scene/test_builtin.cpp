@@ -1,9 +1,11 @@
-// Built-in scenes: the pendulum-wave length rule, the chain, the v-corner's starting contacts, and
-// parameter errors.
+// Built-in scenes: the pendulum-wave length rule, the chain, the v-corner's starting contacts, the
+// pyramid's parts, and parameter errors.
 #include <Eigen/Eigenvalues>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cbps/base/error.hpp"
@@ -146,4 +148,39 @@ TEST_CASE("v-corner: the ball starts touching both planes for any pair of angles
   }
   INFO(missing << " of " << pairs << " angle pairs do not start with two contacts of depth 0");
   CHECK(missing == 0);
+}
+
+TEST_CASE("pyramid: any run of its boxes is built as the whole scene builds them", "[scenes]") {
+  // The distributed generator (distributed/generate.hpp) builds a rank's boxes and its halo by
+  // build_pyramid_range; the serial scene is the run of every box. Base 5: 15 boxes, rows of
+  // 5, 4, 3, 2, 1 from the bottom.
+  const std::map<std::string, std::string> values{{"base", "5"}, {"gap", "0.2"}};
+  CHECK(pyramid_base(values) == 5);
+  const Scene whole = make_builtin_scene("pyramid", values);
+  REQUIRE(whole.bodies.size() == 16);  // the ground and 15 boxes
+  for (const auto& [first, last] : std::vector<std::pair<long, long>>{
+           {0, 15}, {0, 5}, {3, 9}, {5, 6}, {7, 15}, {14, 15}, {4, 4}}) {
+    const Scene part = build_pyramid_range(values, first, last);
+    REQUIRE(part.bodies.size() == std::size_t(1 + last - first));
+    CHECK(part.bodies[0].name == "ground");
+    CHECK(part.bodies[0].is_static);
+    for (long k = first; k < last; ++k) {
+      const Body& mine = part.bodies[std::size_t(1 + k - first)];
+      const Body& theirs = whole.bodies[std::size_t(1 + k)];
+      CHECK(mine.name == theirs.name);
+      CHECK(mine.x == theirs.x);
+      CHECK(mine.m == theirs.m);
+    }
+    CHECK(part.world.dt == whole.world.dt);
+    CHECK(part.world.mu == whole.world.mu);
+  }
+  // Box 5 is the first of the second row: centred half a pitch (1 m + gap 0.2 m) in, one box up.
+  const Body& first_of_row_1 = build_pyramid_range(values, 5, 6).bodies[1];
+  CHECK(first_of_row_1.name == "box1_0");
+  CHECK(first_of_row_1.x.x() == Approx(0.6).epsilon(1e-15));
+  CHECK(first_of_row_1.x.y() == Approx(1.5).epsilon(1e-15));
+  CHECK_THROWS_AS(build_pyramid_range(values, 3, 16), InputError);
+  CHECK_THROWS_AS(build_pyramid_range(values, -1, 2), InputError);
+  CHECK_THROWS_AS(build_pyramid_range(values, 4, 3), InputError);
+  CHECK_THROWS_AS(pyramid_base({{"base", "0"}}), InputError);
 }
