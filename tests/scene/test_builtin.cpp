@@ -175,7 +175,8 @@ TEST_CASE("pyramid: any run of its boxes is built as the whole scene builds them
     CHECK(part.world.mu == whole.world.mu);
   }
   // Box 5 is the first of the second row: centred half a pitch (1 m + gap 0.2 m) in, one box up.
-  const Body& first_of_row_1 = build_pyramid_range(values, 5, 6).bodies[1];
+  const Scene second_row = build_pyramid_range(values, 5, 6);
+  const Body& first_of_row_1 = second_row.bodies[1];
   CHECK(first_of_row_1.name == "box1_0");
   CHECK(first_of_row_1.x.x() == Approx(0.6).epsilon(1e-15));
   CHECK(first_of_row_1.x.y() == Approx(1.5).epsilon(1e-15));
