@@ -33,9 +33,9 @@ OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1, set here.
 import argparse
 import datetime
 import json
-import math
 import os
 import platform
+import re
 import shlex
 import subprocess
 import sys
@@ -67,12 +67,11 @@ def printed_json(cmd, code, out, err):
                  f"{err[-500:]}")
 
 
-def base_for(rows):
-    """The smallest base with 12 base^2 >= rows (lcp.cpp's pyramid_base_for)."""
-    base = max(1, math.isqrt(max(0, rows // 12)))
-    while 12 * base * base < rows:
-        base += 1
-    return base
+def base_of(run):
+    """The pyramid's base as the generated run describes it ("generated pyramid, base B (...")):
+    cbps chooses it from --rows (lcp.cpp's pyramid_base_for), so the serial run takes it from
+    there."""
+    return int(re.search(r"base (\d+)", run["description"]).group(1))
 
 
 def generated(cbps, work, rows, ranks):
@@ -98,8 +97,7 @@ def generated(cbps, work, rows, ranks):
             "log_view": measure_generate.log_view(view, EVENTS) if ranks > 1 else None}
 
 
-def serial(cbps, work, rows):
-    base = base_for(rows)
+def serial(cbps, work, base):
     args = [cbps, "run", "pyramid", "--param", f"base={base}", "--param", "push=original",
             "--steps", "1", "--solver", "direct", "--json", "--quiet"]
     peers.check_binary()
@@ -134,10 +132,10 @@ def main():
     os.environ.pop("PETSC_OPTIONS", None)
     runs = []
     for rows in (QUICK if args.quick else ROWS):
-        runs.append({"rows_requested": rows, "base": base_for(rows),
-                     "mpi": [generated(cbps, work, rows, r)
-                             for r in RANKS + MEMORY_RANKS.get(rows, ())],
-                     "serial": serial(cbps, work, rows)})
+        mpi = [generated(cbps, work, rows, r) for r in RANKS + MEMORY_RANKS.get(rows, ())]
+        base = base_of(mpi[0])
+        runs.append({"rows_requested": rows, "base": base, "mpi": mpi,
+                     "serial": serial(cbps, work, base)})
     results = {"format": FORMAT,
                "command": shlex.join(["scripts/measure_generate_pyramid.py"] + sys.argv[1:]),
                "cbps_commit": peers.git_commit(root),

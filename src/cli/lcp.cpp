@@ -245,8 +245,8 @@ long check_distributed_options(const LcpOptions& o, const std::string& type) {
   if (o.rows.empty()) throw InputError("--generate " + o.generate + ": --rows N is required");
   const long rows = parse_rows(o.rows);
   // The rows generated: a pyramid's 12 base² may exceed the N asked for.
-  const long generated_rows =
-      o.generate == "pyramid" ? 12 * pyramid_base_for(rows) * pyramid_base_for(rows) : rows;
+  const long base = o.generate == "pyramid" ? pyramid_base_for(rows) : 0;
+  const long generated_rows = o.generate == "pyramid" ? 12 * base * base : rows;
   if (!o.write_system.empty() && generated_rows > kMaxGatheredRows)
     throw InputError("--write-system: " + std::to_string(generated_rows) +
                      " rows; it gathers the whole problem onto rank 0 and takes at most " +
