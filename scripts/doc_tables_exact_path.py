@@ -170,6 +170,20 @@ def _bench_warm(src):
                  rows, "llrrrrrrl")
 
 
+@generator("bench-warm-assembly", WARM)
+def _bench_warm_assembly(src):
+    rows = []
+    for s in need(src.json(WARM), "scenes", where=WARM):
+        runs = s["runs"]
+        pgs = statistics.median(r["pgs"]["assembly_per_step_s"] for r in runs)
+        direct = statistics.median(r["direct"]["assembly_per_step_s"] for r in runs)
+        rows.append([s["scene"], s["push"], thousands(s["rows"]), dur(pgs),
+                     f"`{runs[0]['pgs']['assembly_stage']}`", dur(direct),
+                     f"`{runs[0]['direct']['assembly_stage']}`", f"{pgs / direct:.1f}×"])
+    return table(["scene", "push", "rows", "PGS: assembly a step", "its stage",
+                  "direct: assembly a step", "its stage", "PGS / direct"], rows, "llrrlrlr")
+
+
 @generator("bench-warm-check", WARM)
 def _bench_warm_check(src):
     c = need(src.json(WARM), "check", where=WARM)

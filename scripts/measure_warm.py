@@ -18,7 +18,9 @@ of 5.3; `push=improved`: the velocity and position systems of 8.1). Each is run 
 
 From each run's `steps.csv` (docs/outputs.md): the solve stage's time per step (`solve_time_s`)
 averaged over the steady state, the second half of the steps; the direct path's route per step
-(`direct_route`) and its largest residual (N). One PGS sweep's time is the pgs_10 step's solve
+(`direct_route`) and its largest residual (N). From each run's summary: the assembly stage's
+mean time a step (`stage_times_s`) and its name in `stages`, which says whether A = J Minv Jᵀ
+was formed (PGS reads A; the direct path does not, issue 32). One PGS sweep's time is the pgs_10 step's solve
 time / 10, so "sweeps" = direct's solve time a step / one sweep's time: the target is ≤ 10. The
 two are run one after the other R times (default 3) and the median of the R ratios is reported.
 The residual target is 1e-10 relative: the residual in N over max(1, ‖b‖∞, max |A_ij|) ≥ 1, so
@@ -83,6 +85,14 @@ def mean_solve(steps):
     return sum(float(s["solve_time_s"]) for s in window) / len(window)
 
 
+def assembly(summary, steps):
+    """The assembly stage's mean time a step (summary's stage_times_s over all steps) and its
+    name in `stages` (whether A was formed)."""
+    names = [n for n in summary["stages"] if n.startswith("assembly")]
+    return {"assembly_per_step_s": summary["stage_times_s"]["assembly"] / len(steps),
+            "assembly_stage": names[0] if names else None}
+
+
 def direct_facts(summary, steps):
     routes = {}
     for s in steady(steps):
@@ -92,7 +102,7 @@ def direct_facts(summary, steps):
             "routes": summary.get("direct_routes", {}),
             "routes_position": summary.get("direct_routes_position"),
             "steady_routes": routes,
-            "rows": summary["rows"]}
+            "rows": summary["rows"], **assembly(summary, steps)}
 
 
 def measure_scene(cbps, work, label, args, steps, push, repeats):
@@ -106,7 +116,7 @@ def measure_scene(cbps, work, label, args, steps, push, repeats):
                                       "0"])
         direct = direct_facts(ds, dsteps)
         sweep = mean_solve(psteps) / 10.0
-        runs.append({"direct": direct, "pgs_sweep_s": sweep,
+        runs.append({"direct": direct, "pgs_sweep_s": sweep, "pgs": assembly(ps, psteps),
                      "pgs_max_residual_N": ps["max_residual"],
                      "sweeps": direct["solve_per_step_s"] / sweep,
                      "load": os.getloadavg()[0]})

@@ -45,19 +45,28 @@ void for_each_island(const std::vector<std::vector<int>>& islands,
                      VecX& lambda,
                      const IslandSolve& solve_island) {
   const SpMat& A = problem.A;
+  const bool formed = problem.A_formed();
   std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
   std::vector<int> blocks_I;
   std::vector<RowKind> kinds_I;
   for (const auto& rows : islands) {
-    if (static_cast<Eigen::Index>(rows.size()) == A.rows()) {
+    if (static_cast<Eigen::Index>(rows.size()) == problem.rows()) {
       solve_island(problem, lambda);
       continue;
     }
-    const SpMat A_I = principal_submatrix(A, rows, local);
+    // A left out: the island's A is J_I Minv J_Iᵀ (+ cfm E), J_I its rows of J.
+    const SpMat A_I = formed ? principal_submatrix(A, rows, local) : SpMat();
+    const SpMatRow J_I = formed ? SpMatRow() : select_rows(*problem.J, rows);
     const VecX b_I = gather_rows(problem.b, rows);
     const VecX cmin_I = gather_rows(problem.cmin, rows);
     const VecX cmax_I = gather_rows(problem.cmax, rows);
     BoxedProblem island{A_I, b_I, cmin_I, cmax_I};
+    if (!formed) {
+      island.J = &J_I;
+      island.Minv = problem.Minv;
+      island.cfm = problem.cfm;
+      island.symmetric = true;
+    }
     // A non-symmetric A's rows for the sweeps (rows_of): Aᵀ(I, I) = A(I, I)ᵀ.
     const SpMat A_rows_I =
         problem.A_rows != nullptr ? principal_submatrix(*problem.A_rows, rows, local) : SpMat();
@@ -80,38 +89,94 @@ void for_each_island(const std::vector<std::vector<int>>& islands,
   }
 }
 
-std::vector<std::vector<int>> find_islands(const SpMat& A) {
-  const auto n = static_cast<int>(A.rows());
-  std::vector<int> parent(static_cast<std::size_t>(n));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto root = [&](int i) {
-    while (parent[static_cast<std::size_t>(i)] != i) {
-      auto& p = parent[static_cast<std::size_t>(i)];
-      p = parent[static_cast<std::size_t>(p)];  // path halving
+namespace {
+
+/// Union-find over the rows: join() puts two rows in one island, islands() lists them.
+class RowUnion {
+ public:
+  explicit RowUnion(int n) : parent_(static_cast<std::size_t>(n)) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  void join(int i, int k) {
+    const int ri = root(i), rk = root(k);
+    if (ri != rk) parent_[static_cast<std::size_t>(std::max(ri, rk))] = std::min(ri, rk);
+  }
+  /// Roots are the smallest row of their island, so islands come out in order of first row.
+  std::vector<std::vector<int>> islands() {
+    const auto n = static_cast<int>(parent_.size());
+    std::vector<int> island_of_root(parent_.size(), -1);
+    std::vector<std::vector<int>> islands;
+    for (int i = 0; i < n; ++i) {
+      auto& slot = island_of_root[static_cast<std::size_t>(root(i))];
+      if (slot < 0) {
+        slot = static_cast<int>(islands.size());
+        islands.emplace_back();
+      }
+      islands[static_cast<std::size_t>(slot)].push_back(i);
+    }
+    return islands;
+  }
+
+ private:
+  int root(int i) {
+    while (parent_[static_cast<std::size_t>(i)] != i) {
+      auto& p = parent_[static_cast<std::size_t>(i)];
+      p = parent_[static_cast<std::size_t>(p)];  // path halving
       i = p;
     }
     return i;
-  };
-  for (int j = 0; j < n; ++j) {
-    for (SpMat::InnerIterator it(A, j); it; ++it) {
-      if (it.value() == 0.0) continue;
-      const int ri = root(static_cast<int>(it.row()));
-      const int rj = root(j);
-      if (ri != rj) parent[static_cast<std::size_t>(std::max(ri, rj))] = std::min(ri, rj);
+  }
+  std::vector<int> parent_;
+};
+
+}  // namespace
+
+std::vector<std::vector<int>> find_islands(const SpMat& A) {
+  RowUnion rows(static_cast<int>(A.rows()));
+  for (Eigen::Index j = 0; j < A.outerSize(); ++j) {
+    for (SpMat::InnerIterator it(A, j); it; ++it)
+      if (it.value() != 0.0) rows.join(static_cast<int>(it.row()), static_cast<int>(j));
+  }
+  return rows.islands();
+}
+
+std::vector<std::vector<int>> find_islands(const BoxedProblem& problem) {
+  if (problem.A_formed()) return find_islands(problem.A);
+  // A = J Minv Jᵀ (+ cfm E): rows meet in A only through a body (six columns of J) that both
+  // act on and whose block of Minv is not zero.
+  const SpMatRow& J = *problem.J;
+  const SpMat& Minv = *problem.Minv;
+  std::vector<char> moves(static_cast<std::size_t>((J.cols() + 5) / 6), 0);
+  for (Eigen::Index j = 0; j < Minv.outerSize(); ++j)
+    for (SpMat::InnerIterator it(Minv, j); it; ++it)
+      if (it.value() != 0.0) moves[std::size_t(j / 6)] = 1;
+  RowUnion rows(static_cast<int>(J.rows()));
+  std::vector<int> first_row(moves.size(), -1);  // the first row acting on each body
+  for (Eigen::Index k = 0; k < J.rows(); ++k) {
+    for (SpMatRow::InnerIterator it(J, k); it; ++it) {
+      const auto body = static_cast<std::size_t>(it.col() / 6);
+      if (it.value() == 0.0 || !moves[body]) continue;
+      if (first_row[body] < 0)
+        first_row[body] = static_cast<int>(k);
+      else
+        rows.join(first_row[body], static_cast<int>(k));
     }
   }
-  // Roots are the smallest row of their island, so islands come out in order of first row.
-  std::vector<int> island_of_root(static_cast<std::size_t>(n), -1);
-  std::vector<std::vector<int>> islands;
-  for (int i = 0; i < n; ++i) {
-    auto& slot = island_of_root[static_cast<std::size_t>(root(i))];
-    if (slot < 0) {
-      slot = static_cast<int>(islands.size());
-      islands.emplace_back();
-    }
-    islands[static_cast<std::size_t>(slot)].push_back(i);
+  return rows.islands();
+}
+
+SpMatRow select_rows(const SpMatRow& J, const std::vector<int>& idx) {
+  SpMatRow S(static_cast<Eigen::Index>(idx.size()), J.cols());
+  Eigen::Index nnz = 0;
+  for (const int k : idx) nnz += J.row(k).nonZeros();
+  S.reserve(nnz);
+  for (std::size_t r = 0; r < idx.size(); ++r) {
+    S.startVec(static_cast<Eigen::Index>(r));
+    for (SpMatRow::InnerIterator it(J, idx[r]); it; ++it)
+      S.insertBack(static_cast<Eigen::Index>(r), it.col()) = it.value();
   }
-  return islands;
+  S.finalize();
+  return S;
 }
 
 }  // namespace cbps

@@ -247,13 +247,11 @@ SolverSummary with_cfm_applied(
     const SolverOptions& options,
     const std::function<SolverSummary(const BoxedProblem&, const SolverOptions&)>& run) {
   if (options.cfm == 0.0 || options.method == Method::MatrixFree) return run(problem, options);
-  const SpMat mixed = with_cfm(problem.A, options.cfm);
-  BoxedProblem regularised{mixed, problem.b, problem.cmin, problem.cmax};
-  regularised.J = problem.J;
-  regularised.Minv = problem.Minv;
-  regularised.blocks = problem.blocks;
-  regularised.kinds = problem.kinds;
-  regularised.cones = problem.cones;
+  // A left out: A + eps E stays J Minv Jᵀ + (cfm + eps) E, through J and Minv.
+  const SpMat mixed = problem.A_formed() ? with_cfm(problem.A, options.cfm) : SpMat();
+  BoxedProblem regularised = with_matrix(problem, problem.A_formed() ? mixed : problem.A);
+  regularised.A_rows = nullptr;  // Aᵀ + eps E is formed again by solve() where needed
+  regularised.symmetric = false;
   regularised.cfm = problem.cfm + options.cfm;
   SolverOptions plain = options;
   plain.cfm = 0.0;
@@ -288,6 +286,12 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
     return with_cfm_applied(problem, options, [&](const BoxedProblem& p, const SolverOptions& o) {
       return solve(p, lambda, o);
     });
+  }
+  if (!problem.A_formed() && reads_A(options.method, problem.cones != nullptr)) {
+    // A left out by the caller (a step solved in body space): formed here for a method that
+    // reads its entries.
+    const SpMat A = formed_A(problem);
+    return solve(with_matrix(problem, A), lambda, options);
   }
   // What the method needs of A, tested here once per solve (every method comes through here).
   if (problem.cones != nullptr && !takes_cones(options.method))

@@ -30,6 +30,8 @@ std::string stage_name(Stage stage, Method method, PushMode push) {
       return "friction_rows (5.4)";
     case Stage::Assembly:
       return "assembly (6.1, 6.2.9)";
+    case Stage::AssemblyWithoutA:
+      return "assembly (6.1, 6.2.9 without A)";
     case Stage::Solve:
       if (push == PushMode::Improved) return "velocity_system_" + name + " (8.1)";
       return "solve_" + name + (!is_iterative(method) ? " (6.2)" : " (7.1.1)");
@@ -49,8 +51,8 @@ Simulation::Simulation(Scene scene)
 StepReport Simulation::step() {
   const auto start = Clock::now();
   StepReport report;
-  name_stages();
   const System& sys = assemble(&report.times);  // Collision (4), Rows (5.2–5.4), Assembly (6.1)
+  name_stages();
   report_contacts(sys, report);
   report.warm_rows = continued_rows(sys);
   // Where this step's contact points sit on their bodies, for the next step's persistence.
@@ -103,7 +105,7 @@ void Simulation::name_stages() {
   if (!scene_.distances.empty()) add(Stage::DistanceRows);
   if (collision_stage_) add(Stage::ContactRows);
   if (collision_stage_ && scene_.world.mu > 0.0) add(Stage::FrictionRows);
-  add(Stage::Assembly);
+  add(A_formed_ ? Stage::Assembly : Stage::AssemblyWithoutA);
   add(Stage::Solve);
   if (push == PushMode::Improved) add(Stage::PositionSystem);
   add(Stage::Integrate);
@@ -163,11 +165,20 @@ const System& Simulation::assemble(StageTimes* times) {
   double assembly_s = 0.0;
   {
     const StageTimer timer(assembly_s);
-    assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_);
+    A_formed_ = forms_A(static_cast<Eigen::Index>(rows_.size()));
+    assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_, A_formed_);
     sys_.cones.law = w.cone;
   }
   if (times != nullptr) times->assembly = assembly_s;
   return sys_;
+}
+
+bool Simulation::forms_A(Eigen::Index rows) const {
+  const RowSettings settings = scene_.world.rows();
+  const bool cones = settings.friction == FrictionModel::Cone && settings.mu > 0.0;  // 5.4
+  const SolverSettings& solver = scene_.solver;
+  return observer_ != nullptr || reads_A(solver.method, cones) ||
+         (solver.method == Method::Direct && rows < solver.options().direct.interior_from_rows);
 }
 
 int Simulation::continued_rows(const System& sys) const {

@@ -818,7 +818,7 @@ StressResult run_stress(const StressCase& c,
   }
   r.energy_final = sim.energy();
   // of the matrix the solvers work on: A + eps E with constraint-force mixing
-  r.condition = estimate_condition(with_cfm(sim.assemble().A, scene.solver.cfm));
+  r.condition = estimate_condition(with_cfm(sim.build_system().A, scene.solver.cfm));
   r.verdict = probe->finish(sim);
   if (r.status.empty()) r.status = r.verdict.stable ? "stable" : "unstable";
   return r;

@@ -3,7 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
+
+#include "cbps/system/system.hpp"
 
 namespace cbps {
 
@@ -23,7 +27,7 @@ double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin,
 
 double natural_map_residual(const BoxedProblem& problem, const VecX& lambda, double cfm) {
   if (lambda.size() == 0) return 0.0;
-  const VecX w = problem.A * lambda + cfm * lambda - problem.b;  // w = (A + eps E) λ − b (6.2)
+  const VecX w = times_A(problem, lambda) + cfm * lambda - problem.b;  // (A + eps E) λ − b (6.2)
   if (problem.cones != nullptr)
     return natural_map_residual(w, lambda, problem.cmin, problem.cmax, *problem.cones);
   return natural_map_residual(w, lambda, problem.cmin, problem.cmax);
@@ -41,6 +45,11 @@ double scale_of(const BoxedProblem& problem, double cfm) {
   if (problem.b.size() > 0) s = std::max(s, problem.b.lpNorm<Eigen::Infinity>());
   // eps itself where A has no diagonal entry (a diagonal of J Minv Jᵀ is ≥ 0: |A_kk + eps| ≥ eps)
   if (cfm != 0.0 && problem.rows() > 0) s = std::max(s, std::abs(cfm));
+  if (!problem.A_formed()) {
+    if (problem.rows() > 0)
+      s = std::max(s, (diagonal_of_A(problem).array() + cfm).abs().maxCoeff());
+    return s;
+  }
   for (Eigen::Index j = 0; j < problem.A.outerSize(); ++j) {
     for (SpMat::InnerIterator it(problem.A, j); it; ++it)
       s = std::max(s, std::abs(it.value() + (it.row() == it.col() ? cfm : 0.0)));
@@ -56,6 +65,60 @@ double max_abs_row_sum(const SpMat& A) {
     max_row_sum = std::max(max_row_sum, sum);
   }
   return max_row_sum;
+}
+
+namespace {
+
+/// J of a problem whose A was left out: it must carry J and Minv (BoxedProblem::A_formed).
+const SpMatRow& factor_J(const BoxedProblem& problem) {
+  if (!problem.has_factors() || problem.J->rows() != problem.rows())
+    throw std::invalid_argument(
+        "boxed problem: A is not c x c for c = " + std::to_string(problem.rows()) +
+        " rows, and no J and Minv of those rows stand for it");
+  return *problem.J;
+}
+
+}  // namespace
+
+double max_abs_row_sum(const BoxedProblem& problem) {
+  if (problem.A_formed()) return max_abs_row_sum(problem.A);
+  if (problem.rows() == 0) return 0.0;
+  const SpMatRow& J = factor_J(problem);
+  const VecX reach = J.cwiseAbs().transpose() * VecX::Ones(J.rows());   // |J|ᵀ 1
+  const VecX sums = J.cwiseAbs() * (problem.Minv->cwiseAbs() * reach);  // |J| |Minv| |J|ᵀ 1
+  return sums.maxCoeff() + std::abs(problem.cfm);
+}
+
+VecX times_A(const BoxedProblem& problem, const VecX& x) {
+  if (problem.A_formed()) return problem.A * x;
+  const SpMatRow& J = factor_J(problem);
+  VecX y = J * (*problem.Minv * (J.transpose() * x));  // J Minv Jᵀ x (6.2.9)
+  if (problem.cfm != 0.0) y += problem.cfm * x;
+  return y;
+}
+
+VecX diagonal_of_A(const BoxedProblem& problem) {
+  if (problem.A_formed()) return problem.A.diagonal();
+  // A_kk = Σ_ij J_ki Minv_ij J_kj = (J Minv)_k · J_k: row k of J Minv walked beside row k of J
+  // (both row-major, columns ascending).
+  const SpMatRow& J = factor_J(problem);
+  const SpMatRow JM = J * *problem.Minv;
+  VecX diagonal(J.rows());
+  for (Eigen::Index k = 0; k < J.rows(); ++k) {
+    double sum = 0.0;
+    SpMatRow::InnerIterator jm(JM, k);
+    for (SpMatRow::InnerIterator j(J, k); j; ++j) {
+      while (jm && jm.col() < j.col()) ++jm;
+      if (jm && jm.col() == j.col()) sum += jm.value() * j.value();
+    }
+    diagonal(k) = sum + problem.cfm;
+  }
+  return diagonal;
+}
+
+SpMat formed_A(const BoxedProblem& problem) {
+  if (problem.A_formed()) return problem.A;
+  return with_cfm(compute_A(factor_J(problem), *problem.Minv), problem.cfm);  // (6.2.9)
 }
 
 double max_asymmetry(const SpMat& A) {

@@ -12,6 +12,12 @@ namespace cbps {
 /// The islands of A: connected components of its graph (rows i, k joined when A_ik ≠ 0 or
 /// A_ki ≠ 0), each a sorted list of rows, in order of their first row.
 std::vector<std::vector<int>> find_islands(const SpMat& A);
+/// The islands of the problem's A, also when A was left out (BoxedProblem::A_formed): then rows
+/// join when they act on one body whose block of Minv is not zero.
+std::vector<std::vector<int>> find_islands(const BoxedProblem& problem);
+
+/// The rows J(idx, :) of J, in the order of idx.
+SpMatRow select_rows(const SpMatRow& J, const std::vector<int>& idx);
 
 /// The principal submatrix A(idx, idx) of A, idx sorted ascending. `local` is
 /// scratch of size A.rows() that holds −1 everywhere on entry and on exit.
@@ -26,8 +32,9 @@ using IslandSolve = std::function<void(const BoxedProblem& island, VecX& lambda_
 /// Calls solve_island on each island in turn with its sub-problem (the whole problem as it is
 /// when one island covers every row, so nothing is copied) and writes lambda_I back. The
 /// sub-problem carries its rows' block ids and A_rows (the sweeps' rows of a non-symmetric A)
-/// when the problem has them; it never carries J and
-/// Minv (an island's A is not J_I Minv J_Iᵀ of any stored J).
+/// when the problem has them. It carries J and Minv only when the problem's A was left out
+/// (J_I, the island's rows of J, with the problem's Minv and cfm, its A empty); an island of a
+/// problem with A formed gets A(I, I) alone.
 void for_each_island(const std::vector<std::vector<int>>& islands,
                      const BoxedProblem& problem,
                      VecX& lambda,

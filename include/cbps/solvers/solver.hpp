@@ -136,6 +136,14 @@ inline bool needs_jacobian(Method method) {
   return method == Method::MatrixFree || method == Method::Shock;
 }
 
+/// False for the methods that never read A's entries, so that a step solved by them need not
+/// form A (issue 32): matrix-free (J and Minv alone, 7.1.1) and direct on the boxed problem
+/// (body space; small islands get their A(F, F) formed by the path itself). solve() forms A
+/// (formed_A) for every other method when a problem comes without it.
+inline bool reads_A(Method method, bool cones) {
+  return !(method == Method::MatrixFree || (method == Method::Direct && !cones));
+}
+
 /// True for the methods whose derivation needs a symmetric A: they minimise the QP
 /// ½ λᵀAλ − bᵀλ of 6.2 over the box, whose optimality conditions are the boxed LCP only when
 /// A = Aᵀ (the exact paths direct and active-set, apgd, nncg, pgs-sm, admm). solve() refuses a

@@ -22,11 +22,14 @@ namespace cbps {
 /// The stages of one step, in the order they run (after Box2D's b2SolverStageType); each is
 /// named with the paper's equations by stage_name. The rows stage is reported by kind.
 enum class Stage {
-  Collision,       ///< 4: broad phase, narrow phase → contact manifolds
-  DistanceRows,    ///< 5.2: distance rows
-  ContactRows,     ///< 5.3: contact rows
-  FrictionRows,    ///< 5.4: friction rows
-  Assembly,        ///< 6.1, 6.2.9: J, Minv, v1, fext, A, b
+  Collision,     ///< 4: broad phase, narrow phase → contact manifolds
+  DistanceRows,  ///< 5.2: distance rows
+  ContactRows,   ///< 5.3: contact rows
+  FrictionRows,  ///< 5.4: friction rows
+  Assembly,      ///< 6.1, 6.2.9: J, Minv, v1, fext, A, b
+  /// 6.1, 6.2.9 without A: J, Minv, v1, fext, b, when nothing of the step reads A
+  /// (Simulation::forms_A)
+  AssemblyWithoutA,
   Solve,           ///< 7.1.1 / 6.2: lambda (the velocity system of 8.1 under the improved push)
   PositionSystem,  ///< 8.1: the position system (improved push only)
   Integrate        ///< 12.3.1, 3.2: v2, momenta, positions
@@ -95,7 +98,8 @@ class Simulation {
   /// The system of the current state, not solved (6.1, 6.2.9), as a new System.
   System build_system() const;
   /// The same, assembled into the simulation's own System, whose storage is reused from step
-  /// to step; step() calls this. The reference stays valid until the next assemble() or step().
+  /// to step; step() calls this, so A is formed only when forms_A() (build_system() always
+  /// forms it). The reference stays valid until the next assemble() or step().
   const System& assemble(StageTimes* times = nullptr);
   /// The warm-start guess for a system (7): last step's lambda by row id times the row's
   /// warm-start factor (SolverSettings::warm, warm_friction), else 0.
@@ -129,7 +133,15 @@ class Simulation {
   /// The contact manifolds of the last step (4).
   const std::vector<Manifold>& manifolds() const { return manifolds_; }
 
+  /// Whether a step of `rows` rows forms A = J Minv Jᵀ (6.2.9): only when something reads it,
+  /// the method (reads_A: every one but matrix-free and direct on boxes), an observer, or the
+  /// direct path below its interior_from_rows (500), whose active-set path factors A itself
+  /// (there forming A once in the assembly is cheaper than in each system's solve). The step's
+  /// System has A empty otherwise, and its stages name the assembly "without A".
+  bool forms_A(Eigen::Index rows) const;
+
   /// Called inside every step with the step's system, its lambda and v2 (for cross-checks).
+  /// The system it sees has A formed.
   using Observer = std::function<void(const System&, const VecX& lambda, const VecX& v2)>;
   void set_observer(Observer observer) { observer_ = std::move(observer); }
 
@@ -183,6 +195,7 @@ class Simulation {
   Observer observer_;
   bool collision_stage_ = false;  ///< the scene has a pair that may collide
   std::vector<std::string> stages_;
+  bool A_formed_ = true;  ///< the last assembly formed A (forms_A)
   std::vector<Manifold> manifolds_;
   std::vector<Row> rows_;  ///< this step's rows, kept for their storage
   System sys_;             ///< this step's system, kept for its storage

@@ -58,6 +58,11 @@ struct BoxedProblem {
 
   Eigen::Index rows() const { return b.size(); }
   bool has_factors() const { return J != nullptr && Minv != nullptr; }
+  /// False when A was left out (issue 32's "leave out what the solver does not read": a step
+  /// whose method works in body space or matrix-free): A is then empty and the problem's A is
+  /// J Minv Jᵀ + cfm E through its J and Minv, which it must carry. The functions below read
+  /// it either way; the methods that sweep or factor A get it formed by solve() (formed_A).
+  bool A_formed() const { return A.rows() == rows() && A.cols() == rows(); }
 };
 
 /// Which rows are Coulomb friction rows (5.4 with bounds ±mu lambda_n): normal_row[k] is the
@@ -90,6 +95,37 @@ double clamp(double x, double lo, double hi);
 /// eigenvalue of A exceeds it.
 double max_abs_row_sum(const SpMat& A);
 
+/// The row sum the rounding floor of the exact paths is scaled by, kg⁻¹: ‖A‖∞ when A is formed;
+/// when it was left out, ‖ |J| |Minv| |J|ᵀ ‖∞ + |cfm| ≥ ‖A‖∞ (one pass over J, A's entries
+/// unknown), which is also the scale of the rounding in w = J (Minv (Jᵀ λ)) as that problem
+/// forms it.
+double max_abs_row_sum(const BoxedProblem& problem);
+
+/// A x, kg⁻¹ N: the product with A, or J (Minv (Jᵀ x)) + cfm x when A was left out.
+VecX times_A(const BoxedProblem& problem, const VecX& x);
+
+/// A_kk for every row, kg⁻¹: A's diagonal, or J_k Minv J_kᵀ + cfm when A was left out.
+VecX diagonal_of_A(const BoxedProblem& problem);
+
+/// The same view with A replaced by `A` (every other field kept; the caller owns `A`), e.g. the
+/// problem with A formed (formed_A) for a method that reads A's entries.
+inline BoxedProblem with_matrix(const BoxedProblem& problem, const SpMat& A) {
+  BoxedProblem p{A, problem.b, problem.cmin, problem.cmax};
+  p.J = problem.J;
+  p.Minv = problem.Minv;
+  p.blocks = problem.blocks;
+  p.kinds = problem.kinds;
+  p.cfm = problem.cfm;
+  p.A_rows = problem.A_rows;
+  p.symmetric = problem.symmetric;
+  p.cones = problem.cones;
+  return p;
+}
+
+/// The problem's A as a matrix: A itself when formed, else J Minv Jᵀ + cfm E (6.2.9, compute_A),
+/// for the methods that sweep or factor A's entries.
+SpMat formed_A(const BoxedProblem& problem);
+
 /// m ← max(m, x) where a NaN, in m or in x, stays: once m is NaN no later finite x replaces it
 /// (a residual or a sweep's change must not hide a NaN row behind a later finite one).
 inline void max_keep_nan(double& m, double x) {
@@ -119,7 +155,8 @@ SpMat with_cfm(const SpMat& A, double eps);
 
 /// The scale residuals are judged against, max(1, ‖b‖∞, max |A_ij|): a residual is small when
 /// it is small beside the data. `cbps lcp`, `--check` and the tests use this one definition.
-/// With constraint-force mixing eps (kg⁻¹) it is that of A + eps E.
+/// With constraint-force mixing eps (kg⁻¹) it is that of A + eps E. When A was left out, max
+/// |A_ij| = max A_kk (A = J Minv Jᵀ + cfm E is positive semidefinite: |A_ij|² ≤ A_ii A_jj).
 double scale_of(const BoxedProblem& problem, double cfm = 0.0);
 
 }  // namespace cbps

@@ -59,20 +59,19 @@ class IslandSolver {
         stats_(stats),
         newton_(newton),
         eps_start_(eps_start) {
-    const Eigen::Index m = A_.rows();
-    for (Eigen::Index j = 0; j < m; ++j) {
-      for (SpMat::InnerIterator it(A_, j); it; ++it) {
-        if (it.row() == j) max_diagonal_ = std::max(max_diagonal_, it.value());
-      }
+    const Eigen::Index m = problem.rows();
+    if (m > 0) max_diagonal_ = std::max(0.0, diagonal_of_A(problem).maxCoeff());
+    for (Eigen::Index j = 0; j < m; ++j)
       bounded_ = bounded_ || std::isfinite(cmin_(j)) || std::isfinite(cmax_(j));
-    }
     local_.assign(static_cast<std::size_t>(m), -1);
-    row_sum_ = row_sum >= 0.0 ? row_sum : max_abs_row_sum(A_);
+    row_sum_ = row_sum >= 0.0 ? row_sum : max_abs_row_sum(problem);
+    if (newton_ == nullptr && !problem.A_formed())
+      throw std::logic_error("active set: A(F, F) factored, but A was left out");
   }
 
   /// Solves from the guess in lambda; true when the residual reached the tolerance.
   bool solve(VecX& lambda) {
-    const Eigen::Index m = A_.rows();
+    const Eigen::Index m = problem_.rows();
     for (Eigen::Index i = 0; i < m; ++i) {
       if (!std::isfinite(lambda(i))) lambda(i) = 0.0;
       lambda(i) = clamp(lambda(i), cmin_(i), cmax_(i));
@@ -171,9 +170,9 @@ class IslandSolver {
   bool factor_free_block(const std::vector<int>& F, double eps) {
     if (newton_ != nullptr) {
       if (F == factor_rows_ && eps == factor_eps_) return true;
-      dropped_.assign(std::size_t(A_.rows()), 1);
+      dropped_.assign(std::size_t(problem_.rows()), 1);
       for (const int i : F) dropped_[std::size_t(i)] = 0;
-      d_ = VecX::Constant(A_.rows(), eps);
+      d_ = VecX::Constant(problem_.rows(), eps);
       const bool ok = newton_->factor(d_, dropped_);
       stats_.factor_nnz = std::max(stats_.factor_nnz, newton_->factor_nonzeros());
       factor_rows_ = ok ? F : std::vector<int>{};
@@ -181,7 +180,7 @@ class IslandSolver {
       return ok;
     }
     if (factor_.valid() && F == factor_rows_ && eps == factor_eps_) return true;
-    const bool whole = static_cast<Eigen::Index>(F.size()) == A_.rows();
+    const bool whole = static_cast<Eigen::Index>(F.size()) == problem_.rows();
     bool ok = false;
     if (F == factor_rows_ && factor_eps_ >= 0.0) {
       ok = factor_.refactor(whole ? A_ : block_, eps);
@@ -212,7 +211,7 @@ class IslandSolver {
   /// The objective falls at every step (the step is a descent direction and α ≤ 1 does not
   /// overshoot the minimiser on the face), so the method cannot cycle.
   Pivoting pivot(double eps, const VecX& center, VecX& x) {
-    const Eigen::Index m = A_.rows();
+    const Eigen::Index m = problem_.rows();
     const double tol = tolerance(center);
     VecX g = b_ + eps * center;
     std::vector<int> F;
@@ -325,7 +324,7 @@ class IslandSolver {
       factor_.solve(rhs, p);
       return;
     }
-    VecX r = VecX::Zero(A_.rows()), x;
+    VecX r = VecX::Zero(problem_.rows()), x;
     for (std::size_t k = 0; k < F.size(); ++k) r(F[k]) = rhs(Eigen::Index(k));
     newton_->solve(d_, dropped_, r, x, refinements);
     p.resize(rhs.size());
@@ -433,6 +432,10 @@ SolverSummary solve_active_set_coupled(const BoxedProblem& problem,
 SolverSummary solve_active_set(const BoxedProblem& problem,
                                VecX& lambda,
                                const SolverOptions& options) {
+  if (!problem.A_formed()) {  // A left out: this path factors A(F, F) and sweeps A's rows
+    const SpMat A = formed_A(problem);
+    return solve_active_set(with_matrix(problem, A), lambda, options);
+  }
   SolverSummary s;
   if (!check_input(problem, "active set", s)) return s;
   // A row with no entry in A (j_c = 0): CHOLMOD cannot analyse its empty block, and its lambda

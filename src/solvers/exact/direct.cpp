@@ -52,16 +52,15 @@ class InteriorSolver {
  public:
   InteriorSolver(const BoxedProblem& problem, const SolverOptions& options, SolverSummary& stats)
       : p_(problem),
-        A_(problem.A),
         options_(options),
         stats_(stats),
-        diagonal_(problem.A.diagonal()),
+        diagonal_(diagonal_of_A(problem)),
         rows_{problem.b,
               problem.cmin,
               problem.cmax,
               diagonal_,
               scale_of(problem),
-              max_abs_row_sum(problem.A)} {
+              max_abs_row_sum(problem)} {
     newton_ = make_newton_system(problem, options.direct.memory.get());
     stats_.space = newton_->space();
   }
@@ -72,7 +71,7 @@ class InteriorSolver {
         run_interior_point(rows_, *newton_, RowReduction(), options_, lambda);
     stats_.iterations = interior.iterations;
     stats_.factor_nnz = std::max(stats_.factor_nnz, interior.factor_nnz);
-    const bool small = A_.rows() <= kRowSpaceFinish;
+    const bool small = p_.rows() <= kRowSpaceFinish;
     if (interior.solved && !small) {
       stats_.factorizations += newton_->factorizations();
       return true;
@@ -87,7 +86,7 @@ class InteriorSolver {
     // the free block is definite that is exact to round-off, and each factor is the island's
     // own. Larger islands then finish together in body space.
     const std::vector<std::vector<int>> islands =
-        small ? std::vector<std::vector<int>>{} : find_islands(A_);
+        small ? std::vector<std::vector<int>>{} : find_islands(p_);
     bool large = false;
     bool all_solved = true;
     if (small) {
@@ -112,8 +111,13 @@ class InteriorSolver {
     return all_solved;
   }
 
-  /// The active-set path's finish on `problem` from lambda (newton: body space, else A(F, F)).
+  /// The active-set path's finish on `problem` from lambda (newton: body space, else A(F, F);
+  /// a problem whose A was left out gets it formed for that, small as it is).
   bool finish(const BoxedProblem& problem, VecX& lambda, NewtonSystem* newton) {
+    if (newton == nullptr && !problem.A_formed()) {
+      const SpMat A = formed_A(problem);
+      return finish(with_matrix(problem, A), lambda, nullptr);
+    }
     const SolverSummary x = finish_active_set(problem, lambda, options_, newton, kCrossoverEpsilon);
     stats_.crossover += x.iterations;
     stats_.pivots += x.pivots;
@@ -124,7 +128,6 @@ class InteriorSolver {
 
  private:
   const BoxedProblem& p_;
-  const SpMat& A_;
   const SolverOptions& options_;
   SolverSummary& stats_;
   const VecX diagonal_;      ///< A_kk
@@ -156,7 +159,7 @@ bool may_stop(double r, double r_before, double tolerance, double floor) {
 }
 
 double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
-  return residual_floor(max_abs_row_sum(problem.A), problem.b, lambda);
+  return residual_floor(max_abs_row_sum(problem), problem.b, lambda);
 }
 
 namespace {
@@ -202,7 +205,7 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
                                    VecX& lambda,
                                    const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const Eigen::Index n = problem.A.rows();
+  const Eigen::Index n = problem.rows();
   SolverSummary s;
   if (lambda.size() != n) lambda = VecX::Zero(n);
   s.termination = Termination::Direct;
@@ -236,7 +239,7 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   for (Eigen::Index k = 0; k < n; ++k)
     guess(k) = clamp(std::isfinite(guess(k)) ? guess(k) : 0.0, problem.cmin(k), problem.cmax(k));
   const bool warm_tried = !guess.isZero(0.0);
-  const double row_sum = warm_tried ? max_abs_row_sum(problem.A) : 0.0;
+  const double row_sum = warm_tried ? max_abs_row_sum(problem) : 0.0;
   if (warm_tried) {
     s.residual = natural_map_residual(problem, guess);
     if (s.residual <= std::max(options.tolerance, residual_floor(row_sum, problem.b, guess))) {
@@ -280,7 +283,7 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   // The rounding floor grows with ‖λ‖∞, so a λ driven off by inconsistent equality rows would
   // meet it: past 1e8 × λ's natural scale (|b_k| / A_kk, the finite bounds) it is no answer.
   double natural = 1.0;
-  const VecX diagonal = problem.A.diagonal();
+  const VecX diagonal = diagonal_of_A(problem);
   for (Eigen::Index k = 0; k < n; ++k) {
     if (diagonal(k) > 0.0) natural = std::max(natural, std::abs(problem.b(k)) / diagonal(k));
     if (std::isfinite(problem.cmin(k))) natural = std::max(natural, std::abs(problem.cmin(k)));
@@ -301,6 +304,12 @@ SolverSummary solve_direct(const BoxedProblem& problem,
                            const SolverOptions& options) {
   SolverSummary s;
   if (!check_input(problem, "direct", s)) return s;
+  if (!problem.A_formed() && !body_masses(problem)) {
+    // A left out, but J and Minv allow no body space (Minv not block diagonal and definite):
+    // the row space needs A.
+    const SpMat A = formed_A(problem);
+    return solve_direct(with_matrix(problem, A), lambda, options);
+  }
   // A row with no entry in A (j_c = 0) would make the Newton systems singular (CHOLMOD's
   // analysis of a block without entries fails): its lambda follows from b and its bounds.
   return solve_around_null_rows(problem, lambda, [&](const BoxedProblem& rest, VecX& lambda_R) {

@@ -298,10 +298,10 @@ bool NewtonSystem::solve(const VecX& d,
 
 bool check_input(const BoxedProblem& problem, const char* who, SolverSummary& s) {
   const SpMat& A = problem.A;
-  const Eigen::Index n = A.rows();
-  if (A.cols() != n || problem.b.size() != n || problem.cmin.size() != n ||
-      problem.cmax.size() != n) {
-    throw std::invalid_argument(std::string(who) + ": A, b, cmin and cmax sizes differ");
+  const Eigen::Index n = problem.rows();
+  if ((problem.A_formed() ? A.cols() != n : !problem.has_factors() || problem.J->rows() != n) ||
+      problem.cmin.size() != n || problem.cmax.size() != n) {
+    throw std::invalid_argument(std::string(who) + ": A (or J), b, cmin and cmax sizes differ");
   }
   std::ostringstream msg;
   msg << who << ": ";
@@ -312,8 +312,13 @@ bool check_input(const BoxedProblem& problem, const char* who, SolverSummary& s)
     s.message = msg.str();
     return false;
   };
-  if (!problem.b.allFinite() || !Eigen::Map<const VecX>(A.valuePtr(), A.nonZeros()).allFinite())
-    return non_finite("A or b has non-finite entries");
+  const auto finite = [](const auto& M) {
+    return Eigen::Map<const VecX>(M.valuePtr(), M.nonZeros()).allFinite();
+  };
+  if (!problem.b.allFinite() ||
+      !(problem.A_formed() ? finite(A) : finite(*problem.J) && finite(*problem.Minv)))
+    return non_finite(problem.A_formed() ? "A or b has non-finite entries"
+                                         : "J, Minv or b has non-finite entries");
   Eigen::Index empty = -1;
   double gap = 0.0;
   for (Eigen::Index k = 0; k < n; ++k) {
@@ -339,13 +344,20 @@ SolverSummary solve_around_null_rows(
     VecX& lambda,
     const std::function<SolverSummary(const BoxedProblem&, VecX&)>& solve_rest) {
   const SpMat& A = problem.A;
-  const Eigen::Index n = A.rows();
+  const Eigen::Index n = problem.rows();
   std::vector<int> rest;
   std::vector<int> null;
-  for (Eigen::Index k = 0; k < n; ++k) {
-    bool coupled = false;
-    for (SpMat::InnerIterator it(A, k); it && !coupled; ++it) coupled = it.value() != 0.0;
-    (coupled ? rest : null).push_back(static_cast<int>(k));
+  if (problem.A_formed()) {
+    for (Eigen::Index k = 0; k < n; ++k) {
+      bool coupled = false;
+      for (SpMat::InnerIterator it(A, k); it && !coupled; ++it) coupled = it.value() != 0.0;
+      (coupled ? rest : null).push_back(static_cast<int>(k));
+    }
+  } else {
+    // A = J Minv Jᵀ + cfm E left out: positive semidefinite, so row k is null when A_kk = 0.
+    const VecX diagonal = diagonal_of_A(problem);
+    for (Eigen::Index k = 0; k < n; ++k)
+      (diagonal(k) != 0.0 ? rest : null).push_back(static_cast<int>(k));
   }
   if (null.empty()) return solve_rest(problem, lambda);
   const auto start = std::chrono::steady_clock::now();
@@ -379,8 +391,8 @@ SolverSummary solve_around_null_rows(
   SolverSummary s;
   s.termination = Termination::Direct;
   if (!rest.empty()) {
-    std::vector<int> local(static_cast<std::size_t>(n), -1);
-    const SpMat A_R = principal_submatrix(A, rest, local);
+    std::vector<int> local(static_cast<std::size_t>(A.rows()), -1);
+    const SpMat A_R = problem.A_formed() ? principal_submatrix(A, rest, local) : SpMat();
     const VecX b_R = gather_rows(problem.b, rest);
     const VecX cmin_R = gather_rows(problem.cmin, rest);
     const VecX cmax_R = gather_rows(problem.cmax, rest);
@@ -388,11 +400,7 @@ SolverSummary solve_around_null_rows(
     reduced.cfm = problem.cfm;
     SpMatRow J_R;
     if (problem.J != nullptr) {
-      SpMatRow select(static_cast<Eigen::Index>(rest.size()), n);  // row r picks row rest[r]
-      std::vector<Eigen::Triplet<double>> ones;
-      for (std::size_t r = 0; r < rest.size(); ++r) ones.emplace_back(int(r), rest[r], 1.0);
-      select.setFromTriplets(ones.begin(), ones.end());
-      J_R = select * *problem.J;
+      J_R = select_rows(*problem.J, rest);
       reduced.J = &J_R;
       reduced.Minv = problem.Minv;
     }
@@ -456,7 +464,7 @@ std::optional<std::vector<Mat6>> body_masses(const BoxedProblem& problem) {
 double factors_mismatch(const BoxedProblem& problem) {
   const SpMat& A = problem.A;
   const Eigen::Index c = A.rows();
-  if (c == 0) return 0.0;
+  if (c == 0 || !problem.A_formed()) return 0.0;  // A left out: J Minv Jᵀ + cfm E by definition
   VecX x(c);
   for (Eigen::Index k = 0; k < c; ++k) x(k) = std::sin(1.0 + double(k));  // no zero, no pattern
   // J (Minv (Jᵀ x)) + cfm x, as BodySpace::times_A forms it.
@@ -502,6 +510,8 @@ std::shared_ptr<NewtonSystem> make_body_space(const BoxedProblem& problem, Exact
 
 std::shared_ptr<NewtonSystem> make_newton_system(const BoxedProblem& problem, ExactMemory* memory) {
   std::shared_ptr<NewtonSystem> system = make_body_space(problem, memory);
+  if (!system && !problem.A_formed())
+    throw std::logic_error("make_newton_system: A left out, and J and Minv allow no body space");
   if (!system) system = std::make_shared<RowSpace>(problem.A);
   return system;
 }

@@ -115,7 +115,9 @@ double coulomb_residual(const BoxedProblem& problem,
                         double cfm) {
   VecX cmin, cmax;
   coulomb_bounds(problem, coulomb, lambda, cmin, cmax);
-  return natural_map_residual(BoxedProblem{problem.A, problem.b, cmin, cmax}, lambda, cfm);
+  BoxedProblem moved{problem.A, problem.b, cmin, cmax, problem.J, problem.Minv};
+  moved.cfm = problem.cfm;  // A + cfm E, formed or through J and Minv
+  return natural_map_residual(moved, lambda, cfm);
 }
 
 SolverSummary solve_coulomb(const BoxedProblem& problem,
@@ -134,6 +136,7 @@ SolverSummary solve_coulomb(const BoxedProblem& problem,
     bounded.Minv = p.Minv;
     bounded.blocks = p.blocks;
     bounded.kinds = p.kinds;
+    bounded.cfm = p.cfm;  // already in A (or in J Minv Jᵀ + cfm E when A was left out)
     if (!is_iterative(o.method)) {
       s = direct_fixed_point(bounded, coulomb, cmin, cmax, lambda, o);
     } else {
