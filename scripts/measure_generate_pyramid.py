@@ -22,7 +22,8 @@ For each N of ROWS (the pyramid of the smallest base with 12 base^2 >= N rows):
   push=original --steps 1 --solver direct --json` (at step 0 the boxes touch at depth 0, so
   the one system of push=original is the generated one, b included: tests/petsc/
   test_generate.py compares the generated rows with `cbps matrices pyramid --step 0`): its
-  solve stage (CHOLMOD, the pivoting crossover), its assembly stage (A = J Minv J^T formed),
+  solve stage (CHOLMOD, the pivoting crossover), its assembly stage and its name (since
+  6cc2f9b "without A": the direct path leaves A = J Minv J^T out; before, A was formed there),
   the process, its max_residual and the process's peak memory (wait4's ru_maxrss).
 
 --quick (a check of the script, the test petsc-measure-generate-pyramid-quick): N = 768 only.
@@ -117,7 +118,9 @@ def serial(cbps, work, base):
         f"{j['stage_times_s']['solve']:.2f} s")
     return {"command": shlex.join(["cbps"] + args[1:]), "exit": proc.returncode,
             "rows": j["rows"], "process_s": seconds, "solve_s": j["stage_times_s"]["solve"],
-            "assembly_s": j["stage_times_s"]["assembly"], "residual_N": j["max_residual"],
+            "assembly_s": j["stage_times_s"]["assembly"],
+            "assembly_stage": next(n for n in j["stages"] if n.startswith("assembly")),
+            "residual_N": j["max_residual"],
             "peak_memory_mb": peak_mb, "load": os.getloadavg()[0]}
 
 
