@@ -91,25 +91,33 @@ double max_abs_row_sum(const BoxedProblem& problem) {
 
 VecX times_A(const BoxedProblem& problem, const VecX& x) {
   if (problem.A_formed()) return problem.A * x;
-  const SpMatRow& J = factor_J(problem);
-  VecX y = J * (*problem.Minv * (J.transpose() * x));  // J Minv Jᵀ x (6.2.9)
-  if (problem.cfm != 0.0) y += problem.cfm * x;
+  return times_factors(factor_J(problem), *problem.Minv, problem.cfm, x);
+}
+
+VecX times_factors(const SpMatRow& J, const SpMat& Minv, double cfm, const VecX& x) {
+  VecX y = J * (Minv * (J.transpose() * x));  // J Minv Jᵀ x (6.2.9)
+  if (cfm != 0.0) y += cfm * x;
   return y;
 }
 
 VecX diagonal_of_A(const BoxedProblem& problem) {
   if (problem.A_formed()) return problem.A.diagonal();
-  // A_kk = Σ_ij J_ki Minv_ij J_kj = (J Minv)_k · J_k: row k of J Minv walked beside row k of J
-  // (both row-major, columns ascending).
+  // A_kk = Σ_ij J_ki Minv_ij J_kj (6.2.9) row by row, without forming J Minv: for each entry
+  // J_ki, column i of Minv met with row k of J (a row has at most 12 entries).
   const SpMatRow& J = factor_J(problem);
-  const SpMatRow JM = J * *problem.Minv;
+  const SpMat& Minv = *problem.Minv;
   VecX diagonal(J.rows());
   for (Eigen::Index k = 0; k < J.rows(); ++k) {
+    const Eigen::Index start = J.outerIndexPtr()[k], end = J.outerIndexPtr()[k + 1];
+    const int* cols = J.innerIndexPtr() + start;  // ascending
+    const double* values = J.valuePtr() + start;
     double sum = 0.0;
-    SpMatRow::InnerIterator jm(JM, k);
-    for (SpMatRow::InnerIterator j(J, k); j; ++j) {
-      while (jm && jm.col() < j.col()) ++jm;
-      if (jm && jm.col() == j.col()) sum += jm.value() * j.value();
+    for (Eigen::Index i = 0; i < end - start; ++i) {
+      for (SpMat::InnerIterator m(Minv, cols[i]); m; ++m) {
+        const int* at = std::lower_bound(cols, cols + (end - start), static_cast<int>(m.row()));
+        if (at != cols + (end - start) && *at == m.row())
+          sum += values[i] * m.value() * values[at - cols];
+      }
     }
     diagonal(k) = sum + problem.cfm;
   }

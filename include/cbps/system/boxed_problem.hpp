@@ -104,6 +104,10 @@ double max_abs_row_sum(const BoxedProblem& problem);
 /// A x, kg⁻¹ N: the product with A, or J (Minv (Jᵀ x)) + cfm x when A was left out.
 VecX times_A(const BoxedProblem& problem, const VecX& x);
 
+/// (J Minv Jᵀ + cfm E) x through the factors, J (Minv (Jᵀ x)) + cfm x (6.2.9), kg⁻¹ N: the one
+/// place this product is written (times_A, the body-space Newton system, factors_mismatch).
+VecX times_factors(const SpMatRow& J, const SpMat& Minv, double cfm, const VecX& x);
+
 /// A_kk for every row, kg⁻¹: A's diagonal, or J_k Minv J_kᵀ + cfm when A was left out.
 VecX diagonal_of_A(const BoxedProblem& problem);
 

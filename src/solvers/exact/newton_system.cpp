@@ -111,12 +111,7 @@ class BodySpace final : public NewtonSystem {
     x = omega_.cwiseProduct(r - *J_ * u);
   }
 
-  void times_A(const VecX& x, VecX& y) const override {
-    const VecX f = J_->transpose() * x;
-    const VecX v = *Minv_ * f;
-    y = *J_ * v;
-    if (cfm_ != 0.0) y += cfm_ * x;
-  }
+  void times_A(const VecX& x, VecX& y) const override { y = times_factors(*J_, *Minv_, cfm_, x); }
 
   long factor_nonzeros() const override { return factor_.nonzeros(); }
   const char* space() const override { return "body"; }
@@ -468,10 +463,7 @@ double factors_mismatch(const BoxedProblem& problem) {
   VecX x(c);
   for (Eigen::Index k = 0; k < c; ++k) x(k) = std::sin(1.0 + double(k));  // no zero, no pattern
   // J (Minv (Jᵀ x)) + cfm x, as BodySpace::times_A forms it.
-  const VecX f = problem.J->transpose() * x;
-  const VecX v = *problem.Minv * f;
-  VecX JMJx = *problem.J * v;
-  if (problem.cfm != 0.0) JMJx += problem.cfm * x;
+  const VecX JMJx = times_factors(*problem.J, *problem.Minv, problem.cfm, x);
   const VecX Ax = A * x;
   VecX size = VecX::Zero(c);  // Σ_k |A_ik x_k| for every row i (any A: scattered by column)
   for (Eigen::Index j = 0; j < A.outerSize(); ++j)
