@@ -191,5 +191,12 @@ def _bench_warm_check(src):
     plain = statistics.median(r["plain_s"] for r in runs)
     checked = statistics.median(r["checked_s"] for r in runs)
     unverified = max(r["direct_unverified"] for r in runs)
-    return (f"{dur(plain)} without `--check`, {dur(checked)} with it: "
+    text = (f"{dur(plain)} without `--check`, {dur(checked)} with it: "
             f"{c['ratio_median']:.2f}× (median of {len(runs)}; {unverified} steps unverified)")
+    if "direct_s" in runs[0] and "steps" in c:
+        direct = statistics.median(r["direct_s"] for r in runs)
+        pgs = statistics.median(r["pgs_solve_s"] for r in runs)
+        pivots = statistics.median(r["direct_pivots"] for r in runs)
+        text += (f"; the direct solves took {dur(direct)} against {dur(pgs)} in PGS's solve stage "
+                 f"({direct / pgs:.2f}×), with {pivots / c['steps']:.0f} crossover pivots a step")
+    return text

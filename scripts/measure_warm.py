@@ -142,8 +142,12 @@ def measure_check(cbps, work, steps, repeats):
                      "ratio": checked["wall_time_s"] / plain["wall_time_s"],
                      "direct_unverified": cross["direct_unverified"],
                      "max_direct_residual_N": cross["max_direct_residual"],
-                     "max_velocity_difference": cross["max_velocity_difference"]})
-    return {"command": "cbps run " + shlex.join(base) + " [--check]", "runs": runs,
+                     "max_velocity_difference": cross["max_velocity_difference"],
+                     "pgs_solve_s": plain["stage_times_s"]["solve"],
+                     "direct_s": cross["direct_time_s"],
+                     "direct_pivots": cross["direct_pivots"],
+                     "direct_routes": cross["direct_routes"]})
+    return {"command": "cbps run " + shlex.join(base) + " [--check]", "steps": steps, "runs": runs,
             "ratio_median": statistics.median(r["ratio"] for r in runs)}
 
 

@@ -108,8 +108,13 @@ void CrossCheck::start(Simulation& sim) {
     if (sys.rows() >= interior_from_rows &&
         !(natural_map_residual(problem, lambda) <= residual_floor(problem, lambda)))
       lambda_direct.setZero();
+    const auto start = std::chrono::steady_clock::now();
     const SolverSummary s = sim.solve_system(sys, sys.b, lambda_direct, direct);
+    direct_time_s +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (s.termination != Termination::Direct) ++direct_short;
+    if (!s.route.empty()) ++routes[s.route];
+    direct_pivots += s.pivots;
     // Verified as `cbps lcp` verifies: residual ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|).
     if (!(s.residual <= kLcpSolvedTolerance * scale_of(sys.problem()))) ++direct_unverified;
     const VecX v2_direct = compute_v2(sys, lambda_direct);
@@ -135,7 +140,10 @@ nlohmann::json CrossCheck::json() const {
                       {"max_direct_residual", number_json(max_direct_residual)},
                       {"direct_stopped_short", direct_short},
                       {"direct_unverified", direct_unverified},
-                      {"steps_checked", steps_checked}};
+                      {"steps_checked", steps_checked},
+                     {"direct_routes", routes},
+                     {"direct_time_s", number_json(direct_time_s)},
+                     {"direct_pivots", direct_pivots}};
   if (tolerance_ >= 0.0) {
     j["tolerance"] = tolerance_;
     j["steps_beyond_tolerance"] = steps_beyond;

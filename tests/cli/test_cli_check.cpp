@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "fixture.hpp"
@@ -40,6 +41,19 @@ void check_cross_check(const CheckedRun& c, long steps) {
   CAPTURE(residual);
   CHECK(residual <= 1e-9 * c.weight);
   CHECK(r.out.find("\"collision (4)\"") != std::string::npos);
+  // Each checked step's direct solve took one route; the check's own time lies inside the run's.
+  const nlohmann::json summary = nlohmann::json::parse(r.out);
+  const nlohmann::json& cross = summary.at("cross_check");
+  long routed = 0;
+  for (const auto& [route, count] : cross.at("direct_routes").items()) {
+    CAPTURE(route);
+    CHECK(count.get<long>() > 0);
+    routed += count.get<long>();
+  }
+  CHECK(routed == steps);
+  CHECK(cross.at("direct_time_s").get<double>() > 0.0);
+  CHECK(cross.at("direct_time_s").get<double>() <= summary.at("wall_time_s").get<double>());
+  CHECK(cross.at("direct_pivots").get<long>() >= 0);
 }
 
 }  // namespace

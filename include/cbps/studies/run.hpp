@@ -85,6 +85,9 @@ class CrossCheck : public StepObserver {
   long steps_beyond = 0;       ///< steps beyond the tolerance
   long first_beyond = -1;      ///< the first of them (0-based step), -1 if none
   double first_beyond_difference = 0.0;
+  std::map<std::string, long> routes;  ///< the direct solves' routes (SolverSummary::route)
+  double direct_time_s = 0.0;          ///< s, in the direct solves, all steps
+  long direct_pivots = 0;              ///< their crossover pivots, all steps
 
   double tolerance() const { return tolerance_; }
   /// summary.json's "cross_check" (docs/outputs.md).

@@ -210,6 +210,10 @@ class IslandSolver {
   ///      progress only the worst one.
   /// The objective falls at every step (the step is a descent direction and α ≤ 1 does not
   /// overshoot the minimiser on the face), so the method cannot cycle.
+  /// (A + εI)x is formed anew after each full step (its gradient is needed there) and before
+  /// the refined solve of one; after a blocked step only its free rows are read next, and
+  /// those move by α (A + εI)_FF p = α rhs: updated so, a blocked round costs one solve and no
+  /// product by A (most rounds block: the base-20 pyramid under PGS, docs/exact-path.md).
   Pivoting pivot(double eps, const VecX& center, VecX& x) {
     const Eigen::Index m = problem_.rows();
     const double tol = tolerance(center);
@@ -223,6 +227,13 @@ class IslandSolver {
       if (place == Place::Upper) x(i) = cmax_(i);
       if (place == Place::Free) x(i) = clamp(x(i), cmin_(i), cmax_(i));
     }
+    VecX Hx = times_A(x) + eps * x;  // (A + εI) x
+    bool Hx_formed = true;            // formed, not updated, since x last moved
+    const auto form_Hx = [&] {
+      if (Hx_formed) return;
+      Hx = times_A(x) + eps * x;
+      Hx_formed = true;
+    };
     const long limit = 100 + 5 * static_cast<long>(m);
     for (long round = 0; round < limit; ++round) {
       ++rounds_;
@@ -234,11 +245,13 @@ class IslandSolver {
       double alpha = 1.0;
       if (!F.empty()) {
         if (!factor_free_block(F, eps)) return Pivoting::Singular;
-        const VecX Hx = times_A(x) + eps * x;
-        rhs.resize(static_cast<Eigen::Index>(F.size()));
-        for (std::size_t k = 0; k < F.size(); ++k) rhs(Eigen::Index(k)) = g(F[k]) - Hx(F[k]);
-        // In body space a blocked step only needs a direction, so no refinement (the next
-        // round's right-hand side corrects it); a full step is refined before it is taken.
+        const auto form_rhs = [&] {
+          rhs.resize(static_cast<Eigen::Index>(F.size()));
+          for (std::size_t k = 0; k < F.size(); ++k) rhs(Eigen::Index(k)) = g(F[k]) - Hx(F[k]);
+        };
+        form_rhs();
+        // In body space a blocked step only needs a direction, so no refinement; a full step
+        // is refined, from (A + εI)x formed anew, before it is taken.
         const auto ratio_test = [&] {
           double a = 1.0;
           for (std::size_t k = 0; k < F.size(); ++k) {
@@ -253,6 +266,10 @@ class IslandSolver {
         if (!p.allFinite()) return Pivoting::Failed;
         alpha = ratio_test();
         if (alpha == 1.0 && newton_ != nullptr) {
+          if (!Hx_formed) {
+            form_Hx();
+            form_rhs();
+          }
           solve_free_block(F, rhs, p, kRefinements);
           if (!p.allFinite()) return Pivoting::Failed;
           alpha = ratio_test();
@@ -274,40 +291,50 @@ class IslandSolver {
           } else {
             x(i) = clamp(xi, cmin_(i), cmax_(i));
           }
+          Hx(i) += alpha * rhs(Eigen::Index(k));  // (A + εI)_FF p = rhs
         }
+        Hx_formed = false;
       }
       if (alpha < 1.0) {
         release_one = release_one || alpha == 0.0;
         continue;
       }
       // A full step: x minimises the objective on this face. Free the wrong-signed bound rows.
-      const VecX y = times_A(x) + eps * x - g;
-      Eigen::Index worst = -1;
-      double worst_violation = tol;
-      int released = 0;
-      for (Eigen::Index i = 0; i < m; ++i) {
-        Place& place = place_[std::size_t(i)];
-        const double violation = place == Place::Lower ? -y(i) : place == Place::Upper ? y(i) : 0.0;
-        if (!(violation > tol)) continue;
-        if (violation > worst_violation) {
-          worst_violation = violation;
-          worst = i;
-        }
-        if (!release_one) {
-          place = Place::Free;
-          ++released;
-          ++stats_.pivots;
-        }
-      }
-      if (release_one && worst >= 0) {
-        place_[std::size_t(worst)] = Place::Free;
-        ++released;
-        ++stats_.pivots;
-      }
+      form_Hx();
+      const int released = release_wrong_signed(Hx - g, tol, release_one);
       if (released == 0) return Pivoting::Solved;
       release_one = false;
     }
     return Pivoting::Failed;
+  }
+
+  /// Frees the bound rows whose gradient y = (A + εI)x − g has the wrong sign by more than
+  /// `tol` (y < 0 at cmin, y > 0 at cmax): all of them, or with `release_one` only the worst.
+  /// Returns how many were freed.
+  int release_wrong_signed(const VecX& y, double tol, bool release_one) {
+    Eigen::Index worst = -1;
+    double worst_violation = tol;
+    int released = 0;
+    for (Eigen::Index i = 0; i < y.size(); ++i) {
+      Place& place = place_[std::size_t(i)];
+      const double violation = place == Place::Lower ? -y(i) : place == Place::Upper ? y(i) : 0.0;
+      if (!(violation > tol)) continue;
+      if (violation > worst_violation) {
+        worst_violation = violation;
+        worst = i;
+      }
+      if (!release_one) {
+        place = Place::Free;
+        ++released;
+        ++stats_.pivots;
+      }
+    }
+    if (release_one && worst >= 0) {
+      place_[std::size_t(worst)] = Place::Free;
+      ++released;
+      ++stats_.pivots;
+    }
+    return released;
   }
 
   /// A x, in body space through J and Minv.

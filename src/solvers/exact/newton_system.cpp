@@ -103,12 +103,33 @@ class BodySpace final : public NewtonSystem {
   int factorizations() const override { return factorizations_; }
   long updates() const override { return updates_; }
 
+  /// x = Ω (r − J H⁻¹ Jᵀ Ω r), Ω = D⁻¹ (0 on dropped rows): (A + D)⁻¹ r on the kept rows by
+  /// the Woodbury identity. Rows with Ω r = 0 (the bound rows of a crossover round, the
+  /// dropped ones) are skipped in Jᵀ; dropped rows are skipped in J.
   void apply(const VecX& r, VecX& x) const override {
-    const VecX wr = omega_.cwiseProduct(r);
-    const VecX g = J_->transpose() * wr;
+    const SpMatRow& J = *J_;
+    const int* outer = J.outerIndexPtr();
+    const int* inner = J.innerIndexPtr();
+    const double* value = J.valuePtr();
+    VecX g = VecX::Zero(J.cols());
+    for (Eigen::Index k = 0; k < J.rows(); ++k) {
+      const double wr = omega_(k) * r(k);
+      if (wr == 0.0) continue;
+      for (int a = outer[k]; a < outer[k + 1]; ++a) g(inner[a]) += value[a] * wr;
+    }
     VecX u;
     factor_.solve(g, u);
-    x = omega_.cwiseProduct(r - *J_ * u);
+    x.resize(J.rows());
+    for (Eigen::Index k = 0; k < J.rows(); ++k) {
+      const double w = omega_(k);
+      if (w == 0.0) {
+        x(k) = 0.0;
+        continue;
+      }
+      double Ju = 0.0;
+      for (int a = outer[k]; a < outer[k + 1]; ++a) Ju += value[a] * u(inner[a]);
+      x(k) = w * (r(k) - Ju);
+    }
   }
 
   void times_A(const VecX& x, VecX& y) const override { y = times_factors(*J_, *Minv_, cfm_, x); }
