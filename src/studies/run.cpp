@@ -141,9 +141,9 @@ nlohmann::json CrossCheck::json() const {
                       {"direct_stopped_short", direct_short},
                       {"direct_unverified", direct_unverified},
                       {"steps_checked", steps_checked},
-                     {"direct_routes", routes},
-                     {"direct_time_s", number_json(direct_time_s)},
-                     {"direct_pivots", direct_pivots}};
+                      {"direct_routes", routes},
+                      {"direct_time_s", number_json(direct_time_s)},
+                      {"direct_pivots", direct_pivots}};
   if (tolerance_ >= 0.0) {
     j["tolerance"] = tolerance_;
     j["steps_beyond_tolerance"] = steps_beyond;

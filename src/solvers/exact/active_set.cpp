@@ -228,7 +228,7 @@ class IslandSolver {
       if (place == Place::Free) x(i) = clamp(x(i), cmin_(i), cmax_(i));
     }
     VecX Hx = times_A(x) + eps * x;  // (A + εI) x
-    bool Hx_formed = true;            // formed, not updated, since x last moved
+    bool Hx_formed = true;           // formed, not updated, since x last moved
     const auto form_Hx = [&] {
       if (Hx_formed) return;
       Hx = times_A(x) + eps * x;
