@@ -3,6 +3,7 @@
 // docs/scene-format.md), and the Scene class with the world and solver settings the command
 // line's step options set (--dt, --beta, --push, --solver, --iterations, --tolerance, --cfm,
 // --seed) and to_json() / save(), which writes what load_scene reads back.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -125,6 +126,21 @@ void bind_scenes(py::module_& m) {
             }
           },
           "the push factor's form: 'original' (5.2.3, 5.3) or 'improved' (8.1)")
+      .def_property(
+          "integrator",
+          [](const Scene& s) {
+            return integrator_names().at(static_cast<std::size_t>(s.world.integrator));
+          },
+          [](Scene& s, const std::string& name) {
+            const std::vector<std::string>& names = integrator_names();
+            const auto it = std::find(names.begin(), names.end(), name);
+            if (it == names.end())
+              throw InputError("integrator '" + name +
+                               "': expected paper, gyroscopic or midpoint (docs/integrators.md)");
+            s.world.integrator = static_cast<Integrator>(it - names.begin());
+          },
+          "how a step turns the bodies: 'paper' (3.2), 'gyroscopic' (Bullet's implicit "
+          "gyroscopic step) or 'midpoint' (keeps energy and L; docs/integrators.md)")
       .def_property(
           "gravity",
           [](const Scene& s) { return to_numpy(s.world.gravity); },

@@ -90,4 +90,56 @@ void advance_position(Body& body, const Vec3& v, const Vec3& omega, double dt) {
   body.q = rotate_exact(body.q, omega, dt);
 }
 
+namespace {
+
+/// [a]×: the matrix of a × (·).
+Mat3 cross_matrix(const Vec3& a) {
+  Mat3 m;
+  m << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return m;
+}
+
+}  // namespace
+
+const std::vector<std::string>& integrator_names() {
+  static const std::vector<std::string> names{"paper", "gyroscopic", "midpoint"};
+  return names;
+}
+
+Vec3 gyroscopic_omega(const Body& body, double dt) {
+  if (body.is_static) return Vec3::Zero();
+  const Mat3 R = body.R();
+  const Mat3& I = body.I_body;
+  const Vec3 omega = R.transpose() * body.omega();  // body frame, rad/s
+  const Vec3 f = dt * omega.cross(I * omega);       // f(ω) = dt ω × I ω, kg m²/s
+  const Mat3 jacobian = I + dt * (cross_matrix(omega) * I - cross_matrix(I * omega));
+  return R * (omega - jacobian.partialPivLu().solve(f));
+}
+
+Quat midpoint_turn(const Body& body, const Vec3& omega, double dt) {
+  if (body.is_static) return body.q;
+  const Mat3 R = body.R();
+  const Vec3 l = R.transpose() * (body.I_world() * omega);  // l_b, kg m²/s
+  Vec3 next = l;
+  Vec3 mid = l;
+  // Newton on F(l') = l' − l − dt l_m × I_b⁻¹ l_m; dF/dl' = E − (dt/2)([l_m]× I_b⁻¹ − [I_b⁻¹
+  // l_m]×).
+  for (int k = 0; k < 50; ++k) {
+    mid = 0.5 * (l + next);
+    const Vec3 w = body.I_body_inv * mid;
+    const Vec3 F = next - l - dt * mid.cross(w);
+    if (F.norm() <= 1e-15 * l.norm()) break;
+    const Mat3 dF =
+        Mat3::Identity() - 0.5 * dt * (cross_matrix(mid) * body.I_body_inv - cross_matrix(w));
+    next -= dF.partialPivLu().solve(F);
+  }
+  mid = 0.5 * (l + next);
+  const Vec3 half = 0.5 * dt * (body.I_body_inv * mid);  // dt ω_m / 2, body frame
+  Quat turn(1.0, half.x(), half.y(), half.z());
+  turn.normalize();
+  Quat q = body.q * turn;  // the body-frame turn acts on the right
+  q.normalize();
+  return q;
+}
+
 }  // namespace cbps

@@ -57,6 +57,12 @@ void add_world_options(CLI::App* cmd, StepOptions& o) {
                   "push factor form: original (Baumgarte in the one system, 5.2.3, 5.3) | "
                   "improved (velocity and position systems, 8.1); default: the scene's")
       ->check(CLI::IsMember({"original", "improved"}));
+  cmd->add_option("--integrator",
+                  o.integrator,
+                  "how a step turns the bodies: paper (3.2, explicit turn) | gyroscopic "
+                  "(Bullet's implicit gyroscopic step) | midpoint (implicit midpoint, keeps "
+                  "energy and L); docs/integrators.md; default: the scene's (paper)")
+      ->check(CLI::IsMember(integrator_names()));
 }
 
 void add_seed_option(CLI::App* cmd, StepOptions& o) {
@@ -105,7 +111,7 @@ CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet, const std::string& what)
 }
 
 bool world_options_given(const StepOptions& o) {
-  return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty();
+  return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty() || !o.integrator.empty();
 }
 
 std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params) {
@@ -170,6 +176,8 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.beta >= 0.0) scene.world.beta = o.beta;
   if (o.push == "original") scene.world.push = PushMode::Original;
   if (o.push == "improved") scene.world.push = PushMode::Improved;
+  for (std::size_t k = 0; k < integrator_names().size(); ++k)
+    if (o.integrator == integrator_names()[k]) scene.world.integrator = static_cast<Integrator>(k);
   if (!o.solver.empty()) {
     // InputError names what is wrong
     apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);

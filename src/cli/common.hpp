@@ -32,9 +32,10 @@ struct StepOptions {
   int iterations = -1;
   double tolerance = -1.0;
   double beta = -1.0;
-  std::string push;     ///< "original" | "improved"; empty keeps the scene's
-  long long seed = -1;  ///< --seed; negative keeps the scene's
-  double cfm = -1.0;    ///< --cfm; negative keeps the scene's
+  std::string push;        ///< "original" | "improved"; empty keeps the scene's
+  std::string integrator;  ///< integrator_names(); empty keeps the scene's
+  long long seed = -1;     ///< --seed; negative keeps the scene's
+  double cfm = -1.0;       ///< --cfm; negative keeps the scene's
 };
 
 void add_scene_options(

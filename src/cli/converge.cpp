@@ -209,8 +209,9 @@ int converge_command(const ConvergeOptions& o) {
     throw InputError("--param: parameters apply to built-in scenes, not to the problem " +
                      o.scene.scene);
   if (problem && world_options_given(o.step))
-    throw InputError("--dt, --cfm, --beta, --push: they apply to scenes, not to the problem " +
-                     o.scene.scene + " (its cfm.txt gives its cfm)");
+    throw InputError(
+        "--dt, --cfm, --beta, --push, --integrator: they apply to scenes, not to the problem " +
+        o.scene.scene + " (its cfm.txt gives its cfm)");
   ConvergenceSystem s = problem ? convergence_system(o.scene.scene) : system_of_scene(o);
   apply_cone_option(s.stored, o.cone, o.scene.scene);
   if (o.solvers.empty())

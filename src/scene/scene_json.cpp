@@ -220,6 +220,7 @@ World read_world(const Node& node) {
                 "dt",
                 "beta",
                 "push",
+                "integrator",
                 "mu",
                 "friction",
                 "cone",
@@ -235,6 +236,9 @@ World read_world(const Node& node) {
   if (has(node, "beta")) world.beta = unit_interval(child(node, "beta"));
   if (has(node, "push"))
     world.push = static_cast<PushMode>(choice(child(node, "push"), kPushModes, "push mode"));
+  if (has(node, "integrator"))
+    world.integrator = static_cast<Integrator>(
+        choice(child(node, "integrator"), integrator_names(), "integrator"));
   if (has(node, "mu")) world.mu = nonnegative(child(node, "mu"));
   if (has(node, "friction"))
     world.friction = static_cast<FrictionModel>(
@@ -919,6 +923,7 @@ std::string scene_to_json(const Scene& scene) {
   world["dt"] = scene.world.dt;
   world["beta"] = scene.world.beta;
   world["push"] = kPushModes.at(static_cast<std::size_t>(scene.world.push));
+  world["integrator"] = integrator_names().at(static_cast<std::size_t>(scene.world.integrator));
   world["mu"] = scene.world.mu;
   world["friction"] = kFrictionModels.at(static_cast<std::size_t>(scene.world.friction));
   if (scene.world.friction == FrictionModel::Cone)

@@ -168,6 +168,15 @@ const System& Simulation::assemble(StageTimes* times) {
     A_formed_ = forms_A(static_cast<Eigen::Index>(rows_.size()));
     assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_, A_formed_);
     sys_.cones.law = w.cone;
+    if (w.integrator == Integrator::Gyroscopic) {
+      // Bullet's implicit gyroscopic step: the step starts from ω' (body.hpp), so v1 and b
+      // (6.2.9) are those of ω'.
+      for (int blk = 0; blk < sys_.blocks(); ++blk) {
+        const Body& body = scene_.bodies[static_cast<std::size_t>(sys_.body_of_block[blk])];
+        sys_.v1.segment<3>(6 * blk + 3) = gyroscopic_omega(body, w.dt);
+      }
+      sys_.b = compute_b(sys_.upsilon, sys_.J, sys_.v1, sys_.Minv, sys_.fext, w.dt);
+    }
   }
   if (times != nullptr) times->assembly = assembly_s;
   return sys_;
@@ -247,11 +256,28 @@ void Simulation::integrate(const System& sys,
                            StageTimes& times) {
   const StageTimer timer(times.integrate);
   const double dt = sys.dt;  // the Δt the system was assembled with (6.2.4)
+  const Integrator integrator = scene_.world.integrator;
   for (int blk = 0; blk < sys.blocks(); ++blk) {
     Body& body = scene_.bodies[static_cast<std::size_t>(sys.body_of_block[blk])];
-    body.set_velocity(v2.segment<3>(6 * blk), v2.segment<3>(6 * blk + 3));  // p = m v2, l = I ω2
-    advance_position(
-        body, v_move.segment<3>(6 * blk), v_move.segment<3>(6 * blk + 3), dt);  // (3.2)
+    const Vec3 v = v2.segment<3>(6 * blk), omega = v2.segment<3>(6 * blk + 3);
+    const Vec3 v_lin = v_move.segment<3>(6 * blk), v_ang = v_move.segment<3>(6 * blk + 3);
+    switch (integrator) {
+      case Integrator::Paper:
+        body.set_velocity(v, omega);               // p = m v2, l = I ω2 (3.1)
+        advance_position(body, v_lin, v_ang, dt);  // (3.2)
+        break;
+      case Integrator::Gyroscopic:
+        advance_position(body, v_lin, v_ang, dt);  // (3.2)
+        body.set_velocity(v, omega);               // ω2 kept through the turn: l = I' ω2
+        break;
+      case Integrator::Midpoint: {
+        const Quat q = midpoint_turn(body, v_ang, dt);  // from l = I ω_move
+        body.set_velocity(v, omega);                    // l = I ω2, kept through the turn
+        advance_position(body, v_lin, Vec3::Zero(), dt);
+        body.q = q;
+        break;
+      }
+    }
     body.f.setZero();
     body.tau.setZero();
   }

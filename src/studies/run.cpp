@@ -237,6 +237,7 @@ nlohmann::json run_summary_json(const Scene& scene,
         {"max_velocity_error", number_json(t.cfm_acceleration_error * scene.world.dt)}};
   }
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
+  summary["integrator"] = integrator_names().at(static_cast<std::size_t>(scene.world.integrator));
   summary["contacts"] = {{"mu", scene.world.mu},
                          {"friction", std::string(to_string(scene.world.friction))},
                          {"restitution", scene.world.restitution},

@@ -155,6 +155,7 @@ def test_bad_simulation_use():
     scene = cbps.scene("chain")
     for attribute, value, match in [("dt", 0.0, "dt 0"), ("beta", 2.0, "beta 2"),
                                     ("push", "sideways", "push 'sideways'"),
+                                    ("integrator", "verlet", "integrator 'verlet'"),
                                     ("iterations", 0, "iterations 0"), ("cfm", -1.0, "cfm -1")]:
         with pytest.raises(cbps.InputError, match=match):
             setattr(scene, attribute, value)

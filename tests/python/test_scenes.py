@@ -37,10 +37,12 @@ def test_settings_as_the_step_options():
     assert scene.solver == "pgs" and scene.relaxation == 1.3
     scene.dt = 1 / 120
     scene.push = "improved"
+    scene.integrator = "midpoint"
     scene.iterations = 7
     scene.gravity = [0, -1.62, 0]
     text = json.loads(scene.to_json())
     assert text["solver"]["iterations"] == 7 and text["world"]["push"] == "improved"
+    assert scene.integrator == "midpoint" and text["world"]["integrator"] == "midpoint"
     assert text["world"]["gravity"] == [0, -1.62, 0]
     sim = cbps.Simulation(scene)
     report = sim.step()

@@ -85,6 +85,7 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.dt == want.world.dt);
   CHECK(got.world.beta == want.world.beta);
   CHECK(got.world.push == want.world.push);
+  CHECK(got.world.integrator == want.world.integrator);
   CHECK(got.world.mu == want.world.mu);
   CHECK(got.world.friction == want.world.friction);
   CHECK(got.world.cone == want.world.cone);
@@ -142,6 +143,7 @@ Scene contact_scene() {
   Scene scene;
   scene.name = "contacts";
   scene.world.push = PushMode::Improved;
+  scene.world.integrator = Integrator::Gyroscopic;
   scene.world.mu = 0.35;
   scene.world.friction = FrictionModel::Coulomb;
   scene.world.restitution = 0.45;
@@ -236,7 +238,8 @@ TEST_CASE("a plane, a box, contact settings and collides = false read to the val
           "[scene_json]") {
   // The plane is turned 90° about x: its outward normal R (0, 1, 0) is then +z.
   const Scene scene = parse_scene(R"({
-      "world": {"push": "improved", "mu": 0.5, "friction": "coulomb", "restitution": 0.25,
+      "world": {"push": "improved", "integrator": "midpoint", "mu": 0.5, "friction": "coulomb",
+                "restitution": 0.25,
                 "restitution_threshold": 0.2, "contact_margin": 0.01},
       "solver": {"split_islands": false},
       "bodies": [
@@ -246,6 +249,7 @@ TEST_CASE("a plane, a box, contact settings and collides = false read to the val
          "collides": false}]})",
                                   "scene.json");
   CHECK(scene.world.push == PushMode::Improved);
+  CHECK(scene.world.integrator == Integrator::Midpoint);
   CHECK(scene.world.mu == 0.5);
   CHECK(scene.world.friction == FrictionModel::Coulomb);
   CHECK(scene.world.restitution == 0.25);
@@ -275,6 +279,7 @@ TEST_CASE("contact settings default to push original, mu 0, paper friction, no b
           "[scene_json]") {
   const Scene scene = parse_scene(one_body(R"("mass": 1)"), "scene.json");
   CHECK(scene.world.push == PushMode::Original);
+  CHECK(scene.world.integrator == Integrator::Paper);
   CHECK(scene.world.mu == 0.0);
   CHECK(scene.world.friction == FrictionModel::Paper);
   CHECK(scene.world.restitution == 0.0);
@@ -467,6 +472,8 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
        "scene.json: /world/contact_margin: must be >= 0 (got -0.001)"},
       {R"({"world": {"push": "sometimes"}, "bodies": []})",
        R"(scene.json: /world/push: unknown push mode "sometimes" (valid: original, improved))"},
+      {R"({"world": {"integrator": "verlet"}, "bodies": []})",
+       R"(scene.json: /world/integrator: unknown integrator "verlet" (valid: paper, gyroscopic, midpoint))"},
       {R"({"world": {"friction": "viscous"}, "bodies": []})",
        R"(scene.json: /world/friction: unknown friction model "viscous" (valid: paper, coulomb, cone))"},
       {R"({"world": {"friction": "cone", "cone": "elliptic"}, "bodies": []})",
@@ -474,7 +481,7 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
       {R"({"world": {"mu": "high"}, "bodies": []})",
        "scene.json: /world/mu: expected a number (got string)"},
       {R"({"world": {"margin": 0}, "bodies": []})",
-       "scene.json: /world/margin: unknown key (valid: gravity, dt, beta, push, mu,"},
+       "scene.json: /world/margin: unknown key (valid: gravity, dt, beta, push, integrator, mu,"},
       {R"({"parameters": {"n": 3}, "bodies": []})",
        "scene.json: /parameters/n: expected a string (got number)"},
       // Structure: unknown, duplicate and missing keys.

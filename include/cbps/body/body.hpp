@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "cbps/base/types.hpp"
 
@@ -78,5 +79,39 @@ void integrate_free(Body& body, double dt);
 /// Position update with given velocities (3.2, after the solve of 6.2): x ← x + v dt,
 /// q ← rotate_exact(q, omega, dt).
 void advance_position(Body& body, const Vec3& v, const Vec3& omega, double dt);
+
+/// How a step turns a body (World::integrator, docs/integrators.md). Translation is the same
+/// under each: x ← x + v dt (3.2).
+enum class Integrator {
+  /// The paper's (3.2): l = I ω2 kept in the world frame, q turned by ω2 dt with the exact
+  /// rotation (12.4.1). Explicit in the turn: a free body spun near its intermediate axis gains
+  /// energy (the stress catalogue's Dzhanibekov case).
+  Paper,
+  /// Bullet's implicit gyroscopic step (btRigidBody::computeGyroscopicImpulseImplicit_Body):
+  /// before the solve, one Newton step in the body frame on I (ω' − ω) + dt ω' × I ω' = 0
+  /// (gyroscopic_omega) gives the step's v1; ω, not l, is kept through the turn. Backward
+  /// Euler in the gyroscopic term: stable, and it loses energy.
+  Gyroscopic,
+  /// The implicit midpoint rule on Euler's equations in the body frame (midpoint_turn) with
+  /// the Cayley rotation: keeps l in the world frame and the kinetic energy of a free body to
+  /// round-off (both are quadratic invariants the midpoint rule keeps).
+  Midpoint,
+};
+
+/// The integrators' names in Integrator order (scene files' "integrator", --integrator).
+const std::vector<std::string>& integrator_names();
+
+/// Bullet's implicit gyroscopic step for a body with angular velocity ω = I⁻¹ l (world, rad/s):
+/// in the body frame (ω_b = Rᵀ ω, I_b), one Newton step from ω_b on
+/// f(ω') = I_b (ω' − ω_b) + dt ω' × I_b ω' = 0, whose Jacobian is
+/// I_b + dt ([ω']× I_b − [I_b ω']×); returned in the world frame, rad/s.
+Vec3 gyroscopic_omega(const Body& body, double dt);
+
+/// The turn of one step by the implicit midpoint rule: the body-frame momentum l_b = Rᵀ l
+/// (l = I ω, world) moves to l_b' = l_b + dt l_m × I_b⁻¹ l_m with l_m = (l_b + l_b')/2 (Euler's
+/// equations, solved by Newton to round-off), and q ← q ⊗ cay(dt I_b⁻¹ l_m): the Cayley
+/// rotation, quaternion [1, dt ω_m / 2] normalised, which carries l_b' back onto l
+/// (R' l_b' = R l_b). Returns the new orientation.
+Quat midpoint_turn(const Body& body, const Vec3& omega, double dt);
 
 }  // namespace cbps

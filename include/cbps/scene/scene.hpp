@@ -30,7 +30,8 @@ struct World {
   double dt = 1.0 / 240.0;        ///< time step, s
   double beta = 0.2;              ///< Baumgarte push factor (5.2.3, 5.3), dimensionless in [0, 1]
   PushMode push = PushMode::Original;
-  double mu = 0.0;  ///< friction coefficient (5.4); 0: no friction rows
+  Integrator integrator = Integrator::Paper;  ///< how a step turns the bodies (body.hpp)
+  double mu = 0.0;                            ///< friction coefficient (5.4); 0: no friction rows
   FrictionModel friction = FrictionModel::Paper;
   ConeLaw cone = ConeLaw::Coulomb;     ///< the cone's law with FrictionModel::Cone (docs/cones.md)
   double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
