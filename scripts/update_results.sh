@@ -76,6 +76,10 @@ copy $v/peers/peers.json $v/results/peers/peers.json
 # --target stress-catalogue
 copy $v/stress/summary.json $v/results/stress/summary.json
 copy $v/stress/stress.md $v/results/stress/stress.md
+# --target stress-integrators
+for integrator in gyroscopic midpoint; do
+  copy $v/stress-$integrator/summary.json $v/results/stress-$integrator/summary.json
+done
 # --target profile: the profiles without the per-problem measurements and ratios (those stay in
 # the build folder's profile.json and profile.csv), and the figure
 if [[ -f "$build/validation/profile/profile.json" ]]; then

@@ -1,6 +1,7 @@
 // cbps stress: the stability catalogue (stiff and extreme cases × solvers) as one table.
 #include "cbps/studies/stress.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +23,7 @@ struct StressOptions {
   std::string solvers;  ///< comma-separated solver specs to keep
   std::string out;
   double budget = 90.0;
+  std::string integrator = "paper";  ///< integrator_names()
   bool json = false;
   bool list = false;
   bool quiet = false;
@@ -110,7 +112,10 @@ int stress_command(const StressOptions& o) {
                  r->wall_time_s,
                  std::chrono::duration<double>(now - start).count());
   };
-  const std::vector<StressResult> results = run_stress_catalogue(cases, kept, o.budget, progress);
+  const auto named = std::find(integrator_names().begin(), integrator_names().end(), o.integrator);
+  const auto integrator = static_cast<Integrator>(named - integrator_names().begin());
+  const std::vector<StressResult> results =
+      run_stress_catalogue(cases, kept, o.budget, progress, integrator);
   const nlohmann::json report = stress_report_json(
       cases,
       results,
@@ -152,6 +157,11 @@ void register_stress(CLI::App& app, Action& run) {
                   "pgs,direct");
   cmd->add_option("--budget", o->budget, "wall-time budget of one run, s (default 90)")
       ->check(positive());
+  cmd->add_option("--integrator",
+                  o->integrator,
+                  "how every case turns its bodies: paper | gyroscopic | midpoint "
+                  "(docs/integrators.md; default paper)")
+      ->check(CLI::IsMember(integrator_names()));
   add_out_option(cmd, o->out, "summary.json (all numbers) and stress.md (the table)");
   add_json_flag(cmd, o->json, "the results instead of the table");
   cmd->add_flag("--list", o->list, "list the cases, what stable means for each, and exit");

@@ -764,12 +764,15 @@ std::vector<StressCase> stress_catalogue() {
 StressResult run_stress(const StressCase& c,
                         const std::string& solver,
                         double budget_s,
-                        const std::function<void(long, long)>& progress) {
+                        const std::function<void(long, long)>& progress,
+                        Integrator integrator) {
   StressResult r;
   r.case_name = c.name;
   r.solver = solver;
+  r.integrator = integrator;
   r.steps = c.steps;
   Scene scene = c.build();
+  scene.world.integrator = integrator;
   if (solver != "-")
     apply_solver_spec(parse_solver_spec(solver, "stress case " + c.name), scene.solver);
   r.cfm = scene.solver.cfm;
@@ -845,6 +848,7 @@ nlohmann::json stress_result_json(const StressResult& r) {
   nlohmann::json j;
   j["case"] = r.case_name;
   j["solver"] = r.solver;
+  j["integrator"] = integrator_names().at(static_cast<std::size_t>(r.integrator));
   j["status"] = r.status;
   if (!r.note.empty()) j["note"] = r.note;
   if (r.status == "skipped") return j;
@@ -936,7 +940,8 @@ std::string stress_table(const std::vector<StressResult>& results) {
 std::vector<StressResult> run_stress_catalogue(const std::vector<StressCase>& cases,
                                                const std::function<bool(const std::string&)>& kept,
                                                double budget_s,
-                                               const StressProgress& progress) {
+                                               const StressProgress& progress,
+                                               Integrator integrator) {
   std::size_t total = 0;
   for (const StressCase& c : cases)
     total += static_cast<std::size_t>(std::count_if(c.solvers.begin(), c.solvers.end(), kept));
@@ -949,7 +954,7 @@ std::vector<StressResult> run_stress_catalogue(const std::vector<StressCase>& ca
       const auto step_progress = [&](long step, long steps) {
         if (progress) progress(done, total, c, solver, step, steps, nullptr);
       };
-      results.push_back(run_stress(c, solver, budget_s, step_progress));
+      results.push_back(run_stress(c, solver, budget_s, step_progress, integrator));
       if (progress) progress(done, total, c, solver, c.steps, c.steps, &results.back());
     }
     for (const auto& [solver, why] : c.skipped) {
@@ -957,6 +962,7 @@ std::vector<StressResult> run_stress_catalogue(const std::vector<StressCase>& ca
       StressResult r;
       r.case_name = c.name;
       r.solver = solver;
+      r.integrator = integrator;
       r.status = "skipped";
       r.note = why;
       results.push_back(std::move(r));

@@ -50,6 +50,7 @@ struct StressCase {
 struct StressResult {
   std::string case_name;
   std::string solver;
+  Integrator integrator = Integrator::Paper;  ///< how the run turned the bodies (body.hpp)
   /// "stable", "unstable" (the case's criterion failed), "diverged" (the divergence guard
   /// stopped it), "budget" (the wall-time budget ran out first) or "skipped".
   std::string status;
@@ -74,11 +75,13 @@ struct StressResult {
 std::vector<StressCase> stress_catalogue();
 
 /// Runs one case with one solver spec for its steps, or until the divergence guard stops it or
-/// `budget_s` of wall time is spent. `progress(step, steps)` is called after every step.
+/// `budget_s` of wall time is spent, its bodies turned by `integrator` (the case's scene
+/// says nothing of it). `progress(step, steps)` is called after every step.
 StressResult run_stress(const StressCase& c,
                         const std::string& solver,
                         double budget_s,
-                        const std::function<void(long, long)>& progress = {});
+                        const std::function<void(long, long)>& progress = {},
+                        Integrator integrator = Integrator::Paper);
 
 /// Progress of run_stress_catalogue: run `done` of `total` (case c, solver spec), at `step` of
 /// `steps`; `result` is set once the run has ended, null while it runs.
@@ -96,7 +99,8 @@ using StressProgress = std::function<void(std::size_t done,
 std::vector<StressResult> run_stress_catalogue(const std::vector<StressCase>& cases,
                                                const std::function<bool(const std::string&)>& kept,
                                                double budget_s,
-                                               const StressProgress& progress = {});
+                                               const StressProgress& progress = {},
+                                               Integrator integrator = Integrator::Paper);
 
 /// One result as summary.json's "results" show it (docs/stress.md).
 nlohmann::json stress_result_json(const StressResult& r);
