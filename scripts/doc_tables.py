@@ -56,6 +56,7 @@ MODULES = {
     "docs/exact-path.md": "doc_tables_exact_path",
     "docs/convergence.md": "doc_tables_convergence",
     "docs/stress.md": "doc_tables_stress",
+    "docs/integrators.md": "doc_tables_stress",
     "docs/distributed.md": "doc_tables_distributed",
     "docs/peers.md": "doc_tables_peers",
     "docs/cones.md": "doc_tables_cones",

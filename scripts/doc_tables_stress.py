@@ -70,3 +70,82 @@ def stress_value(name, src, where):
     if form not in formats:
         raise SourceError(f"{where}: {name}: unknown format {form!r} ({', '.join(formats)})")
     return formats[form](x)
+
+
+# ---------------------------------------------------------------------------------------------
+# The catalogue under each integrator (target stress-integrators: `cbps stress --integrator`).
+
+STRESS_BY_INTEGRATOR = {"paper": STRESS,
+                        "gyroscopic": "validation/results/stress-gyroscopic/summary.json",
+                        "midpoint": "validation/results/stress-midpoint/summary.json"}
+
+
+def _runs(src, path):
+    return {(r["case"], r["solver"]): r for r in need(src.json(path), "results", where=path)}
+
+
+@generator("stress-integrators", *STRESS_BY_INTEGRATOR.values())
+def _stress_integrators(src):
+    """One row per (case, solver) of the paper's catalogue: stable or not and ΔE under each
+    integrator."""
+    runs = {name: _runs(src, path) for name, path in STRESS_BY_INTEGRATOR.items()}
+    rows = []
+    for key, paper in runs["paper"].items():
+        if paper["status"] == "skipped":
+            continue
+        row = [key[0], key[1]]
+        for name, path in STRESS_BY_INTEGRATOR.items():
+            r = runs[name].get(key)
+            if r is None:
+                raise SourceError(f"{path}: no run {key[0]} / {key[1]}")
+            status = {"stable": "yes", "unstable": "NO"}.get(r["status"], r["status"])
+            if r["status"] in ("diverged", "budget"):
+                status += f" @{r['steps_done']}"
+            row += [status, cg(r["energy_change_J"])]
+        rows.append(tuple(row))
+    header = ["case", "solver"]
+    for name in STRESS_BY_INTEGRATOR:
+        header += [f"{name}: stable", f"{name}: ΔE J"]
+    return table(header, rows, "ll" + "lr" * len(STRESS_BY_INTEGRATOR))
+
+
+@generator("stress-integrators-counts", *STRESS_BY_INTEGRATOR.values())
+def _stress_integrators_counts(src):
+    parts = []
+    for name, path in STRESS_BY_INTEGRATOR.items():
+        c = need(src.json(path), "counts", where=path)
+        parts.append(f"{name} {c['stable']} stable, {c['unstable']} unstable, "
+                     f"{c['diverged']} diverged")
+    return "; ".join(parts)
+
+
+@generator("dzhanibekov-integrators", *STRESS_BY_INTEGRATOR.values())
+def _dzhanibekov(src):
+    """The Dzhanibekov cases under each integrator, with the probe's measures."""
+    rows = []
+    for name, path in STRESS_BY_INTEGRATOR.items():
+        for (case, _), r in _runs(src, path).items():
+            if not case.startswith("dzhanibekov"):
+                continue
+            x = need(r, "measured", where=f"{path} ({case})")
+            error = abs(x["flip_interval_s"] - x["reference_flip_interval_s"]) / \
+                x["reference_flip_interval_s"]
+            rows.append((case, name, num(x["flip_interval_s"]),
+                         num(x["reference_flip_interval_s"]), sci(error),
+                         sci(x["energy_drift_relative"]),
+                         sci(x["angular_momentum_drift_relative"]),
+                         {"stable": "yes", "unstable": "NO"}.get(r["status"], r["status"])))
+    return table(["case", "integrator", "flip interval s", "GSL's s", "error",
+                  "max \\|ΔE\\|/E", "max \\|ΔL\\|/\\|L\\|", "stable"], rows, "llrrrrrl")
+
+
+@generator("stress-integrators-differ", *STRESS_BY_INTEGRATOR.values())
+def _stress_integrators_differ(src):
+    """The runs whose status depends on the integrator: case (solvers), in catalogue order."""
+    runs = {name: _runs(src, path) for name, path in STRESS_BY_INTEGRATOR.items()}
+    differ = {}
+    for key in runs["paper"]:
+        if len({runs[name][key]["status"] for name in runs}) > 1:
+            differ.setdefault(key[0], []).append(key[1])
+    return ", ".join(f"`{case}`" + ("" if solvers == ["-"] else f" ({', '.join(solvers)})")
+                     for case, solvers in differ.items())

@@ -74,6 +74,7 @@ Explained explain_step(const Scene& scene, const Simulation& sim, long at_step) 
       e.shown.status.begin(), e.shown.status.end(), [](const RowStatus& s) { return s.satisfied; });
   e.coulomb = sys.coulomb().any();
   e.improved = scene.world.push == PushMode::Improved;
+  e.integrator = scene.world.integrator;
   e.A_unit = unit_of_A(sys, e.cols);
   e.system_shown =
       e.improved ? "the velocity system of the improved push (8.1): upsilon holds restitution only "
@@ -137,6 +138,12 @@ nlohmann::json explain_json(const Explained& e) {
   }
   out["cfm"] = {{"value", e.cfm}, {"unit", "kg^-1"}, {"note", kCfmNote}};
   out["v1"] = {{"equation", "6.1.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(sys.v1)}};
+  out["integrator"] = integrator_names().at(static_cast<std::size_t>(e.integrator));
+  if (e.integrator == Integrator::Gyroscopic)
+    out["v1"]["note"] =
+        "the angular parts after Bullet's implicit gyroscopic step (one Newton step on "
+        "I (w' - w) + dt w' x I w' = 0 in the body frame; docs/integrators.md): the v1 the "
+        "step solved from";
   out["fext"] = {{"equation", "6.1.3"}, {"unit", "N, N m"}, {"value", vector_json(sys.fext)}};
   out["lambda"] = {{"equation", "7.1.1"}, {"unit", "N"}, {"value", vector_json(x.lambda)}};
   out["w"] = {{"equation", "6.2"},

@@ -201,9 +201,8 @@ TEST_CASE("cbps run --solver direct says per step how the exact path reached its
   CHECK(counted["warm"] > 0);
 }
 
-TEST_CASE(
-    "--integrator turns the bodies as named, and the summary says which (docs/integrators.md)",
-    "[cli][integrator]") {
+TEST_CASE("cbps run --integrator turns the bodies as named, and the summary says which",
+          "[cli][integrator]") {
   const std::string box = std::string(CBPS_SOURCE_DIR) + "/scenes/spinning-box.json";
   const auto summary = [&](const std::string& args) {
     const auto r = run_cli("run " + args + " --quiet --json");

@@ -50,6 +50,7 @@ struct Explained {
   bool all_satisfied = true;
   bool coulomb = false;   ///< Coulomb friction rows: their bounds are those of the fixed point
   bool improved = false;  ///< the improved push (8.1): the velocity system is shown
+  Integrator integrator = Integrator::Paper;  ///< gyroscopic: v1 took Bullet's step (body.hpp)
   std::string A_unit, system_shown;
   std::vector<std::string> v_units, f_units;  ///< of the columns (velocities, forces)
 };
