@@ -3,13 +3,13 @@
 // docs/scene-format.md), and the Scene class with the world and solver settings the command
 // line's step options set (--dt, --beta, --push, --solver, --iterations, --tolerance, --cfm,
 // --seed) and to_json() / save(), which writes what load_scene reads back.
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
@@ -132,12 +132,11 @@ void bind_scenes(py::module_& m) {
             return integrator_names().at(static_cast<std::size_t>(s.world.integrator));
           },
           [](Scene& s, const std::string& name) {
-            const std::vector<std::string>& names = integrator_names();
-            const auto it = std::find(names.begin(), names.end(), name);
-            if (it == names.end())
+            const std::optional<Integrator> integrator = integrator_named(name);
+            if (!integrator)
               throw InputError("integrator '" + name +
                                "': expected paper, gyroscopic or midpoint (docs/integrators.md)");
-            s.world.integrator = static_cast<Integrator>(it - names.begin());
+            s.world.integrator = *integrator;
           },
           "how a step turns the bodies: 'paper' (3.2), 'gyroscopic' (Bullet's implicit "
           "gyroscopic step) or 'midpoint' (keeps energy and L; docs/integrators.md)")

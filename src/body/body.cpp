@@ -106,6 +106,13 @@ const std::vector<std::string>& integrator_names() {
   return names;
 }
 
+std::optional<Integrator> integrator_named(const std::string& name) {
+  const std::vector<std::string>& names = integrator_names();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return static_cast<Integrator>(k);
+  return std::nullopt;
+}
+
 Vec3 gyroscopic_omega(const Body& body, double dt) {
   if (body.is_static) return Vec3::Zero();
   const Mat3 R = body.R();
@@ -122,8 +129,8 @@ Quat midpoint_turn(const Body& body, const Vec3& omega, double dt) {
   const Vec3 l = R.transpose() * (body.I_world() * omega);  // l_b, kg m²/s
   Vec3 next = l;
   Vec3 mid = l;
-  // Newton on F(l') = l' − l − dt l_m × I_b⁻¹ l_m; dF/dl' = E − (dt/2)([l_m]× I_b⁻¹ − [I_b⁻¹
-  // l_m]×).
+  // Newton on F(l') = l' − l − dt l_m × ω_m, ω_m = I_b⁻¹ l_m, whose derivative is
+  // dF/dl' = E − (dt/2)([l_m]× I_b⁻¹ − [ω_m]×).
   for (int k = 0; k < 50; ++k) {
     mid = 0.5 * (l + next);
     const Vec3 w = body.I_body_inv * mid;

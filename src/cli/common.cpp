@@ -176,8 +176,7 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.beta >= 0.0) scene.world.beta = o.beta;
   if (o.push == "original") scene.world.push = PushMode::Original;
   if (o.push == "improved") scene.world.push = PushMode::Improved;
-  for (std::size_t k = 0; k < integrator_names().size(); ++k)
-    if (o.integrator == integrator_names()[k]) scene.world.integrator = static_cast<Integrator>(k);
+  if (const auto integrator = integrator_named(o.integrator)) scene.world.integrator = *integrator;
   if (!o.solver.empty()) {
     // InputError names what is wrong
     apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);

@@ -112,10 +112,8 @@ int stress_command(const StressOptions& o) {
                  r->wall_time_s,
                  std::chrono::duration<double>(now - start).count());
   };
-  const auto named = std::find(integrator_names().begin(), integrator_names().end(), o.integrator);
-  const auto integrator = static_cast<Integrator>(named - integrator_names().begin());
-  const std::vector<StressResult> results =
-      run_stress_catalogue(cases, kept, o.budget, progress, integrator);
+  const std::vector<StressResult> results = run_stress_catalogue(
+      cases, kept, o.budget, progress, integrator_named(o.integrator).value_or(Integrator::Paper));
   const nlohmann::json report = stress_report_json(
       cases,
       results,

@@ -1,6 +1,7 @@
 // Rigid bodies (paper 3.1) and the integrator (3.2, 12.4, 12.5).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,8 @@ enum class Integrator {
 
 /// The integrators' names in Integrator order (scene files' "integrator", --integrator).
 const std::vector<std::string>& integrator_names();
+/// The integrator of that name (integrator_names()); nullopt for any other.
+std::optional<Integrator> integrator_named(const std::string& name);
 
 /// Bullet's implicit gyroscopic step for a body with angular velocity ω = I⁻¹ l (world, rad/s):
 /// in the body frame (ω_b = Rᵀ ω, I_b), one Newton step from ω_b on
