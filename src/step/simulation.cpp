@@ -156,6 +156,7 @@ System Simulation::build_system() const {
   const World& w = scene_.world;
   System sys = assemble_system(scene_.bodies, build_rows(), w.gravity, w.dt, w.push);
   sys.cones.law = w.cone;
+  start_velocities(sys);
   return sys;
 }
 
@@ -168,18 +169,22 @@ const System& Simulation::assemble(StageTimes* times) {
     A_formed_ = forms_A(static_cast<Eigen::Index>(rows_.size()));
     assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_, A_formed_);
     sys_.cones.law = w.cone;
-    if (w.integrator == Integrator::Gyroscopic) {
-      // Bullet's implicit gyroscopic step: the step starts from ω' (body.hpp), so v1 and b
-      // (6.2.9) are those of ω'.
-      for (int blk = 0; blk < sys_.blocks(); ++blk) {
-        const Body& body = scene_.bodies[static_cast<std::size_t>(sys_.body_of_block[blk])];
-        sys_.v1.segment<3>(6 * blk + 3) = gyroscopic_omega(body, w.dt);
-      }
-      sys_.b = compute_b(sys_.upsilon, sys_.J, sys_.v1, sys_.Minv, sys_.fext, w.dt);
-    }
+    start_velocities(sys_);
   }
   if (times != nullptr) times->assembly = assembly_s;
   return sys_;
+}
+
+void Simulation::start_velocities(System& sys) const {
+  const World& w = scene_.world;
+  if (w.integrator != Integrator::Gyroscopic) return;
+  // Bullet's implicit gyroscopic step: the step starts from ω' (body.hpp), so v1 and b (6.2.9)
+  // are those of ω'.
+  for (int blk = 0; blk < sys.blocks(); ++blk) {
+    const Body& body = scene_.bodies[static_cast<std::size_t>(sys.body_of_block[blk])];
+    sys.v1.segment<3>(6 * blk + 3) = gyroscopic_omega(body, w.dt);
+  }
+  sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, w.dt);
 }
 
 bool Simulation::forms_A(Eigen::Index rows) const {

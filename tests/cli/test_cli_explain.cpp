@@ -394,3 +394,31 @@ TEST_CASE("cbps explain --html of a step without rows says so and still gives v1
   CHECK(html.find("id=\"table-v1\"") != std::string::npos);
   CHECK(html.find("id=\"table-v2-1\"") != std::string::npos);
 }
+
+TEST_CASE("cbps explain --integrator gyroscopic shows the v1 the step solved from, and says so",
+          "[cli][explain][integrator]") {
+  // The spinning box's first step (no rows): under the paper's integrator v1 is the body's
+  // spin, (0.01, 5, 0.01) rad/s; under Bullet's gyroscopic step its angular part has taken one
+  // Newton step, whose change is about dt |ω × I ω| / I: small, but not zero.
+  const std::string box = std::string(CBPS_SOURCE_DIR) + "/scenes/spinning-box.json";
+  const CliResult paper = run_cli("explain " + box + " --json");
+  const CliResult gyroscopic = run_cli("explain " + box + " --integrator gyroscopic --json");
+  REQUIRE(paper.code == 0);
+  REQUIRE(gyroscopic.code == 0);
+  const nlohmann::json p = nlohmann::json::parse(paper.out);
+  const nlohmann::json g = nlohmann::json::parse(gyroscopic.out);
+  CHECK(p.at("integrator") == "paper");
+  CHECK(g.at("integrator") == "gyroscopic");
+  CHECK_FALSE(p.at("v1").contains("note"));
+  CHECK(g.at("v1").at("note").get<std::string>().find("gyroscopic") != std::string::npos);
+  const VecX v1_paper = vector_of(p.at("v1").at("value"));
+  const VecX v1_gyroscopic = vector_of(g.at("v1").at("value"));
+  REQUIRE(v1_paper.size() == 6);
+  REQUIRE(v1_gyroscopic.size() == 6);
+  CHECK(std::abs(v1_paper(4) - 5.0) <= 1e-12);
+  const double change = (v1_gyroscopic - v1_paper).norm();
+  CAPTURE(change);
+  CHECK(change > 1e-7);
+  CHECK(change < 1e-2);
+  CHECK(v1_gyroscopic.head<3>().isZero(0.0));  // the linear part is the paper's
+}

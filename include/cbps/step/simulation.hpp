@@ -161,6 +161,9 @@ class Simulation {
   void detect_contacts(std::vector<Manifold>& manifolds, StageTimes* times) const;
   /// The stage list of this step, by stage_name.
   void name_stages();
+  /// The velocities a step starts from: the bodies' own (v1 as assembled), or under
+  /// Integrator::Gyroscopic the angular parts after Bullet's step, with b (6.2.9) of them.
+  void start_velocities(System& sys) const;
   /// The position system of the improved push factor (8.1, solve_position_system), from the
   /// velocity system's lambda: the velocities that move the bodies this step, guarded.
   VecX position_velocities(const System& sys, const VecX& lambda, StepReport& report);
