@@ -141,6 +141,36 @@ void bind_scenes(py::module_& m) {
           "how a step turns the bodies: 'paper' (3.2), 'gyroscopic' (Bullet's implicit "
           "gyroscopic step) or 'midpoint' (keeps energy and L; docs/integrators.md)")
       .def_property(
+          "scheme",
+          [](const Scene& s) {
+            return scheme_names().at(static_cast<std::size_t>(s.world.scheme.kind));
+          },
+          [](Scene& s, const std::string& name) {
+            const std::optional<Scheme> kind = scheme_named(name);
+            if (!kind)
+              throw InputError("scheme '" + name +
+                               "': expected paper, tgs, soft-step or xpbd (docs/schemes.md)");
+            SchemeSettings& scheme = s.world.scheme;
+            if (*kind != scheme.kind)
+              scheme.substeps = *kind == Scheme::Paper ? 1 : kSchemeSubsteps;
+            scheme.kind = *kind;
+          },
+          "how a step advances time: 'paper' (one solve a step), 'tgs', 'soft-step' or 'xpbd' "
+          "(substeps; docs/schemes.md). Naming another scheme sets substeps to its default (1 "
+          "for paper, 4 otherwise)")
+      .def_property(
+          "substeps",
+          [](const Scene& s) { return s.world.scheme.substeps; },
+          [](Scene& s, int substeps) {
+            if (substeps < 1)
+              throw InputError("substeps " + std::to_string(substeps) + ": must be >= 1");
+            if (s.world.scheme.kind == Scheme::Paper && substeps != 1)
+              throw InputError("substeps " + std::to_string(substeps) +
+                               ": needs scheme tgs, soft-step or xpbd (the scheme is paper)");
+            s.world.scheme.substeps = substeps;
+          },
+          "substeps N a step under tgs, soft-step and xpbd (each of dt/N)")
+      .def_property(
           "gravity",
           [](const Scene& s) { return to_numpy(s.world.gravity); },
           [](Scene& s, const py::object& g) {

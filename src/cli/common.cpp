@@ -63,6 +63,64 @@ void add_world_options(CLI::App* cmd, StepOptions& o) {
                   "(Bullet's implicit gyroscopic step) | midpoint (implicit midpoint, keeps "
                   "energy and L); docs/integrators.md; default: the scene's (paper)")
       ->check(CLI::IsMember(integrator_names()));
+  add_scheme_options(cmd, o);
+}
+
+void add_scheme_options(CLI::App* cmd, StepOptions& o) {
+  cmd->add_option("--scheme",
+                  o.scheme,
+                  "how a step advances time: paper (one solve a step) | tgs (temporal "
+                  "Gauss-Seidel: substeps) | soft-step (Box2D v3's soft step) | xpbd (linear "
+                  "XPBD); docs/schemes.md; default: the scene's (paper)")
+      ->check(CLI::IsMember(scheme_names()));
+  cmd->add_option("--substeps",
+                  o.substeps,
+                  "substeps N a step under tgs, soft-step, xpbd: each solves the paper's system "
+                  "with dt/N and --iterations sweeps (default: the scene's, else " +
+                      std::to_string(kSchemeSubsteps) + ")")
+      ->check(positive());
+  cmd->add_option("--contact-hertz",
+                  o.contact_hertz,
+                  "soft-step: contact stiffness in Hz, at most a quarter of the substep rate "
+                  "(default: the scene's, 30)")
+      ->check(non_negative());
+  cmd->add_option("--contact-damping-ratio",
+                  o.contact_damping_ratio,
+                  "soft-step: contact damping ratio (default: the scene's, 10)")
+      ->check(non_negative());
+  cmd->add_option("--joint-hertz",
+                  o.joint_hertz,
+                  "soft-step: distance rows' stiffness in Hz (default: the scene's, 60)")
+      ->check(non_negative());
+  cmd->add_option("--joint-damping-ratio",
+                  o.joint_damping_ratio,
+                  "soft-step: distance rows' damping ratio (default: the scene's, 2)")
+      ->check(non_negative());
+  cmd->add_option("--compliance",
+                  o.compliance,
+                  "xpbd: every row's compliance alpha in m/N, alpha/h^2 added to A's diagonal "
+                  "(default: the scene's, 0: rigid)")
+      ->check(non_negative());
+}
+
+void apply_scheme_options(Scene& scene, const StepOptions& o) {
+  SchemeSettings& s = scene.world.scheme;
+  if (const auto kind = scheme_named(o.scheme)) {
+    if (*kind != s.kind) s.substeps = *kind == Scheme::Paper ? 1 : kSchemeSubsteps;
+    s.kind = *kind;
+  }
+  if (o.substeps > 0) {
+    if (s.kind == Scheme::Paper && o.substeps != 1)
+      throw InputError("--substeps " + std::to_string(o.substeps) +
+                       ": needs --scheme tgs, soft-step or xpbd (the scheme is paper: one solve "
+                       "a step)");
+    s.substeps = o.substeps;
+  }
+  if (o.contact_hertz >= 0.0) s.contact_hertz = o.contact_hertz;
+  if (o.contact_damping_ratio >= 0.0) s.contact_damping_ratio = o.contact_damping_ratio;
+  if (o.joint_hertz >= 0.0) s.joint_hertz = o.joint_hertz;
+  if (o.joint_damping_ratio >= 0.0) s.joint_damping_ratio = o.joint_damping_ratio;
+  if (o.compliance >= 0.0) s.compliance = o.compliance;
 }
 
 void add_seed_option(CLI::App* cmd, StepOptions& o) {
@@ -111,7 +169,10 @@ CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet, const std::string& what)
 }
 
 bool world_options_given(const StepOptions& o) {
-  return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty() || !o.integrator.empty();
+  return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty() ||
+         !o.integrator.empty() || !o.scheme.empty() || o.substeps > 0 || o.contact_hertz >= 0.0 ||
+         o.contact_damping_ratio >= 0.0 || o.joint_hertz >= 0.0 || o.joint_damping_ratio >= 0.0 ||
+         o.compliance >= 0.0;
 }
 
 std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params) {
@@ -177,6 +238,7 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
   if (o.push == "original") scene.world.push = PushMode::Original;
   if (o.push == "improved") scene.world.push = PushMode::Improved;
   if (const auto integrator = integrator_named(o.integrator)) scene.world.integrator = *integrator;
+  apply_scheme_options(scene, o);
   if (!o.solver.empty()) {
     // InputError names what is wrong
     apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);

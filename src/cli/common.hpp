@@ -34,8 +34,15 @@ struct StepOptions {
   double beta = -1.0;
   std::string push;        ///< "original" | "improved"; empty keeps the scene's
   std::string integrator;  ///< integrator_names(); empty keeps the scene's
-  long long seed = -1;     ///< --seed; negative keeps the scene's
-  double cfm = -1.0;       ///< --cfm; negative keeps the scene's
+  std::string scheme;      ///< scheme_names(); empty keeps the scene's
+  int substeps = -1;       ///< --substeps; negative keeps the scene's (or the scheme's default)
+  double contact_hertz = -1.0;          ///< soft-step; negative keeps the scene's
+  double contact_damping_ratio = -1.0;  ///< soft-step; negative keeps the scene's
+  double joint_hertz = -1.0;            ///< soft-step; negative keeps the scene's
+  double joint_damping_ratio = -1.0;    ///< soft-step; negative keeps the scene's
+  double compliance = -1.0;             ///< xpbd, m/N; negative keeps the scene's
+  long long seed = -1;                  ///< --seed; negative keeps the scene's
+  double cfm = -1.0;                    ///< --cfm; negative keeps the scene's
 };
 
 void add_scene_options(
@@ -44,6 +51,11 @@ void add_scene_options(
     const std::string& what = "built-in scene name (see `cbps scenes`) or JSON scene file");
 /// --dt, --cfm, --beta, --push: the scene's world and constraint-force mixing.
 void add_world_options(CLI::App* cmd, StepOptions& o);
+/// --scheme, --substeps and the schemes' settings (docs/schemes.md); part of add_world_options.
+void add_scheme_options(CLI::App* cmd, StepOptions& o);
+/// The scheme options onto the scene's world; naming another scheme resets its substeps to that
+/// scheme's default. Throws InputError for --substeps > 1 under the paper's scheme.
+void apply_scheme_options(Scene& scene, const StepOptions& o);
 /// --seed of random row orders.
 void add_seed_option(CLI::App* cmd, StepOptions& o);
 /// --solver, --seed, --iterations, --tolerance and the world options; with run_length also

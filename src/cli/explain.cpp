@@ -196,6 +196,11 @@ void print_text(const Explained& e) {
   std::printf("\n");
   print_matrix("A = J Minv J^T (6.2.9); " + e.A_unit, MatX(sys.A), rows, rows);
   std::printf("\n");
+  if (sys.softness.size() > 0) {
+    const std::vector<std::string> per_kg(rows.size(), "kg^-1");
+    print_vector(std::string("softness: ") + kSoftnessNote, sys.softness, rows, per_kg);
+    std::printf("\n");
+  }
   print_vector("v1: velocities at the start of the step (6.1.1)", sys.v1, e.cols, e.v_units);
   std::printf("\n");
   print_vector(

@@ -80,4 +80,23 @@ ContactMemory keep_contacts(const std::vector<Body>& bodies,
   return memory;
 }
 
+void carry_contacts(const std::vector<Manifold>& found,
+                    const ContactMemory& kept,
+                    const std::vector<Body>& bodies,
+                    std::vector<Manifold>& moved) {
+  moved = found;
+  for (std::size_t m = 0; m < moved.size(); ++m) {
+    Manifold& manifold = moved[m];
+    const Body& a = bodies[static_cast<std::size_t>(manifold.a)];
+    const Body& b = bodies[static_cast<std::size_t>(manifold.b)];
+    for (std::size_t k = 0; k < manifold.points.size(); ++k) {
+      const KeptPoint& on = kept.pairs[m].points[k];
+      const Vec3 p_a = a.world_point(on.on_a), p_b = b.world_point(on.on_b);
+      ContactPoint& point = manifold.points[k];
+      point.depth = found[m].points[k].depth - manifold.n.dot(p_b - p_a);  // m
+      point.p = 0.5 * (p_a + p_b);
+    }
+  }
+}
+
 }  // namespace cbps

@@ -25,6 +25,7 @@ void build_rows(const std::vector<Body>& bodies,
       contact.upsilon =
           contact_bias(point.depth, approach, s.dt, s.restitution, s.restitution_threshold);
       contact.upsilon_push = contact_push(point.depth, s.beta, s.dt);
+      contact.depth = point.depth;
       contact.manifold = static_cast<int>(index);
       const int normal = static_cast<int>(rows.size());
       if (s.friction == FrictionModel::Cone && s.mu > 0.0) contact.cone_mu = s.mu;

@@ -12,6 +12,10 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   s.world.contact_margin *= L;             // m
   s.world.divergence_speed *= L / T;       // m/s
   s.world.divergence_spin /= T;            // rad/s
+  s.world.scheme.contact_hertz /= T;       // Hz
+  s.world.scheme.joint_hertz /= T;         // Hz
+  s.world.scheme.max_push_speed *= L / T;  // m/s
+  s.world.scheme.compliance *= T * T / M;  // m/N = s²/kg per unit of lambda
   for (Body& body : s.bodies) {
     body.shape.radius *= L;
     body.shape.half_extents *= L;
@@ -33,6 +37,18 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   s.solver.delta_tolerance *= M * L / (T * T);
   s.solver.cfm /= M;  // kg⁻¹, as A
   return s;
+}
+
+const std::vector<std::string>& scheme_names() {
+  static const std::vector<std::string> names{"paper", "tgs", "soft-step", "xpbd"};  // Scheme
+  return names;
+}
+
+std::optional<Scheme> scheme_named(const std::string& name) {
+  const std::vector<std::string>& names = scheme_names();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == name) return static_cast<Scheme>(k);
+  return std::nullopt;
 }
 
 RowSettings World::rows() const {

@@ -214,6 +214,27 @@ std::size_t choice(const Node& node, const std::vector<std::string>& names, cons
        std::string("unknown ") + what + " " + in_quotes(name) + " (valid: " + join(names) + ")");
 }
 
+/// The scheme keys of /world (SchemeSettings, docs/schemes.md) into `s`.
+void read_scheme(const Node& node, SchemeSettings& s) {
+  if (has(node, "scheme"))
+    s.kind = static_cast<Scheme>(choice(child(node, "scheme"), scheme_names(), "scheme"));
+  s.substeps = s.kind == Scheme::Paper ? 1 : kSchemeSubsteps;
+  if (has(node, "substeps")) {
+    const Node substeps = child(node, "substeps");
+    s.substeps = integer(substeps, 1);
+    if (s.kind == Scheme::Paper && s.substeps != 1)
+      fail(substeps, "needs a scheme that substeps (tgs, soft-step, xpbd), not paper");
+  }
+  if (has(node, "contact_hertz")) s.contact_hertz = nonnegative(child(node, "contact_hertz"));
+  if (has(node, "contact_damping_ratio"))
+    s.contact_damping_ratio = nonnegative(child(node, "contact_damping_ratio"));
+  if (has(node, "joint_hertz")) s.joint_hertz = nonnegative(child(node, "joint_hertz"));
+  if (has(node, "joint_damping_ratio"))
+    s.joint_damping_ratio = nonnegative(child(node, "joint_damping_ratio"));
+  if (has(node, "max_push_speed")) s.max_push_speed = nonnegative(child(node, "max_push_speed"));
+  if (has(node, "compliance")) s.compliance = nonnegative(child(node, "compliance"));
+}
+
 World read_world(const Node& node) {
   check_object(node,
                {"gravity",
@@ -221,6 +242,14 @@ World read_world(const Node& node) {
                 "beta",
                 "push",
                 "integrator",
+                "scheme",
+                "substeps",
+                "contact_hertz",
+                "contact_damping_ratio",
+                "joint_hertz",
+                "joint_damping_ratio",
+                "max_push_speed",
+                "compliance",
                 "mu",
                 "friction",
                 "cone",
@@ -239,6 +268,7 @@ World read_world(const Node& node) {
   if (has(node, "integrator"))
     world.integrator = static_cast<Integrator>(
         choice(child(node, "integrator"), integrator_names(), "integrator"));
+  read_scheme(node, world.scheme);
   if (has(node, "mu")) world.mu = nonnegative(child(node, "mu"));
   if (has(node, "friction"))
     world.friction = static_cast<FrictionModel>(
@@ -924,6 +954,17 @@ std::string scene_to_json(const Scene& scene) {
   world["beta"] = scene.world.beta;
   world["push"] = kPushModes.at(static_cast<std::size_t>(scene.world.push));
   world["integrator"] = integrator_names().at(static_cast<std::size_t>(scene.world.integrator));
+  const SchemeSettings& scheme = scene.world.scheme;
+  world["scheme"] = scheme_names().at(static_cast<std::size_t>(scheme.kind));
+  world["substeps"] = scheme.substeps;
+  if (scheme.kind == Scheme::SoftStep) {
+    world["contact_hertz"] = scheme.contact_hertz;
+    world["contact_damping_ratio"] = scheme.contact_damping_ratio;
+    world["joint_hertz"] = scheme.joint_hertz;
+    world["joint_damping_ratio"] = scheme.joint_damping_ratio;
+    world["max_push_speed"] = scheme.max_push_speed;
+  }
+  if (scheme.kind == Scheme::Xpbd) world["compliance"] = scheme.compliance;
   world["mu"] = scene.world.mu;
   world["friction"] = kFrictionModels.at(static_cast<std::size_t>(scene.world.friction));
   if (scene.world.friction == FrictionModel::Cone)

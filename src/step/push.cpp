@@ -16,7 +16,7 @@ SolverSummary solve_position_system(const System& sys,
                                     const SolverOptions& options) {
   const VecX b_position =
       compute_b(position_bias(sys), sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
-  return solve_coulomb(sys.problem(b_position), sys.coulomb(), lambda_position, options);
+  return solve_coulomb(sys.push_problem(b_position), sys.coulomb(), lambda_position, options);
 }
 
 }  // namespace cbps

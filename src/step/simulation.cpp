@@ -10,6 +10,7 @@
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/step/guard.hpp"
 #include "cbps/step/push.hpp"
+#include "cbps/step/scheme.hpp"
 #include "stage_timer.hpp"
 
 namespace cbps {
@@ -49,6 +50,7 @@ Simulation::Simulation(Scene scene)
       collision_stage_(scene_.has_contact_pairs()) {}
 
 StepReport Simulation::step() {
+  if (scene_.world.scheme.kind != Scheme::Paper) return scheme_step();
   const auto start = Clock::now();
   StepReport report;
   const System& sys = assemble(&report.times);  // Collision (4), Rows (5.2–5.4), Assembly (6.1)
@@ -78,6 +80,114 @@ StepReport Simulation::step() {
   return report;
 }
 
+namespace {
+
+/// A substep's solver summary added to the step's: sweeps, factorizations, pivots and time
+/// summed; residual and termination the last substep's.
+void add_substep(SolverSummary& step, const SolverSummary& substep) {
+  const SolverSummary sum = step;
+  step = substep;
+  step.iterations += sum.iterations;
+  step.factorizations += sum.factorizations;
+  step.pivots += sum.pivots;
+  step.restarts += sum.restarts;
+  step.updates += sum.updates;
+  step.wall_time_s += sum.wall_time_s;
+}
+
+}  // namespace
+
+StepReport Simulation::scheme_step() {
+  const auto start = Clock::now();
+  StepReport report;
+  detect_contacts(manifolds_, &report.times);  // Collision (4), once a step
+  // Where each contact point sits on its bodies: the substeps carry the points with them, and
+  // the next step's persistence continues them.
+  ContactMemory kept = keep_contacts(scene_.bodies, manifolds_, contacts_.next_id);
+  std::vector<Manifold> moved;
+  const int substeps = std::max(1, scene_.world.scheme.substeps);
+  for (int k = 0; k < substeps; ++k) {
+    if (k > 0) carry_contacts(manifolds_, kept, scene_.bodies, moved);
+    substep_system(k == 0 ? manifolds_ : moved, rows_, sys_, false, &report.times);
+    if (k == 0) {
+      A_formed_ = sys_.A.rows() == sys_.rows();
+      name_stages();
+      report_contacts(sys_, report);
+      report.warm_rows = continued_rows(sys_);
+    }
+    substep(report);
+  }
+  contacts_ = persistence() ? std::move(kept) : ContactMemory{};
+  t_ = static_cast<double>(++steps_) * scene_.world.dt;  // not a running sum: no drift
+  report.max_constraint_error = max_constraint_error();
+  report.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  return report;
+}
+
+void Simulation::substep(StepReport& report) {
+  const System& sys = sys_;
+  const Scheme kind = scene_.world.scheme.kind;
+  // XPBD starts every substep from lambda = 0 (Macklin et al. 2016, Algorithm 1); the others
+  // from the last substep's lambda, the first from last step's (7).
+  VecX lambda = kind == Scheme::Xpbd ? VecX::Zero(sys.rows()) : initial_lambda(sys);
+  VecX v_move;
+  if (kind == Scheme::SoftStep) {
+    // The soft push system moves the bodies; the relax starts from its lambda (Box2D v3's
+    // solve, integrate positions, relax).
+    VecX lambda_push = lambda;
+    {
+      const StageTimer solve(report.times.solve);
+      add_substep(report.position_solver,
+                  solve_position_system(sys, lambda_push, step_options(scene_.solver)));
+    }
+    v_move = compute_v2(sys, lambda_push);  // (12.3.1) with the push system's lambda
+    check_divergence(
+        sys, scene_.bodies, scene_.world, lambda_push, v_move, steps_, "soft push system");
+    lambda = lambda_push;
+  }
+  {
+    const StageTimer solve(report.times.solve);
+    add_substep(report.solver, solve_system(sys, lambda));  // relax under soft-step
+  }
+  const VecX v2 = compute_v2(sys, lambda);  // (12.3.1)
+  check_divergence(sys, scene_.bodies, scene_.world, lambda, v2, steps_, system_name(sys.push));
+  if (observer_) observer_(sys, lambda, v2);
+  report.cfm_acceleration_error =
+      std::max(report.cfm_acceleration_error, cfm_acceleration_error(sys, lambda));
+  if (kind != Scheme::SoftStep)
+    v_move = sys.push == PushMode::Improved ? position_velocities(sys, lambda, report) : v2;
+  integrate(sys, v2, v_move, report.times);  // Integrate (3.2) over h
+  remember(sys, lambda);                     // the next substep's (and step's) warm start
+}
+
+void Simulation::substep_system(const std::vector<Manifold>& manifolds,
+                                std::vector<Row>& rows,
+                                System& sys,
+                                bool always_form_A,
+                                StageTimes* times) const {
+  const World& w = scene_.world;
+  const double h = substep_dt(w);
+  double rows_s = 0.0, assembly_s = 0.0;
+  {
+    const StageTimer timer(rows_s);
+    cbps::build_rows(scene_.bodies, scene_.distances, manifolds, substep_row_settings(w), rows);
+    scheme_rows(w, rows);
+  }
+  const bool form_A =
+      always_form_A || scheme_softens(w) || forms_A(static_cast<Eigen::Index>(rows.size()));
+  {
+    const StageTimer timer(assembly_s);
+    assemble_system(scene_.bodies, rows, w.gravity, h, scheme_push(w), sys, form_A);
+    sys.cones.law = w.cone;
+    start_velocities(sys);
+    if (scheme_softens(w)) soften(sys, scheme_softness(w, rows, sys));
+  }
+  if (times != nullptr) {
+    times->rows += rows_s;
+    times->assembly += assembly_s;
+  }
+}
+
 void Simulation::report_contacts(const System& sys, StepReport& report) const {
   report.rows = sys.rows();
   for (const Manifold& manifold : manifolds_) {
@@ -98,16 +208,29 @@ const char* Simulation::system_name(PushMode push) {
 
 void Simulation::name_stages() {
   const Method method = scene_.solver.method;
-  const PushMode push = scene_.world.push;
+  const PushMode push = scheme_push(scene_.world);
+  const SchemeSettings& scheme = scene_.world.scheme;
   stages_.clear();
-  const auto add = [&](Stage stage) { stages_.push_back(stage_name(stage, method, push)); };
+  // Under a substepping scheme every stage after collision detection runs once a substep.
+  std::string each;
+  if (scheme.kind != Scheme::Paper)
+    each = scheme_names().at(static_cast<std::size_t>(scheme.kind)) + " substep (x" +
+           std::to_string(scheme.substeps) + "): ";
+  const auto add = [&](Stage stage) {
+    stages_.push_back((stage == Stage::Collision ? "" : each) + stage_name(stage, method, push));
+  };
   if (collision_stage_) add(Stage::Collision);
   if (!scene_.distances.empty()) add(Stage::DistanceRows);
   if (collision_stage_) add(Stage::ContactRows);
   if (collision_stage_ && scene_.world.mu > 0.0) add(Stage::FrictionRows);
   add(A_formed_ ? Stage::Assembly : Stage::AssemblyWithoutA);
-  add(Stage::Solve);
-  if (push == PushMode::Improved) add(Stage::PositionSystem);
+  if (scheme.kind == Scheme::SoftStep) {  // the soft push system first, then the relax
+    add(Stage::PositionSystem);
+    add(Stage::Solve);
+  } else {
+    add(Stage::Solve);
+    if (push == PushMode::Improved) add(Stage::PositionSystem);
+  }
   add(Stage::Integrate);
 }
 
@@ -154,6 +277,14 @@ std::vector<Row> Simulation::build_rows() const {
 
 System Simulation::build_system() const {
   const World& w = scene_.world;
+  if (w.scheme.kind != Scheme::Paper) {
+    std::vector<Manifold> manifolds;
+    detect_contacts(manifolds, nullptr);
+    std::vector<Row> rows;
+    System sys;
+    substep_system(manifolds, rows, sys, true, nullptr);
+    return sys;
+  }
   System sys = assemble_system(scene_.bodies, build_rows(), w.gravity, w.dt, w.push);
   sys.cones.law = w.cone;
   start_velocities(sys);
@@ -182,9 +313,9 @@ void Simulation::start_velocities(System& sys) const {
   // are those of ω'.
   for (int blk = 0; blk < sys.blocks(); ++blk) {
     const Body& body = scene_.bodies[static_cast<std::size_t>(sys.body_of_block[blk])];
-    sys.v1.segment<3>(6 * blk + 3) = gyroscopic_omega(body, w.dt);
+    sys.v1.segment<3>(6 * blk + 3) = gyroscopic_omega(body, sys.dt);
   }
-  sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, w.dt);
+  sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);
 }
 
 bool Simulation::forms_A(Eigen::Index rows) const {
@@ -238,8 +369,8 @@ VecX Simulation::position_velocities(const System& sys, const VecX& lambda, Step
   VecX lambda_position = position_guess(sys, lambda);
   {
     const StageTimer solve(report.times.solve);
-    report.position_solver =
-        solve_position_system(sys, lambda_position, step_options(scene_.solver));  // (8.1)
+    add_substep(report.position_solver,
+                solve_position_system(sys, lambda_position, step_options(scene_.solver)));  // 8.1
   }
   const VecX v_position = compute_v2(sys, lambda_position);  // (12.3.1), with the position λ
   check_divergence(sys,

@@ -73,8 +73,9 @@ Explained explain_step(const Scene& scene, const Simulation& sim, long at_step) 
   e.all_satisfied = std::all_of(
       e.shown.status.begin(), e.shown.status.end(), [](const RowStatus& s) { return s.satisfied; });
   e.coulomb = sys.coulomb().any();
-  e.improved = scene.world.push == PushMode::Improved;
+  e.improved = sys.push == PushMode::Improved;
   e.integrator = scene.world.integrator;
+  e.scheme = scene.world.scheme;
   e.A_unit = unit_of_A(sys, e.cols);
   e.system_shown =
       e.improved ? "the velocity system of the improved push (8.1): upsilon holds restitution only "
@@ -82,12 +83,51 @@ Explained explain_step(const Scene& scene, const Simulation& sim, long at_step) 
                    "adds the push term) is solved apart and only moves the positions this step"
                  : "the one system of the original push (5.2.3, 5.3): upsilon holds the Baumgarte "
                    "push term and restitution; its v2 moves the bodies and is kept";
+  if (e.scheme.kind != Scheme::Paper)
+    e.system_shown = scheme_note(e.scheme) + "; " + e.system_shown;
   for (const std::string& c : e.cols) {
     e.v_units.emplace_back(angular_column(c) ? "rad/s" : "m/s");
     e.f_units.emplace_back(angular_column(c) ? "N m" : "N");
   }
   return e;
 }
+
+std::string scheme_note(const SchemeSettings& scheme) {
+  const std::string name = scheme_names().at(static_cast<std::size_t>(scheme.kind));
+  std::string note = "the first of " + std::to_string(scheme.substeps) + " substeps of the " +
+                     name + " scheme (dt here is the substep h = dt/" +
+                     std::to_string(scheme.substeps) + "; docs/schemes.md)";
+  switch (scheme.kind) {
+    case Scheme::SoftStep:
+      return note +
+             ": the soft push system (the position system, with softness on A's diagonal and "
+             "the soft push in upsilon_position) moves the bodies, then this rigid relax gives "
+             "the velocity kept";
+    case Scheme::Xpbd:
+      return note +
+             ": beta = 1 (the whole violation over h), compliance/h^2 on A's diagonal, lambda "
+             "from 0";
+    case Scheme::Paper:
+    case Scheme::Tgs:
+      break;
+  }
+  return note;
+}
+
+namespace {
+
+nlohmann::json scheme_json(const Explained& e) {
+  const System& sys = e.sys;
+  nlohmann::json out = {{"name", scheme_names().at(static_cast<std::size_t>(e.scheme.kind))},
+                        {"substeps", e.scheme.substeps},
+                        {"h", sys.dt}};
+  if (sys.softness.size() > 0)
+    out["softness"] = {
+        {"unit", "kg^-1"}, {"note", kSoftnessNote}, {"value", vector_json(sys.softness)}};
+  return out;
+}
+
+}  // namespace
 
 nlohmann::json explain_json(const Explained& e) {
   const System& sys = e.sys;
@@ -139,6 +179,7 @@ nlohmann::json explain_json(const Explained& e) {
   out["cfm"] = {{"value", e.cfm}, {"unit", "kg^-1"}, {"note", kCfmNote}};
   out["v1"] = {{"equation", "6.1.1"}, {"unit", "m/s, rad/s"}, {"value", vector_json(sys.v1)}};
   out["integrator"] = integrator_names().at(static_cast<std::size_t>(e.integrator));
+  out["scheme"] = scheme_json(e);
   if (e.integrator == Integrator::Gyroscopic)
     out["v1"]["note"] =
         "the angular parts after Bullet's implicit gyroscopic step (one Newton step on "

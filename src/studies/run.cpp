@@ -14,6 +14,22 @@ namespace cbps {
 
 namespace {
 
+/// The step scheme of a run (docs/schemes.md), as summary.json gives it.
+nlohmann::json scheme_summary(const World& world) {
+  const SchemeSettings& s = world.scheme;
+  nlohmann::json j = {{"name", scheme_names().at(static_cast<std::size_t>(s.kind))},
+                      {"substeps", s.substeps},
+                      {"h", world.dt / s.substeps}};
+  if (s.kind == Scheme::SoftStep)
+    j["soft"] = {{"contact_hertz", s.contact_hertz},
+                 {"contact_damping_ratio", s.contact_damping_ratio},
+                 {"joint_hertz", s.joint_hertz},
+                 {"joint_damping_ratio", s.joint_damping_ratio},
+                 {"max_push_speed", s.max_push_speed}};
+  if (s.kind == Scheme::Xpbd) j["compliance"] = s.compliance;
+  return j;
+}
+
 /// Adds one step's report to the totals.
 void add_step(RunTotals& t, const Simulation& sim, const StepReport& r) {
   ++t.steps_done;
@@ -238,6 +254,7 @@ nlohmann::json run_summary_json(const Scene& scene,
   }
   summary["push"] = scene.world.push == PushMode::Improved ? "improved" : "original";
   summary["integrator"] = integrator_names().at(static_cast<std::size_t>(scene.world.integrator));
+  summary["scheme"] = scheme_summary(scene.world);
   summary["contacts"] = {{"mu", scene.world.mu},
                          {"friction", std::string(to_string(scene.world.friction))},
                          {"restitution", scene.world.restitution},

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "cbps/base/error.hpp"
@@ -336,6 +337,23 @@ void assemble_system(const std::vector<Body>& bodies,
   else
     sys.A.resize(0, 0);
   sys.b = compute_b(sys.upsilon, sys.J, sys.v1, sys.Minv, sys.fext, dt);
+  sys.softness.resize(0);  // rigid rows until a scheme softens them
+  sys.A_soft.resize(0, 0);
+}
+
+void soften(System& sys, const VecX& softness) {
+  if (softness.size() != sys.rows() || sys.A.rows() != sys.rows())
+    throw std::logic_error("soften: needs A formed and one softness per row");
+  if (softness.isZero(0.0)) {
+    sys.softness.resize(0);
+    sys.A_soft.resize(0, 0);
+    return;
+  }
+  sys.softness = softness;
+  SpMat E(sys.rows(), sys.rows());
+  E.setIdentity();
+  E = softness.asDiagonal() * E;  // kg⁻¹
+  sys.A_soft = sys.A + E;
 }
 
 ConeContacts contacts_in_cones(const System& sys, double mu, ConeLaw law) {

@@ -86,6 +86,14 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.beta == want.world.beta);
   CHECK(got.world.push == want.world.push);
   CHECK(got.world.integrator == want.world.integrator);
+  CHECK(got.world.scheme.kind == want.world.scheme.kind);
+  CHECK(got.world.scheme.substeps == want.world.scheme.substeps);
+  CHECK(got.world.scheme.contact_hertz == want.world.scheme.contact_hertz);
+  CHECK(got.world.scheme.contact_damping_ratio == want.world.scheme.contact_damping_ratio);
+  CHECK(got.world.scheme.joint_hertz == want.world.scheme.joint_hertz);
+  CHECK(got.world.scheme.joint_damping_ratio == want.world.scheme.joint_damping_ratio);
+  CHECK(got.world.scheme.max_push_speed == want.world.scheme.max_push_speed);
+  CHECK(got.world.scheme.compliance == want.world.scheme.compliance);
   CHECK(got.world.mu == want.world.mu);
   CHECK(got.world.friction == want.world.friction);
   CHECK(got.world.cone == want.world.cone);
@@ -144,6 +152,13 @@ Scene contact_scene() {
   scene.name = "contacts";
   scene.world.push = PushMode::Improved;
   scene.world.integrator = Integrator::Gyroscopic;
+  scene.world.scheme.kind = Scheme::SoftStep;
+  scene.world.scheme.substeps = 7;
+  scene.world.scheme.contact_hertz = 27.5;
+  scene.world.scheme.contact_damping_ratio = 8.25;
+  scene.world.scheme.joint_hertz = 55.5;
+  scene.world.scheme.joint_damping_ratio = 1.75;
+  scene.world.scheme.max_push_speed = 2.5;
   scene.world.mu = 0.35;
   scene.world.friction = FrictionModel::Coulomb;
   scene.world.restitution = 0.45;
@@ -238,7 +253,8 @@ TEST_CASE("a plane, a box, contact settings and collides = false read to the val
           "[scene_json]") {
   // The plane is turned 90° about x: its outward normal R (0, 1, 0) is then +z.
   const Scene scene = parse_scene(R"({
-      "world": {"push": "improved", "integrator": "midpoint", "mu": 0.5, "friction": "coulomb",
+      "world": {"push": "improved", "integrator": "midpoint", "scheme": "xpbd",
+                "compliance": 1e-6, "mu": 0.5, "friction": "coulomb",
                 "restitution": 0.25,
                 "restitution_threshold": 0.2, "contact_margin": 0.01},
       "solver": {"split_islands": false},
@@ -250,6 +266,9 @@ TEST_CASE("a plane, a box, contact settings and collides = false read to the val
                                   "scene.json");
   CHECK(scene.world.push == PushMode::Improved);
   CHECK(scene.world.integrator == Integrator::Midpoint);
+  CHECK(scene.world.scheme.kind == Scheme::Xpbd);
+  CHECK(scene.world.scheme.substeps == kSchemeSubsteps);  // named without substeps: 4
+  CHECK(scene.world.scheme.compliance == 1e-6);
   CHECK(scene.world.mu == 0.5);
   CHECK(scene.world.friction == FrictionModel::Coulomb);
   CHECK(scene.world.restitution == 0.25);
@@ -481,7 +500,17 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
       {R"({"world": {"mu": "high"}, "bodies": []})",
        "scene.json: /world/mu: expected a number (got string)"},
       {R"({"world": {"margin": 0}, "bodies": []})",
-       "scene.json: /world/margin: unknown key (valid: gravity, dt, beta, push, integrator, mu,"},
+       "scene.json: /world/margin: unknown key (valid: gravity, dt, beta, push, integrator, "
+       "scheme, substeps,"},
+      {R"({"world": {"scheme": "verlet"}, "bodies": []})",
+       R"(scene.json: /world/scheme: unknown scheme "verlet" (valid: paper, tgs, soft-step, xpbd))"},
+      {R"({"world": {"substeps": 4}, "bodies": []})",
+       "scene.json: /world/substeps: needs a scheme that substeps (tgs, soft-step, xpbd), not "
+       "paper"},
+      {R"({"world": {"scheme": "tgs", "substeps": 0}, "bodies": []})",
+       "scene.json: /world/substeps: must be >= 1 (got 0)"},
+      {R"({"world": {"scheme": "soft-step", "contact_hertz": -30}, "bodies": []})",
+       "scene.json: /world/contact_hertz: must be >= 0 (got -30)"},
       {R"({"parameters": {"n": 3}, "bodies": []})",
        "scene.json: /parameters/n: expected a string (got number)"},
       // Structure: unknown, duplicate and missing keys.

@@ -65,4 +65,15 @@ ContactMemory keep_contacts(const std::vector<Body>& bodies,
                             const std::vector<Manifold>& manifolds,
                             std::uint64_t last_next_id);
 
+/// The manifolds `found` at the start of a step carried with their bodies to where the bodies
+/// are now (the substeps of a scheme, docs/schemes.md): each point sits at s_a on body a and s_b
+/// on body b as `kept` recorded them (keep_contacts of `found`, one entry per manifold, same
+/// order); the normal n stays as found; the point moves to the midpoint of x_a + R_a s_a and
+/// x_b + R_b s_b, and its depth to d − n·((x_b + R_b s_b) − (x_a + R_a s_a)), m: the found depth
+/// less how far the two points separated along n. Ids and features stay.
+void carry_contacts(const std::vector<Manifold>& found,
+                    const ContactMemory& kept,
+                    const std::vector<Body>& bodies,
+                    std::vector<Manifold>& moved);
+
 }  // namespace cbps

@@ -33,6 +33,9 @@ struct Row {
   /// contact at depth d ≥ 0 (5.3), else 0. Which system it enters is the push factor's form
   /// (PushMode): the one system (5.2.3, 5.3) or only the position system (8.1).
   double upsilon_push = 0.0;
+  /// A contact row's depth d (4, 5.3), m: ≥ 0 overlapping, < 0 a gap inside the margin; 0 for
+  /// other rows. The soft step softens only rows with d ≥ 0 (docs/schemes.md).
+  double depth = 0.0;
   double cmin = -kInf;  ///< lower bound on lambda (5.1), N
   double cmax = kInf;   ///< upper bound on lambda (5.1), N
   int normal_row = -1;  ///< Coulomb friction (5.4): index of the contact row bounding it

@@ -25,12 +25,49 @@ inline constexpr double kSceneContactMargin = 1e-3;
 /// (gContactBreakingThreshold, btPersistentManifold.cpp).
 inline constexpr double kSceneContactPersistence = 0.02;
 
+/// How a step advances time (World::scheme, docs/schemes.md): the paper's one solve per step,
+/// or a substepping scheme of the engines PGS is compared with. Every scheme poses each substep
+/// as the paper's system (6.2.9) with dt/N; the contact manifolds (4) are found once a step and
+/// their points carried with the bodies between substeps.
+enum class Scheme {
+  Paper,     ///< one system per step (3.2, 6.2.9, 7.1.1), the default
+  Tgs,       ///< Tonge's temporal Gauss-Seidel: N substeps of dt/N, the rigid rows as in Paper
+  SoftStep,  ///< Catto's soft step (Box2D v3): soft push system, then a rigid relax, N substeps
+  Xpbd       ///< Macklin et al.'s XPBD in its linear form: beta 1, compliance, cold substeps
+};
+
+/// The schemes' names in Scheme order (scene files' "scheme", --scheme).
+const std::vector<std::string>& scheme_names();
+/// The scheme of that name (scheme_names()); nullopt for any other.
+std::optional<Scheme> scheme_named(const std::string& name);
+
+/// The substeps of tgs, soft-step and xpbd when a scene file or the command line names the
+/// scheme without them (Box2D v3's default substep count, 4).
+inline constexpr int kSchemeSubsteps = 4;
+
+/// A scheme's settings (World::scheme; docs/schemes.md gives each its source).
+struct SchemeSettings {
+  Scheme kind = Scheme::Paper;
+  int substeps = 1;  ///< N: each step is N substeps of dt/N (1 for Paper)
+  /// soft-step: the contact rows' stiffness, Hz, at most a quarter of the substep rate N/dt
+  /// (Box2D v3's contactHertz, 30); twice this against a static body (its staticSoftness).
+  double contact_hertz = 30.0;
+  double contact_damping_ratio = 10.0;  ///< soft-step: contact damping ratio (Box2D v3: 10)
+  double joint_hertz = 60.0;            ///< soft-step: distance rows' stiffness, Hz (Box2D v3: 60)
+  double joint_damping_ratio = 2.0;     ///< soft-step: distance rows' damping ratio (Box2D v3: 2)
+  /// soft-step: the most a contact's push asks, m/s (Box2D v3's contactPushMaxVelocity, 3)
+  double max_push_speed = 3.0;
+  /// xpbd: every row's compliance alpha, m/N (kg⁻¹ s² per unit of lambda); 0: rigid rows
+  double compliance = 0.0;
+};
+
 struct World {
   Vec3 gravity{0.0, -9.81, 0.0};  ///< g, m/s² (y is up)
   double dt = 1.0 / 240.0;        ///< time step, s
   double beta = 0.2;              ///< Baumgarte push factor (5.2.3, 5.3), dimensionless in [0, 1]
   PushMode push = PushMode::Original;
   Integrator integrator = Integrator::Paper;  ///< how a step turns the bodies (body.hpp)
+  SchemeSettings scheme;                      ///< how a step advances time (docs/schemes.md)
   double mu = 0.0;                            ///< friction coefficient (5.4); 0: no friction rows
   FrictionModel friction = FrictionModel::Paper;
   ConeLaw cone = ConeLaw::Coulomb;     ///< the cone's law with FrictionModel::Cone (docs/cones.md)

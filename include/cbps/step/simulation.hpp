@@ -95,7 +95,9 @@ class Simulation {
                   std::vector<Manifold>& manifolds,
                   StageTimes* times = nullptr) const;
   std::vector<Row> build_rows() const;
-  /// The system of the current state, not solved (6.1, 6.2.9), as a new System.
+  /// The system of the current state, not solved (6.1, 6.2.9), as a new System: under a
+  /// substepping scheme (World::scheme) the first substep's, with dt = h and the scheme's rows
+  /// and softness (step/scheme.hpp).
   System build_system() const;
   /// The same, assembled into the simulation's own System, whose storage is reused from step
   /// to step; step() calls this, so A is formed only when forms_A() (build_system() always
@@ -157,6 +159,19 @@ class Simulation {
  private:
   using WarmStart = std::unordered_map<std::uint64_t, double>;  ///< row id → lambda, N
 
+  /// One step of a substepping scheme (tgs, soft-step, xpbd; step/scheme.hpp): contacts found
+  /// once (4), then N substeps of h = dt/N, each the paper's stages on the manifolds carried
+  /// with the bodies (carry_contacts).
+  StepReport scheme_step();
+  /// One substep's solves and integration (Integrate, 3.2) of the system in sys_.
+  void substep(StepReport& report);
+  /// A substep's system from `manifolds` (the scheme's rows, dt = h, softness), into `rows` and
+  /// `sys`; A formed when forms_A says, when the scheme softens rows, or always_form_A.
+  void substep_system(const std::vector<Manifold>& manifolds,
+                      std::vector<Row>& rows,
+                      System& sys,
+                      bool always_form_A,
+                      StageTimes* times) const;
   /// Collision detection (4): the manifolds of the bodies' pairs within the contact margin.
   void detect_contacts(std::vector<Manifold>& manifolds, StageTimes* times) const;
   /// The stage list of this step, by stage_name.

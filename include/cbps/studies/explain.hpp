@@ -51,9 +51,18 @@ struct Explained {
   bool coulomb = false;   ///< Coulomb friction rows: their bounds are those of the fixed point
   bool improved = false;  ///< the improved push (8.1): the velocity system is shown
   Integrator integrator = Integrator::Paper;  ///< gyroscopic: v1 took Bullet's step (body.hpp)
+  SchemeSettings scheme;                      ///< a substepping scheme: its first substep is shown
   std::string A_unit, system_shown;
   std::vector<std::string> v_units, f_units;  ///< of the columns (velocities, forces)
 };
+
+/// What a scheme's softness is, wherever it is shown.
+inline constexpr const char* kSoftnessNote =
+    "what the step scheme adds to A's diagonal (docs/schemes.md), kept apart from A: the system "
+    "that carries the push solves (A + diag(softness)) lambda = b; 0 for a rigid row";
+
+/// What the system shown is under a substepping scheme (its first substep).
+std::string scheme_note(const SchemeSettings& scheme);
 
 /// The explanation of the step `at_step` the simulation is at; InputError, naming the sizes,
 /// when its dense J, Minv and A would be more than kMaxExplainEntries numbers.

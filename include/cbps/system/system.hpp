@@ -52,16 +52,41 @@ struct System {
   /// The contacts whose rows live in Coulomb's cone (friction=cone; docs/cones.md), their law
   /// set by the simulation from the scene (World::cone); empty otherwise.
   ConeContacts cones;
+  /// c, kg⁻¹: what a step scheme adds to A's diagonal (docs/schemes.md), kept apart from A: the
+  /// soft step's soft rows (Catto's gamma), XPBD's compliance over h². The system that carries
+  /// the push solves (A + diag(softness)) lambda = b (push_problem). Empty: the paper's rigid rows.
+  VecX softness;
+  SpMat A_soft;  ///< A + diag(softness) (soften), empty without softness
 
   int rows() const { return static_cast<int>(J.rows()); }
   int blocks() const { return static_cast<int>(body_of_block.size()); }
   /// The boxed problem of 6.2 this system poses (with J, Minv and the manifold blocks), or the
   /// same with another right-hand side (the position system of 8.1). A view: the System and
   /// rhs must outlive it (never pass a temporary rhs).
+  /// The velocity system's problem: with a scheme's softness when the push is in it (push
+  /// Original), as soft_problem.
   BoxedProblem problem() const { return problem(b); }
   BoxedProblem problem(const VecX& rhs) const {
+    return softness.size() > 0 && push == PushMode::Original ? soft_problem(rhs)
+                                                             : rigid_problem(rhs);
+  }
+  /// The problem of the system that carries the push (8.1's position system, or the one system):
+  /// (A + diag(softness)) lambda = rhs when a scheme set softness (soften), else A lambda = rhs.
+  BoxedProblem push_problem(const VecX& rhs) const {
+    return softness.size() > 0 ? soft_problem(rhs) : rigid_problem(rhs);
+  }
+  /// A lambda = rhs with A = J Minv Jᵀ, whatever the softness.
+  BoxedProblem rigid_problem(const VecX& rhs) const {
     BoxedProblem p{A, rhs, cmin, cmax, &J, &Minv, &manifold, &kind};
     p.symmetric = true;  // A = J Minv Jᵀ (6.2.9)
+    if (!cones.empty()) p.cones = &cones;
+    return p;
+  }
+  /// (A + diag(softness)) lambda = rhs: A_soft alone (no J and Minv: the methods that work
+  /// through the factors would leave the softness out).
+  BoxedProblem soft_problem(const VecX& rhs) const {
+    BoxedProblem p{A_soft, rhs, cmin, cmax, nullptr, nullptr, &manifold, &kind};
+    p.symmetric = true;  // A + a diagonal
     if (!cones.empty()) p.cones = &cones;
     return p;
   }
@@ -76,6 +101,10 @@ struct System {
 /// naming the first contact row without its two friction rows (mu = 0 makes none), and when mu
 /// is not finite and > 0.
 ConeContacts contacts_in_cones(const System& sys, double mu, ConeLaw law);
+
+/// Gives `sys` (A formed) a scheme's softness, kg⁻¹ per row (System::softness), and forms
+/// A_soft = A + diag(softness). An all-zero softness is dropped (the rigid system).
+void soften(System& sys, const VecX& softness);
 
 /// Column blocks for the movable bodies only: static bodies get none (5.3).
 void map_bodies(const std::vector<Body>& bodies, System& sys);
