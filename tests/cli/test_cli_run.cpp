@@ -239,3 +239,49 @@ TEST_CASE("cbps run --integrator turns the bodies as named, and the summary says
   }
   CHECK(run_cli("run " + box + " --steps 1 --integrator verlet").code == 2);
 }
+
+TEST_CASE("cbps run --scheme substeps each step as named, from the command line and scene files",
+          "[cli][scheme]") {
+  const auto summary = [&](const std::string& args) {
+    const auto r = run_cli("run " + args + " --quiet --json");
+    INFO(args << ": " << r.err);
+    REQUIRE(r.code == 0);
+    return nlohmann::json::parse(r.out);
+  };
+  // The issue's two commands (60 steps of the 10-box stack): the summary names the scheme and its
+  // substeps, every stage after collision detection runs once a substep, and the sweeps are
+  // those asked: one relax sweep a substep under soft-step (its push system's apart), at most 5
+  // under tgs.
+  const auto soft = summary("stack --steps 60 --scheme soft-step --substeps 4 --iterations 1");
+  CHECK(soft.at("scheme").at("name") == "soft-step");
+  CHECK(soft.at("scheme").at("substeps") == 4);
+  CHECK(soft.at("scheme").at("h").get<double>() == Approx(1.0 / 240.0).epsilon(1e-15));
+  CHECK(soft.at("stages").at(0) == "collision (4)");
+  CHECK(soft.at("stages").at(1).get<std::string>().rfind("soft-step substep (x4): ", 0) == 0);
+  CHECK(soft.at("iterations_total").get<long>() <= 60 * 4);
+  CHECK(soft.at("max_penetration").get<double>() < 0.01);
+  const auto tgs = summary("stack --steps 60 --scheme tgs --substeps 4 --iterations 5");
+  CHECK(tgs.at("scheme").at("name") == "tgs");
+  CHECK(tgs.at("iterations_total").get<long>() > 60 * 4);
+  CHECK(tgs.at("iterations_total").get<long>() <= 60 * 4 * 5);
+  CHECK(summary("stack --steps 60 --scheme xpbd --iterations 1").at("scheme").at("substeps") == 4);
+  // From a scene file: the scheme it names, and --scheme paper over it.
+  const auto dir = scratch_dir("scheme_scene");
+  auto scene = nlohmann::json::parse(slurp(std::string(CBPS_SOURCE_DIR) + "/scenes/box-on-plane.json"));
+  scene["world"]["scheme"] = "soft-step";
+  scene["world"]["substeps"] = 3;
+  cbps::test::write_file(dir / "soft.json", scene.dump());
+  const std::string file = (dir / "soft.json").string();
+  CHECK(summary(file + " --steps 30").at("scheme").at("substeps") == 3);
+  CHECK(summary(file + " --steps 30 --scheme paper").at("scheme").at("substeps") == 1);
+  // --check solves every substep's system again with the direct path.
+  const auto checked =
+      summary("stack --steps 10 --scheme tgs --substeps 4 --iterations 5 --check");
+  CHECK(checked.at("cross_check").at("steps_checked") == 40);
+  CHECK(checked.at("cross_check").at("direct_unverified") == 0);
+  // Substeps need a scheme that substeps; an unknown scheme is refused.
+  const auto paper = run_cli("run stack --steps 1 --substeps 4");
+  CHECK(paper.code == 2);
+  CHECK(paper.err.find("--substeps 4: needs --scheme tgs, soft-step or xpbd") != std::string::npos);
+  CHECK(run_cli("run stack --steps 1 --scheme verlet").code == 2);
+}

@@ -156,6 +156,8 @@ def test_bad_simulation_use():
     for attribute, value, match in [("dt", 0.0, "dt 0"), ("beta", 2.0, "beta 2"),
                                     ("push", "sideways", "push 'sideways'"),
                                     ("integrator", "verlet", "integrator 'verlet'"),
+                                    ("scheme", "verlet", "scheme 'verlet'"),
+                                    ("substeps", 4, "needs scheme tgs"),
                                     ("iterations", 0, "iterations 0"), ("cfm", -1.0, "cfm -1")]:
         with pytest.raises(cbps.InputError, match=match):
             setattr(scene, attribute, value)

@@ -51,6 +51,33 @@ def test_settings_as_the_step_options():
     assert sim.stages()[-1].startswith("integrate")
 
 
+def test_scheme_substeps_as_the_command_line(tmp_path):
+    """scene.scheme and scene.substeps are --scheme and --substeps: the same scene file, and
+    a run of 30 steps ends where `cbps run` ends."""
+    scene = cbps.scene("stack", n=3)
+    assert scene.scheme == "paper" and scene.substeps == 1
+    scene.scheme = "soft-step"
+    assert scene.substeps == 4  # a substepping scheme named: its default
+    scene.substeps = 3
+    scene.iterations = 1
+    text = json.loads(scene.to_json())
+    assert text["world"]["scheme"] == "soft-step" and text["world"]["substeps"] == 3
+    exported = tmp_path / "cli.json"
+    cli("scenes", "stack", "--param", "n=3", "--export", exported)
+    out = tmp_path / "run"
+    cli("run", exported, "--scheme", "soft-step", "--substeps", "3", "--iterations", "1",
+        "--steps", "30", "--quiet", "--out", out)
+    sim = cbps.Simulation(scene)
+    for _ in range(30):
+        sim.step()
+    assert any(stage.startswith("soft-step substep (x3)") for stage in sim.stages())
+    rows = read_trajectory(out / "trajectory.csv")
+    last = {r["body"]: r for r in rows if float(r["t"]) == pytest.approx(30 * scene.dt)}
+    for k, body in enumerate(sim.bodies()):
+        got = np.array([float(last[str(k)][c]) for c in "xyz"])
+        np.testing.assert_allclose(got, body["x"], rtol=1e-10, atol=1e-12)
+
+
 def read_trajectory(path):
     with open(path) as f:
         rows = list(csv.DictReader(f))
