@@ -210,7 +210,8 @@ int converge_command(const ConvergeOptions& o) {
                      o.scene.scene);
   if (problem && world_options_given(o.step))
     throw InputError(
-        "--dt, --cfm, --beta, --push, --integrator: they apply to scenes, not to the problem " +
+        "--dt, --cfm, --beta, --push, --integrator, --scheme and its options: they apply to "
+        "scenes, not to the problem " +
         o.scene.scene + " (its cfm.txt gives its cfm)");
   ConvergenceSystem s = problem ? convergence_system(o.scene.scene) : system_of_scene(o);
   apply_cone_option(s.stored, o.cone, o.scene.scene);

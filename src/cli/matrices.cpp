@@ -20,6 +20,7 @@
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
+#include "cbps/studies/explain.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -173,6 +174,11 @@ int matrices_command(const MatricesOptions& o) {
       write_boxed_as_cones(o, scene, sys, problem, law);
   }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
+  if (sys.softness.size() > 0)
+    write_matrix_market(dir.file("softness.mtx"),
+                        sys.softness,
+                        "softness: the step scheme's diagonal, kg^-1 (docs/schemes.md); the "
+                        "system carrying the push solves (A + diag(softness)) lambda = b");
   write_matrix_market(
       dir.file("lambda.mtx"), lambda, "lambda: direct solution, N (" + direct.message + ")");
   nlohmann::json labels;
@@ -180,7 +186,14 @@ int matrices_command(const MatricesOptions& o) {
   labels["step"] = o.at_step;
   labels["rows"] = sys.labels;
   labels["columns"] = column_labels(scene, sys);
-  labels["system"] = scene.world.push == PushMode::Improved
+  if (scene.world.scheme.kind != Scheme::Paper)
+    labels["scheme"] = {
+        {"name", scheme_names().at(static_cast<std::size_t>(scene.world.scheme.kind))},
+        {"substeps", scene.world.scheme.substeps},
+        {"h", sys.dt},
+        {"note", scheme_note(scene.world.scheme)},
+        {"softness", sys.softness.size() > 0 ? "softness.mtx" : "none"}};
+  labels["system"] = sys.push == PushMode::Improved
                          ? "velocity system of the improved push (8.1): b without the push terms"
                          : "the one system of the original push (5.2.3, 6.2.9)";
   labels["cfm"] = scene.solver.cfm;

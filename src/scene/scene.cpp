@@ -8,14 +8,15 @@ Scene rescale_units(const Scene& scene, double L, double M, double T) {
   s.world.gravity *= L / (T * T);  // m/s²
   s.world.dt *= T;                 // s
   s.duration *= T;
-  s.world.restitution_threshold *= L / T;  // m/s
-  s.world.contact_margin *= L;             // m
-  s.world.divergence_speed *= L / T;       // m/s
-  s.world.divergence_spin /= T;            // rad/s
-  s.world.scheme.contact_hertz /= T;       // Hz
-  s.world.scheme.joint_hertz /= T;         // Hz
-  s.world.scheme.max_push_speed *= L / T;  // m/s
-  s.world.scheme.compliance *= T * T / M;  // m/N = s²/kg per unit of lambda
+  s.world.restitution_threshold *= L / T;    // m/s
+  s.world.contact_margin *= L;               // m
+  s.world.divergence_speed *= L / T;         // m/s
+  s.world.divergence_spin /= T;              // rad/s
+  s.world.scheme.contact_hertz /= T;         // Hz
+  s.world.scheme.joint_hertz /= T;           // Hz
+  s.world.scheme.max_push_speed *= L / T;    // m/s
+  s.world.scheme.compliance *= T * T / M;    // m/N = s²/kg per unit of lambda
+  s.world.scheme.speculative_distance *= L;  // m
   for (Body& body : s.bodies) {
     body.shape.radius *= L;
     body.shape.half_extents *= L;

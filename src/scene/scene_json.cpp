@@ -233,6 +233,8 @@ void read_scheme(const Node& node, SchemeSettings& s) {
     s.joint_damping_ratio = nonnegative(child(node, "joint_damping_ratio"));
   if (has(node, "max_push_speed")) s.max_push_speed = nonnegative(child(node, "max_push_speed"));
   if (has(node, "compliance")) s.compliance = nonnegative(child(node, "compliance"));
+  if (has(node, "speculative_distance"))
+    s.speculative_distance = nonnegative(child(node, "speculative_distance"));
 }
 
 World read_world(const Node& node) {
@@ -250,6 +252,7 @@ World read_world(const Node& node) {
                 "joint_damping_ratio",
                 "max_push_speed",
                 "compliance",
+                "speculative_distance",
                 "mu",
                 "friction",
                 "cone",
@@ -965,6 +968,7 @@ std::string scene_to_json(const Scene& scene) {
     world["max_push_speed"] = scheme.max_push_speed;
   }
   if (scheme.kind == Scheme::Xpbd) world["compliance"] = scheme.compliance;
+  if (scheme.kind != Scheme::Paper) world["speculative_distance"] = scheme.speculative_distance;
   world["mu"] = scene.world.mu;
   world["friction"] = kFrictionModels.at(static_cast<std::size_t>(scene.world.friction));
   if (scene.world.friction == FrictionModel::Cone)

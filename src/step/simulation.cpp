@@ -241,11 +241,11 @@ void Simulation::detect_contacts(std::vector<Manifold>& manifolds, StageTimes* t
   std::vector<std::pair<int, int>> pairs;
   {
     const StageTimer broad(broad_s);
-    pairs = broad_phase(scene_.bodies, scene_.world.contact_margin);  // (4, step 1)
+    pairs = broad_phase(scene_.bodies, scene_.world.detection_margin());  // (4, step 1)
   }
   {
     const StageTimer narrow(narrow_s);
-    manifolds = narrow_phase(scene_.bodies, pairs, scene_.world.contact_margin);  // (4, step 2)
+    manifolds = narrow_phase(scene_.bodies, pairs, scene_.world.detection_margin());  // (4, 2)
     // The points that continue last step's keep their ids (7).
     if (persistence())
       continue_contacts(contacts_, scene_.bodies, scene_.world.contact_persistence, manifolds);

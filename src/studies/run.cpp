@@ -27,6 +27,7 @@ nlohmann::json scheme_summary(const World& world) {
                  {"joint_damping_ratio", s.joint_damping_ratio},
                  {"max_push_speed", s.max_push_speed}};
   if (s.kind == Scheme::Xpbd) j["compliance"] = s.compliance;
+  if (s.kind != Scheme::Paper) j["speculative_distance"] = s.speculative_distance;
   return j;
 }
 

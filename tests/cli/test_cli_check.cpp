@@ -83,6 +83,7 @@ TEST_CASE("contact scenes pass the --check cross-check against the direct path (
       {"pyramid --param base=4", 10.0 * kG},
       {"pyramid --param base=4 --solver block-pgs", 10.0 * kG},
       {"pyramid --param base=4 --solver direct", 10.0 * kG},
+      {"card-house", 15 * 0.1 * kG},
   }));
   check_cross_check(run, run.args == "bounce" ? 240 : 60);
 }

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -421,4 +422,46 @@ TEST_CASE("cbps explain --integrator gyroscopic shows the v1 the step solved fro
   CHECK(change > 1e-7);
   CHECK(change < 1e-2);
   CHECK(v1_gyroscopic.head<3>().isZero(0.0));  // the linear part is the paper's
+}
+
+TEST_CASE("cbps explain and matrices under a scheme show its first substep and its softness apart",
+          "[cli][explain][scheme]") {
+  // One box on the ground under the soft step, 4 substeps of 1/240 s: the contact rows take
+  // Catto's softness gamma = A_kk / (h omega (2 zeta + h omega)), omega = 2 pi 60 Hz (twice the
+  // 30 Hz contact stiffness against a static body), zeta = 10; friction rows none. A stays
+  // J Minv Jᵀ, and dt is the substep.
+  const CliResult r = run_cli("explain stack --param n=1 --scheme soft-step --json");
+  REQUIRE(r.code == 0);
+  const nlohmann::json e = nlohmann::json::parse(r.out);
+  const double h = 1.0 / 240.0;
+  CHECK(e.at("dt").get<double>() == Approx(h).epsilon(1e-15));
+  CHECK(e.at("scheme").at("name") == "soft-step");
+  CHECK(e.at("scheme").at("substeps") == 4);
+  const auto& labels = e.at("row_labels");
+  const auto& A = e.at("A").at("value");
+  const VecX softness = vector_of(e.at("scheme").at("softness").at("value"));
+  const double omega = 2.0 * std::numbers::pi * 60.0, zeta = 10.0;
+  int soft_rows = 0;
+  for (std::size_t k = 0; k < labels.size(); ++k) {
+    CAPTURE(labels[k]);
+    const bool contact = labels[k].get<std::string>().rfind("contact", 0) == 0;
+    const double A_kk = A[k][k].get<double>();
+    const double want = contact ? A_kk / (h * omega * (2.0 * zeta + h * omega)) : 0.0;
+    CHECK(softness(static_cast<Eigen::Index>(k)) == Approx(want).epsilon(1e-12));
+    soft_rows += contact ? 1 : 0;
+  }
+  CHECK(soft_rows == 4);
+  // matrices writes the same softness beside A, and says which substep it wrote.
+  const auto dir = scratch_dir("matrices_scheme");
+  REQUIRE(
+      run_cli("matrices stack --param n=1 --scheme soft-step --out " + (dir / "m").string()).code ==
+      0);
+  CHECK(std::filesystem::exists(dir / "m" / "softness.mtx"));
+  const auto labels_json = nlohmann::json::parse(slurp(dir / "m" / "labels.json"));
+  CHECK(labels_json.at("scheme").at("softness") == "softness.mtx");
+  CHECK(labels_json.at("scheme").at("h").get<double>() == Approx(h).epsilon(1e-15));
+  // The paper's scheme has no softness to show.
+  const nlohmann::json paper =
+      nlohmann::json::parse(run_cli("explain stack --param n=1 --json").out);
+  CHECK_FALSE(paper.at("scheme").contains("softness"));
 }

@@ -267,7 +267,8 @@ TEST_CASE("cbps run --scheme substeps each step as named, from the command line 
   CHECK(summary("stack --steps 60 --scheme xpbd --iterations 1").at("scheme").at("substeps") == 4);
   // From a scene file: the scheme it names, and --scheme paper over it.
   const auto dir = scratch_dir("scheme_scene");
-  auto scene = nlohmann::json::parse(slurp(std::string(CBPS_SOURCE_DIR) + "/scenes/box-on-plane.json"));
+  auto scene =
+      nlohmann::json::parse(slurp(std::string(CBPS_SOURCE_DIR) + "/scenes/box-on-plane.json"));
   scene["world"]["scheme"] = "soft-step";
   scene["world"]["substeps"] = 3;
   cbps::test::write_file(dir / "soft.json", scene.dump());
@@ -275,10 +276,17 @@ TEST_CASE("cbps run --scheme substeps each step as named, from the command line 
   CHECK(summary(file + " --steps 30").at("scheme").at("substeps") == 3);
   CHECK(summary(file + " --steps 30 --scheme paper").at("scheme").at("substeps") == 1);
   // --check solves every substep's system again with the direct path.
-  const auto checked =
-      summary("stack --steps 10 --scheme tgs --substeps 4 --iterations 5 --check");
+  const auto checked = summary("stack --steps 10 --scheme tgs --substeps 4 --iterations 5 --check");
   CHECK(checked.at("cross_check").at("steps_checked") == 40);
   CHECK(checked.at("cross_check").at("direct_unverified") == 0);
+  // The soft schemes: the relax (rigid) and XPBD's compliant system, (A + alpha/h²) lambda = b.
+  for (const char* scheme : {"soft-step --iterations 1", "xpbd --compliance 1e-4 --iterations 1"}) {
+    CAPTURE(scheme);
+    const auto soft_checked =
+        summary(std::string("stack --steps 10 --substeps 4 --check --scheme ") + scheme);
+    CHECK(soft_checked.at("cross_check").at("steps_checked") == 40);
+    CHECK(soft_checked.at("cross_check").at("direct_unverified") == 0);
+  }
   // Substeps need a scheme that substeps; an unknown scheme is refused.
   const auto paper = run_cli("run stack --steps 1 --substeps 4");
   CHECK(paper.code == 2);

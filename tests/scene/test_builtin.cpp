@@ -185,3 +185,29 @@ TEST_CASE("pyramid: any run of its boxes is built as the whole scene builds them
   CHECK_THROWS_AS(build_pyramid_range(values, 4, 3), InputError);
   CHECK_THROWS_AS(pyramid_base({{"base", "0"}}), InputError);
 }
+
+TEST_CASE("card-house: every card starts touching what holds it, nothing overlaps (4)",
+          "[scenes][contact][eq4]") {
+  // Levels of 3, 2, 1 Λs and 2, 1 flat cards: 15 cards. Each leaning card touches the floor (or
+  // the flat card below) and its partner at the apex; each flat card rests on two apexes. All
+  // depths are 0 up to rounding; the leaning pairs meet edge to edge.
+  const Scene scene = make_builtin_scene("card-house", {});
+  REQUIRE(scene.bodies.size() == 16);
+  const std::vector<Manifold> contacts = detect_contacts(scene.bodies, 1e-9);
+  double deepest = 0.0;
+  std::vector<int> touching(scene.bodies.size(), 0);
+  for (const Manifold& manifold : contacts) {
+    ++touching[static_cast<std::size_t>(manifold.a)];
+    ++touching[static_cast<std::size_t>(manifold.b)];
+    for (const ContactPoint& point : manifold.points)
+      deepest = std::max(deepest, std::abs(point.depth));
+  }
+  CHECK(deepest < 1e-12);
+  for (std::size_t k = 1; k < scene.bodies.size(); ++k) {
+    CAPTURE(scene.bodies[k].name);
+    CHECK(touching[k] >= 2);  // a leaning card: its support and its partner; a flat one: 2 apexes
+  }
+  // A flat card that cannot reach across two Λs, and Λs whose feet overlap, are refused.
+  CHECK_THROWS_AS(make_builtin_scene("card-house", {{"gap", "0.05"}}), InputError);
+  CHECK_THROWS_AS(make_builtin_scene("card-house", {{"angle_deg", "40"}}), InputError);
+}

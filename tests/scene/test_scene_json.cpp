@@ -94,6 +94,7 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.scheme.joint_damping_ratio == want.world.scheme.joint_damping_ratio);
   CHECK(got.world.scheme.max_push_speed == want.world.scheme.max_push_speed);
   CHECK(got.world.scheme.compliance == want.world.scheme.compliance);
+  CHECK(got.world.scheme.speculative_distance == want.world.scheme.speculative_distance);
   CHECK(got.world.mu == want.world.mu);
   CHECK(got.world.friction == want.world.friction);
   CHECK(got.world.cone == want.world.cone);
@@ -159,6 +160,7 @@ Scene contact_scene() {
   scene.world.scheme.joint_hertz = 55.5;
   scene.world.scheme.joint_damping_ratio = 1.75;
   scene.world.scheme.max_push_speed = 2.5;
+  scene.world.scheme.speculative_distance = 0.0125;
   scene.world.mu = 0.35;
   scene.world.friction = FrictionModel::Coulomb;
   scene.world.restitution = 0.45;

@@ -3,6 +3,7 @@
 // so the solver never sees where a scene came from.
 #pragma once
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <utility>
@@ -59,6 +60,11 @@ struct SchemeSettings {
   double max_push_speed = 3.0;
   /// xpbd: every row's compliance alpha, m/N (kg⁻¹ s² per unit of lambda); 0: rigid rows
   double compliance = 0.0;
+  /// tgs, soft-step, xpbd: contacts are found once a step, so pairs up to this far apart are
+  /// kept (as gaps, rows that let the gap close within a substep and no more), m: a pair that
+  /// closes during the step's substeps has its rows. Box2D v3's speculative distance, 4 linear
+  /// slops = 0.02 m. The world's contact_margin when that is larger.
+  double speculative_distance = 0.02;
 };
 
 struct World {
@@ -89,6 +95,12 @@ struct World {
 
   /// The settings of the row stage (5.2–5.4) taken from this world.
   RowSettings rows() const;
+  /// How far apart a pair's contact points are kept (4), m: the contact margin, or under a
+  /// substepping scheme the larger of it and the scheme's speculative distance.
+  double detection_margin() const {
+    return scheme.kind == Scheme::Paper ? contact_margin
+                                        : std::max(contact_margin, scheme.speculative_distance);
+  }
   /// The method a scene of this world solves with when none is named: the paper's PGS (7.1.1),
   /// on friction cones its cone form nsgs (docs/cones.md).
   Method default_method() const {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "cbps/base/error.hpp"
+#include "cbps/base/numbers.hpp"
 #include "scene_parameters.hpp"
 
 namespace cbps {
@@ -158,6 +159,73 @@ Scene build_pyramid_range(const std::map<std::string, std::string>& values, long
                                       mass,
                                       Vec3(x, y, 0.0)));
     }
+  }
+  scene.parameters = p.in_force();
+  return scene;
+}
+
+// Solver2D's card house (Catto, "Solver2D", 2024) in 3-D, in the x-y plane. A card is a box of
+// half extents (t/2, L/2, w/2). A Λ centred at x = c on a floor at y0 is two cards turned by
+// ∓theta about z, their inner top corners meeting at the apex (c, y0 + L cos theta) and each
+// standing on its inner bottom corner; its feet span c ± (L sin theta + t cos theta) and its
+// outer top corners sit at c ± t cos theta, t sin theta above the apex. Λs on a level are
+// `pitch` = L + gap apart, so the flat cards (turned 90°), each lying across two neighbouring Λs
+// on their outer top corners, are `gap` apart end to end; the next level's Λs stand on the flat
+// cards, centred between the Λs below, one fewer a level. Everything starts exactly touching.
+Scene build_card_house(const std::map<std::string, std::string>& values) {
+  const ParameterValues p(*find_builtin_scene("card-house"), values);
+  Scene scene;
+  scene.name = "card-house";
+  read_contact_world(p, scene);
+  const long pairs = p.integer("pairs", 1, 1000);
+  const double L = p.positive("height"), t = p.positive("thickness"), w = p.positive("width");
+  const double mass = p.positive("mass");
+  const double theta = p.number("angle_deg", 0.0, 60.0) * kPi / 180.0;
+  const double gap = p.number("gap", 0.0, kInf);
+  const double s = std::sin(theta), c = std::cos(theta);
+  const double foot = L * s + t * c;  // half the Λ's span, m
+  const double pitch = L + gap;
+  if (!(gap < 2.0 * t * c))
+    throw InputError(
+        "card-house: gap " + number_text(gap) + " m: a flat card no longer reaches " +
+        "the next Λ (the gap must be below 2 t cos(angle) = " + number_text(2.0 * t * c) + " m)");
+  if (!(2.0 * foot < pitch))
+    throw InputError(
+        "card-house: neighbouring Λs' feet overlap (2 (L sin(angle) + t cos(angle)) "
+        "= " +
+        number_text(2.0 * foot) + " m against L + gap = " + number_text(pitch) +
+        " m): a smaller angle, please");
+  const Vec3 half(0.5 * t, 0.5 * L, 0.5 * w);
+  scene.bodies.push_back(ground_body("ground", Vec3::Zero(), Vec3::UnitY()));
+  const Quat flat = axis_angle_quaternion(Vec3(0.0, 0.0, 0.5 * kPi));
+  double y0 = 0.0;
+  for (long level = 0; level < pairs; ++level) {
+    const long count = pairs - level;
+    const double first = 0.5 * pitch * static_cast<double>(level);  // centre of the first Λ
+    const double centre_y = y0 + 0.5 * t * s + 0.5 * L * c;
+    for (long k = 0; k < count; ++k) {
+      const double x = first + pitch * static_cast<double>(k);
+      const std::string name = "card" + std::to_string(level) + "_" + std::to_string(k);
+      const double dx = 0.5 * t * c + 0.5 * L * s;  // centre to apex, along x
+      Body left = box_body(name + "l", half, mass, Vec3(x - dx, centre_y, 0.0));
+      left.q = axis_angle_quaternion(Vec3(0.0, 0.0, -theta));
+      Body right = box_body(name + "r", half, mass, Vec3(x + dx, centre_y, 0.0));
+      right.q = axis_angle_quaternion(Vec3(0.0, 0.0, theta));
+      scene.bodies.push_back(std::move(left));
+      scene.bodies.push_back(std::move(right));
+    }
+    // The Λ's highest points: its outer top corners, t sin theta above the apex.
+    const double top = y0 + L * c + t * s;
+    for (long k = 0; k + 1 < count; ++k) {
+      const double x = first + pitch * (static_cast<double>(k) + 0.5);
+      Body card = box_body("flat" + std::to_string(level) + "_" + std::to_string(k),
+                           half,
+                           mass,
+                           Vec3(x, top + 0.5 * t, 0.0));
+      card.q = flat;
+      scene.bodies.push_back(std::move(card));
+    }
+    y0 = top + t;
   }
   scene.parameters = p.in_force();
   return scene;

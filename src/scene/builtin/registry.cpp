@@ -13,6 +13,7 @@ Scene build_chain(const std::map<std::string, std::string>& values);
 Scene build_v_corner(const std::map<std::string, std::string>& values);
 Scene build_stack(const std::map<std::string, std::string>& values);
 Scene build_pyramid(const std::map<std::string, std::string>& values);
+Scene build_card_house(const std::map<std::string, std::string>& values);
 Scene build_newtons_cradle(const std::map<std::string, std::string>& values);
 Scene build_slide(const std::map<std::string, std::string>& values);
 Scene build_bounce(const std::map<std::string, std::string>& values);
@@ -27,12 +28,13 @@ std::vector<SceneParameter> with_contact_world(std::vector<SceneParameter> own,
                                                const std::string& mu,
                                                const std::string& restitution,
                                                const std::string& push,
-                                               const std::string& duration) {
+                                               const std::string& duration,
+                                               const std::string& friction = "paper") {
   own.push_back({"dt", dt, "s", "time step"});
   own.push_back({"beta", "0.2", "", "push factor (5.3)"});
   own.push_back({"mu", mu, "", "friction coefficient (5.4); 0: no friction rows"});
   own.push_back({"friction",
-                 "paper",
+                 friction,
                  "-",
                  "paper (±mu m |g·n|, 5.4) | coulomb (±mu lambda_n) | cone (Coulomb's cone, "
                  "solved by nsgs unless --solver says, docs/cones.md)"});
@@ -126,6 +128,24 @@ const std::vector<BuiltinScene>& builtin_scenes() {
                           "improved",
                           "5"),
        build_pyramid},
+      {"card-house",
+       "Solver2D's card house in 3-D: pairs of thin cards leaning on each other in Λs on the "
+       "ground, a flat card across each two neighbouring Λs, the next level's Λs on the flat "
+       "cards, up to one Λ at the top",
+       with_contact_world({{"pairs", "3", "-", "Λs on the ground (levels: as many)"},
+                           {"height", "0.5", "m", "card length (the Λs' sides)"},
+                           {"thickness", "0.02", "m", "card thickness"},
+                           {"width", "0.35", "m", "card width (along z)"},
+                           {"mass", "0.1", "kg", "card mass"},
+                           {"angle_deg", "25", "deg", "a leaning card's angle from the vertical"},
+                           {"gap", "0.005", "m", "gap between neighbouring flat cards' ends"}},
+                          "1/60",
+                          "0.7",
+                          "0",
+                          "original",
+                          "10",
+                          "coulomb"),
+       build_card_house},
       {"newtons-cradle",
        "n touching balls on strings; the first is pulled back and released; restitution 1",
        with_contact_world({{"n", "5", "-", "number of balls"},

@@ -1,0 +1,97 @@
+#!/usr/bin/python3
+"""Figures of the step-scheme study (docs/schemes.md) from its summary.json.
+
+    /usr/bin/python3 validation/plot_schemes.py validation/results/schemes/summary.json docs
+
+Writes into the folder given: schemes-drift.png (the stack's and the pyramid's top box,
+horizontal displacement against time under each scheme, log scale) and schemes-scenes.png (each
+scene's largest displacement of any body at the end of the run, by scheme). Debian's numpy and
+matplotlib only.
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "scripts"))
+from cbps_files import save_figure  # noqa: E402
+
+COLOURS = {"paper": "black", "tgs": "tab:blue", "soft-step": "tab:green", "xpbd": "tab:red"}
+STYLES = {1: "-", 4: "--", 5: "--", 10: "-", 20: ":"}
+
+
+def style(r):
+    return dict(color=COLOURS[r["scheme"]], linestyle=STYLES.get(r["substeps"], "-"))
+
+
+def drift_figure(runs, folder):
+    scenes = [("stack", "pgs"), ("stack", "pgs:contacts_first=on"),
+              ("pyramid", "pgs:contacts_first=on")]
+    fig, axes = plt.subplots(1, len(scenes), figsize=(15, 4.5), sharey=True)
+    for ax, (scene, solver) in zip(axes, scenes):
+        for r in runs:
+            if r["scene"] != scene or r["solver"] != solver or "drift_series" not in r:
+                continue
+            t = [p[0] for p in r["drift_series"]]
+            d = [max(p[1], 1e-7) for p in r["drift_series"]]
+            ax.semilogy(t, d, label=f"{r['config']} ({r['sweeps_per_step']} sweeps)", **style(r))
+        order = "contacts first" if "contacts_first" in solver else "natural order"
+        ax.set_title(f"{scene}, {order}")
+        ax.set_xlabel("t (s)")
+        ax.axhline(0.005, color="grey", linewidth=0.8)
+        ax.set_ylim(1e-6, 1e2)
+        ax.grid(True, which="major", alpha=0.3)
+    axes[0].set_ylabel("top box's horizontal displacement (m); grey: 0.5 cm")
+    axes[-1].legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    save_figure(fig, {os.path.join(folder, "schemes-drift.png"): {"dpi": 110}})
+
+
+def scenes_figure(runs, folder):
+    scenes = ["stack", "card-house", "pyramid", "chain"]
+    configs = []
+    for r in runs:
+        if r["config"] not in configs:
+            configs.append(r["config"])
+    fig, ax = plt.subplots(figsize=(12, 4.5))
+    width = 0.8 / len(configs)
+    for j, config in enumerate(configs):
+        xs, ys = [], []
+        for i, scene in enumerate(scenes):
+            chosen = [r for r in runs if r["scene"] == scene and r["config"] == config and
+                      r["integrator"] == "paper"]
+            if not chosen:
+                continue
+            best = min(chosen, key=lambda r: r["max_move_m"])  # the better row order
+            xs.append(i + (j - len(configs) / 2 + 0.5) * width)
+            ys.append(max(best["max_move_m"], 1e-7))
+        scheme = config.split()[0]
+        ax.bar(xs, ys, width, label=config, color=COLOURS[scheme],
+               alpha=0.45 + 0.1 * (j % 5), edgecolor="black", linewidth=0.5)
+    ax.set_yscale("log")
+    ax.set_xticks(range(len(scenes)))
+    ax.set_xticklabels([f"{s}" for s in scenes])
+    ax.set_ylabel("largest displacement of any body at the end (m)")
+    ax.set_title("each scene under each scheme (the better of the two row orders)")
+    ax.legend(fontsize=8, ncol=3)
+    ax.grid(True, axis="y", alpha=0.3)
+    fig.tight_layout()
+    save_figure(fig, {os.path.join(folder, "schemes-scenes.png"): {"dpi": 110}})
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    with open(sys.argv[1]) as f:
+        runs = json.load(f)["runs"]
+    drift_figure(runs, sys.argv[2])
+    scenes_figure(runs, sys.argv[2])
+
+
+if __name__ == "__main__":
+    main()
