@@ -57,6 +57,7 @@ MODULES = {
     "docs/convergence.md": "doc_tables_convergence",
     "docs/stress.md": "doc_tables_stress",
     "docs/integrators.md": "doc_tables_stress",
+    "docs/schemes.md": "doc_tables_schemes",
     "docs/distributed.md": "doc_tables_distributed",
     "docs/peers.md": "doc_tables_peers",
     "docs/cones.md": "doc_tables_cones",

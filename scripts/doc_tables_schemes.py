@@ -5,6 +5,8 @@ on five scenes and the pendulum wave's periods, from validation/results/schemes/
 from doc_tables_common import SourceError, cell, generator, length, need, num, sci, table
 
 SCHEMES = "validation/results/schemes/summary.json"
+WAVE_960 = "validation/results/pendulum-wave-dt960/report.json"
+WAVE_CENTER = "validation/results/pendulum-wave-center/report.json"
 
 
 def runs(src, scene=None):
@@ -113,3 +115,22 @@ def _pyramid_target(src):
     return (f"the least any scheme moved a box of the base-20 pyramid in 10 s is "
             f"{length(best['max_move_m'])} ({best['config']}, {order(best['solver'])}; top box "
             f"{length(best['top_drift_m'])} sideways)")
+
+
+@generator("schemes-wave-note", SCHEMES, WAVE_960, WAVE_CENTER)
+def _wave_note(src):
+    paper = find(src, "pendulum-wave", "paper 1 x 20", "pgs")
+    tgs = find(src, "pendulum-wave", "tgs 4 x 5", "pgs")
+    dt960 = need(src.json(WAVE_960), "max_abs_period_error", where=WAVE_960)
+    center = need(src.json(WAVE_CENTER), "max_abs_period_error", where=WAVE_CENTER)
+    return (f"The paper's step at dt 1/240 errs by {sci(paper['period_error'])} at most; tgs "
+            f"with 4 substeps errs by {sci(tgs['period_error'])}, as the paper's step at dt "
+            f"1/960 does ({sci(dt960)}, validation/results/pendulum-wave-dt960): a substep of h "
+            f"is the paper's step of h here. Neither tgs nor XPBD errs more than the paper's step at "
+            f"its own substep; none reaches the 1/240 step's {sci(paper['period_error'])}, because that "
+            f"error is mostly not the step's: with the string at the ball's top each ball is a "
+            f"double pendulum, and the same step with the string at the centre (exact simple "
+            f"pendulums) errs by {sci(center)} (validation/results/pendulum-wave-center). Between "
+            f"1/60 and 1/960 the step's own two errors, the Baumgarte bias's and semi-implicit "
+            f"Euler's, have opposite signs ([validation.md](validation.md)), so a smaller step "
+            f"need not err less.")

@@ -119,6 +119,23 @@ void write_boxed_as_cones(const MatricesOptions& o,
                  s.message.c_str());
 }
 
+/// Under a substepping scheme (docs/schemes.md): its softness into softness.mtx and, in
+/// labels.json, which substep the folder holds and what the scheme changed.
+void write_scheme(OutputDir& dir, const Scene& scene, const System& sys, nlohmann::json& labels) {
+  const SchemeSettings& scheme = scene.world.scheme;
+  if (scheme.kind == Scheme::Paper) return;
+  if (sys.softness.size() > 0)
+    write_matrix_market(dir.file("softness.mtx"),
+                        sys.softness,
+                        "softness: the step scheme's diagonal, kg^-1 (docs/schemes.md); the "
+                        "system carrying the push solves (A + diag(softness)) lambda = b");
+  labels["scheme"] = {{"name", scheme_names().at(static_cast<std::size_t>(scheme.kind))},
+                      {"substeps", scheme.substeps},
+                      {"h", sys.dt},
+                      {"note", scheme_note(scheme)},
+                      {"softness", sys.softness.size() > 0 ? "softness.mtx" : "none"}};
+}
+
 int matrices_command(const MatricesOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
@@ -174,11 +191,6 @@ int matrices_command(const MatricesOptions& o) {
       write_boxed_as_cones(o, scene, sys, problem, law);
   }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
-  if (sys.softness.size() > 0)
-    write_matrix_market(dir.file("softness.mtx"),
-                        sys.softness,
-                        "softness: the step scheme's diagonal, kg^-1 (docs/schemes.md); the "
-                        "system carrying the push solves (A + diag(softness)) lambda = b");
   write_matrix_market(
       dir.file("lambda.mtx"), lambda, "lambda: direct solution, N (" + direct.message + ")");
   nlohmann::json labels;
@@ -186,13 +198,7 @@ int matrices_command(const MatricesOptions& o) {
   labels["step"] = o.at_step;
   labels["rows"] = sys.labels;
   labels["columns"] = column_labels(scene, sys);
-  if (scene.world.scheme.kind != Scheme::Paper)
-    labels["scheme"] = {
-        {"name", scheme_names().at(static_cast<std::size_t>(scene.world.scheme.kind))},
-        {"substeps", scene.world.scheme.substeps},
-        {"h", sys.dt},
-        {"note", scheme_note(scene.world.scheme)},
-        {"softness", sys.softness.size() > 0 ? "softness.mtx" : "none"}};
+  write_scheme(dir, scene, sys, labels);  // softness.mtx and what the scheme changed
   labels["system"] = sys.push == PushMode::Improved
                          ? "velocity system of the improved push (8.1): b without the push terms"
                          : "the one system of the original push (5.2.3, 6.2.9)";
