@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "cbps/base/names.hpp"
+
 namespace cbps {
 
 double Shape::volume() const {
@@ -107,10 +109,7 @@ const std::vector<std::string>& integrator_names() {
 }
 
 std::optional<Integrator> integrator_named(const std::string& name) {
-  const std::vector<std::string>& names = integrator_names();
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (names[k] == name) return static_cast<Integrator>(k);
-  return std::nullopt;
+  return enumerator_named<Integrator>(integrator_names(), name);
 }
 
 Vec3 gyroscopic_omega(const Body& body, double dt) {

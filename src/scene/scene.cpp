@@ -1,6 +1,8 @@
 // Unit rescaling of a scene (paper 9, dimensional analysis).
 #include "cbps/scene/scene.hpp"
 
+#include "cbps/base/names.hpp"
+
 namespace cbps {
 
 Scene rescale_units(const Scene& scene, double L, double M, double T) {
@@ -46,10 +48,7 @@ const std::vector<std::string>& scheme_names() {
 }
 
 std::optional<Scheme> scheme_named(const std::string& name) {
-  const std::vector<std::string>& names = scheme_names();
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (names[k] == name) return static_cast<Scheme>(k);
-  return std::nullopt;
+  return enumerator_named<Scheme>(scheme_names(), name);
 }
 
 RowSettings World::rows() const {
