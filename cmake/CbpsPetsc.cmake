@@ -112,8 +112,9 @@ endforeach()
 
 # tests/petsc/test_direct_mpi.py MODE: the exact path under MPI (`mpirun -n R cbps lcp FOLDER
 # --solver direct`) at 1 and 2 ranks against the serial exact path on contact and chain folders,
-# and its bad input.
-foreach(_mode solve bad-input)
+# its bad input, and the problems it must refuse rather than solve as something else (cones, an
+# A.mtx that is not J Minv J^T; tao:TYPE as well).
+foreach(_mode solve bad-input law)
   add_test(NAME petsc-direct-${_mode}
            COMMAND "${CBPS_PLOT_PYTHON}" "${PROJECT_SOURCE_DIR}/tests/petsc/test_direct_mpi.py"
                    $<TARGET_FILE:cbps> ${_mode} "${CMAKE_BINARY_DIR}/petsc-direct-${_mode}")

@@ -116,6 +116,18 @@ void apply_scheme_options(Scene& scene, const StepOptions& o) {
                        "a step)");
     s.substeps = o.substeps;
   }
+  // An option of another scheme changes nothing: refused, never dropped silently.
+  const std::string scheme = scheme_names().at(static_cast<std::size_t>(s.kind));
+  for (const auto& [given, name] : {std::pair{o.contact_hertz, "--contact-hertz"},
+                                    {o.contact_damping_ratio, "--contact-damping-ratio"},
+                                    {o.joint_hertz, "--joint-hertz"},
+                                    {o.joint_damping_ratio, "--joint-damping-ratio"}})
+    if (given >= 0.0 && s.kind != Scheme::SoftStep)
+      throw InputError(std::string(name) + ": a setting of --scheme soft-step; the scheme is " +
+                       scheme + ", which has no soft rows");
+  if (o.compliance >= 0.0 && s.kind != Scheme::Xpbd)
+    throw InputError("--compliance: a setting of --scheme xpbd; the scheme is " + scheme +
+                     ", which adds no compliance");
   if (o.contact_hertz >= 0.0) s.contact_hertz = o.contact_hertz;
   if (o.contact_damping_ratio >= 0.0) s.contact_damping_ratio = o.contact_damping_ratio;
   if (o.joint_hertz >= 0.0) s.joint_hertz = o.joint_hertz;

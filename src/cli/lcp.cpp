@@ -36,6 +36,7 @@
 #include "cbps/distributed/exact.hpp"
 #include "cbps/distributed/generate.hpp"
 #include "cbps/distributed/tao.hpp"
+#include "cbps/io/fclib_file.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/io/stored_problem.hpp"
@@ -58,6 +59,7 @@ struct LcpOptions {
   std::string solver;
   int iterations = 10000;
   double tolerance = 1e-10;
+  double time_limit = 0.0;  ///< --time-limit, s; 0: none
   bool json = false;
   std::string out;
   std::string siconos = "auto";
@@ -147,7 +149,14 @@ int report(const LcpOptions& o,
 
 /// PROBLEM read whole, with --cone's law for its contacts in friction cones.
 StoredProblem read_lcp_problem(const LcpOptions& o) {
-  StoredProblem p = read_problem(o.problem, parse_siconos_kind(o.siconos, "--siconos"));
+  const SiconosKind kind = parse_siconos_kind(o.siconos, "--siconos");
+  std::error_code ec;
+  if (kind != SiconosKind::Auto && (fs::is_directory(o.problem, ec) || is_hdf5_file(o.problem)))
+    throw InputError(
+        "--siconos " + o.siconos + ": says what a Siconos .dat file holds; " + o.problem + " is " +
+        (fs::is_directory(o.problem, ec) ? "a cbps matrices folder" : "an HDF5 (FCLIB) file") +
+        ", whose kind its files say");
+  StoredProblem p = read_problem(o.problem, kind);
   apply_cone_option(p, o.cone, o.problem);
   return p;
 }
@@ -256,6 +265,26 @@ long check_distributed_options(const LcpOptions& o, const std::string& type) {
   return rows;
 }
 
+/// What the distributed path calls the method it runs, for its messages.
+std::string distributed_solver_name(const LcpOptions& o) {
+  return is_distributed_direct(o) ? "--solver direct under mpirun (the exact path under MPI)"
+                                  : "--solver " + o.solver + " (PETSc/TAO)";
+}
+
+/// The distributed paths solve the boxed problem of 6.2 only: a folder whose contacts live in
+/// friction cones (cones.json) is refused, naming the serial methods that solve it.
+void refuse_cones(const LcpOptions& o, const std::string& solver) {
+  const long contacts = folder_cone_contacts(o.problem);
+  if (contacts == 0) return;
+  throw InputError(solver + ": " + o.problem + ": its " + std::to_string(contacts) +
+                   (contacts == 1 ? " contact lives" : " contacts live") +
+                   " in friction cones (cones.json), and this path solves only the boxed "
+                   "problem of 6.2. `cbps lcp " +
+                   o.problem +
+                   " --solver direct` (without mpirun: the exact path on cones) or --solver nsgs "
+                   "solves it (docs/cones.md)");
+}
+
 /// This rank's rows: generated, read by rows from a `cbps matrices` folder, or cut from a
 /// Siconos file every rank reads (small, dense); `kind` says which, for report().
 distributed::LocalSystem local_rows(const LcpOptions& o,
@@ -273,15 +302,20 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
     return distributed::generate_pyramid(
         {{"base", std::to_string(pyramid_base_for(rows))}}, session.rank(), session.size());
   }
+  if (!fs::exists(o.problem, ec)) throw InputError(o.problem + ": no such file or folder");
   if (is_distributed_direct(o)) {
     if (!fs::is_directory(o.problem, ec))
       throw InputError("--solver direct under mpirun: " + o.problem +
                        ": not a cbps matrices folder; the exact path under MPI works in body "
-                       "space and reads J and Minv by rows (a Siconos file has neither)");
+                       "space and reads J and Minv by rows (a Siconos or FCLIB file has "
+                       "neither); without mpirun, `cbps lcp " +
+                       o.problem + " --solver direct` solves it on one process");
+    refuse_cones(o, distributed_solver_name(o));
     kind = "cbps matrices folder, J and Minv read by rows";
     return distributed::read_folder_factors(o.problem, session.rank(), session.size());
   }
   if (fs::is_directory(o.problem, ec)) {
+    refuse_cones(o, distributed_solver_name(o));
     kind = "cbps matrices folder, read by rows";
     return distributed::read_folder_rows(o.problem, session.rank(), session.size());
   }
@@ -476,6 +510,17 @@ int lcp_distributed_command(const LcpOptions& o) {
     return code;
   }
 
+  // A folder's A must be its J Minv Jᵀ (read_problem checks the same on one process): every
+  // rank measures its rows, and all see the same gap, so all refuse together, rank 0 saying so.
+  if (local->factors_read) {
+    try {
+      check_factors_agree(o.problem, distributed::factors_gap_across_ranks(*local));
+    } catch (const InputError&) {
+      if (session.rank() == 0) throw;
+      return 2;
+    }
+  }
+
   if (o.generate == "pyramid")  // each rank's rows follow the previous rank's (generate.hpp)
     local->first_row = session.sum_before(local->rows(), local->total_rows);
   at.rows = local->total_rows;
@@ -535,9 +580,12 @@ int lcp_command(const LcpOptions& o) {
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does every
   // solver here (options.cfm, applied by solve()); the residual is that problem's.
 
-  // The default: the exact path for the symmetric A of a `cbps matrices` folder (and for a
-  // Siconos file too large for dense Lemke), Lemke for Siconos files, nsgs for cones.
-  const char* fallback = !p.cones.empty()                              ? "nsgs"
+  // The default (lcp --help says it, once): the exact path for a `cbps matrices` folder, for a
+  // problem on cones whose A is symmetric and for a Siconos file too large for dense Lemke;
+  // nsgs on cones whose A is not symmetric (direct solves the QP of 6.2 and refuses it); Lemke
+  // for the other Siconos files.
+  const bool cones = !p.cones.empty();
+  const char* fallback = cones ? (max_asymmetry(p.A) <= symmetry_tolerance(p.A) ? "direct" : "nsgs")
                          : !p.folder && p.rows() <= kMaxDenseLemkeRows ? "lemke"
                                                                        : "direct";
   const SolverSpec spec = given ? *given : parse_solver_spec(fallback, "--solver");
@@ -546,7 +594,7 @@ int lcp_command(const LcpOptions& o) {
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
 
   const auto start = std::chrono::steady_clock::now();
-  const LcpOutcome r = solve_stored(spec, p, o.iterations, o.tolerance);
+  const LcpOutcome r = solve_stored(spec, p, o.iterations, o.tolerance, o.time_limit);
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report(o, lcp_facts(p), spec.text, r, wall, dir.get());
@@ -567,11 +615,12 @@ void register_lcp(CLI::App& app, Action& run) {
       "--solver",
       o->solver,
       "NAME[:OMEGA][:key=value]... of the list below (" + cli_solver_names() +
-          "), with the parameters the list gives. Default: nsgs for an FCLIB file "
-          "(its contacts are in friction cones, which nsgs and direct solve, and Siconos' "
-          "siconos:fc3d-nsgs, -nsn-ac, -prox, -admm), lemke for "
-          "a Siconos file of up to 3000 rows, else direct (the exact path: interior point with a "
-          "crossover, in body space when the folder has J.mtx and Minv.mtx). "
+          "), with the parameters the list gives. Default: direct (the exact path: interior "
+          "point with a crossover, in body space when the folder has J.mtx and Minv.mtx; on "
+          "friction cones its second-order-cone form), except lemke for a Siconos .dat file of "
+          "up to 3000 rows and nsgs for a problem on friction cones whose A is not symmetric "
+          "(an FCLIB file's W may not be). Cones are solved by nsgs, direct and Siconos' "
+          "siconos:fc3d-nsgs, -nsn-ac, -prox, -admm. "
           "direct and active-set need a symmetric A, lemke takes any square A; "
           "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
           "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
@@ -596,6 +645,13 @@ void register_lcp(CLI::App& app, Action& run) {
          "holds at a bound; for bqpip its mean infeasibility), not the natural-map residual. "
          "Whatever the method says, the result is judged solved by that residual <= 1e-9 "
          "max(1, |b|inf, max |A_ij|)")
+      ->check(non_negative());
+  cmd->add_option("--time-limit",
+                  o->time_limit,
+                  "stop the solve after this many seconds of wall time (default 0: no limit): "
+                  "the sweeping methods after the sweep that passes it, a Siconos peer's "
+                  "child process killed at it; the status is then \"time limit\" (exit 1) "
+                  "unless the answer reached is solved")
       ->check(non_negative());
   cmd->add_option("--siconos",
                   o->siconos,

@@ -169,7 +169,11 @@ int matrices_command(const MatricesOptions& o) {
   VecX lambda = VecX::Zero(sys.rows());
   const SolverSummary direct = sim.solve_system(sys, sys.b, lambda, exact);
   const bool coulomb = sys.coulomb().any();
-  if (coulomb && direct.termination != Termination::Direct)
+  // With Coulomb friction the boxed problem written is the one whose bounds ±mu lambda_n come
+  // from lambda itself: lambda must solve it, by `cbps lcp`'s verdict (a singular resting
+  // contact may leave the direct path a little above its rounding floor, never above that).
+  const double own = coulomb_residual(sys.problem(), sys.coulomb(), lambda, scene.solver.cfm);
+  if (coulomb && !solved_by_residual(lambda, own, scale_of(sys.problem(), scene.solver.cfm)))
     throw ComputationError("matrices: " + scene.name + ", step " + std::to_string(o.at_step) +
                            ": the Coulomb bounds did not reach a fixed point (" + direct.message +
                            "), so no boxed problem is the step's; nothing written");

@@ -96,8 +96,9 @@ void print_text(const Scene& scene,
   if (!out.empty()) std::printf("  wrote %s\n", out.c_str());
 }
 
-/// The exit code, with what went wrong on stderr: 1 when the run diverged or --check found a
-/// step beyond --check-tolerance.
+/// The exit code, with what went wrong on stderr (and the summary's warnings): 1 when the run
+/// diverged, --check found a step beyond --check-tolerance, or under --check-tolerance the
+/// method failed a step (run_warnings).
 int report_failures(const Scene& scene,
                     const RunTotals& t,
                     const CrossCheck* check,
@@ -115,6 +116,10 @@ int report_failures(const Scene& scene,
                  out.empty() ? "" : "; the run's output is in ",
                  out.c_str());
   }
+  for (const std::string& warning : run_warnings(t))
+    std::fprintf(stderr, "cbps run: warning: %s\n", warning.c_str());
+  // --check-tolerance asks for a run that can be trusted: a step its method failed is not one.
+  const bool failed_steps = check != nullptr && check->tolerance() >= 0.0 && t.steps_failed > 0;
   if (t.diverged) {
     std::string msg = "cbps run: diverged: ";
     msg.append(t.diverged->what());
@@ -125,7 +130,7 @@ int report_failures(const Scene& scene,
     std::fprintf(stderr, "%s\n", msg.c_str());
     return 1;
   }
-  return check != nullptr && check->steps_beyond > 0 ? 1 : 0;
+  return (check != nullptr && check->steps_beyond > 0) || failed_steps ? 1 : 0;
 }
 
 int run_command(const RunOptions& o) {

@@ -392,6 +392,26 @@ VecX gather_rows(Mat J, const VecX& mine) {
 
 }  // namespace
 
+FactorsGap factors_gap_across_ranks(const LocalSystem& local) {
+  const long c = local.total_rows;
+  const long columns = local.total_columns;
+  const VecX x = factors_test_vector(0, c);
+  const VecX mine = x.segment(local.first_row, local.rows());
+  // Jᵀ x summed over the ranks' rows; Minv (Jᵀ x) from each rank's bodies' rows, summed.
+  VecX Jt_x = VecX::Zero(columns);
+  VecX Jt_x_mine = local.J.transpose() * mine;
+  MPI_Allreduce(Jt_x_mine.data(), Jt_x.data(), int(columns), MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  VecX Minv_y_mine = VecX::Zero(columns);
+  Minv_y_mine.segment(6 * local.first_body, 6 * local.bodies) = local.Minv * Jt_x;
+  VecX Minv_y = VecX::Zero(columns);
+  MPI_Allreduce(
+      Minv_y_mine.data(), Minv_y.data(), int(columns), MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
+  const VecX factors_x = local.J * Minv_y + local.cfm * mine;  // J Minv Jᵀ x + cfm x (6.2.9)
+  const FactorsGap gap = factors_gap(SpMat(local.A), x, factors_x);
+  const MpiReduction all;
+  return FactorsGap{all.max(gap.difference), all.max(gap.size)};
+}
+
 DirectResult solve_direct_local(const MpiSession& session,
                                 LocalSystem& local,
                                 const SolverOptions& options,

@@ -27,8 +27,8 @@ std::ifstream open_text_file(const std::string& path, const std::string& expecte
   static constexpr char kHdf5[] = "\x89HDF\r\n\x1a\n";
   if (n >= 8 && std::equal(head, head + 8, kHdf5))
     throw InputError(path + ": an HDF5 file, not " + expected +
-                     " (cbps reads `cbps matrices` folders of Matrix Market files and Siconos "
-                     ".dat text files; HDF5 problem files such as FCLIB's are not read)");
+                     " (an FCLIB problem file is a problem of its own: `cbps lcp FILE` reads it "
+                     "whole, docs/cones.md)");
   const char* nul = std::find(head, head + n, '\0');
   if (nul != head + n)
     throw InputError(path + ": a binary file (a NUL byte at offset " + std::to_string(nul - head) +

@@ -204,6 +204,9 @@ void read_bodies(const std::string& dir, StoredProblem& p) {
                      std::to_string(p.Minv.rows()) + " x " + std::to_string(p.Minv.cols()) +
                      ", A has " + std::to_string(p.rows()) + " rows)");
   if (p.rows() == 0) p.without_jacobian = "no rows";
+  // A.mtx must be J Minv Jᵀ (6.2.9): the exact path factors J and Minv, the sweeps read A.
+  const VecX x = factors_test_vector(0, p.rows());
+  check_factors_agree(dir, factors_gap(p.A, x, times_factors(p.J, p.Minv, 0.0, x)));
   for (const char* name : {"v1.mtx", "fext.mtx", "dt.txt"})
     if (!present(name)) return;
   const double dt = read_number_file(file("dt.txt"), "a positive time step in s");
@@ -305,20 +308,51 @@ double read_cfm(const std::string& dir) {
 
 StoredProblem read_problem(const std::string& path, SiconosKind kind) {
   std::error_code ec;
-  if (!fs::is_directory(path, ec))
-    return is_hdf5_file(path) ? read_fclib(path) : read_dat(path, kind);
+  if (!fs::is_directory(path, ec)) {
+    if (is_hdf5_file(path)) return read_fclib(path);
+    const std::string extension = fs::path(path).extension().string();
+    if (fs::is_regular_file(path, ec) && (extension == ".hdf5" || extension == ".h5"))
+      throw InputError(path + ": named as an HDF5 (FCLIB) file but not one: " +
+                       (fs::file_size(path, ec) == 0 ? std::string("it is empty")
+                                                     : std::string("no HDF5 signature")));
+    return read_dat(path, kind);
+  }
   StoredProblem p = read_folder(path);
   read_bodies(path, p);
   return p;
 }
 
+long folder_cone_contacts(const std::string& dir) {
+  std::string file;
+  nlohmann::json cones;
+  if (!read_json_file(dir, "cones.json", file, cones)) return 0;
+  if (!cones.is_object() || !cones.contains("contacts") || !cones["contacts"].is_array())
+    throw InputError(file + ": /contacts: not an array");
+  return static_cast<long>(cones["contacts"].size());
+}
+
+void check_factors_agree(const std::string& dir, const FactorsGap& gap) {
+  if (gap.ratio() <= kFactorsTolerance) return;
+  const auto file = [&](const char* name) { return (fs::path(dir) / name).string(); };
+  throw InputError(file("A.mtx") + " and " + file("J.mtx") + ", " + file("Minv.mtx") +
+                   ": A is not J Minv J^T (6.2.9): on the test vector x_k = sin(1 + k) the "
+                   "largest |(A x - J Minv J^T x)_i| is " +
+                   number_text(gap.difference) + " kg^-1 N, " + number_text(gap.ratio()) +
+                   " of the largest sum_k |A_ik x_k| (round-off stays below " +
+                   number_text(kFactorsTolerance) +
+                   "); the files are not one step's. Write the folder again (cbps matrices), "
+                   "or remove J.mtx and Minv.mtx to solve A.mtx alone");
+}
+
 void require_symmetric(const StoredProblem& p, const std::string& what) {
   const double asymmetry = max_asymmetry(p.A);
   if (asymmetry > symmetry_tolerance(p.A))
-    throw InputError(what +
-                     ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - "
-                     "A^T| = " +
-                     number_text(asymmetry) + "; `cbps lcp --solver lemke` solves any square A");
+    throw InputError(
+        what + ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - A^T| = " +
+        number_text(asymmetry) + "; " +
+        (p.cones.empty() ? "`cbps lcp --solver lemke` solves any square A"
+                         : "on friction cones `--solver nsgs` (and Siconos' siconos:fc3d-nsgs, "
+                           "-nsn-ac, -prox, -admm under Coulomb's law) take any A"));
 }
 
 }  // namespace cbps

@@ -497,7 +497,48 @@ int one_of(const Node& node, const char* first, const char* second, Vec3& value)
   return has(node, first) ? 1 : has(node, second) ? 2 : 0;
 }
 
-Body read_body(const Node& node, std::size_t i) {
+/// The velocities a body is given (kind 1) or the momenta (kind 2; 0: neither), finite but
+/// beyond the divergence guard's limits (Simulation::step): refused by name, before any product
+/// of them overflows (a 1e200 m/s velocity).
+void check_given_motion(const Node& node,
+                        const Body& body,
+                        const World& world,
+                        int linear_kind,
+                        const Vec3& linear,
+                        int angular_kind,
+                        const Vec3& angular) {
+  const double speed = linear_kind == 1   ? linear.stableNorm()
+                       : linear_kind == 2 ? (linear / body.m).stableNorm()
+                                          : 0.0;
+  if (speed > world.divergence_speed)
+    fail(child(node, linear_kind == 1 ? "velocity" : "momentum"),
+         "gives a speed of " + number_text(speed) + " m/s, beyond /world/divergence_speed (" +
+             number_text(world.divergence_speed) + " m/s, where the divergence guard stops a run)");
+  if (angular_kind == 1 && angular.stableNorm() > world.divergence_spin)
+    fail(child(node, "angular_velocity"),
+         "gives a spin of " + number_text(angular.stableNorm()) +
+             " rad/s, beyond /world/divergence_spin (" + number_text(world.divergence_spin) +
+             " rad/s, where the divergence guard stops a run)");
+}
+
+/// A movable body's spin from a given angular momentum, within the divergence guard's limit, and
+/// its energy, finite.
+void check_motion_range(const Node& node, const Body& body, const World& world) {
+  if (body.omega().stableNorm() > world.divergence_spin)
+    fail(child(node, "angular_momentum"),
+         "gives a spin of " + number_text(body.omega().stableNorm()) +
+             " rad/s, beyond /world/divergence_spin (" + number_text(world.divergence_spin) +
+             " rad/s, where the divergence guard stops a run)");
+  // The energy the run reports, ½ m v² + ½ ωᵀ I ω − m g·x (J): a position or mass far out of
+  // range overflows it.
+  const double energy = body.kinetic_energy() - body.m * world.gravity.dot(body.x);
+  if (!std::isfinite(energy))
+    fail(has(node, "position") ? child(node, "position") : node,
+         "overflows the body's energy (1/2 m v^2 + 1/2 w^T I w - m g.x is not finite in a "
+         "double): a position, mass or speed out of range");
+}
+
+Body read_body(const Node& node, std::size_t i, const World& world) {
   check_object(node,
                {"name",
                 "shape",
@@ -582,6 +623,7 @@ Body read_body(const Node& node, std::size_t i) {
            "must be zero for a static body");
     return body;
   }
+  check_given_motion(node, body, world, linear_kind, linear, angular_kind, angular);
   body.set_velocity(linear_kind == 1 ? linear : Vec3::Zero(),
                     angular_kind == 1 ? angular : Vec3::Zero());
   if (linear_kind == 2) body.p = linear;
@@ -593,6 +635,7 @@ Body read_body(const Node& node, std::size_t i) {
   if (angular_kind != 0 && !(body.l.allFinite() && body.omega().allFinite()))
     fail(child(node, angular_kind == 1 ? "angular_velocity" : "angular_momentum"),
          "gives an angular momentum or velocity that is not finite");
+  check_motion_range(node, body, world);
   return body;
 }
 
@@ -692,7 +735,7 @@ Scene read_scene(const Node& root, const std::string& default_name) {
   std::map<std::string, std::size_t> first_seen;
   for (std::size_t i = 0; i < bodies.json.size(); ++i) {
     const Node item = element(bodies, i);
-    scene.bodies.push_back(read_body(item, i));
+    scene.bodies.push_back(read_body(item, i, scene.world));
     const auto [it, inserted] = first_seen.emplace(scene.bodies.back().name, i);
     if (!inserted)
       fail(item.source,

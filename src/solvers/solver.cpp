@@ -102,6 +102,8 @@ std::string to_string(Termination t) {
       return "no solution found";
     case Termination::PeerUnsolved:
       return "not solved by cbps's residual";
+    case Termination::TimeLimit:
+      return "time limit";
   }
   return "?";
 }
@@ -251,7 +253,7 @@ SolverSummary with_cfm_applied(
   const SpMat mixed = problem.A_formed() ? with_cfm(problem.A, options.cfm) : SpMat();
   BoxedProblem regularised = with_matrix(problem, problem.A_formed() ? mixed : problem.A);
   regularised.A_rows = nullptr;  // Aᵀ + eps E is formed again by solve() where needed
-  regularised.symmetric = false;
+  regularised.symmetric = problem.symmetric;  // eps on the diagonal keeps a symmetric A so
   regularised.cfm = problem.cfm + options.cfm;
   SolverOptions plain = options;
   plain.cfm = 0.0;

@@ -81,6 +81,15 @@ SolverSummary iterate_sweeps(
       s.termination = Termination::NonFinite;
       break;
     }
+    if (options.time_limit > 0.0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
+            options.time_limit) {
+      s.termination = Termination::TimeLimit;
+      s.residual = residual(lambda);
+      if (options.tolerance > 0.0 && s.residual <= options.tolerance)
+        s.termination = Termination::ResidualTolerance;
+      break;
+    }
     if (options.delta_tolerance > 0.0 && s.delta <= options.delta_tolerance) {
       s.termination = Termination::DeltaTolerance;
     }

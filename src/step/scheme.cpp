@@ -39,12 +39,11 @@ SoftRow soft_row(double hertz, double zeta, double h) {
   return {h * omega / (2.0 * zeta + h * omega), 1.0 / a};
 }
 
-namespace {
-
-/// The contact stiffness of a substep: at most a quarter of the substep rate (Box2D v3).
 double contact_hertz(const SchemeSettings& s, double h) {
   return std::min(s.contact_hertz, 0.25 / h);
 }
+
+namespace {
 
 /// A row against the world or a static body (one block): Box2D v3's staticSoftness, twice the
 /// contact hertz.

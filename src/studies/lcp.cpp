@@ -89,7 +89,8 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
 LcpOutcome solve_stored(const SolverSpec& spec,
                         const StoredProblem& p,
                         int iterations,
-                        double tolerance) {
+                        double tolerance,
+                        double time_limit) {
   if (is_iterative(spec.method) && !is_peer(spec.method)) {
     // The sweeps divide by (A + eps E)_kk (7.1.1); a peer meets the problem as it is.
     for (long k = 0; k < p.rows(); ++k) {
@@ -98,7 +99,7 @@ LcpOutcome solve_stored(const SolverSpec& spec,
         LcpOutcome r;
         r.lambda = VecX::Zero(p.rows());
         r.message = spec.text + ": not run, it needs a positive diagonal; A[" + std::to_string(k) +
-                    "," + std::to_string(k) + "] = " + std::to_string(a_kk);
+                    "," + std::to_string(k) + "] = " + number_text(a_kk);
         r.space_reason = "none: not run";
         return r;
       }
@@ -106,12 +107,14 @@ LcpOutcome solve_stored(const SolverSpec& spec,
   }
   SolverOptions options = solver_options(spec, iterations, tolerance);
   options.cfm = p.cfm;
+  options.time_limit = time_limit;
   VecX lambda = VecX::Zero(p.rows());
   const SolverSummary s = solve(p.problem(), lambda, options);
   LcpOutcome r;
   r.lambda = lambda;
   r.iterations = s.iterations;
   r.no_solution = s.termination == Termination::NoSolution;
+  r.time_limit = s.termination == Termination::TimeLimit;
   r.pivots = spec.method == Method::Lemke;
   r.message = s.message;
   explain_space(spec, p, s, r);
@@ -137,7 +140,10 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
                    : kInf;
   v.scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
   v.solved = sized && solved_by_residual(r.lambda, v.residual, v.scale);
-  v.status = v.solved ? "solved" : r.no_solution ? "no_solution" : "failed";
+  v.status = v.solved        ? "solved"
+             : r.no_solution ? "no_solution"
+             : r.time_limit  ? "time limit"
+                             : "failed";
   if (sized && p.stored != nullptr && !p.stored->cones.empty()) {
     const StoredProblem& s = *p.stored;
     const VecX w = s.A * r.lambda + s.cfm * r.lambda - s.b;  // w = (A + eps E) λ − b (6.2)

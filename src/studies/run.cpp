@@ -8,6 +8,7 @@
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
+#include "cbps/step/scheme.hpp"
 #include "cbps/studies/solver_spec.hpp"
 
 namespace cbps {
@@ -22,6 +23,7 @@ nlohmann::json scheme_summary(const World& world) {
                       {"h", world.dt / s.substeps}};
   if (s.kind == Scheme::SoftStep)
     j["soft"] = {{"contact_hertz", s.contact_hertz},
+                 {"contact_hertz_used", contact_hertz(s, world.dt / s.substeps)},
                  {"contact_damping_ratio", s.contact_damping_ratio},
                  {"joint_hertz", s.joint_hertz},
                  {"joint_damping_ratio", s.joint_damping_ratio},
@@ -31,8 +33,25 @@ nlohmann::json scheme_summary(const World& world) {
   return j;
 }
 
+/// The method did not solve the step: what a sweep's iteration limit is not (its answer is
+/// what the paper's step takes), but a refused answer, a non-finite one or a stop short is.
+bool method_failed(Termination t) {
+  return t == Termination::PeerUnsolved || t == Termination::NonFinite ||
+         t == Termination::NotConverged || t == Termination::NoSolution ||
+         t == Termination::TimeLimit;
+}
+
 /// Adds one step's report to the totals.
 void add_step(RunTotals& t, const Simulation& sim, const StepReport& r) {
+  if (r.rows > 0) {
+    ++t.steps_with_rows;
+    if (method_failed(r.solver.termination)) {
+      if (t.steps_failed++ == 0) {
+        t.first_failed_step = t.steps_done;
+        t.first_failure = r.solver.message;
+      }
+    }
+  }
   ++t.steps_done;
   t.cfm_acceleration_error = std::max(t.cfm_acceleration_error, r.cfm_acceleration_error);
   t.iterations_total += r.solver.iterations;
@@ -208,6 +227,17 @@ bool StepsRecorder::after_step(const Simulation& sim, const StepReport& r, long)
   return true;
 }
 
+std::vector<std::string> run_warnings(const RunTotals& t) {
+  std::vector<std::string> warnings;
+  if (t.steps_failed > 0)
+    warnings.push_back("the method failed " + std::to_string(t.steps_failed) + " of " +
+                       std::to_string(t.steps_with_rows) + " steps with rows" +
+                       (t.steps_failed == t.steps_with_rows ? " (every one)" : "") +
+                       ", the first step " + std::to_string(t.first_failed_step) + ": " +
+                       t.first_failure);
+  return warnings;
+}
+
 nlohmann::json run_summary_json(const Scene& scene,
                                 const RunTotals& t,
                                 bool timing,
@@ -264,6 +294,9 @@ nlohmann::json run_summary_json(const Scene& scene,
   if (scene.world.friction == FrictionModel::Cone)
     summary["contacts"]["cone"] = std::string(to_string(scene.world.cone));
   summary["max_penetration"] = number_json(t.max_penetration);
+  summary["steps_with_rows"] = t.steps_with_rows;
+  summary["steps_method_failed"] = t.steps_failed;
+  summary["warnings"] = run_warnings(t);
   summary["iterations_total"] = t.iterations_total;
   summary["max_residual"] = number_json(t.max_residual);
   summary["max_constraint_error"] = number_json(t.max_constraint_error);

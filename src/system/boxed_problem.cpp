@@ -100,6 +100,38 @@ VecX times_factors(const SpMatRow& J, const SpMat& Minv, double cfm, const VecX&
   return y;
 }
 
+VecX factors_test_vector(long first, long count) {
+  VecX x(count);
+  for (long k = 0; k < count; ++k) x(k) = std::sin(1.0 + double(first + k));
+  return x;
+}
+
+FactorsGap factors_gap(const SpMat& A_rows, const VecX& x, const VecX& factors_x) {
+  const Eigen::Index rows = A_rows.rows();
+  VecX Ax = VecX::Zero(rows);
+  VecX size = VecX::Zero(rows);  // Σ_k |A_ik x_k| for every row i (scattered by column)
+  for (Eigen::Index j = 0; j < A_rows.outerSize(); ++j)
+    for (SpMat::InnerIterator it(A_rows, j); it; ++it) {
+      Ax(it.row()) += it.value() * x(j);
+      size(it.row()) += std::abs(it.value() * x(j));
+    }
+  FactorsGap gap;
+  for (Eigen::Index i = 0; i < rows; ++i) {
+    max_keep_nan(gap.difference, std::abs(Ax(i) - factors_x(i)));
+    max_keep_nan(gap.size, size(i));
+  }
+  return gap;
+}
+
+double factors_mismatch(const BoxedProblem& problem) {
+  const Eigen::Index c = problem.A.rows();
+  if (c == 0 || !problem.A_formed()) return 0.0;  // A left out: J Minv Jᵀ + cfm E by definition
+  const VecX x = factors_test_vector(0, c);
+  // J (Minv (Jᵀ x)) + cfm x, as BodySpace::times_A forms it.
+  const VecX JMJx = times_factors(factor_J(problem), *problem.Minv, problem.cfm, x);
+  return factors_gap(problem.A, x, JMJx).ratio();
+}
+
 VecX diagonal_of_A(const BoxedProblem& problem) {
   if (problem.A_formed()) return problem.A.diagonal();
   // A_kk = Σ_ij J_ki Minv_ij J_kj (6.2.9) row by row, without forming J Minv: for each entry

@@ -111,6 +111,49 @@ TEST_CASE("matrices and lcp with Coulomb friction: the bounds the step's lambda 
   }
 }
 
+TEST_CASE("matrices with Coulomb friction: a cube resting on an incline exports at any step",
+          "[cli][exports][coulomb]") {
+  // Issue 50, item 3: at step 20 the fixed point of the bounds waited for the bounds to stop
+  // moving (the four normal forces of a resting cube are not unique), took 100 rounds and 1,792
+  // factorizations, and wrote nothing. A sticking contact's lambda solves its own box at once.
+  const fs::path dir = scratch_dir("exports_coulomb_steps");
+  const std::string scene = incline_scene(dir, 20.0);
+  const double g = 9.81, a = 20.0 * kPi / 180.0;
+  for (const int step : {20, 60}) {
+    CAPTURE(step);
+    const std::string at = std::to_string(step);
+    const fs::path m = dir / "m" / at;
+    const CliResult made = run_cli("matrices " + scene + " --step " + at + " --out " + m.string());
+    INFO(made.out << made.err);
+    REQUIRE(made.code == 0);
+    const VecX lambda = read_matrix_market_vector((m / "lambda.mtx").string());
+    const VecX cmin = read_matrix_market_vector((m / "cmin.mtx").string());
+    const VecX cmax = read_matrix_market_vector((m / "cmax.mtx").string());
+    const auto labels = nlohmann::json::parse(slurp(m / "labels.json"));
+    const auto& rows = labels["coulomb"]["rows"];
+    REQUIRE(rows.size() == 8);
+    double normal_sum = 0.0;
+    std::vector<int> normals;
+    for (const auto& r : rows) {
+      const int k = r["row"], n = r["normal_row"];
+      CHECK(cmax(k) == Approx(0.5 * lambda(n)).epsilon(1e-12));
+      CHECK(cmin(k) == Approx(-0.5 * lambda(n)).epsilon(1e-12));
+      CHECK(lambda(k) >= cmin(k) - 1e-9);
+      CHECK(lambda(k) <= cmax(k) + 1e-9);
+      if (std::find(normals.begin(), normals.end(), n) == normals.end()) {
+        normals.push_back(n);
+        normal_sum += lambda(n);
+      }
+    }
+    // At rest, m g cos 20° on the four points (tan 20° = 0.36 < mu = 0.5: it sticks).
+    CHECK(normal_sum == Approx(g * std::cos(a)).epsilon(1e-6));
+    // And `cbps lcp` calls the written problem solved.
+    const CliResult solved = run_cli("lcp " + m.string() + " --json");
+    INFO(solved.out << solved.err);
+    CHECK(solved.code == 0);
+  }
+}
+
 TEST_CASE("matrices with cfm: A.mtx is J Minv J^T, eps apart in cfm.txt, lcp solves A + eps E",
           "[cli][exports][cfm]") {
   const fs::path dir = scratch_dir("exports_cfm");

@@ -146,6 +146,60 @@ TEST_CASE("run --check with a tolerance fails the run and names the first step b
   fs::remove_all(dir);
 }
 
+TEST_CASE("an option that does not apply is refused, never dropped", "[cli][inputs][messages]") {
+  // Issue 50, item 9: each of these ran, exit 0, as if the option had not been given.
+  const fs::path dir = scratch_dir("options_not_applying");
+  struct Case {
+    std::string args;
+    std::string said;
+  };
+  for (const Case& c :
+       {Case{"run stack --param n=2 --steps 2 --compliance 1e-4", "--compliance"},
+        Case{"run stack --param n=2 --steps 2 --scheme tgs --compliance 1e-4", "--compliance"},
+        Case{"run stack --param n=2 --steps 2 --contact-hertz 60", "--contact-hertz"},
+        Case{"run stack --param n=2 --steps 2 --scheme xpbd --contact-hertz 60", "--contact-hertz"},
+        Case{"run chain --param n=2 --steps 2 --scheme tgs --joint-damping-ratio 1",
+             "--joint-damping-ratio"},
+        Case{"explain stack --param n=2 --joint-hertz 30", "--joint-hertz"}}) {
+    CAPTURE(c.args);
+    const CliResult r = run_cli(c.args);
+    CHECK(r.code == 2);
+    CHECK(r.err.find("cbps: " + c.said + ": a setting of --scheme") == 0);
+  }
+  // Where they apply they run, and the clamped contact stiffness is reported as used: at dt
+  // 1/60 and 4 substeps a quarter of the substep rate is 60 Hz.
+  const CliResult soft = run_cli(
+      "run stack --param n=2 --steps 2 --json --scheme soft-step --substeps 4 --contact-hertz 500");
+  INFO(soft.err);
+  REQUIRE(soft.code == 0);
+  const auto j = nlohmann::json::parse(soft.out);
+  CHECK(j["scheme"]["soft"]["contact_hertz"] == 500.0);
+  CHECK(j["scheme"]["soft"]["contact_hertz_used"].get<double>() ==
+        Approx(0.25 / (j["dt"].get<double>() / 4)));
+  CHECK(run_cli("run stack --param n=2 --steps 2 --scheme xpbd --compliance 1e-6").code == 0);
+  // --siconos says what a .dat file holds: given for a folder or an FCLIB file it is refused.
+  REQUIRE(run_cli("matrices stack --param n=2 --quiet --out " + (dir / "m").string()).code == 0);
+  const CliResult folder = run_cli("lcp " + (dir / "m").string() + " --siconos lcp");
+  CHECK(folder.code == 2);
+  CHECK(folder.err.find("--siconos lcp: says what a Siconos .dat file holds") != std::string::npos);
+  const fs::path fclib = fs::path(CBPS_DATA_DIR) / "fclib";
+  for (const auto& e : fs::directory_iterator(fclib)) {
+    if (e.path().extension() != ".hdf5") continue;
+    const CliResult r = run_cli("lcp " + e.path().string() + " --siconos relay");
+    CHECK(r.code == 2);
+    CHECK(r.err.find("an HDF5 (FCLIB) file") != std::string::npos);
+    break;
+  }
+  // An empty file named .hdf5 is not read as a Siconos file.
+  const fs::path empty = dir / "empty.hdf5";
+  { std::ofstream out(empty); }
+  const CliResult r = run_cli("lcp " + empty.string());
+  CHECK(r.code == 2);
+  CHECK(r.err == "cbps: " + empty.string() +
+                     ": named as an HDF5 (FCLIB) file but not one: it is "
+                     "empty\n");
+}
+
 TEST_CASE("messages a new user can act on: missing and binary files, --step, --html, --quiet",
           "[cli][inputs][messages]") {
   const fs::path dir = scratch_dir("new_user_messages");

@@ -14,10 +14,12 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "cbps/solvers/peers/peers.hpp"
 #include "fixture.hpp"
 
 namespace fs = std::filesystem;
@@ -102,7 +104,93 @@ std::optional<int> wait_at_most(pid_t pid, double seconds) {
   return std::nullopt;
 }
 
+/// The processes whose parent is `pid` (/proc/*/stat's fourth field).
+std::vector<pid_t> children_of(pid_t pid) {
+  std::vector<pid_t> found;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc", ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream in(e.path() / "stat");
+    std::string line;
+    if (!std::getline(in, line)) continue;
+    const std::size_t close = line.rfind(')');  // the command name may hold spaces
+    if (close == std::string::npos) continue;
+    std::istringstream rest(line.substr(close + 1));
+    char state = 0;
+    long parent = 0;
+    rest >> state >> parent;
+    if (parent == pid && state != 'Z') found.push_back(static_cast<pid_t>(std::stol(name)));
+  }
+  return found;
+}
+
+/// True once process `pid` is gone (or a zombie) within `seconds`.
+bool gone_within(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  do {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    std::string line;
+    if (!std::getline(in, line)) return true;
+    const std::size_t close = line.rfind(')');
+    if (close != std::string::npos && close + 2 < line.size() && line[close + 2] == 'Z')
+      return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  } while (std::chrono::steady_clock::now() < end);
+  return false;
+}
+
 }  // namespace
+
+TEST_CASE("a Siconos peer's child process ends with cbps: SIGINT, SIGTERM and --time-limit",
+          "[cli][peers][signal]") {
+  // Issue 50, items 4 and 5: Siconos runs in a forked child (peers/siconos.cpp); Ctrl-C ended
+  // cbps and left the child running for 30 s more, and nothing bounded its time. siconos:lemke
+  // on this base-8 pyramid's 768 rows takes about 30 s (and fails).
+  if (!cbps::peer_available(cbps::Method::SiconosLemke)) {
+    WARN("this build has no Siconos numerics: not tested");
+    return;
+  }
+  const fs::path dir = scratch_dir("peer_child");
+  const fs::path problem = dir / "pyramid";
+  const CliResult made =
+      run_cli("matrices pyramid --param base=8 --step 30 --quiet --out " + problem.string());
+  INFO(made.err);
+  REQUIRE(made.code == 0);
+  for (const int signal : {SIGINT, SIGTERM}) {
+    CAPTURE(signal);
+    const pid_t pid = spawn(
+        {"lcp", problem.string(), "--solver", "siconos:lemke", "--out", (dir / "out").string()});
+    REQUIRE(pid > 0);
+    std::vector<pid_t> children;
+    for (int k = 0; k < 500 && children.empty(); ++k) {  // the fork comes after the reading
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      children = children_of(pid);
+    }
+    REQUIRE(children.size() == 1);
+    ::kill(pid, signal);
+    const std::optional<int> status = wait_at_most(pid, 20.0);
+    REQUIRE(status);
+    CHECK(WIFEXITED(*status));
+    CHECK(WEXITSTATUS(*status) == 128 + signal);
+    CHECK(gone_within(children[0], 5.0));  // before the fix: 30 s more
+    if (!gone_within(children[0], 0.0)) ::kill(children[0], SIGKILL);
+    CHECK_FALSE(fs::exists(dir / "out"));
+  }
+  // --time-limit 1: the child is killed at the limit, the answer is not solved, exit 1, and
+  // the JSON says why.
+  const auto start = std::chrono::steady_clock::now();
+  const CliResult limited =
+      run_cli("lcp " + problem.string() + " --solver siconos:lemke --time-limit 1 --json");
+  const double took =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  INFO(limited.out << limited.err);
+  CHECK(limited.code == 1);
+  CHECK(took < 10.0);
+  const auto j = nlohmann::json::parse(limited.out);
+  CHECK(j["status"] == "time limit");
+  CHECK(j["peer"]["status"].get<std::string>().rfind("time limit", 0) == 0);
+}
 
 TEST_CASE("an output folder given as DIR/, DIR or DIR/. is one folder, rewritten run after run",
           "[cli][out]") {

@@ -15,6 +15,12 @@ MODE is one of
              QP: to 1e-6 * scale); --out written by rank 0
   bad-input  a folder without J, a Siconos file, a Minv block that is not positive definite:
              exit 2 on every rank of 2, one message naming the file, no hang
+  law        what every path that reads a folder must not solve as something else (issue 50):
+             a folder on friction cones (`--param friction=cone`) is refused by direct under
+             mpirun and by tao:TYPE alone and under mpirun (exit 2, naming the cones and what
+             solves them) while the serial direct path solves it; a folder whose A.mtx is
+             doubled (not J Minv J^T) or truncated is bad input (exit 2 naming A.mtx) serially,
+             under mpirun and for TAO; a missing folder is "no such file or folder" under mpirun
 
 Exit 0 when every check passes (each failed check is printed), 77 (skipped, with the reason)
 when there is no mpirun. As root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and
@@ -169,6 +175,69 @@ def mode_bad_input(cbps, root):
         check(r.stderr.count("cbps:") == 1, f"{folder}: not one message: {r.stderr[-1000:]}")
 
 
+def expect_refused(args, ranks, said, what):
+    """cbps ARGS (alone or under mpirun -n RANKS) exits 2, saying `said`, in one message."""
+    r = run(args, ranks)
+    where = "alone" if ranks is None else f"at {ranks} rank(s)"
+    check(r.returncode == 2, f"{what} {where}: exit {r.returncode}, not 2: {r.stdout[-500:]} "
+                             f"{r.stderr[-1000:]}")
+    check(said in r.stderr, f"{what} {where}: the message does not say '{said}': "
+                            f"{r.stderr[-1000:]}")
+    check(r.stderr.count("cbps:") == 1, f"{what} {where}: not one message: {r.stderr[-1000:]}")
+
+
+def edit_A(folder, edit):
+    """A.mtx's lines after its header, replaced by edit(lines)."""
+    path = os.path.join(folder, "A.mtx")
+    with open(path) as f:
+        lines = f.read().splitlines()
+    head = [k for k, line in enumerate(lines) if not line.startswith("%")][0]
+    with open(path, "w") as f:
+        f.write("\n".join(lines[:head + 1] + edit(lines[head + 1:])) + "\n")
+
+
+def mode_law(cbps, root):
+    os.makedirs(root, exist_ok=True)
+    cone = os.path.join(root, "slide-cone")
+    good = os.path.join(root, "stack")
+    for folder, args in ((cone, ["slide", "--param", "friction=cone", "--step", "5"]),
+                         (good, ["stack", "--param", "n=3", "--step", "5"])):
+        shutil.rmtree(folder, ignore_errors=True)
+        r = run([cbps, "matrices"] + args + ["--out", folder, "--quiet"])
+        if not check(r.returncode == 0, f"cbps matrices {' '.join(args)}: {r.stderr}"):
+            return
+    # The cones: the serial exact path solves them; the paths on the boxed problem refuse them.
+    r, j = solve(cbps, cone, None)
+    check(r.returncode == 0 and j and j["status"] == "solved" and j["cone"] is not None,
+          f"slide on cones, serial direct: exit {r.returncode} {r.stderr[-500:]}")
+    for ranks in RANKS:
+        expect_refused([cbps, "lcp", cone, "--solver", "direct"], ranks, "friction cones",
+                       "direct on a folder on cones")
+    for ranks in (None,) + RANKS:
+        expect_refused([cbps, "lcp", cone, "--solver", "tao:bqpip"], ranks, "friction cones",
+                       "tao:bqpip on a folder on cones")
+    # A that is not J Minv J^T: every path refuses it, naming A.mtx.
+    doubled = os.path.join(root, "A-doubled")
+    truncated = os.path.join(root, "A-truncated")
+    for folder in (doubled, truncated):
+        shutil.rmtree(folder, ignore_errors=True)
+        shutil.copytree(good, folder)
+    edit_A(doubled, lambda rows: [f"{i} {j} {2 * float(v)!r}" for i, j, v in
+                                  (line.split() for line in rows)])
+    edit_A(truncated, lambda rows: rows[:len(rows) // 2])
+    for folder, said in ((doubled, "A is not J Minv J^T"), (truncated, "A.mtx")):
+        name = os.path.basename(folder)
+        expect_refused([cbps, "lcp", folder, "--solver", "direct"], None, said, name)
+        for ranks in RANKS:
+            expect_refused([cbps, "lcp", folder, "--solver", "direct"], ranks, said, name)
+            expect_refused([cbps, "lcp", folder, "--solver", "tao:bqpip"], ranks, said,
+                           name + " by tao:bqpip")
+    missing = os.path.join(root, "no-such-folder")
+    for ranks in RANKS:
+        expect_refused([cbps, "lcp", missing, "--solver", "direct"], ranks,
+                       "no such file or folder", "a missing folder")
+
+
 def main():
     if len(sys.argv) != 4:
         print(__doc__, file=sys.stderr)
@@ -177,7 +246,7 @@ def main():
     if mpirun() is None:
         print("SKIPPED: no mpirun ($CBPS_MPIEXEC or PATH)")
         return 77
-    {"solve": mode_solve, "bad-input": mode_bad_input}[mode](cbps, root)
+    {"solve": mode_solve, "bad-input": mode_bad_input, "law": mode_law}[mode](cbps, root)
     if failures:
         print(f"{len(failures)} check(s) failed", file=sys.stderr)
         return 1

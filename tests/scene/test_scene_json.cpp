@@ -435,6 +435,15 @@ TEST_CASE("bad input is an InputError naming the JSON path and the reason", "[sc
        "scene.json: /bodies/0/mass: expected a number (got string)"},
       {one_body(R"("mass": 1, "position": [0, 1e999, 0])"),
        "scene.json: /bodies/0/position/1: not a finite number"},
+      // Finite but out of range (issue 50, item 10): named by what they exceed.
+      {one_body(R"("mass": 1, "position": [0, 1e308, 0])"),
+       "scene.json: /bodies/0/position: overflows the body's energy"},
+      {one_body(R"("mass": 1, "velocity": [1e200, 0, 0])"),
+       "scene.json: /bodies/0/velocity: gives a speed of 1e+200 m/s, beyond "
+       "/world/divergence_speed (10000 m/s"},
+      {one_body(R"("mass": 1, "angular_velocity": [0, 2e4, 0])"),
+       "scene.json: /bodies/0/angular_velocity: gives a spin of 20000 rad/s, beyond "
+       "/world/divergence_spin"},
       {one_body(R"("mass": 1, "position": [0, 1])"),
        "scene.json: /bodies/0/position: expected an array of 3 numbers (got array of 2)"},
       {R"({"duration": -1, "bodies": []})", "scene.json: /duration: must be > 0 (got -1)"},

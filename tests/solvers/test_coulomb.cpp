@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include "cbps/solvers/paper/coulomb.hpp"
+#include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/system/system.hpp"
@@ -60,4 +62,43 @@ TEST_CASE(
   CHECK(v2(0) == Approx(v0 - mu * kG * sys.dt).epsilon(1e-9));
   CHECK(std::abs(v2(1)) < 1e-9);
   CHECK(v2.tail<3>().norm() < 1e-9);
+}
+
+TEST_CASE(
+    "Coulomb bounds under PGS: one solve whose bounds move after every sweep, as a new box "
+    "per sweep would give",
+    "[contact][eq5.4][eq7.1.1]") {
+  // Issue 50, item 16: every sweep was a solve() of its own (the symmetry test and two
+  // residuals each: 3.7 times a paper-box sweep), and an observer saw every sweep as sweep 1.
+  Simulation sim(contact_scene("pyramid", {{"base", "4"}, {"friction", "coulomb"}}, "pgs"));
+  for (int s = 0; s < 10; ++s) sim.step();
+  const System sys = sim.build_system();
+  REQUIRE(sys.coulomb().any());
+  const int sweeps = 40;
+  SolverOptions options;
+  options.method = Method::Pgs;
+  options.max_iterations = sweeps;
+  std::vector<int> seen;
+  options.after_sweep = [&seen](int n, const VecX&, double) {
+    seen.push_back(n);
+    return true;
+  };
+  VecX lambda = VecX::Zero(sys.rows());
+  const SolverSummary s = solve_coulomb(sys.problem(), sys.coulomb(), lambda, options);
+  INFO(s.message);
+  CHECK(s.iterations == sweeps);
+  REQUIRE(seen.size() == std::size_t(sweeps));
+  for (int n = 0; n < sweeps; ++n) CHECK(seen[std::size_t(n)] == n + 1);
+  // The same sweeps by hand: the bounds at ±mu lambda_n of the lambda before each sweep (5.4),
+  // then one sweep of 7.1.1 over that box.
+  VecX by_hand = VecX::Zero(sys.rows());
+  VecX cmin, cmax;
+  for (int n = 0; n < sweeps; ++n) {
+    coulomb_bounds(sys.problem(), sys.coulomb(), by_hand, cmin, cmax);
+    const BoxedProblem box{sys.A, sys.b, cmin, cmax};
+    pgs_sweep(box, by_hand);
+  }
+  CHECK((lambda - by_hand).lpNorm<Eigen::Infinity>() <= 1e-12 * by_hand.lpNorm<Eigen::Infinity>());
+  // The residual it reports is the Coulomb problem's at its lambda.
+  CHECK(s.residual == Approx(coulomb_residual(sys.problem(), sys.coulomb(), lambda, 0.0)));
 }

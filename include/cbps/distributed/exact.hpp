@@ -63,4 +63,11 @@ DirectResult solve_direct_local(const MpiSession& session,
                                 const SolverOptions& options,
                                 bool gather = false);
 
+/// How far the folder's A is from its J Minv Jᵀ + cfm E over all ranks (factors_gap's measure,
+/// system/boxed_problem.hpp; `local` read with factors_read: its rows of A, with cfm's eps, of
+/// J and its bodies' rows of Minv): each rank forms its rows of J (Minv (Jᵀ x)) with two sums
+/// over the ranks of a 6n vector, and the maxima are taken over the ranks. Collective; the same
+/// result on every rank.
+FactorsGap factors_gap_across_ranks(const LocalSystem& local);
+
 }  // namespace cbps::distributed

@@ -57,6 +57,9 @@ struct LocalSystem {
   /// These bodies' mass matrices, their 6×6 blocks of Minv inverted (kg, kg m²; 6.1.2): what
   /// body space factors beside Jᵀ D⁻¹ J.
   std::vector<Eigen::Matrix<double, 6, 6>> M;
+  /// Read from a folder with A.mtx and J.mtx, Minv.mtx alike (A with cfm's eps on its diagonal):
+  /// A must be J Minv Jᵀ, which factors_gap_across_ranks measures (exact.hpp) before the solve.
+  bool factors_read = false;
   long rows() const { return static_cast<long>(b.size()); }
 };
 
@@ -93,16 +96,19 @@ std::vector<Eigen::Matrix<double, 6, 6>> body_masses(const LocalSystem& local,
 /// `dir`: its rows of A (every column; plus cfm.txt's eps on the diagonal), b, cmin and cmax.
 /// The sizes are checked as read_problem checks them, and these rows' entries and bounds; every
 /// rank parses the whole files but stores only its rows, so no rank holds the problem.
-/// J, Minv, v1 and fext are not read. Throws InputError naming the file and line.
+/// When the folder has J.mtx and Minv.mtx, their rows are read as read_folder_factors reads
+/// them (factors_read), for the check that A is J Minv Jᵀ; v1 and fext are not read. Throws
+/// InputError naming the file and line.
 LocalSystem read_folder_rows(const std::string& dir, int rank, int size);
 
 /// Rank `rank` of `size`'s part of the `cbps matrices` folder `dir` for the exact path under MPI:
 /// its rows of J, b, cmin and cmax (split_ownership of the c rows), its bodies' rows of Minv
-/// (split_ownership of the n = columns / 6 bodies) with their mass matrices, and cfm.txt's eps;
-/// A is not read. The sizes are checked as read_problem checks them, and Minv's blocks (block
-/// diagonal, each symmetric positive definite); every rank parses the whole files but stores only
-/// its part. Throws InputError naming the file and line or body, or saying the folder has no J
-/// or Minv.
+/// (split_ownership of the n = columns / 6 bodies) with their mass matrices, and cfm.txt's eps. The
+/// sizes are checked as read_problem checks them, and Minv's blocks (block diagonal, each symmetric
+/// positive definite); every rank parses the whole files but stores only its part. Its rows of A
+/// are read too (with cfm's eps on the diagonal, factors_read): never solved with, they must be J
+/// Minv Jᵀ. Throws InputError naming the file and line or body, or saying the folder has no J or
+/// Minv.
 LocalSystem read_folder_factors(const std::string& dir, int rank, int size);
 
 /// Rank `rank` of `size`'s rows of a problem one process holds whole (a Siconos file, read by

@@ -68,11 +68,10 @@ struct StoredProblem {
 StoredProblem stored_problem(const System& sys, double cfm);
 
 /// A folder (by its A.mtx, b.mtx, cmin.mtx, cmax.mtx, cfm.txt if there is one; J.mtx and
-/// Minv.mtx when both are there, and then v1.mtx, fext.mtx and dt.txt when all three are;
-/// labels.json's row labels when it is there), an FCLIB file (an HDF5 file: read_fclib) or a
-/// Siconos file. Throws InputError naming
-/// the file and line.
-/// `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
+/// Minv.mtx when both are there, A.mtx then checked to be J Minv Jᵀ (check_factors_agree), and then
+/// v1.mtx, fext.mtx and dt.txt when all three are; labels.json's row labels when it is there), an
+/// FCLIB file (an HDF5 file: read_fclib) or a Siconos file. Throws InputError naming the file and
+/// line. `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
 StoredProblem read_problem(const std::string& path, SiconosKind kind = SiconosKind::Auto);
 
 /// Where write_problem puts each file: called with the file's name in the folder ("A.mtx") and
@@ -110,6 +109,18 @@ void check_bounds(const VecX& b,
 /// A folder's constraint-force mixing eps from its cfm.txt, kg⁻¹; 0 without one. Throws
 /// InputError for a text that is not a number >= 0.
 double read_cfm(const std::string& dir);
+
+/// InputError naming the folder's A.mtx, J.mtx and Minv.mtx and the gap unless `gap` (of A.mtx
+/// against J Minv Jᵀ, factors_gap) is within kFactorsTolerance: a folder whose A is not its J
+/// Minv Jᵀ is bad input on every path (read_problem; the exact path and TAO under MPI, each rank
+/// measuring its rows).
+void check_factors_agree(const std::string& dir, const FactorsGap& gap);
+
+/// The number of contacts in the friction cones of the folder `dir` (its cones.json's
+/// /contacts), 0 without cones.json; InputError naming the file when it is not such JSON. For
+/// the paths that read a folder by rows and solve only the boxed problem of 6.2 (under MPI),
+/// which must refuse a problem on cones.
+long folder_cone_contacts(const std::string& dir);
 
 /// InputError naming `what` and max |A − Aᵀ| unless A is symmetric to kSymmetryTolerance
 /// (system/boxed_problem.hpp; solve() makes the same test on every solve):

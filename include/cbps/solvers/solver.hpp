@@ -250,6 +250,10 @@ struct SolverOptions {
   std::function<bool(int, const VecX&, double)> after_sweep;
   /// The parameters of the methods that have their own (method_settings.hpp).
   MethodSettings methods;
+  /// Wall-clock bound on one solve, s; 0: none. The sweeping methods stop after the sweep that
+  /// passes it (Termination::TimeLimit, their lambda the last sweep's); a Siconos peer's child
+  /// process is killed at it (lambda stays the guess: Siconos reports no point before its end).
+  double time_limit = 0.0;
 };
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
@@ -266,7 +270,8 @@ enum class Termination {
   NoSolution,  ///< Lemke's ray termination: no solution found (none exists if A is copositive-plus)
   /// A peer (peers/peers.hpp) returned a lambda whose natural-map residual is above
   /// kLcpSolvedTolerance · scale_of, whatever it said of it
-  PeerUnsolved
+  PeerUnsolved,
+  TimeLimit  ///< SolverOptions::time_limit passed before the method's own stop
 };
 std::string to_string(Termination t);
 

@@ -63,4 +63,8 @@ VecX scheme_softness(const World& world, const std::vector<Row>& rows, const Sys
 /// Whether a world's scheme softens rows (so its step must form A).
 bool scheme_softens(const World& world);
 
+/// The contact stiffness a substep of h seconds uses, Hz: the scene's contact_hertz, at most a
+/// quarter of the substep rate 1/h (Box2D v3's limit); summary.json reports it beside the asked.
+double contact_hertz(const SchemeSettings& s, double h);
+
 }  // namespace cbps

@@ -21,6 +21,7 @@ struct LcpOutcome {
   VecX lambda;
   int iterations = 0;
   bool no_solution = false;  ///< Lemke's ray termination
+  bool time_limit = false;   ///< stopped by --time-limit before the method's own end
   bool pivots = false;       ///< iterations are Lemke's pivots
   std::string message;
   /// Where the exact path factored: "body", "row" or empty (no factorization: the sweeps,
@@ -62,17 +63,21 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
 /// Every method but tao:TYPE: solve() with the options solver_options() builds from the spec
 /// (the ones a scene's solver block with this spec would give), iterations and tolerance, from
 /// lambda = 0, with the problem's cfm in the options (solve() applies it: A + eps E).
+/// `time_limit` (s, 0: none) bounds the solve (SolverOptions::time_limit).
 LcpOutcome solve_stored(const SolverSpec& spec,
                         const StoredProblem& p,
                         int iterations,
-                        double tolerance);
+                        double tolerance,
+                        double time_limit = 0.0);
 
 /// cbps's verdict on a returned lambda.
 struct LcpVerdict {
   double residual = 0.0;  ///< natural map, ∞-norm, N (∞ when lambda has the wrong size)
   double scale = 1.0;     ///< scale_of
   bool solved = false;    ///< residual ≤ kLcpSolvedTolerance · scale, lambda finite
-  std::string status;     ///< "solved", "no_solution" (Lemke's ray) or "failed"
+  /// "solved", "no_solution" (Lemke's ray), "time limit" (not solved when --time-limit
+  /// stopped the method) or "failed"
+  std::string status;
   /// A peer whose word disagrees with cbps's verdict: "peer said ok; residual R N > T N" (or
   /// "peer said failed; residual ... <= ..."); empty otherwise.
   std::string peer_disagrees;

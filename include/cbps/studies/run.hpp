@@ -41,6 +41,13 @@ struct RunTotals {
   /// The divergence guard's error when it stopped the run (the steps before it are counted).
   std::optional<DivergenceError> diverged;
   bool stopped = false;  ///< an observer stopped the run before its last step
+  /// Steps with rows, and those whose method failed (method_failed: a peer's answer cbps's
+  /// residual rejects, the direct path stopped short, non-finite values, no solution, the time
+  /// limit); the first such step (0-based; −1: none).
+  long steps_with_rows = 0;
+  long steps_failed = 0;
+  long first_failed_step = -1;
+  std::string first_failure;  ///< that step's solver message
   double wall_time_s = 0.0;
 };
 
@@ -121,6 +128,10 @@ class StepsRecorder : public StepObserver {
   CsvFile csv_;
   bool timing_;
 };
+
+/// What the summary warns of (summary.json "warnings"; `cbps run` prints them on stderr): the
+/// steps whose method failed (RunTotals::steps_failed), with the first one's step and message.
+std::vector<std::string> run_warnings(const RunTotals& t);
 
 /// summary.json of `cbps run` without its cross_check (docs/outputs.md); wall times, stage times
 /// and threads only with `timing` (`threads` is the machine's thread report, as the times are).

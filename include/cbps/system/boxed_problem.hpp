@@ -108,6 +108,37 @@ VecX times_A(const BoxedProblem& problem, const VecX& x);
 /// place this product is written (times_A, the body-space Newton system, factors_mismatch).
 VecX times_factors(const SpMatRow& J, const SpMat& Minv, double cfm, const VecX& x);
 
+/// How far a stored A is from its J and Minv, measured on the test vector x_k = sin(1 + k)
+/// (no zero entry, no pattern): the largest |(A x − J Minv Jᵀ x − cfm x)_i| and the largest
+/// Σ_k |A_ik x_k|, both kg⁻¹ N, over the rows measured (all of them, or one rank's: the maxima
+/// of several ranks' gaps are the whole problem's). The one definition behind factors_mismatch,
+/// the check of a folder's A.mtx against its J.mtx and Minv.mtx (read_problem) and the same
+/// check under MPI.
+struct FactorsGap {
+  double difference = 0.0;  ///< max_i |(A x − J Minv Jᵀ x − cfm x)_i|
+  double size = 0.0;        ///< max_i Σ_k |A_ik x_k|
+  /// difference / size: 0 when they agree exactly, +inf for A = 0 with J Minv Jᵀ ≠ 0, NaN
+  /// stays NaN.
+  double ratio() const { return difference == 0.0 ? 0.0 : difference / size; }
+};
+
+/// How closely A must agree with J Minv Jᵀ + cfm E: FactorsGap::ratio() ≤ this (round-off of
+/// the products, far below any change a user could make to a file).
+inline constexpr double kFactorsTolerance = 1e-12;
+
+/// x_k = sin(1 + k) for k = first, …, first + count − 1: FactorsGap's test vector.
+VecX factors_test_vector(long first, long count);
+
+/// The gap of `A_rows` (some rows of A, every column; x the whole test vector) given the same
+/// rows of J Minv Jᵀ x + cfm x (`factors_x`).
+FactorsGap factors_gap(const SpMat& A_rows, const VecX& x, const VecX& factors_x);
+
+/// factors_gap(...).ratio() of a whole problem with J and Minv (BoxedProblem::cfm included); 0
+/// for no rows or A left out (then A is J Minv Jᵀ + cfm E by definition). The body-space solve
+/// needs it ≤ kFactorsTolerance (else it works in row space, on A); solve() refuses
+/// matrix-free above it.
+double factors_mismatch(const BoxedProblem& problem);
+
 /// A_kk for every row, kg⁻¹: A's diagonal, or J_k Minv J_kᵀ + cfm when A was left out.
 VecX diagonal_of_A(const BoxedProblem& problem);
 

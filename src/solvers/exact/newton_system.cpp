@@ -477,23 +477,6 @@ std::optional<std::vector<Mat6>> body_masses(const BoxedProblem& problem) {
   return M;
 }
 
-double factors_mismatch(const BoxedProblem& problem) {
-  const SpMat& A = problem.A;
-  const Eigen::Index c = A.rows();
-  if (c == 0 || !problem.A_formed()) return 0.0;  // A left out: J Minv Jᵀ + cfm E by definition
-  VecX x(c);
-  for (Eigen::Index k = 0; k < c; ++k) x(k) = std::sin(1.0 + double(k));  // no zero, no pattern
-  // J (Minv (Jᵀ x)) + cfm x, as BodySpace::times_A forms it.
-  const VecX JMJx = times_factors(*problem.J, *problem.Minv, problem.cfm, x);
-  const VecX Ax = A * x;
-  VecX size = VecX::Zero(c);  // Σ_k |A_ik x_k| for every row i (any A: scattered by column)
-  for (Eigen::Index j = 0; j < A.outerSize(); ++j)
-    for (SpMat::InnerIterator it(A, j); it; ++it) size(it.row()) += std::abs(it.value() * x(j));
-  const double difference = (Ax - JMJx).cwiseAbs().maxCoeff();
-  if (difference == 0.0) return 0.0;
-  return difference / size.maxCoeff();  // +inf for A = 0 with J Minv Jᵀ ≠ 0; NaN stays NaN
-}
-
 /// The body spaces of the latest solves, the most recent last: at most kKeptBodySpaces (the
 /// improved push's velocity and position systems take turns, 8.1).
 struct ExactMemory {

@@ -24,15 +24,6 @@ SolverSummary solve_around_null_rows(
     VecX& lambda,
     const std::function<SolverSummary(const BoxedProblem&, VecX&)>& solve_rest);
 
-/// How closely A must agree with J Minv Jᵀ + cfm E on factors_mismatch's test vector.
-inline constexpr double kFactorsTolerance = 1e-12;
-
-/// max_i |(A x − J Minv Jᵀ x − cfm x)_i| / max_i Σ_k |A_ik x_k| on x_k = sin(1 + k): how far the
-/// problem's A is from its J and Minv (BoxedProblem::cfm included), relative to the size of the
-/// products; 0 for no rows. The problem must carry J and Minv. The body-space solve needs it
-/// ≤ kFactorsTolerance (else it works in row space, on A); solve() refuses matrix-free above it.
-double factors_mismatch(const BoxedProblem& problem);
-
 /// M = Minv⁻¹ block by block, when the problem has J and Minv, Minv is block diagonal with
 /// symmetric positive definite 6×6 blocks and A x = J Minv Jᵀ x + cfm x holds on factors_mismatch's
 /// test vector (to kFactorsTolerance): what body space factors (M + Jᵀ D⁻¹ J); nullopt otherwise.

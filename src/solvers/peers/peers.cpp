@@ -152,6 +152,7 @@ SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const Solver
   // tolerance holds at its end.
   const bool at_tolerance = options.tolerance > 0.0 && s.residual <= options.tolerance;
   s.termination = !lambda.allFinite()             ? Termination::NonFinite
+                  : run.timed_out                 ? Termination::TimeLimit
                   : !solved                       ? Termination::PeerUnsolved
                   : !is_iterative(options.method) ? Termination::Direct
                   : at_tolerance                  ? Termination::ResidualTolerance

@@ -5,6 +5,7 @@
 
 #ifdef CBPS_HAVE_SICONOS
 
+#include <poll.h>
 #include <siconos/numerics/FrictionContactProblem.h>
 #include <siconos/numerics/Friction_cst.h>
 #include <siconos/numerics/LCP_Solvers.h>
@@ -21,6 +22,7 @@
 #include <siconos/numerics/mlcp_cst.h>
 #include <siconos/numerics/relay_cst.h>
 #include <siconos/numerics/sn_error_handling.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -364,10 +366,13 @@ struct Reply {
   std::uint64_t status_size = 0, class_size = 0, rows = 0;
 };
 
-[[noreturn]] void child(int fd,
-                        const BoxedProblem& problem,
-                        VecX lambda,
-                        const SolverOptions& options) {
+[[noreturn]] void child(
+    int fd, pid_t parent, const BoxedProblem& problem, VecX lambda, const SolverOptions& options) {
+  // The child ends with its parent, however the parent ends (Ctrl-C's cleanup, SIGTERM,
+  // SIGKILL): the kernel sends SIGKILL when the thread that forked it is gone; a parent gone
+  // before this line leaves the child to init, which getppid() then shows.
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (::getppid() != parent) std::_Exit(4);
   ::dup2(2, 1);  // Siconos prints to stdout: keep cbps's own output (--json) whole
   // The default action for every signal the parent may handle: an abort inside Siconos ends the
   // child as SIGABRT (the parent reports it), and Ctrl-C's clean-up is the parent's alone.
@@ -393,6 +398,29 @@ struct Reply {
                   write_all(fd, lambda.data(), sizeof(double) * lambda.size());
   ::close(fd);
   std::_Exit(ok ? 0 : 3);
+}
+
+/// Reads the child's reply from `fd` into `bytes` until the child closes its end; true when
+/// `time_limit` (s, from `started`; 0: none) passed first.
+bool read_reply(int fd,
+                std::chrono::steady_clock::time_point started,
+                double time_limit,
+                std::vector<char>& bytes) {
+  char buffer[1 << 16];
+  for (;;) {
+    if (time_limit > 0.0) {
+      const double left = time_limit - seconds_since(started);
+      if (left <= 0.0) return true;
+      pollfd p{fd, POLLIN, 0};
+      const int ready = ::poll(&p, 1, static_cast<int>(std::ceil(std::min(left, 3600.0) * 1e3)));
+      if (ready < 0 && errno == EINTR) continue;
+      if (ready == 0) continue;  // the loop's test of the time left ends it
+    }
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    bytes.insert(bytes.end(), buffer, buffer + n);
+  }
 }
 
 /// How a child that sent no whole reply ended, in words.
@@ -423,6 +451,8 @@ PeerRun run_siconos(const BoxedProblem& problem, VecX& lambda, const SolverOptio
   if (::pipe(fds) != 0) throw std::runtime_error("siconos: pipe() failed");
   std::fflush(stdout);
   std::fflush(stderr);
+  const pid_t parent = ::getpid();
+  const auto started = std::chrono::steady_clock::now();
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(fds[0]);
@@ -431,22 +461,25 @@ PeerRun run_siconos(const BoxedProblem& problem, VecX& lambda, const SolverOptio
   }
   if (pid == 0) {
     ::close(fds[0]);
-    child(fds[1], problem, lambda, options);
+    child(fds[1], parent, problem, lambda, options);
   }
   ::close(fds[1]);
   std::vector<char> bytes;
-  char buffer[1 << 16];
-  for (;;) {
-    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    bytes.insert(bytes.end(), buffer, buffer + n);
-  }
+  const bool timed_out = read_reply(fds[0], started, options.time_limit, bytes);
   ::close(fds[0]);
+  if (timed_out) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
   PeerRun run;
+  if (timed_out) {
+    run.timed_out = true;
+    run.status = "time limit: the child process was killed after " +
+                 number_text(options.time_limit) + " s (--time-limit)";
+    run.solve_s = seconds_since(started);
+    run.problem_class = to_string(peer_class(problem));
+    return run;  // lambda as it was: the guess
+  }
   Reply r;
   const bool exited = WIFEXITED(status) && WEXITSTATUS(status) == 0 && bytes.size() >= sizeof r;
   if (exited) std::memcpy(&r, bytes.data(), sizeof r);

@@ -26,9 +26,12 @@ double coulomb_residual(const BoxedProblem& problem,
 
 /// Solves the problem with Coulomb bounds by options.method, from the guess in lambda. The
 /// direct path iterates to a fixed point: solve the boxed problem, move the bounds to
-/// ±mu lambda_n, again, until no bound moves by more than 1e-12 max(1, ‖b‖∞) (at most 100
-/// rounds; NotConverged otherwise). The iterative methods move the bounds before every sweep.
-/// Without Coulomb rows this is solve(). CFM as in solve().
+/// ±mu lambda_n, again, until lambda solves the box of its own bounds as closely as the solve
+/// solved its box (or no bound moves by more than 1e-12 max(1, ‖b‖∞)); at most 100 rounds,
+/// NotConverged otherwise. The iterative methods move the bounds before every sweep: the
+/// Gauss-Seidel and Jacobi sweeps within one solve (options.after_sweep still called, with the
+/// sweeps counted from the start), the others in one solve per sweep. A's symmetry is tested
+/// once. Without Coulomb rows this is solve(). CFM as in solve().
 SolverSummary solve_coulomb(const BoxedProblem& problem,
                             const CoulombRows& coulomb,
                             VecX& lambda,

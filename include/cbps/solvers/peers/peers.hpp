@@ -62,6 +62,7 @@ struct PeerRun {
   double convert_s = 0.0;     ///< converting the problem to the peer's storage, s
   double solve_s = 0.0;       ///< the peer's own call, s
   std::string problem_class;  ///< what it was handed: "LCP", "relay", "MLCP", "boxed MLCP"
+  bool timed_out = false;     ///< killed at SolverOptions::time_limit (lambda: the guess)
 };
 PeerRun run_siconos(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
 PeerRun run_bullet(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
