@@ -38,8 +38,9 @@ const char* const kDefaultConeSolvers = "nsgs,nsgs:local=3,direct";
 struct ConvergeOptions {
   SceneOptions scene;
   StepOptions step;
-  std::string solvers;  ///< empty: kDefaultSolvers, or kDefaultConeSolvers on cones
-  std::string cone;     ///< --cone: an FCLIB file's law
+  std::string solvers;         ///< not given: kDefaultSolvers, or kDefaultConeSolvers on cones
+  bool solvers_given = false;  ///< --solvers was given (an empty list is refused)
+  std::string cone;            ///< --cone: an FCLIB file's law
   long at_step = 0;
   int iterations = 100000;
   int record_every = 1;
@@ -183,6 +184,7 @@ ConvergenceLimits limits_of(const ConvergeOptions& o) {
   limits.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
   if (!o.quiet) {
     limits.progress = [](const SolverSpec& spec, int k, double time_s, double residual) {
+      if (k == 0) return;
       std::fprintf(stderr,
                    "converge: %s: %d sweeps, %.2f s, residual %.3g N\n",
                    spec.text.c_str(),
@@ -197,7 +199,16 @@ ConvergenceLimits limits_of(const ConvergeOptions& o) {
 int converge_command(const ConvergeOptions& o) {
   // A given list first: a bad name is reported before the data are read.
   std::vector<SolverSpec> specs;
-  if (!o.solvers.empty()) specs = parse_cli_solver_list(o.solvers, "--solvers");
+  if (o.solvers_given) {
+    specs = parse_cli_solver_list(o.solvers, "--solvers");  // '' is an empty entry: refused
+    // A spec given twice draws the same curve twice (a warm factor makes specs differ here:
+    // converge starts each from the previous step's lambda times it).
+    for (std::size_t i = 0; i < specs.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (specs[i].text == specs[j].text)
+          throw InputError("--solvers '" + o.solvers + "': '" + specs[i].text +
+                           "' is given twice and would draw the same curve; give it once");
+  }
   const bool problem = is_problem(o.scene.scene);
   if (!problem && !o.cone.empty())
     throw InputError("--cone " + o.cone +
@@ -215,7 +226,7 @@ int converge_command(const ConvergeOptions& o) {
         o.scene.scene + " (its cfm.txt gives its cfm)");
   ConvergenceSystem s = problem ? convergence_system(o.scene.scene) : system_of_scene(o);
   apply_cone_option(s.stored, o.cone, o.scene.scene);
-  if (o.solvers.empty())
+  if (!o.solvers_given)
     specs = parse_cli_solver_list(s.stored.cones.empty() ? kDefaultSolvers : kDefaultConeSolvers,
                                   "--solvers");
   const TaoInProcess tao(specs, "converge --solvers");  // PETSc once, for every tao spec
@@ -233,7 +244,7 @@ int converge_command(const ConvergeOptions& o) {
   for (const SolverSpec& spec : specs) {
     runs.push_back(!spec.tao.empty()            ? run_tao(s, spec, o, tao)
                    : is_peer(spec.method)       ? run_peer(s, spec, limits)
-                   : !is_iterative(spec.method) ? run_exact(s, spec)
+                   : !is_iterative(spec.method) ? run_exact(s, spec, limits)
                                                 : run_iterative(s, spec, limits));
     if (!o.quiet) {
       const ConvergenceSample& last = runs.back().samples.back();
@@ -283,14 +294,14 @@ void register_converge(CLI::App& app, Action& run) {
   add_scene_options(cmd,
                     o->scene,
                     "built-in scene, JSON scene file, `cbps matrices` folder or Siconos .dat file");
-  cmd->add_option("--solvers",
-                  o->solvers,
-                  "comma-separated solver specs (the solvers listed below), e.g. "
-                  "pgs,psor:1.3,sgs,jacobi:0.7,pgs:order=random,block-pgs,matrix-free,"
-                  "pgs-nesterov,apgd,direct,tao:bqpip (tao:TYPE only in a build with PETSc; "
-                  "default: " +
-                      std::string(kDefaultSolvers) + "; on friction cones " + kDefaultConeSolvers +
-                      ")");
+  auto* solvers = cmd->add_option(
+      "--solvers",
+      o->solvers,
+      "comma-separated solver specs (the solvers listed below), e.g. "
+      "pgs,psor:1.3,sgs,jacobi:0.7,pgs:order=random,block-pgs,matrix-free,"
+      "pgs-nesterov,apgd,direct,tao:bqpip (tao:TYPE only in a build with PETSc; "
+      "default: " +
+          std::string(kDefaultSolvers) + "; on friction cones " + kDefaultConeSolvers + ")");
   add_cone_option(cmd, o->cone);
   cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_option("--step",
@@ -310,7 +321,11 @@ void register_converge(CLI::App& app, Action& run) {
                   "write one sample every K sweeps to convergence.csv (the guess and the last "
                   "sweep always; the summary's milestones still see every sweep; default 1)")
       ->check(positive());
-  cmd->add_option("--time-limit", o->time_limit, "max sweep time per solver, s (default 10)")
+  cmd->add_option(
+         "--time-limit",
+         o->time_limit,
+         "max time per solver, s (default 10): a sweeping method stops after the sweep that "
+         "passes it, a Siconos peer's child process is killed at it")
       ->check(positive());
   add_seed_option(cmd, o->step);
   add_out_option(cmd, o->out, "convergence.csv, summary.json and the plot");
@@ -318,7 +333,10 @@ void register_converge(CLI::App& app, Action& run) {
   add_quiet_flag(cmd, o->quiet);
   cmd->add_flag_callback(
       "--no-plot", [o] { o->plot = false; }, "write no convergence.png/.svg");
-  cmd->callback([&run, o] { run = [o] { return converge_command(*o); }; });
+  cmd->callback([&run, o, solvers] {
+    o->solvers_given = solvers->count() > 0;
+    run = [o] { return converge_command(*o); };
+  });
 }
 
 }  // namespace cbps::cli

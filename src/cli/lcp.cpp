@@ -73,11 +73,7 @@ struct LcpOptions {
 /// object carries.
 constexpr long kMaxGatheredRows = 100000;
 
-std::string format_number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", x);
-  return buf;
-}
+std::string format_number(double x) { return number_text(x); }
 
 /// What the distributed path adds to its LcpOutcome: it measures the residual itself and says
 /// more in the JSON object.

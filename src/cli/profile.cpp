@@ -165,7 +165,10 @@ void register_profile(CLI::App& app, Action& run) {
          o->budget_iterations,
          "max sweeps per problem and solver; TAO's iterations for tao:TYPE (default 100000)")
       ->check(positive());
-  cmd->add_option("--time-limit", o->time_limit, "max time per problem and solver, s (default 1)")
+  cmd->add_option("--time-limit",
+                  o->time_limit,
+                  "max time per problem and solver, s (default 1): a sweeping method stops after "
+                  "the sweep that passes it, a Siconos peer's child process is killed at it")
       ->check(positive());
   cmd->add_option(
       "--out", o->out, "write profile.json, profile.csv, summary.txt and the plot here");

@@ -55,43 +55,44 @@ void print_text(const Scene& scene,
                 const RunTotals& t,
                 const CrossCheck* check,
                 const std::string& out) {
+  const auto n3 = [](double x) { return number_text(x, 3); };
   std::printf(
-      "%s: %s of %.6g s, %s, %s, solver %s%s\n"
-      "  iterations %ld in all, max residual %.3g N, max constraint error %.3g m, "
-      "max penetration %.3g m\n"
-      "  energy %.9g J -> %.9g J, wall time %.3f s\n",
+      "%s: %s of %s s, %s, %s, solver %s%s\n"
+      "  iterations %ld in all, max residual %s N, max constraint error %s m, "
+      "max penetration %s m\n"
+      "  energy %s J -> %s J, wall time %.3f s\n",
       scene.name.c_str(),
       count_text(t.steps_done, "step").c_str(),
-      scene.world.dt,
+      number_text(scene.world.dt).c_str(),
       count_text(static_cast<long>(scene.bodies.size()), "body", "bodies").c_str(),
       count_text(t.max_rows, "row").c_str(),
       std::string(to_string(scene.solver.method)).c_str(),
       t.diverged ? " (stopped: diverged)" : "",
       t.iterations_total,
-      t.max_residual,
-      t.max_constraint_error,
-      t.max_penetration,
-      t.energy_initial,
-      t.energy_final,
+      n3(t.max_residual).c_str(),
+      n3(t.max_constraint_error).c_str(),
+      n3(t.max_penetration).c_str(),
+      number_text(t.energy_initial, 9).c_str(),
+      number_text(t.energy_final, 9).c_str(),
       t.wall_time_s);
   if (check != nullptr) {
     std::printf(
-        "  cross-check over %ld steps: max |v2 - v2_direct| %.3g m/s, max residual %.3g N "
-        "(direct %.3g N; %ld steps short of its 64 u tolerance, %ld unverified)\n",
-        check->steps_checked,
-        check->max_velocity_difference,
-        check->max_residual,
-        check->max_direct_residual,
-        check->direct_short,
+        "  cross-check over %s: max |v2 - v2_direct| %s m/s, max residual %s N "
+        "(direct %s N; %s short of its 64 u tolerance, %ld unverified)\n",
+        count_text(check->steps_checked, "step").c_str(),
+        n3(check->max_velocity_difference).c_str(),
+        n3(check->max_residual).c_str(),
+        n3(check->max_direct_residual).c_str(),
+        count_text(check->direct_short, "step").c_str(),
         check->direct_unverified);
   }
   if (scene.solver.cfm > 0.0) {
     std::printf(
-        "  cfm %.3g kg^-1: the answer misses A lambda = b by up to %.3g m/s^2 (%.3g m/s "
+        "  cfm %s kg^-1: the answer misses A lambda = b by up to %s m/s^2 (%s m/s "
         "per step)\n",
-        scene.solver.cfm,
-        t.cfm_acceleration_error,
-        t.cfm_acceleration_error * scene.world.dt);
+        n3(scene.solver.cfm).c_str(),
+        n3(t.cfm_acceleration_error).c_str(),
+        n3(t.cfm_acceleration_error * scene.world.dt).c_str());
   }
   if (!out.empty()) std::printf("  wrote %s\n", out.c_str());
 }
@@ -106,12 +107,12 @@ int report_failures(const Scene& scene,
   if (check != nullptr && check->steps_beyond > 0) {
     std::fprintf(stderr,
                  "cbps run: --check failed: %ld of %ld steps beyond --check-tolerance %s m/s, "
-                 "the first step %ld (t = %.6g s) with max |v2 - v2_direct| = %s m/s%s%s\n",
+                 "the first step %ld (t = %s s) with max |v2 - v2_direct| = %s m/s%s%s\n",
                  check->steps_beyond,
                  check->steps_checked,
                  number_text(check->tolerance()).c_str(),
                  check->first_beyond,
-                 static_cast<double>(check->first_beyond) * scene.world.dt,
+                 number_text(static_cast<double>(check->first_beyond) * scene.world.dt).c_str(),
                  number_text(check->first_beyond_difference).c_str(),
                  out.empty() ? "" : "; the run's output is in ",
                  out.c_str());

@@ -1,5 +1,6 @@
 #include "cbps/io/csv_file.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 namespace cbps {
@@ -16,6 +17,11 @@ CsvFile::~CsvFile() {
 }
 
 void CsvFile::num(double x) {
+  if (std::isnan(x)) {  // "nan", never printf's "-nan" (docs/cli-contract.md)
+    std::fputs(first_ ? "nan" : ",nan", f_);
+    first_ = false;
+    return;
+  }
   std::fprintf(f_, first_ ? "%.12g" : ",%.12g", x);
   first_ = false;
 }

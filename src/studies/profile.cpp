@@ -207,6 +207,7 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
   VecX lambda = VecX::Zero(p.stored.rows());
   SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
   options.tolerance = kProfileTolerances[kProfileTolerancesCount - 1] * p.scale;
+  options.time_limit = o.time_limit;  // a Siconos peer's child is killed at it
   const SolverSummary summary = solve(p.problem(), lambda, options);
   m.time_s = summary.convert_time_s + summary.peer_solve_time_s;
   m.iterations = summary.iterations;
@@ -217,7 +218,8 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
   for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
     if (m.residual <= kProfileTolerances[i]) m.reached[i] = {at, m.time_s};
   const bool solved = m.reached[kProfileTolerancesCount - 1].iterations >= 0;
-  m.status = solved ? "solved"
+  m.status = solved                                          ? "solved"
+             : summary.termination == Termination::TimeLimit ? "time limit"
              : summary.peer_said_ok
                  ? "peer said ok; residual " + number_text(m.residual) + " of the scale"
                  : "peer said failed: " + summary.peer_status;

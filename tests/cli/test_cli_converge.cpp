@@ -145,6 +145,9 @@ TEST_CASE("cbps converge refuses bad solver lists and writes nothing", "[cli][co
       {"chain --solvers pgs,cg", "--solvers 'cg': unknown solver"},
       {"chain --solvers psor:2.5", "must be a number in (0, 2)"},
       {"chain --solvers pgs,,direct", "an empty entry"},
+      // Issue 50, item 11: an empty list fell back to the default, a duplicate drew twice.
+      {"chain --solvers ''", "--solvers '': an empty entry"},
+      {"chain --solvers pgs,direct,pgs", "'pgs' is given twice"},
       {"stack --param friction=coulomb", "Coulomb friction"},
   }));
   CAPTURE(bad.args);

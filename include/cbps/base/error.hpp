@@ -8,13 +8,13 @@
 
 namespace cbps {
 
-/// A number for an error message: 6 significant digits, "inf", "-inf" or "nan" (never the 300
-/// digits std::to_string gives DBL_MAX).
-inline std::string number_text(double x) {
-  if (std::isnan(x)) return "nan";
+/// A number for a message: 6 significant digits (or `digits`), "inf", "-inf" or "nan" (never
+/// the 300 digits std::to_string gives DBL_MAX, never "-nan").
+inline std::string number_text(double x, int digits = 6) {
+  if (std::isnan(x)) return "nan";  // never printf's "-nan"
   if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", x);
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", digits, x);
   return text;
 }
 

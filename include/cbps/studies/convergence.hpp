@@ -119,8 +119,12 @@ ConvergenceSample measure(const ConvergenceSystem& s,
 ConvergenceRun run_iterative(const ConvergenceSystem& s,
                              const SolverSpec& spec,
                              const ConvergenceLimits& limits);
-/// An exact spec (direct, active set, Lemke) from lambda = 0: one point.
-ConvergenceRun run_exact(const ConvergenceSystem& s, const SolverSpec& spec);
+/// An exact spec (direct, active set, Lemke) from lambda = 0: one point, stopped by its own
+/// termination, or "residual tolerance" where it stopped short of its floor within the limits'
+/// tolerance.
+ConvergenceRun run_exact(const ConvergenceSystem& s,
+                         const SolverSpec& spec,
+                         const ConvergenceLimits& limits);
 /// A peer (siconos:NAME, bullet:NAME) from lambda = 0 with the limits' iterations and
 /// tolerance: the guess and its final point, marked final_point_only (none of them hands out its
 /// iterates), with its conversion and solve time.
