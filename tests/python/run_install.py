@@ -92,6 +92,27 @@ def top_entries(folder):
     return sorted(p.name for p in folder.iterdir()) if folder.is_dir() else []
 
 
+def run_notebook_in(python, source, scratch, site):
+    """The worked example's notebook run in a Jupyter kernel of the environment, as
+    docs/python.md ("Jupyter") tells a reader: the environment registered as a kernel
+    (`python -m ipykernel install`, here under SCRATCH/jupyter instead of ~/.local) and chosen
+    by name, no PYTHONPATH; the notebook's added last cell asserts that cbps came from `site`.
+    Debian's own python3 kernel would not see a module installed into the environment."""
+    for module in ("nbclient", "nbformat", "ipykernel"):
+        if importlib.util.find_spec(module) is None:
+            print(f"the notebook from the environment SKIPPED: no module {module} (Debian: "
+                  "python3-nbclient, python3-ipykernel; scripts/setup.sh)")
+            return
+    prefix = scratch / "jupyter"
+    env = clean_env(PYTHONDONTWRITEBYTECODE="1")
+    run([python, "-m", "ipykernel", "install", "--prefix", prefix, "--name", "cbps-venv",
+         "--display-name", "Python (cbps)"], env=env, capture_output=True)
+    env["JUPYTER_PATH"] = str(prefix / "share" / "jupyter")
+    run([python, source / "tests" / "python" / "run_notebook.py",
+         source / "examples" / "worked_example.ipynb", scratch / "notebook",
+         "--kernel", "cbps-venv", "--module-under", os.path.realpath(site)], env=env)
+
+
 def pip_install(source, build, scratch, version):
     for module in ("venv", "pip", "wheel", "setuptools"):
         if importlib.util.find_spec(module) is None:  # found, not imported (they clash)
@@ -120,6 +141,7 @@ def pip_install(source, build, scratch, version):
     assert len(installed) == 1 and len(built) == 1, (installed, built)
     assert installed[0].read_bytes() == built[0].read_bytes(), "not the build folder's module"
     import_from(python, site, version, scratch, clean_env(PYTHONDONTWRITEBYTECODE="1"), "pip")
+    run_notebook_in(python, source, scratch, site)
 
     # The plain `pip install .`: with build isolation, pip installs pyproject.toml's
     # [build-system] requires (setuptools, wheel) into an environment of their own first. Offline

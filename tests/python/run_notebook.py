@@ -2,17 +2,28 @@
 """Runs examples/worked_example.ipynb headless, as a reader would run every cell in order, and
 fails if any cell raises (its last cell asserts that every check of worked_example.py passed).
 
-usage: run_notebook.py NOTEBOOK OUT_DIR
+usage: run_notebook.py NOTEBOOK OUT_DIR [--kernel NAME --module-under DIR]
 
-The notebook must be stored without outputs (a clean file in the repository). Exit 77 (CTest:
-skipped) with the reason when Debian's python3-nbclient or python3-ipykernel is missing."""
+The notebook must be stored without outputs (a clean file in the repository). With --kernel the
+cells run in that Jupyter kernel (default python3), and with --module-under a last cell (added
+in memory, not to the file) asserts that the kernel imported cbps from under DIR: how
+tests/python/run_install.py runs the notebook from a virtual environment registered as a kernel
+(docs/python.md, "Jupyter"). Exit 77 (CTest: skipped) with the reason when Debian's
+python3-nbclient or python3-ipykernel is missing."""
 import os
 import pathlib
 import sys
 
 
 def main():
-    notebook, out = pathlib.Path(sys.argv[1]).resolve(), pathlib.Path(sys.argv[2]).resolve()
+    import argparse
+    parser = argparse.ArgumentParser()
+    parser.add_argument("notebook")
+    parser.add_argument("out")
+    parser.add_argument("--kernel", default="python3")
+    parser.add_argument("--module-under")
+    args = parser.parse_args()
+    notebook, out = pathlib.Path(args.notebook).resolve(), pathlib.Path(args.out).resolve()
     try:
         import nbclient
         import nbformat
@@ -36,7 +47,13 @@ def main():
         if p)
     os.environ["PYDEVD_DISABLE_FILE_VALIDATION"] = "1"  # ipykernel's debugger: no warnings
     os.environ["MPLBACKEND"] = "module://matplotlib_inline.backend_inline"
-    client = nbclient.NotebookClient(nb, timeout=120, kernel_name="python3",
+    if args.module_under:
+        nb.cells.append(nbformat.v4.new_code_cell(
+            "import cbps, os\n"
+            f"assert os.path.realpath(cbps.__file__).startswith({args.module_under!r}), "
+            "cbps.__file__\n"
+            "print('cbps imported from', cbps.__file__)"))
+    client = nbclient.NotebookClient(nb, timeout=120, kernel_name=args.kernel,
                                      resources={"metadata": {"path": str(notebook.parent)}})
     try:
         client.execute()
