@@ -5,8 +5,8 @@
     /usr/bin/python3 tests/petsc/test_direct_mpi.py CBPS MODE DIR
 
 MODE is one of
-  solve      writes contact and chain folders with `cbps matrices` (a pyramid whose one island
-             needs the crossover, a 5-column stack of many islands, a chain of equality rows only,
+  solve      writes contact and chain folders with `cbps matrices` (two pyramids whose one
+             island needs the crossover, the base-20 one moving rows on one rank alone, a 5-column stack of many islands, a chain of equality rows only,
              a stack with CFM), solves each by `cbps lcp --solver direct` without mpirun (the
              serial path) and under mpirun at 1 and 2 ranks: exit 0, solved, `ranks` R, the
              residual the command reports equal to the one formed here from the folder's A, at
@@ -41,6 +41,9 @@ import test_tao as t  # noqa: E402
 
 PROBLEMS = {
     "pyramid": ["matrices", "pyramid", "--param", "base=10", "--step", "30"],
+    # 4,800 rows whose crossover moves rows on one rank only: before each rank agreed on whether
+    # w was stale, the ranks parted ways in a collective call and hung (issue 50).
+    "pyramid20": ["matrices", "pyramid", "--param", "base=20", "--step", "60"],
     "columns": ["matrices", "stack", "--param", "n=10", "--param", "columns=5", "--step", "1"],
     "chain": ["matrices", "chain", "--param", "n=300", "--step", "10"],
     "stack-cfm": ["matrices", "stack", "--param", "n=6", "--step", "20", "--cfm", "1e-5"],

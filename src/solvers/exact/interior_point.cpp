@@ -400,7 +400,7 @@ class BulkCrossover {
     const double epsilon_floor = options_.direct.epsilon_floor * k_.max_diagonal;
     for (;; ++out_.rounds) {
       // w at λ: the proximal step leaves it current unless putting rows at their bounds moved λ.
-      if (w_stale_) update_w(lambda_, w_);
+      if (any_stale()) update_w(lambda_, w_);
       w_stale_ = false;
       out_.residual = all_.max(natural_map_residual(w_, lambda_, rows_.cmin, rows_.cmax));
       const double floor = residual_floor_of(rows_.row_sum, k_.b_norm, all_.max(max_abs(lambda_)));
@@ -451,6 +451,13 @@ class BulkCrossover {
     w_stale_ = true;
   }
 
+  /// Whether any process's λ moved since w was formed: w_stale_ is set by each process for its
+  /// own rows (at_place), and update_w's product with A is collective, so every process must
+  /// take the same branch. (Without this reduction, one rank formed w while the other went on to
+  /// factor: `mpirun -n 2 cbps lcp FOLDER --solver direct` on the base-20 pyramid after 60 steps
+  /// hung, each rank waiting in a different collective call.)
+  bool any_stale() const { return !all_.all(!w_stale_); }
+
   /// w = A x − b.
   void update_w(const VecX& x, VecX& w) const {
     newton_.times_A(x, w);
@@ -500,7 +507,7 @@ class BulkCrossover {
     release_one_ = false;
     settled_ = true;
     for (int inner = 0; inner < kInnerRounds; ++inner) {
-      if (w_stale_) update_w(lambda_, w_);
+      if (any_stale()) update_w(lambda_, w_);
       w_stale_ = false;
       for (Eigen::Index i = 0; i < c_; ++i) {
         g_(i) = w_(i) + epsilon_ * (lambda_(i) - center_(i));
