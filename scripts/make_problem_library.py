@@ -39,6 +39,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 import scipy.io
@@ -158,6 +159,9 @@ def describe(A, b, cmin, cmax, lam):
     }
 
 
+STARTED = time.monotonic()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("cbps", help="the cbps binary")
@@ -205,12 +209,20 @@ def admit(entry, files, problems, excluded):
     excluded.append({"source": entry["source"], "reason": reason})
 
 
+def progress(what):
+    """A line on stderr for every problem made, with the time since the start: the library takes
+    seconds, and a silent command looks hung."""
+    print(f"make_problem_library: {time.monotonic() - STARTED:5.1f} s: {what}", file=sys.stderr,
+          flush=True)
+
+
 def build(cbps, work, quick):
     problems, excluded = [], []
     for scene, params, step, is_quick in SCENES:
         if quick and not is_quick:
             continue
         name = problem_name(scene, params, step)
+        progress(f"{name} (cbps matrices)")
         cmd = [cbps, "matrices", scene, "--step", str(step), "--out", os.path.join(work, name)]
         for k, v in params.items():
             cmd += ["--param", f"{k}={v}"]
@@ -238,6 +250,7 @@ def build(cbps, work, quick):
                 continue
             source = os.path.join(SICONOS, group, file)
             relative = os.path.relpath(source, ROOT)
+            progress(f"{group}/{file} (cbps lcp --solver direct)")
             target = os.path.join(work, "siconos", file)
             shutil.copyfile(source, target)
             direct = os.path.join(work, "siconos", stem + ".direct")

@@ -342,4 +342,50 @@ nlohmann::json threads_json() {
           {"openmp_threads", r.openmp_threads}};
 }
 
+namespace {
+std::string& invocation() {
+  static std::string text = "cbps";
+  return text;
+}
+
+/// `word` as a POSIX shell reads it back: as it is when it holds only safe characters, else in
+/// single quotes (a ' inside closed, escaped and reopened).
+std::string shell_quoted(const std::string& word) {
+  const bool safe = !word.empty() && word.find_first_not_of(
+                                         "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                         "0123456789-_./=:,+@%") == std::string::npos;
+  if (safe) return word;
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+}  // namespace
+
+const std::string& invocation_text() { return invocation(); }
+
+void set_invocation(int argc, const char* const* argv) {
+  std::string text = "cbps";
+  for (int i = 1; i < argc; ++i) text += " " + shell_quoted(argv[i]);
+  invocation() = text;
+}
+
+void step_to(Simulation& sim, long steps, const std::string& command, bool quiet) {
+  const auto start = std::chrono::steady_clock::now();
+  auto last = start;
+  for (long s = 0; s < steps; ++s) {
+    sim.step();
+    const auto now = std::chrono::steady_clock::now();
+    if (quiet || now - last <= std::chrono::seconds(2)) continue;
+    last = now;
+    std::fprintf(stderr,
+                 "cbps %s: stepping to step %ld: %ld/%ld (%.0f%%), %.1f s elapsed\n",
+                 command.c_str(),
+                 steps,
+                 s + 1,
+                 steps,
+                 100.0 * static_cast<double>(s + 1) / static_cast<double>(steps),
+                 std::chrono::duration<double>(now - start).count());
+  }
+}
+
 }  // namespace cbps::cli

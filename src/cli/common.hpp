@@ -13,6 +13,7 @@
 #include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
+#include "cbps/step/simulation.hpp"
 #include "cbps/system/system.hpp"
 
 namespace cbps::cli {
@@ -103,6 +104,16 @@ void apply_step_options(Scene& scene, const StepOptions& o);
 /// Number of steps from --steps, else --duration, else the scene's duration; InputError when
 /// the duration gives no step or more than kMaxSteps.
 long step_count(const Scene& scene, const StepOptions& o);
+
+/// The command line this process was started with, as a command a reader can type again:
+/// "cbps" and its arguments, each quoted for a POSIX shell where it needs it (set by main).
+const std::string& invocation_text();
+void set_invocation(int argc, const char* const* argv);
+
+/// Steps `sim` `steps` times (to the step a command studies), with a progress line on stderr
+/// every 2 s ("cbps COMMAND: stepping to step N: k/N (p%), s elapsed") unless `quiet`: a
+/// command that steps for long before its work is not silent.
+void step_to(Simulation& sim, long steps, const std::string& command, bool quiet = false);
 
 /// The threads the libraries run with (set_threads, from --threads) as summaries report them:
 /// {"requested", "blas", "blas_kind", "blas_threads", "openmp_threads"}.

@@ -71,7 +71,7 @@ ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
       !takes_cone_law(scene.solver.method, scene.world.cone == ConeLaw::Coulomb))
     scene.solver.method = Method::Direct;
   Simulation sim(scene);
-  for (long k = 0; k < o.at_step; ++k) sim.step();
+  step_to(sim, o.at_step, "converge", o.quiet);
   const System sys = sim.build_system();  // with A, whatever the scene's method reads
   return convergence_system(o.scene.scene, o.at_step, sys, scene.solver.cfm, sim.last_lambda(sys));
 }

@@ -235,7 +235,8 @@ void write_page(const Scene& scene, const Simulation& sim, long at_step, const s
   std::vector<std::string> bodies;
   for (int body : shown.body_of_block)
     bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
-  const TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
+  TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
+  step.command = invocation_text();
   write_output_file(html, "--html " + html, teaching_page_html(step));
   std::printf("%s, step %ld: %s, %s; wrote %s\n",
               scene.name.c_str(),
@@ -255,7 +256,7 @@ int explain_command(const ExplainOptions& o) {
                       o.force || is_teaching_page(o.html),
                       "it is not a page cbps wrote; --force replaces it");
   Simulation sim(scene);
-  for (long s = 0; s < o.at_step; ++s) sim.step();
+  step_to(sim, o.at_step, "explain");
   if (!o.html.empty()) {
     write_page(scene, sim, o.at_step, o.html);
     return 0;

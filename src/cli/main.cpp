@@ -76,6 +76,7 @@ int run(int argc, char** argv) {
                      "every core) (default: 1)")
         ->check(CLI::Range(0, 1024));
   }
+  cbps::cli::set_invocation(argc, argv);
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {

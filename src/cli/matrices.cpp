@@ -159,7 +159,7 @@ int matrices_command(const MatricesOptions& o) {
   }
   OutputDir dir(o.out);
   Simulation sim(scene);
-  for (long s = 0; s < o.at_step; ++s) sim.step();
+  step_to(sim, o.at_step, "matrices", o.quiet);
   const System sys = sim.build_system();
   // lambda by the exact path (to its rounding floor), with the scene's cfm and, with Coulomb
   // friction, iterated to the fixed point of the bounds, as the step itself would.

@@ -938,8 +938,11 @@ void Page::residual_per_sweep(const TeachingSystem& t, const std::string& id) {
 }
 
 void Page::footer() {
-  o_ << "<footer><p class=\"note\">Written by <code>cbps explain " << html_escape(s_.scene)
-     << " --step " << s_.step << " --html</code>. Tables give way to pictures and counts above "
+  const std::string command = !s_.command.empty() ? s_.command
+                                                  : "cbps explain " + s_.scene + " --step " +
+                                                        std::to_string(s_.step) + " --html FILE";
+  o_ << "<footer><p class=\"note\">Written by <code>" << html_escape(command)
+     << "</code>, which writes it again. Tables give way to pictures and counts above "
      << l_.dense_rows << " rows (J's table also above " << 6 * l_.dense_bodies
      << " columns); eigenvalues are computed up to " << l_.eigen_rows
      << " rows. Equation numbers are those of Tamis &amp; Maggiore (2015).</p></footer>\n"

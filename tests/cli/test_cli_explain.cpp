@@ -329,6 +329,27 @@ TEST_CASE("cbps explain --html writes the teaching page atomically, labels as --
   CHECK(files == 1);
 }
 
+TEST_CASE("the teaching page names the command that writes it again, every option included",
+          "[cli][explain][html]") {
+  // Issue 50, item 13: `explain chain --param n=2 --html` printed a command without n=2, and a
+  // scene file was named as its scene's name.
+  const auto dir = scratch_dir("explain_html_command");
+  const auto page = dir / "a page.html";
+  const CliResult r = run_cli("explain chain --param n=2 --param mass_ratio=10 --step 3 --html '" +
+                              page.string() + "'");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(slurp(page).find("<code>cbps explain chain --param n=2 --param mass_ratio=10 --step 3 "
+                         "--html &#39;" +
+                         page.string() + "&#39;</code>") != std::string::npos);
+  const std::filesystem::path scene =
+      std::filesystem::path(CBPS_SOURCE_DIR) / "scenes" / "two-link-chain.json";
+  const auto from_file = dir / "file.html";
+  REQUIRE(run_cli("explain " + scene.string() + " --html " + from_file.string()).code == 0);
+  CHECK(slurp(from_file).find("<code>cbps explain " + scene.string() + " --html " +
+                              from_file.string() + "</code>") != std::string::npos);
+}
+
 TEST_CASE("cbps explain --html: bad input exits 2 naming it and leaves the old file",
           "[cli][explain][html]") {
   const auto dir = scratch_dir("explain_html_bad");

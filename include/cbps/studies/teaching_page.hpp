@@ -81,6 +81,9 @@ struct TeachingStep {
   std::vector<std::string> columns;     ///< J's column labels, "<body>.vx" … "<body>.wz"
   std::vector<std::string> bodies;      ///< the movable bodies' names, one per column block
   std::vector<TeachingSystem> systems;  ///< one, or two under the improved push (8.1)
+  /// The command that writes this page again, as it was typed ("cbps explain chain --param n=2
+  /// --html page.html"): shown on the page. Empty: "cbps explain SCENE --step K --html FILE".
+  std::string command;
 };
 
 /// Solves the current system of `sim` as its step would (same guess, method and settings) and
