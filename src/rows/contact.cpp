@@ -16,6 +16,16 @@ double row_velocity(const Row& row, const std::vector<Body>& bodies) {
   return part(row.body_a, row.j_a) + part(row.body_b, row.j_b);  // j_c v1 (8.2.1)
 }
 
+std::string point_label(const Manifold& manifold,
+                        const ContactPoint& point,
+                        const std::vector<Body>& bodies) {
+  std::size_t k = 0;  // the point's place in the manifold (by address, else by id)
+  while (k < manifold.points.size() && &manifold.points[k] != &point &&
+         manifold.points[k].id != point.id)
+    ++k;
+  return pair_label(manifold, bodies) + " point " + std::to_string(k);
+}
+
 std::string pair_label(const Manifold& manifold, const std::vector<Body>& bodies) {
   std::string s = bodies[static_cast<std::size_t>(manifold.a)].name;
   s.push_back('-');
@@ -39,10 +49,7 @@ Row contact_row(const Manifold& manifold,
       RowKind::Contact, bodies, manifold.a, point.p, manifold.b, point.p, manifold.n);  // (5.3)
   row.cmin = 0.0;                                                                       // push only
   row.cmax = kInf;
-  row.label = "contact ";
-  row.label.append(pair_label(manifold, bodies));
-  row.label.append(" #");
-  row.label.append(std::to_string(point.feature));
+  row.label = "contact " + point_label(manifold, point, bodies);
   row.id = contact_row_id(manifold.a, manifold.b, point.id, 0);
   return row;
 }

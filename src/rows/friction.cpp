@@ -39,11 +39,7 @@ Row friction_row(const Manifold& manifold,
       RowKind::Friction, bodies, manifold.a, point.p, manifold.b, point.p, t);  // (5.4)
   row.cmin = -bound;
   row.cmax = bound;
-  row.label = "friction ";
-  row.label.append(pair_label(manifold, bodies));
-  row.label.append(" #");
-  row.label.append(std::to_string(point.feature));
-  row.label.append(k == 1 ? " t1" : " t2");
+  row.label = "friction " + point_label(manifold, point, bodies) + (k == 1 ? " t1" : " t2");
   row.id = contact_row_id(manifold.a, manifold.b, point.id, k);
   return row;
 }

@@ -37,6 +37,14 @@ double contact_push(double depth, double beta, double dt);
 /// The pair's body names "a-b", for the labels of its contact and friction rows.
 std::string pair_label(const Manifold& manifold, const std::vector<Body>& bodies);
 
+/// "a-b point K": the pair and the point's place K (0-based) in its manifold, the part of a
+/// contact row's label ("contact a-b point K") and its friction rows' ("friction a-b point K
+/// t1"). Readable on a page and distinct within a step; the point's identity from step to step
+/// is its row id (contact_row_id), not its label.
+std::string point_label(const Manifold& manifold,
+                        const ContactPoint& point,
+                        const std::vector<Body>& bodies);
+
 /// The row id of a contact (k = 0) or friction (k = 1, 2) row: the pair, the point's id
 /// (ContactPoint::id) and k, hashed so that a point keeps its rows' ids from step to step
 /// (warm starting, 7).
