@@ -123,7 +123,9 @@ def _targets(src):
 def _budget(src):
     j = _cones(src)
     return (f"{dur(need(j, 'wall_time_s', where=CONES))} on {j['nproc']} cores, {j['date']}, "
-            f"cbps {j['cbps_commit']}, Siconos' solvers limited to {dur(j['siconos_timeout_s'])}")
+            f"cbps {j['cbps_commit']}, Siconos' solvers limited to {dur(j['siconos_timeout_s'])}"
+            + "".join(f"; {r['entry']} rerun alone on cbps {r['cbps_commit']}, {r['date']}"
+                      for r in j.get("regenerated", [])))
 
 
 BOX_CONE = "validation/results/box-cone/box_vs_cone.json"

@@ -124,4 +124,10 @@ def _budget(src):
             f"{dur(need(p, 'wall_time_s', where=PEERS))} (`cbps profile`), and "
             f"{len(e['problems'])} problems × {len(e['solvers'])} solvers in {dur(exact_s)} "
             f"(`cbps lcp`); {dur(need(j, 'wall_time_s', where=PEERS))} in all on "
-            f"{j['nproc']} cores, {j['date']}, cbps {j['cbps_commit']}")
+            f"{j['nproc']} cores, {j['date']}, cbps {j['cbps_commit']}{_rerun(j)}")
+
+
+def _rerun(j):
+    """The entries rerun alone since (scripts/check_results_drift.py found them drifted)."""
+    return "".join(f"; {r['entry']} rerun alone on cbps {r['cbps_commit']}, {r['date']}"
+                   for r in j.get("regenerated", []))
