@@ -10,6 +10,9 @@ Writes OUT_PREFIX.png (dpi 150) and OUT_PREFIX.svg atomically. Panels: the natur
 residual vs sweeps and vs wall time; below them, when the CSV has them, the lambda error and
 the v2 error vs sweeps.
 
+An exact method (direct, active-set, lemke) is drawn as a star at its one point, a peer
+(siconos:NAME, bullet:NAME: it reports only its final point) as a diamond there, in both the
+sweeps and the time panels; never as a line from the guess.
 A solver diverges when a value turns non-finite or its last residual is more than DIVERGED
 times its first: its legend entry says "diverged", its last finite point is marked with an x
 (a ^ on the top edge where it leaves the plot), and the y axes span only the converging
@@ -125,6 +128,17 @@ def y_range(data, column, x_column, converging):
     return lo / 3.0, hi * 3.0
 
 
+def is_peer(name):
+    """Siconos' and Bullet's solvers (cbps converge runs them as peers): their final point only."""
+    return name.startswith(("siconos:", "bullet:"))
+
+
+def final_point_only(name):
+    """The methods whose run is one point: the exact ones (direct, active-set, lemke) and the
+    peers."""
+    return is_peer(name) or name.split(":")[0] in ("direct", "active-set", "lemke")
+
+
 def draw(ax, data, column, x_column, colors, status, ylim):
     """One panel: column (2 residual, 3 lambda error, 4 v2 error) against x_column (0 sweeps,
     1 time). Returns True if anything was drawn."""
@@ -135,11 +149,14 @@ def draw(ax, data, column, x_column, colors, status, ylim):
         ok = drawable(y) & np.isfinite(x)
         if x_column == 1:
             ok &= x > 0  # time 0 cannot sit on a log axis
-        if name.startswith("direct"):
-            # Direct solve: one row = total iterations and time; draw a star.
+        if final_point_only(name):
+            # An exact method (one row: its iterations and time) is a star; a peer, which
+            # reports only where it ended, a diamond at that point: never a line from the guess,
+            # which it never reported passing through. Both in the time panel too.
             x, y, ok = x[-1:], y[-1:], ok[-1:]
             if np.any(ok):
-                ax.plot(x[ok], y[ok], marker="*", markersize=14, color=color,
+                ax.plot(x[ok], y[ok], marker="*" if not is_peer(name) else "D",
+                        markersize=14 if not is_peer(name) else 8, color=color,
                         markeredgecolor="k", linestyle="none")
                 drew = True
             continue
@@ -222,7 +239,7 @@ def plot(data, present, title, sweeps="auto"):
             label += ")"
         elif np.any(a[:, 2] == 0):
             label += " (reaches 0)"
-        marker = "*" if name.startswith("direct") else None
+        marker = ("D" if is_peer(name) else "*") if final_point_only(name) else None
         handles.append(plt.Line2D([], [], color=colors[name], marker=marker,
                                   linestyle="none" if marker else "-", label=label))
     axes[0][0].legend(handles=handles, fontsize="small")
