@@ -14,11 +14,40 @@
 #include <string>
 #include <vector>
 
+#include "cbps/solvers/peers/peers.hpp"
 #include "fixture.hpp"
 
 using cbps::test::run_cli;
 using cbps::test::scratch_dir;
 using cbps::test::slurp;
+
+TEST_CASE("a run whose method fails its steps says so: a warning, exit 1 under --check-tolerance",
+          "[cli][run][peers]") {
+  // Issue 50, item 5: `run stack --solver bullet:dantzig` sank the stack 4.82 m and exited 0
+  // without a word (Dantzig's method returns false on every step of it).
+  if (!cbps::peer_available(cbps::Method::BulletDantzig)) {
+    WARN("this build has no Bullet: not tested");
+    return;
+  }
+  const auto r = run_cli("run stack --param n=3 --steps 5 --solver bullet:dantzig --json");
+  INFO(r.err);
+  REQUIRE(r.code == 0);  // a warning: the run itself completed
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["steps_with_rows"] == 5);
+  CHECK(j["steps_method_failed"] == 5);
+  REQUIRE(j["warnings"].size() == 1);
+  CHECK(j["warnings"][0].get<std::string>().rfind("the method failed 5 of 5 steps with rows "
+                                                  "(every one), the first step 0: bullet:dantzig",
+                                                  0) == 0);
+  CHECK(r.err.find("cbps run: warning: the method failed 5 of 5 steps") != std::string::npos);
+  // Asked to be strict, it fails; the scene's own PGS does not warn.
+  CHECK(run_cli("run stack --param n=3 --steps 5 --solver bullet:dantzig --check "
+                "--check-tolerance 1e9")
+            .code == 1);
+  const auto pgs = run_cli("run stack --param n=3 --steps 5 --json");
+  REQUIRE(pgs.code == 0);
+  CHECK(nlohmann::json::parse(pgs.out)["warnings"].empty());
+}
 
 TEST_CASE("cbps run keeps the steps before a divergence and exits 1", "[stress][divergence][cli]") {
   const auto dir = scratch_dir("diverge");
