@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cbps/base/error.hpp"
+#include "cbps/solvers/exact/direct.hpp"
 
 namespace cbps {
 
@@ -28,7 +29,8 @@ double move_bounds(const CoulombRows& coulomb, const VecX& lambda, VecX& cmin, V
 
 /// The fixed point for the direct path: solve the boxed problem, move the bounds, again, until
 /// lambda solves the box its own normal rows give (5.4): its natural-map residual under the
-/// bounds moved to it no larger than the solve's own (or the bounds stop moving). A sticking
+/// bounds moved to it at most the rounding floor, 1e-12 max(1, ‖b‖∞), or the residual of a solve
+/// that reached its floor (or the bounds stop moving). A sticking
 /// contact's friction rows lie inside their box, so a move of the bounds that keeps them inside
 /// changes nothing: a 1 kg cube resting on a 20° incline (four points, their normal forces not
 /// unique) is a fixed point after one solve, where waiting for the bounds to stop moving took
@@ -46,17 +48,21 @@ SolverSummary direct_fixed_point(const BoxedProblem& bounded,
   int rounds = 0;
   double change = kInf;
   bool fixed = false;
-  double solved_to = 0.0;  // the last solve's own residual, N
+  double solved_to = 0.0;  // the last solve's own residual where it reached its floor, N
+  const auto floor_of = [&](const VecX& l) { return residual_floor(bounded, l); };
   while (rounds < 100) {
     change = move_bounds(coulomb, lambda, cmin, cmax);
-    if (rounds > 0 && (change <= 1e-12 * scale || natural_map_residual(bounded, lambda) <=
-                                                      std::max(solved_to, 1e-12 * scale))) {
+    // λ solves the box of its own bounds as well as a solve that reached its floor solved its
+    // box (a solve that stopped short is no such measure: then the rounds go on).
+    if (rounds > 0 &&
+        (change <= 1e-12 * scale || natural_map_residual(bounded, lambda) <=
+                                        std::max({solved_to, 1e-12 * scale, floor_of(lambda)}))) {
       fixed = true;
       break;
     }
     const SolverSummary s = solve(bounded, lambda, options);
     ++rounds;
-    solved_to = s.residual;
+    solved_to = s.termination == Termination::Direct ? s.residual : 0.0;
     total.iterations += s.iterations;
     total.factorizations += s.factorizations;
     total.pivots += s.pivots;
@@ -70,6 +76,11 @@ SolverSummary direct_fixed_point(const BoxedProblem& bounded,
   if (!fixed && total.termination == Termination::Direct)
     total.termination = Termination::NotConverged;
   total.residual = natural_map_residual(bounded, lambda);  // A + eps E when cfm > 0
+  // At the fixed point λ's own residual is the verdict: within the tolerance, or the rounding
+  // floor, the solve reached it, whatever its last round's solve said of its own box.
+  if (fixed && total.termination == Termination::NotConverged &&
+      total.residual <= std::max(options.tolerance, residual_floor(bounded, lambda)))
+    total.termination = Termination::Direct;
   std::ostringstream msg;
   msg << "direct with Coulomb bounds: " << (fixed ? "fixed point" : "no fixed point") << " in "
       << rounds << " rounds (last bound change " << change << " N), " << total.factorizations
