@@ -497,6 +497,12 @@ int one_of(const Node& node, const char* first, const char* second, Vec3& value)
   return has(node, first) ? 1 : has(node, second) ? 2 : 0;
 }
 
+/// What a spin beyond the divergence guard's limit is told: "gives a spin of ... beyond ...".
+std::string beyond_spin(double spin, const World& world) {
+  return "gives a spin of " + number_text(spin) + " rad/s, beyond /world/divergence_spin (" +
+         number_text(world.divergence_spin) + " rad/s, where the divergence guard stops a run)";
+}
+
 /// The velocities a body is given (kind 1) or the momenta (kind 2; 0: neither), finite but
 /// beyond the divergence guard's limits (Simulation::step): refused by name, before any product
 /// of them overflows (a 1e200 m/s velocity).
@@ -515,20 +521,14 @@ void check_given_motion(const Node& node,
          "gives a speed of " + number_text(speed) + " m/s, beyond /world/divergence_speed (" +
              number_text(world.divergence_speed) + " m/s, where the divergence guard stops a run)");
   if (angular_kind == 1 && angular.stableNorm() > world.divergence_spin)
-    fail(child(node, "angular_velocity"),
-         "gives a spin of " + number_text(angular.stableNorm()) +
-             " rad/s, beyond /world/divergence_spin (" + number_text(world.divergence_spin) +
-             " rad/s, where the divergence guard stops a run)");
+    fail(child(node, "angular_velocity"), beyond_spin(angular.stableNorm(), world));
 }
 
 /// A movable body's spin from a given angular momentum, within the divergence guard's limit, and
 /// its energy, finite.
 void check_motion_range(const Node& node, const Body& body, const World& world) {
   if (body.omega().stableNorm() > world.divergence_spin)
-    fail(child(node, "angular_momentum"),
-         "gives a spin of " + number_text(body.omega().stableNorm()) +
-             " rad/s, beyond /world/divergence_spin (" + number_text(world.divergence_spin) +
-             " rad/s, where the divergence guard stops a run)");
+    fail(child(node, "angular_momentum"), beyond_spin(body.omega().stableNorm(), world));
   // The energy the run reports, ½ m v² + ½ ωᵀ I ω − m g·x (J): a position or mass far out of
   // range overflows it.
   const double energy = body.kinetic_energy() - body.m * world.gravity.dot(body.x);
