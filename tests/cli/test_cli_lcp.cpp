@@ -13,10 +13,12 @@
 #include <utility>
 #include <vector>
 
+#include "cbps/io/matrix_market.hpp"
 #include "fixture.hpp"
 
 namespace fs = std::filesystem;
 
+using namespace cbps;
 using namespace cbps::test;
 
 namespace {
@@ -564,4 +566,32 @@ TEST_CASE("cbps lcp and converge read an FCLIB file: nsgs, direct, --cone, the c
   const CliResult no_cones = run_cli("lcp " + m.string() + " --cone ccp");
   CHECK(no_cones.code == 2);
   CHECK(no_cones.err.find("no contacts in friction cones") != std::string::npos);
+}
+
+TEST_CASE(
+    "a folder on cones with a non-symmetric A: nsgs by default, direct refused without a "
+    "circular hint",
+    "[cli][lcp][cones]") {
+  // Issue 50, item 8 and 11: the default on cones is direct only where A is symmetric (it
+  // solves the QP of 6.2); elsewhere nsgs, and direct's refusal names what takes any A (it
+  // named lemke, which refuses cones). A is made non-symmetric by hand, J and Minv removed so
+  // that A alone is the problem.
+  const auto dir = scratch_dir("lcp_cones_asymmetric");
+  const fs::path folder = dir / "slide";
+  REQUIRE(run_cli("matrices slide --param friction=cone --step 5 --quiet --out " + folder.string())
+              .code == 0);
+  fs::remove(folder / "J.mtx");
+  fs::remove(folder / "Minv.mtx");
+  SpMat A = read_matrix_market_sparse((folder / "A.mtx").string());
+  A.coeffRef(1, 0) += 1e-3 * A.coeff(0, 0);  // max |A - A^T| far above round-off
+  write_matrix_market((folder / "A.mtx").string(), A, "A made non-symmetric by the test");
+  const CliResult by_default = run_cli("lcp " + folder.string() + " --json --iterations 1000");
+  INFO(by_default.err);
+  REQUIRE(!by_default.out.empty());
+  CHECK(nlohmann::json::parse(by_default.out).at("solver") == "nsgs");
+  const CliResult direct = run_cli("lcp " + folder.string() + " --solver direct");
+  CHECK(direct.code == 2);
+  CHECK(direct.err.find("needs a symmetric A") != std::string::npos);
+  CHECK(direct.err.find("--solver nsgs") != std::string::npos);
+  CHECK(direct.err.find("lemke") == std::string::npos);
 }
