@@ -73,8 +73,6 @@ struct LcpOptions {
 /// object carries.
 constexpr long kMaxGatheredRows = 100000;
 
-std::string format_number(double x) { return number_text(x); }
-
 /// What the distributed path adds to its LcpOutcome: it measures the residual itself and says
 /// more in the JSON object.
 struct OutcomeExtras {
@@ -118,10 +116,10 @@ int report(const LcpOptions& o,
                 v.status.c_str(),
                 r.iterations,
                 r.pivots ? "pivots" : "iterations",
-                format_number(wall).c_str());
+                number_text(wall).c_str());
     std::printf("residual %s (natural map, infinity norm; scale %s)\n",
-                format_number(v.residual).c_str(),
-                format_number(v.scale).c_str());
+                number_text(v.residual).c_str(),
+                number_text(v.scale).c_str());
     std::printf("%s\n", r.message.c_str());
     if (!v.peer_disagrees.empty()) std::printf("%s\n", v.peer_disagrees.c_str());
     if (v.cone)
@@ -130,10 +128,10 @@ int report(const LcpOptions& o,
           "%s, FCLIB merit %s\n",
           std::string(to_string(p.stored->cones.law)).c_str(),
           p.stored->cones.contacts(),
-          format_number(v.cone->signorini).c_str(),
-          format_number(v.cone->violation).c_str(),
-          format_number(v.cone->dissipation).c_str(),
-          format_number(v.cone->fclib_merit).c_str());
+          number_text(v.cone->signorini).c_str(),
+          number_text(v.cone->violation).c_str(),
+          number_text(v.cone->dissipation).c_str(),
+          number_text(v.cone->fclib_merit).c_str());
     if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
     if (v.solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }
@@ -299,6 +297,7 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
         {{"base", std::to_string(pyramid_base_for(rows))}}, session.rank(), session.size());
   }
   if (!fs::exists(o.problem, ec)) throw InputError(o.problem + ": no such file or folder");
+  if (fs::is_directory(o.problem, ec)) refuse_cones(o, distributed_solver_name(o));
   if (is_distributed_direct(o)) {
     if (!fs::is_directory(o.problem, ec))
       throw InputError("--solver direct under mpirun: " + o.problem +
@@ -306,12 +305,10 @@ distributed::LocalSystem local_rows(const LcpOptions& o,
                        "space and reads J and Minv by rows (a Siconos or FCLIB file has "
                        "neither); without mpirun, `cbps lcp " +
                        o.problem + " --solver direct` solves it on one process");
-    refuse_cones(o, distributed_solver_name(o));
     kind = "cbps matrices folder, J and Minv read by rows";
     return distributed::read_folder_factors(o.problem, session.rank(), session.size());
   }
   if (fs::is_directory(o.problem, ec)) {
-    refuse_cones(o, distributed_solver_name(o));
     kind = "cbps matrices folder, read by rows";
     return distributed::read_folder_rows(o.problem, session.rank(), session.size());
   }
@@ -409,8 +406,7 @@ int report_tao(const LcpOptions& o,
   r.iterations = t.iterations;
   r.space_reason = "none: TAO " + at.type + " factors no Newton system";
   r.message = "TAO " + at.type + ": " + t.reason + " (" + t.stop + "), TAO's measure " +
-              format_number(t.tao_residual) + " (gatol " + format_number(o.tolerance) + "), " +
-              ranks;
+              number_text(t.tao_residual) + " (gatol " + number_text(o.tolerance) + "), " + ranks;
   OutcomeExtras extras;
   extras.residual = t.residual;
   extras.fields["tao"] = {{"type", at.type},
