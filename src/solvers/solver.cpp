@@ -114,7 +114,9 @@ namespace {
 /// cmin = 0 and cmax = +inf, else the boxed one), verified on the problem itself: Direct when
 /// the natural-map residual is ≤ kLcpSolvedTolerance · scale_of (6.2). A ray termination whose
 /// last point passes that check is a solution, and is reported as one, with the ray named.
-SolverSummary solve_lemke_method(const BoxedProblem& problem, VecX& lambda) {
+SolverSummary solve_lemke_method(const BoxedProblem& problem,
+                                 VecX& lambda,
+                                 const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const long c = problem.rows();
   if (c > kMaxDenseLemkeRows)
@@ -124,8 +126,9 @@ SolverSummary solve_lemke_method(const BoxedProblem& problem, VecX& lambda) {
   const MatX M = MatX(problem.A);
   const VecX q = -problem.b;
   const bool standard = (problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all();
-  const LcpResult r =
-      standard ? solve_lemke(M, q) : solve_boxed_lemke(M, q, problem.cmin, problem.cmax);
+  const LcpResult r = standard
+                          ? solve_lemke(M, q, options.deadline)
+                          : solve_boxed_lemke(M, q, problem.cmin, problem.cmax, options.deadline);
   lambda = r.z.size() == c ? r.z : VecX::Zero(c);
   SolverSummary s;
   s.iterations = r.pivots;
@@ -187,7 +190,7 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
     case Method::Shock:
       return solve_shock(problem, lambda, options, options.methods.shock);
     case Method::Lemke:
-      return solve_lemke_method(problem, lambda);
+      return solve_lemke_method(problem, lambda, options);
     case Method::Nsgs:
       return solve_nsgs(problem, lambda, options);
     case Method::SiconosLemke:
@@ -281,7 +284,39 @@ SolverSummary solve_split(const BoxedProblem& problem, VecX& lambda, const Solve
 
 }  // namespace
 
+namespace {
+/// solve() under its deadline, if any.
+SolverSummary solve_posed(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
+}  // namespace
+
+bool past_deadline(const SolverOptions& options) {
+  return options.deadline != std::chrono::steady_clock::time_point::max() &&
+         std::chrono::steady_clock::now() >= options.deadline;
+}
+
 SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  if (options.time_limit > 0.0 &&
+      options.deadline == std::chrono::steady_clock::time_point::max()) {
+    // One deadline for this solve and every solve inside it (solve_posed may call solve again).
+    SolverOptions timed = options;
+    timed.deadline = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                         std::chrono::duration<double>(options.time_limit));
+    SolverSummary s = solve_posed(problem, lambda, timed);
+    // An exact path stops at its next iteration past the deadline with its best lambda: short of
+    // its tolerance because of the limit, not of the method.
+    if (s.termination == Termination::NotConverged && past_deadline(timed)) {
+      s.termination = Termination::TimeLimit;
+      s.message += "; stopped at the time limit of " + number_text(options.time_limit) + " s";
+    }
+    return s;
+  }
+  return solve_posed(problem, lambda, options);
+}
+
+namespace {
+
+SolverSummary solve_posed(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
   if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
     // Every method with an explicit A solves A + eps E; the matrix-free sweep puts eps on its
     // own diagonal.
@@ -352,5 +387,7 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
   }
   return solve_split(problem, lambda, options);
 }
+
+}  // namespace
 
 }  // namespace cbps

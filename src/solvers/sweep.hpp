@@ -81,9 +81,10 @@ SolverSummary iterate_sweeps(
       s.termination = Termination::NonFinite;
       break;
     }
-    if (options.time_limit > 0.0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
-            options.time_limit) {
+    if (past_deadline(options) ||
+        (options.time_limit > 0.0 &&
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >=
+             options.time_limit)) {
       s.termination = Termination::TimeLimit;
       s.residual = residual(lambda);
       if (options.tolerance > 0.0 && s.residual <= options.tolerance)

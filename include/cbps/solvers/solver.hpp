@@ -21,6 +21,7 @@
 //   peers/peers.hpp      the field's own solvers as methods: Siconos numerics and Bullet
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -251,10 +252,19 @@ struct SolverOptions {
   /// The parameters of the methods that have their own (method_settings.hpp).
   MethodSettings methods;
   /// Wall-clock bound on one solve, s; 0: none. The sweeping methods stop after the sweep that
-  /// passes it (Termination::TimeLimit, their lambda the last sweep's); a Siconos peer's child
-  /// process is killed at it (lambda stays the guess: Siconos reports no point before its end).
+  /// passes it (Termination::TimeLimit, their lambda the last sweep's); the exact paths
+  /// (interior point, crossover, active set, Lemke's pivots, the cone stages, the Coulomb fixed
+  /// point) at their next iteration, with their best lambda; a peer's child process is killed at
+  /// it (lambda stays the guess: a peer reports no point before its end).
   double time_limit = 0.0;
+  /// time_limit as a point in time: set by solve() on entry, kept by the solves it makes
+  /// inside (a Coulomb fixed point's rounds, an island's solve) so that one limit bounds them all.
+  /// The default, time_point::max(): none.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
 };
+
+/// True once options.deadline has passed (never when solve() set none).
+bool past_deadline(const SolverOptions& options);
 
 /// Why a solver stopped. NotConverged: the direct path stopped short of its own tolerance (an
 /// inconsistent or infeasible system, or stagnation); its best lambda is returned, with the

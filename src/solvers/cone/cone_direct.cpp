@@ -263,7 +263,11 @@ struct Counts {
   /// any was, "" before the first.
   std::string space;
   int body_factorizations = 0;  ///< interior factorizations in body space
-  bool spent() const { return factorizations >= kMaxFactorizations; }
+  /// SolverOptions::deadline: the stages stop at it as at their budget.
+  std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
+  bool spent() const {
+    return factorizations >= kMaxFactorizations || std::chrono::steady_clock::now() >= deadline;
+  }
 };
 
 /// E v − h (shift) or E v: each constraint's s of v (a bound's a (v_row − h), a cone's
@@ -803,6 +807,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
 
   const Setup S = make_setup(problem);
   Counts counts;
+  counts.deadline = options.deadline;
   const double proximal = options.direct.proximal;
   // The residual to reach at x: the tolerance, or the rounding floor where that is higher (in
   // units of x).
@@ -844,7 +849,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   }
   msg << "; residual " << summary.residual << " N (tolerance " << options.tolerance
       << " N, rounding floor " << floor << " N)";
-  if (!reached && counts.spent())
+  if (!reached && counts.factorizations >= kMaxFactorizations)
     msg << "; stopped at its budget of " << kMaxFactorizations << " factorizations";
   if (!reached && S.law.law == ConeLaw::Coulomb)
     msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "

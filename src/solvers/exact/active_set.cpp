@@ -149,7 +149,8 @@ class IslandSolver {
   }
 
  private:
-  /// OverBudget: the pivoting rounds of the whole solve passed max_rounds_.
+  /// OverBudget: the pivoting rounds of the whole solve passed max_rounds_, or the solve's
+  /// deadline passed (SolverOptions::time_limit).
   enum class Pivoting { Solved, Singular, Failed, OverBudget };
 
   Place initial_place(Eigen::Index i, double value) const {
@@ -238,6 +239,7 @@ class IslandSolver {
     for (long round = 0; round < limit; ++round) {
       ++rounds_;
       if (max_rounds_ >= 0 && rounds_ > max_rounds_) return Pivoting::OverBudget;
+      if (past_deadline(options_)) return Pivoting::OverBudget;
       F.clear();
       for (Eigen::Index i = 0; i < m; ++i) {
         if (place_[std::size_t(i)] == Place::Free) F.push_back(static_cast<int>(i));

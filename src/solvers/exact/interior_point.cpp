@@ -139,6 +139,8 @@ class InteriorPoint {
     for (VecX* x : {&v.dz, &v.dy, &v.dz_aff, &v.dy_aff, &v.cdl, &v.cz, &v.cy}) x->resize(c);
     double r_before = std::numeric_limits<double>::infinity();  // the last iteration's residual
     for (int it = 0; it < options_.direct.max_interior; ++it) {
+      // Past the deadline (SolverOptions::time_limit) on any process: the crossover from here.
+      if (!all_.all(!past_deadline(options_))) break;
       newton_.times_A(lambda, v.w);
       v.w -= rows_.b;
       double mu = 0.0;
@@ -422,7 +424,7 @@ class BulkCrossover {
           refactor_ = true;
         }
       } else if (out_.rounds >= options_.direct.max_outer_iterations ||
-                 !std::isfinite(out_.residual)) {
+                 !std::isfinite(out_.residual) || !all_.all(!past_deadline(options_))) {
         return best_residual_ < kInf ? (restore_best(), solved()) : out_;
       }
       // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free

@@ -196,7 +196,9 @@ double lcp_scale(const MatX& M, const VecX& q) {
   return s;
 }
 
-LcpResult solve_lemke(const MatX& M, const VecX& q) {
+LcpResult solve_lemke(const MatX& M,
+                      const VecX& q,
+                      std::chrono::steady_clock::time_point deadline) {
   check_sizes(M, q, "solve_lemke");
   const int n = static_cast<int>(q.size());
   const VecX lb = VecX::Zero(n);
@@ -250,6 +252,13 @@ LcpResult solve_lemke(const MatX& M, const VecX& q) {
       return result;
     }
     entering = tableau.complement(leaving);
+    if (std::chrono::steady_clock::now() >= deadline) {
+      evaluate(M, q, lb, ub, tableau.z_from_tableau(), result);
+      result.status = LcpResult::Status::Failed;
+      result.message =
+          "Lemke: stopped at the time limit after " + std::to_string(result.pivots) + " pivots";
+      return result;
+    }
   }
   evaluate(M, q, lb, ub, tableau.z_from_tableau(), result);
   result.status = LcpResult::Status::Failed;
@@ -272,7 +281,11 @@ LcpResult solve_lemke(const MatX& M, const VecX& q) {
 //        [ −Eᵀ      0 ]           [ ub − lb      ]   (over the m boxed rows)
 // M' is positive semidefinite whenever M is (the E blocks are skew), so for the paper's
 // A = J M⁻¹ Jᵀ Lemke's method always finds the solution.
-LcpResult solve_boxed_lemke(const MatX& M, const VecX& q, const VecX& lb, const VecX& ub) {
+LcpResult solve_boxed_lemke(const MatX& M,
+                            const VecX& q,
+                            const VecX& lb,
+                            const VecX& ub,
+                            std::chrono::steady_clock::time_point deadline) {
   check_sizes(M, q, "solve_boxed_lemke");
   const int n = static_cast<int>(q.size());
   if (lb.size() != n || ub.size() != n)
@@ -324,7 +337,7 @@ LcpResult solve_boxed_lemke(const MatX& M, const VecX& q, const VecX& lb, const 
     qbig(p + j) = ub(box_row[j]) - lb(box_row[j]);
   }
 
-  const LcpResult inner = solve_lemke(Mbig, qbig);
+  const LcpResult inner = solve_lemke(Mbig, qbig, deadline);
   LcpResult result;
   result.pivots = inner.pivots;
   const VecX zeta = inner.z.size() == p + m ? VecX(inner.z.head(p)) : VecX::Zero(p);

@@ -71,7 +71,7 @@ SolverSummary direct_fixed_point(const BoxedProblem& bounded,
     if (total.route.empty()) total.route = s.route;  // later rounds start from the round before
     total.singular = total.singular || s.singular;
     total.termination = s.termination;
-    if (!s.ok()) break;
+    if (!s.ok() || s.termination == Termination::TimeLimit || past_deadline(options)) break;
   }
   if (!fixed && total.termination == Termination::Direct)
     total.termination = Termination::NotConverged;

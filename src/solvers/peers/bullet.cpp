@@ -14,6 +14,8 @@
 #include <chrono>
 #include <memory>
 
+#include "child_process.hpp"
+
 static_assert(sizeof(btScalar) == sizeof(double),
               "cbps's Bullet peers need Bullet's double-precision build (BT_USE_DOUBLE_PRECISION)");
 
@@ -25,9 +27,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-}  // namespace
-
-PeerRun run_bullet(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+PeerRun run_here(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const int c = static_cast<int>(problem.rows());
   PeerRun run;
@@ -75,6 +75,16 @@ PeerRun run_bullet(const BoxedProblem& problem, VecX& lambda, const SolverOption
     run.iterations = iterations;
   for (int k = 0; k < c; ++k) lambda[k] = x[k];
   return run;
+}
+
+}  // namespace
+
+PeerRun run_bullet(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
+  // Bullet's solvers take no limit of time and cannot be interrupted: under one, they run in a
+  // child process killed at it; without one, here (no fork in a timed comparison).
+  if (options.time_limit > 0.0 || options.deadline != std::chrono::steady_clock::time_point::max())
+    return run_in_child(problem, lambda, options, run_here, "Bullet");
+  return run_here(problem, lambda, options);
 }
 
 }  // namespace cbps

@@ -5,7 +5,6 @@
 
 #ifdef CBPS_HAVE_SICONOS
 
-#include <poll.h>
 #include <siconos/numerics/FrictionContactProblem.h>
 #include <siconos/numerics/Friction_cst.h>
 #include <siconos/numerics/LCP_Solvers.h>
@@ -22,9 +21,6 @@
 #include <siconos/numerics/mlcp_cst.h>
 #include <siconos/numerics/relay_cst.h>
 #include <siconos/numerics/sn_error_handling.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -41,6 +37,7 @@
 #include <vector>
 
 #include "cbps/base/error.hpp"
+#include "child_process.hpp"
 
 /// Siconos' options (its global SolverOptions), apart from cbps's own.
 using SiconosOptions = ::SolverOptions;
@@ -343,164 +340,12 @@ PeerRun run_here(const BoxedProblem& problem, VecX& lambda, const SolverOptions&
   return run;
 }
 
-/// Writes all of `size` bytes; false on a broken pipe.
-bool write_all(int fd, const void* data, std::size_t size) {
-  const char* p = static_cast<const char*>(data);
-  while (size > 0) {
-    const ssize_t n = ::write(fd, p, size);
-    if (n <= 0) {
-      if (n < 0 && errno == EINTR) continue;
-      return false;
-    }
-    p += n;
-    size -= static_cast<std::size_t>(n);
-  }
-  return true;
-}
-
-/// What the child sends back: the fixed part, then the two texts and lambda.
-struct Reply {
-  int said_ok = 0;
-  int iterations = -1;
-  double convert_s = 0.0, solve_s = 0.0;
-  std::uint64_t status_size = 0, class_size = 0, rows = 0;
-};
-
-[[noreturn]] void child(
-    int fd, pid_t parent, const BoxedProblem& problem, VecX lambda, const SolverOptions& options) {
-  // The child ends with its parent, however the parent ends (Ctrl-C's cleanup, SIGTERM,
-  // SIGKILL): the kernel sends SIGKILL when the thread that forked it is gone; a parent gone
-  // before this line leaves the child to init, which getppid() then shows.
-  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (::getppid() != parent) std::_Exit(4);
-  ::dup2(2, 1);  // Siconos prints to stdout: keep cbps's own output (--json) whole
-  // The default action for every signal the parent may handle: an abort inside Siconos ends the
-  // child as SIGABRT (the parent reports it), and Ctrl-C's clean-up is the parent's alone.
-  for (const int sig : {SIGABRT, SIGSEGV, SIGFPE, SIGILL, SIGBUS, SIGINT, SIGTERM})
-    std::signal(sig, SIG_DFL);
-  PeerRun run;
-  try {
-    run = run_here(problem, lambda, options);
-  } catch (const std::exception& e) {
-    run.status = std::string("error: ") + e.what();
-  }
-  Reply r;
-  r.said_ok = run.said_ok ? 1 : 0;
-  r.iterations = run.iterations;
-  r.convert_s = run.convert_s;
-  r.solve_s = run.solve_s;
-  r.status_size = run.status.size();
-  r.class_size = run.problem_class.size();
-  r.rows = static_cast<std::uint64_t>(lambda.size());
-  const bool ok = write_all(fd, &r, sizeof r) &&
-                  write_all(fd, run.status.data(), run.status.size()) &&
-                  write_all(fd, run.problem_class.data(), run.problem_class.size()) &&
-                  write_all(fd, lambda.data(), sizeof(double) * lambda.size());
-  ::close(fd);
-  std::_Exit(ok ? 0 : 3);
-}
-
-/// Reads the child's reply from `fd` into `bytes` until the child closes its end; true when
-/// `time_limit` (s, from `started`; 0: none) passed first.
-bool read_reply(int fd,
-                std::chrono::steady_clock::time_point started,
-                double time_limit,
-                std::vector<char>& bytes) {
-  char buffer[1 << 16];
-  for (;;) {
-    if (time_limit > 0.0) {
-      const double left = time_limit - seconds_since(started);
-      if (left <= 0.0) return true;
-      pollfd p{fd, POLLIN, 0};
-      const int ready = ::poll(&p, 1, static_cast<int>(std::ceil(std::min(left, 3600.0) * 1e3)));
-      if (ready < 0 && errno == EINTR) continue;
-      if (ready == 0) continue;  // the loop's test of the time left ends it
-    }
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return false;
-    bytes.insert(bytes.end(), buffer, buffer + n);
-  }
-}
-
-/// How a child that sent no whole reply ended, in words.
-std::string how_it_ended(int status) {
-  if (WIFSIGNALED(status)) {
-    const int sig = WTERMSIG(status);
-    const char* name = sig == SIGABRT   ? "SIGABRT (an assertion or abort() inside Siconos)"
-                       : sig == SIGSEGV ? "SIGSEGV"
-                       : sig == SIGFPE  ? "SIGFPE"
-                                        : nullptr;
-    return "ended the process: signal " + std::to_string(sig) +
-           (name ? std::string(" ") + name : "");
-  }
-  if (WIFEXITED(status))
-    return "ended the process: exit(" + std::to_string(WEXITSTATUS(status)) +
-           ") inside Siconos (its message is on stderr)";
-  return "ended the process";
-}
-
 }  // namespace
 
 PeerRun run_siconos(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
   // Siconos can end the process it runs in: an assert() in its matrix code, exit() after a
-  // failed LAPACK call (measured: its MLCP Lemke on a chain, an LU of an empty block). It runs
-  // in a child process, which sends back lambda and its own word; the parent reports how the
-  // child ended when it sends nothing. Its conversion and solve are timed in the child.
-  int fds[2];
-  if (::pipe(fds) != 0) throw std::runtime_error("siconos: pipe() failed");
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t parent = ::getpid();
-  const auto started = std::chrono::steady_clock::now();
-  const pid_t pid = ::fork();
-  if (pid < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
-    throw std::runtime_error("siconos: fork() failed");
-  }
-  if (pid == 0) {
-    ::close(fds[0]);
-    child(fds[1], parent, problem, lambda, options);
-  }
-  ::close(fds[1]);
-  std::vector<char> bytes;
-  const bool timed_out = read_reply(fds[0], started, options.time_limit, bytes);
-  ::close(fds[0]);
-  if (timed_out) ::kill(pid, SIGKILL);
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  PeerRun run;
-  if (timed_out) {
-    run.timed_out = true;
-    run.status = "time limit: the child process was killed after " +
-                 number_text(options.time_limit) + " s (--time-limit)";
-    run.solve_s = seconds_since(started);
-    run.problem_class = to_string(peer_class(problem));
-    return run;  // lambda as it was: the guess
-  }
-  Reply r;
-  const bool exited = WIFEXITED(status) && WEXITSTATUS(status) == 0 && bytes.size() >= sizeof r;
-  if (exited) std::memcpy(&r, bytes.data(), sizeof r);
-  const std::size_t whole =
-      sizeof r + r.status_size + r.class_size + sizeof(double) * static_cast<std::size_t>(r.rows);
-  if (!exited || bytes.size() != whole || static_cast<long>(r.rows) != lambda.size()) {
-    run.status = how_it_ended(status);
-    run.problem_class = to_string(peer_class(problem));
-    return run;  // lambda as it was: the guess
-  }
-  const char* p = bytes.data() + sizeof r;
-  run.said_ok = r.said_ok != 0;
-  run.iterations = r.iterations;
-  run.convert_s = r.convert_s;
-  run.solve_s = r.solve_s;
-  run.status.assign(p, r.status_size);
-  p += r.status_size;
-  run.problem_class.assign(p, r.class_size);
-  p += r.class_size;
-  std::memcpy(lambda.data(), p, sizeof(double) * r.rows);
-  return run;
+  // failed LAPACK call (measured: its MLCP Lemke on a chain, an LU of an empty block).
+  return run_in_child(problem, lambda, options, run_here, "Siconos");
 }
 
 }  // namespace cbps

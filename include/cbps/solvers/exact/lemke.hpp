@@ -14,6 +14,7 @@
 //   lb_i < z_i < ub_i ⇒ w_i = 0 (for lb_i = ub_i, z_i = lb_i and w_i is free).
 #pragma once
 
+#include <chrono>
 #include <string>
 
 #include "cbps/base/types.hpp"
@@ -56,13 +57,22 @@ double lcp_scale(const MatX& M, const VecX& q);
 /// vector e = (1, …, 1), lexicographic minimum ratio test (no cycling on degenerate problems),
 /// pivot limit 100 n + 1000. Finds a solution whenever M is copositive-plus and the LCP is
 /// feasible, and for P-matrices always; for other M a ray termination (NoSolution) does not
-/// prove that no solution exists.
-LcpResult solve_lemke(const MatX& M, const VecX& q);
+/// prove that no solution exists. Past `deadline` (none by default) it stops after the pivot in
+/// hand (Failed, its last basic point).
+LcpResult solve_lemke(
+    const MatX& M,
+    const VecX& q,
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
 /// The boxed LCP by Lemke's method on an equivalent standard LCP (the transformation is written
 /// out in src/solvers/exact/lemke.cpp). Throws InputError if sizes differ, a bound is NaN, or lb_i
-/// > ub_i.
-LcpResult solve_boxed_lemke(const MatX& M, const VecX& q, const VecX& lb, const VecX& ub);
+/// > ub_i. `deadline` as for solve_lemke.
+LcpResult solve_boxed_lemke(
+    const MatX& M,
+    const VecX& q,
+    const VecX& lb,
+    const VecX& ub,
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
 std::string to_string(LcpResult::Status s);
 
