@@ -88,7 +88,7 @@ int profile_command(const ProfileOptions& o) {
                             : is_peer(spec.method) ? profile_peer(problems[p], spec, limits)
                             : is_iterative(spec.method)
                                 ? profile_iterative(problems[p], spec, limits)
-                                : profile_exact(problems[p], spec));
+                                : profile_exact(problems[p], spec, limits));
       const ProfileMeasurement& m = runs.back().back();
       if (!o.quiet)
         std::fprintf(stderr,

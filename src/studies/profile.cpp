@@ -178,12 +178,15 @@ ProfileMeasurement profile_iterative(const ProfileProblem& p,
   return m;
 }
 
-ProfileMeasurement profile_exact(const ProfileProblem& p, const SolverSpec& spec) {
+ProfileMeasurement profile_exact(const ProfileProblem& p,
+                                 const SolverSpec& spec,
+                                 const ProfileLimits& o) {
   ProfileMeasurement m;
   m.status = not_applicable(spec, p);
   if (!m.status.empty()) return m;
   VecX lambda = VecX::Zero(p.stored.rows());
   SolverOptions options = study_options(spec, 1, p.stored.cfm);
+  options.time_limit = o.time_limit;
   const auto start = Clock::now();
   const SolverSummary summary = solve(p.problem(), lambda, options);
   m.time_s = seconds_since(start);
@@ -204,19 +207,32 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
   m.status = not_applicable(spec, p);
   if (!m.status.empty()) return m;
   m.final_point_only = true;
-  VecX lambda = VecX::Zero(p.stored.rows());
-  SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
-  options.tolerance = kProfileTolerances[kProfileTolerancesCount - 1] * p.scale;
-  options.time_limit = o.time_limit;  // a Siconos peer's child is killed at it
-  const SolverSummary summary = solve(p.problem(), lambda, options);
-  m.time_s = summary.convert_time_s + summary.peer_solve_time_s;
+  // A peer reports only its final point. A pivoting peer runs once: its one cost counts at every
+  // tolerance its answer meets. An iterative one runs once per tolerance, told that tolerance,
+  // from the loosest: what it spends at the finest is not its cost at a looser one.
+  const bool iterative = is_iterative(spec.method);
+  const std::size_t first = iterative ? 0 : kProfileTolerancesCount - 1;
+  SolverSummary summary;
+  VecX lambda;
+  for (std::size_t t = first; t < kProfileTolerancesCount; ++t) {
+    lambda = VecX::Zero(p.stored.rows());
+    SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
+    options.tolerance = kProfileTolerances[t] * p.scale;
+    options.time_limit = o.time_limit;  // a peer's child is killed at it
+    summary = solve(p.problem(), lambda, options);
+    const double time_s = summary.convert_time_s + summary.peer_solve_time_s;
+    const double relative = p.residual(lambda) / p.scale;
+    const long at = iterative ? std::max(1, summary.iterations) : 1;
+    for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
+      if (relative <= kProfileTolerances[i] && m.reached[i].iterations < 0)
+        m.reached[i] = {at, time_s};
+    m.time_s = time_s;
+    if (summary.termination == Termination::TimeLimit) break;  // a finer one would not finish
+  }
   m.iterations = summary.iterations;
   m.peer_status = summary.peer_status;
   m.convert_time_s = summary.convert_time_s;
   finish_measurement(m, p, lambda);
-  const long at = is_iterative(spec.method) ? std::max(1L, m.iterations) : 1;
-  for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
-    if (m.residual <= kProfileTolerances[i]) m.reached[i] = {at, m.time_s};
   const bool solved = m.reached[kProfileTolerancesCount - 1].iterations >= 0;
   m.status = solved                                          ? "solved"
              : summary.termination == Termination::TimeLimit ? "time limit"

@@ -9,7 +9,9 @@
 // end of that sweep less the time spent measuring, so a method's setup (ADMM's factorization)
 // counts. The exact paths (direct, active-set) are one solve each: their cost at a tolerance is
 // the solve's time if its final residual meets it. They have no sweeps, so they are in the time
-// profiles only.
+// profiles only. A peer reports only its final point: a pivoting one runs once, like the exact
+// paths; an iterative one (siconos:pgs, bullet:pgs) runs once per tolerance, told it, and its
+// sweeps and time there are that run's (not the finest run's at every tolerance).
 #pragma once
 
 #include <cmath>
@@ -101,11 +103,14 @@ void finish_measurement(ProfileMeasurement& m, const ProfileProblem& p, const Ve
 ProfileMeasurement profile_iterative(const ProfileProblem& p,
                                      const SolverSpec& spec,
                                      const ProfileLimits& o);
-/// An exact spec: one solve.
-ProfileMeasurement profile_exact(const ProfileProblem& p, const SolverSpec& spec);
-/// A peer (siconos:NAME, bullet:NAME): one solve from lambda = 0 with the budget's iterations
-/// and the finest tolerance times the scale; its final point counts for every tolerance it
-/// meets, at the peer's own iterations (for the iterative peers) and time. "not applicable: ..."
+/// An exact spec: one solve, stopped at the time limit.
+ProfileMeasurement profile_exact(const ProfileProblem& p,
+                                 const SolverSpec& spec,
+                                 const ProfileLimits& o);
+/// A peer (siconos:NAME, bullet:NAME) from lambda = 0 with the budget's iterations: a pivoting
+/// one solves once, told the finest tolerance times the scale, and its final point counts for
+/// every tolerance it meets; an iterative one solves once per tolerance, told it, and each run's
+/// iterations and time count where its point meets a tolerance. "not applicable: ..."
 /// where the peer cannot take the problem (peer_refusal).
 ProfileMeasurement profile_peer(const ProfileProblem& p,
                                 const SolverSpec& spec,
