@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -386,6 +387,49 @@ void step_to(Simulation& sim, long steps, const std::string& command, bool quiet
                  100.0 * static_cast<double>(s + 1) / static_cast<double>(steps),
                  std::chrono::duration<double>(now - start).count());
   }
+}
+
+struct Heartbeat::State {
+  std::mutex mutex;
+  std::condition_variable wake;
+  bool done = false;
+  std::thread thread;
+};
+
+Heartbeat::Heartbeat(std::string what, double time_limit, bool quiet) {
+  if (quiet) return;
+  state_ = std::make_unique<State>();
+  State* s = state_.get();
+  s->thread = std::thread([s, what = std::move(what), time_limit] {
+    const auto start = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> lock(s->mutex);
+    while (!s->wake.wait_for(lock, std::chrono::seconds(2), [s] { return s->done; })) {
+      const double elapsed =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      char tail[96];
+      if (time_limit > 0.0)
+        std::snprintf(tail,
+                      sizeof tail,
+                      ": running, %.1f s elapsed (time limit %g s)\n",
+                      elapsed,
+                      time_limit);
+      else
+        std::snprintf(tail, sizeof tail, ": running, %.1f s elapsed\n", elapsed);
+      const std::string line = what + tail;
+      // A failed write of a progress line is not worth stopping for.
+      [[maybe_unused]] const ssize_t n = ::write(2, line.data(), line.size());
+    }
+  });
+}
+
+Heartbeat::~Heartbeat() {
+  if (!state_) return;
+  {
+    const std::lock_guard<std::mutex> lock(state_->mutex);
+    state_->done = true;
+  }
+  state_->wake.notify_one();
+  state_->thread.join();
 }
 
 }  // namespace cbps::cli

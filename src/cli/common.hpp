@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -114,6 +115,22 @@ void set_invocation(int argc, const char* const* argv);
 /// every 2 s ("cbps COMMAND: stepping to step N: k/N (p%), s elapsed") unless `quiet`: a
 /// command that steps for long before its work is not silent.
 void step_to(Simulation& sim, long steps, const std::string& command, bool quiet = false);
+
+/// While it lives, a line on stderr every 2 s ("cbps lcp: siconos:lemke on F: running, 4.0 s
+/// elapsed (time limit 600 s)") unless `quiet`: a solve that exposes no iterates (a peer in its
+/// child process, an exact path) is not silent. Written by write(2), not stdio: a peer's fork
+/// while this thread holds stderr's lock would leave the child's stderr locked.
+class Heartbeat {
+ public:
+  Heartbeat(std::string what, double time_limit, bool quiet);
+  ~Heartbeat();
+  Heartbeat(const Heartbeat&) = delete;
+  Heartbeat& operator=(const Heartbeat&) = delete;
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+};
 
 /// The threads the libraries run with (set_threads, from --threads) as summaries report them:
 /// {"requested", "blas", "blas_kind", "blas_threads", "openmp_threads"}.

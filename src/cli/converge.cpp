@@ -12,6 +12,8 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/fclib_file.hpp"
@@ -43,7 +45,7 @@ struct ConvergeOptions {
   std::string cone;            ///< --cone: an FCLIB file's law
   long at_step = 0;
   int iterations = 100000;
-  int record_every = 1;
+  int record_every = kRecordLog;  ///< --record-every: K, or log (kRecordLog)
   double tolerance = 1e-10;
   double time_limit = 10.0;
   std::string out;
@@ -96,7 +98,7 @@ ConvergenceRun run_tao(const ConvergenceSystem& s,
     run.reach(at.iteration, at.time_s, at.residual);
     if (!std::isfinite(at.residual)) run.stopped = "non-finite values";
     if (run.stopped.empty() && at.time_s >= o.time_limit) run.stopped = "time limit";
-    const bool record = at.iteration % o.record_every == 0 || !run.stopped.empty() ||
+    const bool record = recorded_sweep(at.iteration, o.record_every) || !run.stopped.empty() ||
                         at.iteration >= o.iterations || at.residual <= o.tolerance;
     if (record) {
       ConvergenceSample m = measure(s, l, at.iteration, at.time_s);
@@ -316,11 +318,29 @@ void register_converge(CLI::App& app, Action& run) {
       ->check(positive());
   cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
       ->check(non_negative());
-  cmd->add_option("--record-every",
-                  o->record_every,
-                  "write one sample every K sweeps to convergence.csv (the guess and the last "
-                  "sweep always; the summary's milestones still see every sweep; default 1)")
-      ->check(positive());
+  cmd->add_option_function<std::string>(
+         "--record-every",
+         [o](const std::string& text) {
+           if (text == "log") {
+             o->record_every = kRecordLog;
+             return;
+           }
+           int k = 0;
+           std::size_t used = 0;
+           try {
+             k = std::stoi(text, &used);
+           } catch (const std::exception&) {
+             used = 0;
+           }
+           if (used != text.size() || k < 1)
+             throw CLI::ValidationError(
+                 "--record-every", "expected a whole number >= 1 or 'log', found '" + text + "'");
+           o->record_every = k;
+         },
+         "which sweeps convergence.csv keeps: K (every K-th) or log (every sweep to 100, then "
+         "100 a decade: 400 rows for 100,000 sweeps); the guess and the last sweep always, and "
+         "the summary's milestones see every sweep (default log)")
+      ->type_name("K|log");
   cmd->add_option(
          "--time-limit",
          o->time_limit,

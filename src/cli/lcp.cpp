@@ -61,6 +61,7 @@ struct LcpOptions {
   double tolerance = 1e-10;
   double time_limit = 0.0;  ///< --time-limit, s; 0: none
   bool json = false;
+  bool quiet = false;  ///< --quiet: no line every 2 s of a long solve
   std::string out;
   std::string siconos = "auto";
   std::string cone;      ///< --cone coulomb|ccp: an FCLIB file's law (default: Coulomb's, FCLIB's)
@@ -586,7 +587,12 @@ int lcp_command(const LcpOptions& o) {
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);
 
   const auto start = std::chrono::steady_clock::now();
-  const LcpOutcome r = solve_stored(spec, p, o.iterations, o.tolerance, o.time_limit);
+  LcpOutcome r;
+  {
+    // A peer or an exact path shows nothing until it ends: a line every 2 s meanwhile.
+    const Heartbeat beat("cbps lcp: " + spec.text + " on " + o.problem, o.time_limit, o.quiet);
+    r = solve_stored(spec, p, o.iterations, o.tolerance, o.time_limit);
+  }
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report(o, lcp_facts(p), spec.text, r, wall, dir.get());
@@ -667,6 +673,7 @@ void register_lcp(CLI::App& app, Action& run) {
                   "Minv) here, gathered onto rank 0 (a debugging aid, at most " +
                       std::to_string(kMaxGatheredRows) + " rows)");
   add_json_flag(cmd, o->json, "the result");
+  add_quiet_flag(cmd, o->quiet, "no progress line on stderr every 2 s of a long solve");
   add_out_option(
       cmd, o->out, "result.json and lambda.mtx, only if solved (under mpirun rank 0 writes)");
   cmd->footer(solver_spec_help() + tao_spec_help());

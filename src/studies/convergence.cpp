@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 #include "cbps/base/error.hpp"
@@ -120,7 +121,7 @@ ConvergenceRun run_iterative(const ConvergenceSystem& s,
     if (residual <= limits.tolerance) run.stopped = "residual tolerance";
     if (run.stopped.empty() && time_s >= limits.time_limit) run.stopped = "time limit";
     const bool record =
-        k % limits.record_every == 0 || !run.stopped.empty() || k >= limits.iterations;
+        recorded_sweep(k, limits.record_every) || !run.stopped.empty() || k >= limits.iterations;
     if (record)
       run.samples.push_back(measure(s, l, k, time_s));
     else
@@ -142,6 +143,13 @@ ConvergenceRun run_iterative(const ConvergenceSystem& s,
   return run;
 }
 
+bool recorded_sweep(int k, int record_every) {
+  if (record_every != kRecordLog) return k % record_every == 0;
+  if (k <= 100) return true;
+  return std::floor(100.0 * std::log10(static_cast<double>(k))) !=
+         std::floor(100.0 * std::log10(static_cast<double>(k - 1)));
+}
+
 ConvergenceRun run_exact(const ConvergenceSystem& s,
                          const SolverSpec& spec,
                          const ConvergenceLimits& limits) {
@@ -150,9 +158,13 @@ ConvergenceRun run_exact(const ConvergenceSystem& s,
   VecX lambda = VecX::Zero(s.stored.rows());
   const auto start = Clock::now();
   // solve() applies the cfm and hands on J and Minv (body space).
-  const SolverSummary d = solve(s.problem(), lambda, study_options(spec, 1, s.stored.cfm));
+  SolverOptions options = study_options(spec, 1, s.stored.cfm);
+  options.time_limit = limits.time_limit;
+  const SolverSummary d = solve(s.problem(), lambda, options);
   const double time_s = std::chrono::duration<double>(Clock::now() - start).count();
-  run.samples.push_back(measure(s, lambda, std::max(1, d.iterations), time_s));
+  // Its own count, as `cbps lcp` reports it (interior iterations, pivots; 0 for a guess that
+  // already solved it).
+  run.samples.push_back(measure(s, lambda, d.iterations, time_s));
   run.reach(run.samples.back().iteration, time_s, run.samples.back().residual);
   // The verdict is the study's tolerance, as for every other method: a direct solve that stops
   // short of its own rounding floor but below that tolerance reached it (it said "stopped short
@@ -225,7 +237,8 @@ nlohmann::json convergence_summary(const ConvergenceSystem& s,
   summary["reference"] = {{"residual", reference.residual},
                           {"termination", to_string(reference.termination)}};
   summary["tolerance"] = limits.tolerance;
-  summary["record_every"] = limits.record_every;
+  summary["record_every"] = limits.record_every == kRecordLog ? nlohmann::json("log")
+                                                              : nlohmann::json(limits.record_every);
   summary["solved_by_initial_guess"] = !warning.empty();
   summary["warnings"] = nlohmann::json::array();
   if (!warning.empty()) summary["warnings"].push_back(warning);

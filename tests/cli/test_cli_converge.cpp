@@ -44,7 +44,8 @@ TEST_CASE("cbps converge records every sweep of every solver against the direct 
   const std::string out = (dir / "c").string();
   const auto r =
       run_cli("converge chain --param n=30 --param mass_ratio=10 --step 20 --quiet --out " + out +
-              " --solvers pgs,psor:1.4,sgs,jacobi:0.6,pgs:order=reverse,matrix-free,direct");
+              " --record-every 1 --solvers pgs,psor:1.4,sgs,jacobi:0.6,pgs:order=reverse," +
+              "matrix-free,direct");
   INFO(r.err);
   REQUIRE(r.code == 0);
   const auto rows = read_csv(slurp(dir / "c" / "convergence.csv"));
@@ -163,13 +164,16 @@ TEST_CASE("cbps converge --record-every K writes every K-th sweep, the guess and
   const std::string base =
       "converge chain --param n=30 --param mass_ratio=10 --step 20 --quiet --no-plot "
       "--solvers pgs,jacobi:0.6,direct --out ";
-  const auto all = run_cli(base + (dir / "all").string());
+  const auto all = run_cli(base + (dir / "all").string() + " --record-every 1");
   const auto some = run_cli(base + (dir / "some").string() + " --record-every 7");
-  INFO(all.err << some.err);
+  const auto logged = run_cli(base + (dir / "log").string());  // the default: log
+  INFO(all.err << some.err << logged.err);
   REQUIRE(all.code == 0);
   REQUIRE(some.code == 0);
+  REQUIRE(logged.code == 0);
   const auto every = read_csv(slurp(dir / "all" / "convergence.csv"));
   const auto sparse = read_csv(slurp(dir / "some" / "convergence.csv"));
+  const auto spaced = read_csv(slurp(dir / "log" / "convergence.csv"));
   for (const std::string solver : {"pgs", "jacobi:0.6"}) {
     CAPTURE(solver);
     const auto& e = every.at(solver);
@@ -191,7 +195,24 @@ TEST_CASE("cbps converge --record-every K writes every K-th sweep, the guess and
       CHECK(row[2] == Approx(full[2]).epsilon(1e-12));
       CHECK(row[3] == Approx(full[3]).epsilon(1e-12));
     }
+    // The default keeps every sweep to 100, then 100 a decade: sweeps 103, 105, 108, ... (the
+    // first of each step of 10^0.01), the last, and nothing else; the chain's pgs sweeps
+    // thousands of times (issue 50, item 12: 36 MB of convergence.csv for the chain study).
+    const auto& g = spaced.at(solver);
+    std::vector<double> expected_sweeps;
+    for (long k = 0; k <= static_cast<long>(last); ++k) {
+      const bool kept = k <= 100 || std::floor(100.0 * std::log10(double(k))) !=
+                                        std::floor(100.0 * std::log10(double(k - 1)));
+      if (kept || k == static_cast<long>(last)) expected_sweeps.push_back(double(k));
+    }
+    REQUIRE(g.size() == expected_sweeps.size());
+    for (std::size_t k = 0; k < g.size(); ++k) CHECK(g[k][0] == expected_sweeps[k]);
+    if (last > 1000) CHECK(g.size() < e.size() / 4);
+    for (const auto& row : g)
+      CHECK(row[2] == Approx(e[static_cast<std::size_t>(row[0])][2]).epsilon(1e-12));
   }
+  CHECK(nlohmann::json::parse(slurp(dir / "log" / "summary.json"))["record_every"] == "log");
+  CHECK(run_cli(base + (dir / "bad2").string() + " --record-every often").code == 2);
   CHECK(sparse.at("direct").size() == 1);
   // The summary still finds the milestones sweep by sweep, as the full record does.
   const auto sa = nlohmann::json::parse(slurp(dir / "all" / "summary.json"));

@@ -190,6 +190,18 @@ TEST_CASE("a Siconos peer's child process ends with cbps: SIGINT, SIGTERM and --
   const auto j = nlohmann::json::parse(limited.out);
   CHECK(j["status"] == "time limit");
   CHECK(j["peer"]["status"].get<std::string>().rfind("time limit", 0) == 0);
+  // Issue 50, item 12: a solve that shows nothing until it ends prints a line every 2 s on
+  // stderr (the peer's child exposes no iterates), and none under --quiet.
+  const CliResult beating =
+      run_cli("lcp " + problem.string() + " --solver siconos:lemke --time-limit 2.5 --json");
+  INFO(beating.err);
+  CHECK(beating.code == 1);
+  CHECK(beating.err.find("cbps lcp: siconos:lemke on " + problem.string() +
+                         ": running, 2.0 s elapsed (time limit 2.5 s)") != std::string::npos);
+  const CliResult silent = run_cli("lcp " + problem.string() +
+                                   " --solver siconos:lemke --time-limit 2.5 --json --quiet");
+  CHECK(silent.code == 1);
+  CHECK(silent.err.find("running") == std::string::npos);
 }
 
 TEST_CASE("an output folder given as DIR/, DIR or DIR/. is one folder, rewritten run after run",

@@ -99,6 +99,8 @@ struct ConvergenceRun {
 /// How long each run may sweep, and what it keeps.
 struct ConvergenceLimits {
   int iterations = 100000;  ///< max sweeps per spec
+  /// Which sweeps convergence.csv keeps (recorded_sweep): every K-th, or 0 (kRecordLog): every
+  /// sweep to 100, then 100 a decade.
   int record_every = 1;
   double tolerance = 1e-10;  ///< stop at this residual, N
   double time_limit = 10.0;  ///< max sweep time per spec, s
@@ -106,6 +108,14 @@ struct ConvergenceLimits {
   /// Called every 1000 sweeps with (spec, sweeps, time s, residual N); may be empty.
   std::function<void(const SolverSpec&, int, double, double)> progress;
 };
+
+/// ConvergenceLimits::record_every for log-spaced samples (`--record-every log`, converge's
+/// default): 100,000 sweeps are 400 rows a solver, not 100,000 (36 MB for the chain study).
+inline constexpr int kRecordLog = 0;
+/// Whether sweep k (>= 1) is one of the recorded: k a multiple of record_every, or with kRecordLog
+/// every k up to 100 and then the first k of each hundredth of a decade (k where
+/// floor(100 log10 k) steps).
+bool recorded_sweep(int k, int record_every);
 
 /// The sample at lambda: residual, errors against the reference, objective (6.2).
 ConvergenceSample measure(const ConvergenceSystem& s,
