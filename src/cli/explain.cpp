@@ -230,12 +230,22 @@ void print_text(const Explained& e) {
 
 /// explain --html FILE: the teaching page of the step, which takes any size the step takes
 /// (pictures and statistics instead of dense tables above its limits).
-void write_page(const Scene& scene, const Simulation& sim, long at_step, const std::string& html) {
+/// On a scene on friction cones without --solver the shown system is solved exactly (`direct`)
+/// and the scene's own sweeps (nsgs, 100 by default) are drawn beside it: a handout whose rows
+/// are red because the sweeps stopped short teaches the wrong answer.
+void write_page(const Scene& scene,
+                const Simulation& sim,
+                long at_step,
+                const std::string& html,
+                bool solver_given) {
   const System shown = sim.build_system();
   std::vector<std::string> bodies;
   for (int body : shown.body_of_block)
     bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
-  TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies);
+  std::optional<Method> method;
+  if (!solver_given && !shown.cones.empty() && is_iterative(scene.solver.method))
+    method = Method::Direct;
+  TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies, method);
   step.command = invocation_text();
   write_output_file(html, "--html " + html, teaching_page_html(step));
   std::printf("%s, step %ld: %s, %s; wrote %s\n",
@@ -258,7 +268,7 @@ int explain_command(const ExplainOptions& o) {
   Simulation sim(scene);
   step_to(sim, o.at_step, "explain");
   if (!o.html.empty()) {
-    write_page(scene, sim, o.at_step, o.html);
+    write_page(scene, sim, o.at_step, o.html, !o.step.solver.empty());
     return 0;
   }
   const Explained e = explain_step(scene, sim, o.at_step);

@@ -91,16 +91,20 @@ std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& sourc
     for (SpMatRow::InnerIterator it(local.Minv, i); it; ++it) {
       const long body = (local.first_body * 6 + i) / 6;
       if (it.col() / 6 != body)
-        throw InputError(source + ": entry (" + std::to_string(local.first_body * 6 + i + 1) +
-                         ", " + std::to_string(it.col() + 1) +
-                         ") couples two bodies; body space needs Minv block diagonal (6.1.2)");
+        throw InputError(source + ": the entry at row " +
+                         std::to_string(local.first_body * 6 + i + 1) + ", column " +
+                         std::to_string(it.col() + 1) +
+                         " (1-based, as in the file) couples two bodies; body space needs Minv "
+                         "block diagonal (6.1.2)");
       blocks[std::size_t(body - local.first_body)](i % 6, it.col() % 6) = it.value();
     }
   for (long B = 0; B < local.bodies; ++B)
     if (!body_mass(blocks[std::size_t(B)], M[std::size_t(B)]))
-      throw InputError(source + ": the 6x6 block of body " +
-                       std::to_string(local.first_body + B + 1) +
-                       " is not symmetric positive definite; body space needs M = Minv^-1");
+      throw InputError(source + ": the 6x6 block at rows " +
+                       std::to_string(6 * (local.first_body + B) + 1) + " to " +
+                       std::to_string(6 * (local.first_body + B) + 6) +
+                       " (1-based, as in the file) is not symmetric positive definite; body "
+                       "space needs M = Minv^-1");
   return M;
 }
 

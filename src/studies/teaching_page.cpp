@@ -92,8 +92,9 @@ TeachingSystem solve_one(const Simulation& sim,
                          const VecX& upsilon,
                          const VecX& guess,
                          std::string name,
-                         std::string note) {
-  TeachingSystem out = teaching_system(sim, sys, upsilon, guess, true);
+                         std::string note,
+                         std::optional<Method> method) {
+  TeachingSystem out = teaching_system(sim, sys, upsilon, guess, true, method);
   out.name = std::move(name);
   out.note = std::move(note);
   return out;
@@ -105,13 +106,16 @@ TeachingSystem teaching_system(const Simulation& sim,
                                const System& sys,
                                const VecX& upsilon,
                                const VecX& guess,
-                               bool sweep_history) {
+                               bool sweep_history,
+                               std::optional<Method> method) {
   const SolverSettings& settings = sim.scene().solver;
   TeachingSystem out;
   out.upsilon = upsilon;
   out.b = compute_b(upsilon, sys.J, sys.v1, sys.Minv, sys.fext, sys.dt);  // (6.2.9)
   out.lambda = guess;
-  out.summary = sim.solve_system(sys, out.b, out.lambda);  // the step's own solve (7.1.1 / 6.2)
+  SolverSettings shown = settings;
+  if (method) shown.method = *method;
+  out.summary = sim.solve_system(sys, out.b, out.lambda, shown);  // the step's solve (7.1.1 / 6.2)
   if (sweep_history) record_sweeps(sim, sys, guess, out);
   const BoxedProblem problem = sys.problem(out.b);
 
@@ -143,12 +147,13 @@ TeachingSystem teaching_system(const Simulation& sim,
 
 TeachingStep teaching_step(const Simulation& sim,
                            std::vector<std::string> columns,
-                           std::vector<std::string> bodies) {
+                           std::vector<std::string> bodies,
+                           std::optional<Method> method) {
   TeachingStep page;
   page.scene = sim.scene().name;
   page.step = sim.steps_done();
   page.t = sim.time();
-  page.method = std::string(to_string(sim.scene().solver.method));
+  page.method = std::string(to_string(method.value_or(sim.scene().solver.method)));
   page.cfm = sim.scene().solver.cfm;
   page.solver_tolerance = sim.scene().solver.tolerance;
   page.sys = sim.build_system();
@@ -163,7 +168,8 @@ TeachingStep teaching_step(const Simulation& sim,
                                      guess,
                                      "velocity system (8.1)",
                                      "upsilon holds restitution only (8.2); its v2 is kept as "
-                                     "the bodies' velocity"));
+                                     "the bodies' velocity",
+                                     method));
     const TeachingSystem& velocity = page.systems.back();
     page.systems.push_back(solve_one(sim,
                                      sys,
@@ -171,7 +177,8 @@ TeachingStep teaching_step(const Simulation& sim,
                                      sim.position_guess(sys, velocity.lambda),
                                      "position system (8.1)",
                                      "upsilon adds each row's push term; its v2 only moves the "
-                                     "bodies this step and is then dropped"));
+                                     "bodies this step and is then dropped",
+                                     method));
   } else {
     page.systems.push_back(solve_one(sim,
                                      sys,
@@ -179,7 +186,8 @@ TeachingStep teaching_step(const Simulation& sim,
                                      guess,
                                      "the one system (5.2.3, 5.3)",
                                      "upsilon holds the Baumgarte push term and restitution; "
-                                     "its v2 moves the bodies and is kept"));
+                                     "its v2 moves the bodies and is kept",
+                                     method));
   }
   return page;
 }

@@ -83,7 +83,8 @@ h1{font-size:1.45rem;margin:.3rem 0}h2{font-size:1.2rem;margin:1.6rem 0 .4rem;
 table{border-collapse:collapse;font-variant-numeric:tabular-nums;font-size:.82rem;margin:.3rem 0}
 th,td{padding:.12rem .45rem;border-bottom:1px solid #e2e2e2;text-align:right;white-space:nowrap}
 thead th{border-bottom:2px solid #999;font-weight:600;position:sticky;top:0;background:#fff}
-th.row{text-align:left;font-weight:500}
+th.row{text-align:left;font-weight:500;position:sticky;left:0;background:#fff}
+thead th:first-child{left:0;z-index:1}
 td.zero{color:#b8b8b8}
 tr.distance th.row{border-left:5px solid #1f6fb4}tr.contact th.row{border-left:5px solid #c62828}
 tr.friction th.row{border-left:5px solid #2e8b2e}
@@ -253,7 +254,18 @@ void Page::sparsity(const std::string& id,
   if (labels)
     for (const std::string& label : sys_.labels) longest = std::max(longest, label.size());
   const double left = labels ? std::min(320.0, 6.2 * static_cast<double>(longest) + 10.0) : 40.0;
-  const double top = group > 0 ? 70.0 : 10.0;
+  // The group names above the bands: slanted in 11 px where a band is wide enough (18 px), else
+  // upright in a font that fits the band (8 to 11 px), every `every`-th name where even 8 px
+  // does not fit (a band under 9 px: the base-6 pyramid's 21 bodies in J's 126 columns).
+  const double band = group > 0 ? cell * static_cast<double>(group) / bin : 0.0;
+  const bool slanted = band >= 18.0;
+  const double name_font = slanted ? 11.0 : std::clamp(band * 0.9, 8.0, 11.0);
+  const long every = slanted || band >= 9.0 ? 1 : static_cast<long>(std::ceil(9.0 / band));
+  std::size_t longest_name = 0;
+  for (const std::string& name : group_names) longest_name = std::max(longest_name, name.size());
+  const double top = group <= 0 ? 10.0
+                     : slanted  ? 70.0
+                                : 0.62 * name_font * static_cast<double>(longest_name) + 10.0;
   const double width = left + cell * std::ceil(cols / bin) + (group > 0 ? 70.0 : 10.0);
   const double height = top + cell * std::ceil(rows / bin) + 10.0;
   o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 " << px(width) << " "
@@ -267,10 +279,12 @@ void Page::sparsity(const std::string& id,
       o_ << "<rect x=\"" << px(x) << "\" y=\"" << px(top) << "\" width=\"" << px(w)
          << "\" height=\"" << px(height - top - 10.0) << "\" fill=\""
          << (g % 2 == 0 ? "#eef1f6" : "#fafafa") << "\"/>";
-      if (static_cast<std::size_t>(g) < group_names.size() && group_names.size() <= 40)
-        o_ << "<text x=\"" << px(x + w / 2) << "\" y=\"" << px(top - 4) << "\" font-size=\"11\" "
-           << "transform=\"rotate(-40 " << px(x + w / 2) << " " << px(top - 4) << ")\">"
-           << html_escape(group_names[static_cast<std::size_t>(g)]) << "</text>";
+      if (static_cast<std::size_t>(g) >= group_names.size() || g % every != 0) continue;
+      const double at = slanted ? x + w / 2 : x + w / 2 + name_font / 3;  // upright: centred
+      o_ << "<text class=\"group-name\" x=\"" << px(at) << "\" y=\"" << px(top - 4)
+         << "\" font-size=\"" << px(name_font) << "\" transform=\"rotate(" << (slanted ? -40 : -90)
+         << " " << px(at) << " " << px(top - 4) << ")\">"
+         << html_escape(group_names[static_cast<std::size_t>(g)]) << "</text>";
     }
   } else {
     o_ << "<rect x=\"" << px(left) << "\" y=\"" << px(top) << "\" width=\""
@@ -321,6 +335,8 @@ void Page::sparsity(const std::string& id,
          << kind_colour(kind_of(sys_, r)) << "\">"
          << html_escape(sys_.labels[static_cast<std::size_t>(r)]) << "</text>";
   o_ << "</svg><figcaption class=\"note\">" << html_escape(title);
+  if (every > 1)
+    o_ << " (one band in " << every << " named: the bands are " << px(band) << " px wide)";
   if (bin > 1)
     o_ << " (one square per " << bin << " × " << bin
        << " entries, coloured by the kind with the most nonzeros in it)";
@@ -930,11 +946,12 @@ void Page::residual_per_sweep(const TeachingSystem& t, const std::string& id) {
        "the step's own guess, " +
        count_text(static_cast<long>(t.sweep_residuals.size()) - 1, "sweep") +
        (t.sweep_method != s_.method
-            ? std::string(": the scene's solver ") + html_escape(s_.method) +
-                  " does not sweep, so PGS (7.1.1) is shown beside it"
+            ? std::string(": the system above is solved by ") + html_escape(s_.method) +
+                  ", which does not sweep, so " + html_escape(t.sweep_method) +
+                  (t.sweep_method == "pgs" ? std::string(" (7.1.1)") : std::string()) +
+                  " is shown beside it"
             : std::string()) +
-       ". The final residual is " +
-       (t.sweep_residuals.empty() ? std::string("—") : num(t.sweep_residuals.back())) + " N.");
+       ". The residual of the answer shown is the one in the statistics above.");
 }
 
 void Page::footer() {

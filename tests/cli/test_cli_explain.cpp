@@ -329,6 +329,32 @@ TEST_CASE("cbps explain --html writes the teaching page atomically, labels as --
   CHECK(files == 1);
 }
 
+TEST_CASE("the teaching page of a cone scene shows the exact answer, the scene's sweeps beside",
+          "[cli][explain][html][cones]") {
+  // Issue 50, item 13: on `stack --param friction=cone` the page showed the answer of the
+  // scene's 100 nsgs sweeps, its rows red (missing their condition). Without --solver the shown
+  // system is solved by direct, and nsgs's residual per sweep is drawn beside it; --solver nsgs
+  // shows nsgs's own answer.
+  const auto dir = scratch_dir("explain_cones");
+  const std::string scene =
+      "explain stack --param n=4 --param friction=cone --param mu=0.5 --step 20";
+  const auto exact = dir / "exact.html";
+  const CliResult r = run_cli(scene + " --html " + exact.string());
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string html = slurp(exact);
+  CHECK(html.find("<dt>solver</dt><dd>direct: ") != std::string::npos);
+  CHECK(html.find(" miss\"") == std::string::npos);  // no row misses its condition
+  CHECK(html.find("which does not sweep, so nsgs is shown beside it") != std::string::npos);
+  CHECK(html.find("id=\"svg-residual-") != std::string::npos);
+  const auto swept = dir / "nsgs.html";
+  const CliResult n = run_cli(scene + " --solver nsgs --iterations 3 --html " + swept.string());
+  REQUIRE(n.code == 0);
+  const std::string nsgs = slurp(swept);
+  CHECK(nsgs.find("<dt>solver</dt><dd>nsgs: ") != std::string::npos);
+  CHECK(nsgs.find(" miss\"") != std::string::npos);  // 3 sweeps stop short: rows miss
+}
+
 TEST_CASE("the teaching page names the command that writes it again, every option included",
           "[cli][explain][html]") {
   // Issue 50, item 13: `explain chain --param n=2 --html` printed a command without n=2, and a

@@ -10,6 +10,7 @@
 // system (same J, M⁻¹, A; upsilon with the push term).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -62,19 +63,22 @@ struct TeachingSystem {
 /// method and settings; b from `upsilon`, 6.2.9), with what a reader checks: the bounds lambda
 /// satisfies, w of A, each row's status against the requested tolerance, v2. The one report of
 /// a solution that `cbps explain` prints and the teaching page draws. With `sweep_history` the
-/// residual after every sweep too (sweep_residuals, sweep_method): one more solve.
+/// residual after every sweep too (sweep_residuals, sweep_method, with the scene's own settings):
+/// one more solve. `method`, when given, solves the system instead of the scene's (the page's
+/// exact answer on cones, beside the scene's sweeps).
 TeachingSystem teaching_system(const Simulation& sim,
                                const System& sys,
                                const VecX& upsilon,
                                const VecX& guess,
-                               bool sweep_history);
+                               bool sweep_history,
+                               std::optional<Method> method = std::nullopt);
 
 /// Everything the page shows of one step.
 struct TeachingStep {
   std::string scene;
   long step = 0;                        ///< the system of step K (after K steps)
   double t = 0.0;                       ///< s
-  std::string method;                   ///< the scene's solver
+  std::string method;                   ///< the solver of the systems shown
   double cfm = 0.0;                     ///< kg⁻¹, a solver setting; A stays J Minv Jᵀ
   double solver_tolerance = 0.0;        ///< the scene's residual tolerance, N
   System sys;                           ///< J, Minv, A, v1, fext, labels, kind, dt
@@ -88,9 +92,11 @@ struct TeachingStep {
 
 /// Solves the current system of `sim` as its step would (same guess, method and settings) and
 /// records everything the page shows. `columns` and `bodies` label J's columns (6n and n).
+/// `method`: solve the shown systems by it instead (teaching_system).
 TeachingStep teaching_step(const Simulation& sim,
                            std::vector<std::string> columns,
-                           std::vector<std::string> bodies);
+                           std::vector<std::string> bodies,
+                           std::optional<Method> method = std::nullopt);
 
 /// Where the page switches from tables to pictures and statistics.
 struct TeachingLimits {
