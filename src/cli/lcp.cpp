@@ -242,6 +242,11 @@ long check_distributed_options(const LcpOptions& o, const std::string& type) {
     throw InputError("--solver " + o.solver + ": " +
                      (type.empty() ? "no TAO type" : "unknown TAO type \"" + type + "\"") +
                      "; use tao:TYPE with TYPE one of " + distributed::tao_type_list());
+  if (!is_distributed_direct(o) && o.time_limit > 0.0)
+    throw InputError("--time-limit: --solver " + o.solver +
+                     " in cbps lcp runs TAO on every rank to --iterations, and a limit of time "
+                     "would stop the ranks at different iterations; bound it by --iterations "
+                     "(cbps converge and profile bound tao:TYPE by time, on one process)");
   if (!generated) {
     check_out_is_not_problem(o);
     return 0;
@@ -436,6 +441,8 @@ int report_direct(const LcpOptions& o,
   r.space_reason = std::string("body: J and Minv ") + (o.generate.empty() ? "read" : "built") +
                    " by rows, H = M + Jt D^-1 J factored by SuperLU_dist on " + ranks;
   r.message = d.message;
+  // Stopped by --time-limit: the ranks agreed past the deadline (rank 0's clock says so too).
+  r.time_limit = !d.solved && o.time_limit > 0.0 && at.wall >= o.time_limit;
   OutcomeExtras extras;
   extras.residual = d.residual;
   extras.fields["direct"] = {{"solved", d.solved},
@@ -522,6 +529,11 @@ int lcp_distributed_command(const LcpOptions& o) {
     options.method = Method::Direct;
     options.tolerance = o.tolerance;
     const auto start = std::chrono::steady_clock::now();
+    if (o.time_limit > 0.0) {  // the ranks stop together: each test of it is a reduction
+      options.time_limit = o.time_limit;
+      options.deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                     std::chrono::duration<double>(o.time_limit));
+    }
     distributed::DirectResult d =
         distributed::solve_direct_local(session, *local, options, !o.write_system.empty());
     at.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

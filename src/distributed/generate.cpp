@@ -100,11 +100,12 @@ std::vector<Mat6> body_masses(const LocalSystem& local, const std::string& sourc
     }
   for (long B = 0; B < local.bodies; ++B)
     if (!body_mass(blocks[std::size_t(B)], M[std::size_t(B)]))
-      throw InputError(source + ": the 6x6 block at rows " +
+      throw InputError(source + ": the 6x6 block of body " +
+                       std::to_string(local.first_body + B + 1) + " (rows " +
                        std::to_string(6 * (local.first_body + B) + 1) + " to " +
                        std::to_string(6 * (local.first_body + B) + 6) +
-                       " (1-based, as in the file) is not symmetric positive definite; body "
-                       "space needs M = Minv^-1");
+                       "; bodies and rows counted from 1, as in the file) is not symmetric "
+                       "positive definite; body space needs M = Minv^-1");
   return M;
 }
 

@@ -227,7 +227,12 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
       if (relative <= kProfileTolerances[i] && m.reached[i].iterations < 0)
         m.reached[i] = {at, time_s};
     m.time_s = time_s;
-    if (summary.termination == Termination::TimeLimit) break;  // a finer one would not finish
+    // Done once the finest tolerance is met (a peer that ignores the tolerance, bullet:pgs, may
+    // meet it in its first run), or at the limit (a finer one would not finish): the summary,
+    // lambda and status are then this run's.
+    if (m.reached[kProfileTolerancesCount - 1].iterations >= 0 ||
+        summary.termination == Termination::TimeLimit)
+      break;
   }
   m.iterations = summary.iterations;
   m.peer_status = summary.peer_status;

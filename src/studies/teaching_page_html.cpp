@@ -129,6 +129,32 @@ BoundsAxis bounds_axis(const System& sys, const Panel& panel, const TeachingSyst
   return a;
 }
 
+/// How the names above a sparsity picture's column bands are set: slanted in 11 px where a band
+/// is wide enough (18 px), else upright in a font that fits the band (8 to 11 px), one name in
+/// `every` where even 8 px does not fit (a band under 9 px: the base-6 pyramid's 21 bodies in
+/// J's 126 columns beside 432 rows); `top`, px, the room they take above the picture.
+struct GroupNames {
+  double band = 0.0;  ///< px, one band's width (0: no bands)
+  bool slanted = true;
+  double font = 11.0;  ///< px
+  long every = 1;
+  double top = 10.0;  ///< px
+};
+
+GroupNames group_names_layout(double band, const std::vector<std::string>& names) {
+  GroupNames g;
+  g.band = band;
+  if (band <= 0.0) return g;
+  g.slanted = band >= 18.0;
+  g.font = g.slanted ? 11.0 : std::clamp(band * 0.9, 8.0, 11.0);
+  g.every = g.slanted || band >= 9.0 ? 1 : static_cast<long>(std::ceil(9.0 / band));
+  std::size_t longest = 0;
+  for (const std::string& name : names) longest = std::max(longest, name.size());
+  // About 0.62 em a character (6.2 px at 11 px, as the row labels take).
+  g.top = g.slanted ? 70.0 : 0.62 * g.font * static_cast<double>(longest) + 10.0;
+  return g;
+}
+
 class Page {
  public:
   Page(const TeachingStep& step, const TeachingLimits& limits)
@@ -177,6 +203,8 @@ class Page {
                     const MatX& M,
                     bool rows_are_constraints,
                     const std::vector<std::string>& col_labels);
+  /// One band's name above a sparsity picture, its band starting at x px.
+  void group_name(const GroupNames& names, double x, const std::string& name);
   /// Where each nonzero of M lies, rows coloured by kind, columns banded by `group` columns
   /// (6: one band per body) with `group_names` above them.
   void sparsity(const std::string& id,
@@ -236,6 +264,15 @@ void Page::matrix_table(const std::string& id,
   o_ << "</tbody></table></div>\n";
 }
 
+void Page::group_name(const GroupNames& names, double x, const std::string& name) {
+  // Slanted text starts at the band's middle; upright text is centred on it.
+  const double at = x + names.band / 2 + (names.slanted ? 0.0 : names.font / 3);
+  o_ << "<text class=\"group-name\" x=\"" << px(at) << "\" y=\"" << px(names.top - 4)
+     << "\" font-size=\"" << px(names.font) << "\" transform=\"rotate("
+     << (names.slanted ? -40 : -90) << " " << px(at) << " " << px(names.top - 4) << ")\">"
+     << html_escape(name) << "</text>";
+}
+
 void Page::sparsity(const std::string& id,
                     const std::string& title,
                     const SpMat& M,
@@ -254,18 +291,9 @@ void Page::sparsity(const std::string& id,
   if (labels)
     for (const std::string& label : sys_.labels) longest = std::max(longest, label.size());
   const double left = labels ? std::min(320.0, 6.2 * static_cast<double>(longest) + 10.0) : 40.0;
-  // The group names above the bands: slanted in 11 px where a band is wide enough (18 px), else
-  // upright in a font that fits the band (8 to 11 px), every `every`-th name where even 8 px
-  // does not fit (a band under 9 px: the base-6 pyramid's 21 bodies in J's 126 columns).
-  const double band = group > 0 ? cell * static_cast<double>(group) / bin : 0.0;
-  const bool slanted = band >= 18.0;
-  const double name_font = slanted ? 11.0 : std::clamp(band * 0.9, 8.0, 11.0);
-  const long every = slanted || band >= 9.0 ? 1 : static_cast<long>(std::ceil(9.0 / band));
-  std::size_t longest_name = 0;
-  for (const std::string& name : group_names) longest_name = std::max(longest_name, name.size());
-  const double top = group <= 0 ? 10.0
-                     : slanted  ? 70.0
-                                : 0.62 * name_font * static_cast<double>(longest_name) + 10.0;
+  const GroupNames names =
+      group_names_layout(group > 0 ? cell * static_cast<double>(group) / bin : 0.0, group_names);
+  const double top = names.top;
   const double width = left + cell * std::ceil(cols / bin) + (group > 0 ? 70.0 : 10.0);
   const double height = top + cell * std::ceil(rows / bin) + 10.0;
   o_ << "<figure><svg id=\"" << id << "\" role=\"img\" viewBox=\"0 0 " << px(width) << " "
@@ -275,16 +303,11 @@ void Page::sparsity(const std::string& id,
   if (group > 0) {
     for (Eigen::Index g = 0; g * group < M.cols(); ++g) {
       const double x = left + cell * static_cast<double>(g * group) / bin;
-      const double w = cell * static_cast<double>(group) / bin;
-      o_ << "<rect x=\"" << px(x) << "\" y=\"" << px(top) << "\" width=\"" << px(w)
+      o_ << "<rect x=\"" << px(x) << "\" y=\"" << px(top) << "\" width=\"" << px(names.band)
          << "\" height=\"" << px(height - top - 10.0) << "\" fill=\""
          << (g % 2 == 0 ? "#eef1f6" : "#fafafa") << "\"/>";
-      if (static_cast<std::size_t>(g) >= group_names.size() || g % every != 0) continue;
-      const double at = slanted ? x + w / 2 : x + w / 2 + name_font / 3;  // upright: centred
-      o_ << "<text class=\"group-name\" x=\"" << px(at) << "\" y=\"" << px(top - 4)
-         << "\" font-size=\"" << px(name_font) << "\" transform=\"rotate(" << (slanted ? -40 : -90)
-         << " " << px(at) << " " << px(top - 4) << ")\">"
-         << html_escape(group_names[static_cast<std::size_t>(g)]) << "</text>";
+      if (static_cast<std::size_t>(g) < group_names.size() && g % names.every == 0)
+        group_name(names, x, group_names[static_cast<std::size_t>(g)]);
     }
   } else {
     o_ << "<rect x=\"" << px(left) << "\" y=\"" << px(top) << "\" width=\""
@@ -335,8 +358,9 @@ void Page::sparsity(const std::string& id,
          << kind_colour(kind_of(sys_, r)) << "\">"
          << html_escape(sys_.labels[static_cast<std::size_t>(r)]) << "</text>";
   o_ << "</svg><figcaption class=\"note\">" << html_escape(title);
-  if (every > 1)
-    o_ << " (one band in " << every << " named: the bands are " << px(band) << " px wide)";
+  if (names.every > 1)
+    o_ << " (one band in " << names.every << " named: the bands are " << px(names.band)
+       << " px wide)";
   if (bin > 1)
     o_ << " (one square per " << bin << " × " << bin
        << " entries, coloured by the kind with the most nonzeros in it)";

@@ -20,7 +20,9 @@ MODE is one of
              mpirun and by tao:TYPE alone and under mpirun (exit 2, naming the cones and what
              solves them) while the serial direct path solves it; a folder whose A.mtx is
              doubled (not J Minv J^T) or truncated is bad input (exit 2 naming A.mtx) serially,
-             under mpirun and for TAO; a missing folder is "no such file or folder" under mpirun
+             under mpirun and for TAO; a missing folder is "no such file or folder" under mpirun;
+             --time-limit stops direct under mpirun (status "time limit", exit 1) and is refused
+             for tao:TYPE (exit 2)
 
 Exit 0 when every check passes (each failed check is printed), 77 (skipped, with the reason)
 when there is no mpirun. As root, Open MPI needs OMPI_ALLOW_RUN_AS_ROOT=1 and
@@ -239,6 +241,20 @@ def mode_law(cbps, root):
     for ranks in RANKS:
         expect_refused([cbps, "lcp", missing, "--solver", "direct"], ranks,
                        "no such file or folder", "a missing folder")
+    # --time-limit (issue 50, item 5): the exact path under MPI stops at it on every rank
+    # together (status "time limit", exit 1), where it was ignored; TAO under lcp, whose ranks
+    # cannot agree on a time, refuses it.
+    for ranks in RANKS:
+        r = run([cbps, "lcp", good, "--solver", "direct", "--time-limit", "1e-9", "--json"], ranks)
+        try:
+            j = json.loads(r.stdout)
+        except json.JSONDecodeError:
+            j = None
+        check(r.returncode == 1 and j is not None and j["status"] == "time limit",
+              f"direct --time-limit 1e-9 at {ranks} rank(s): exit {r.returncode}, status "
+              f"{j and j['status']}: {r.stderr[-500:]}")
+        expect_refused([cbps, "lcp", good, "--solver", "tao:bqpip", "--time-limit", "1"], ranks,
+                       "--time-limit", "tao:bqpip with --time-limit")
 
 
 def main():

@@ -4,6 +4,7 @@
 #include "cbps/solvers/exact/interior_point.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -46,6 +47,14 @@ constexpr int kFloorSteps = 10;
 constexpr double kTie = 1e-3;
 
 double max_abs(const VecX& x) { return x.size() > 0 ? x.lpNorm<Eigen::Infinity>() : 0.0; }
+
+/// Whether options.deadline (SolverOptions::time_limit) has passed on any process: one
+/// reduction, made only when a deadline is set, so that a solve without one makes the collective
+/// calls it always made.
+bool past_deadline_anywhere(const SolverOptions& options, const RowReduction& all) {
+  if (options.deadline == std::chrono::steady_clock::time_point::max()) return false;
+  return !all.all(!past_deadline(options));
+}
 
 /// The rows' bounds and the whole problem's sizes, as both methods here need them.
 struct Bounds {
@@ -140,7 +149,7 @@ class InteriorPoint {
     double r_before = std::numeric_limits<double>::infinity();  // the last iteration's residual
     for (int it = 0; it < options_.direct.max_interior; ++it) {
       // Past the deadline (SolverOptions::time_limit) on any process: the crossover from here.
-      if (!all_.all(!past_deadline(options_))) break;
+      if (past_deadline_anywhere(options_, all_)) break;
       newton_.times_A(lambda, v.w);
       v.w -= rows_.b;
       double mu = 0.0;
@@ -424,7 +433,7 @@ class BulkCrossover {
           refactor_ = true;
         }
       } else if (out_.rounds >= options_.direct.max_outer_iterations ||
-                 !std::isfinite(out_.residual) || !all_.all(!past_deadline(options_))) {
+                 !std::isfinite(out_.residual) || past_deadline_anywhere(options_, all_)) {
         return best_residual_ < kInf ? (restore_best(), solved()) : out_;
       }
       // Proximal steps contract the error by about ε/(σ + ε) for an eigenvalue σ of the free
