@@ -352,3 +352,33 @@ TEST_CASE("plot_convergence.py draws a CSV with a diverging solver", "[cli][conv
   CHECK(slurp(dir / "c.svg").find("diverged") != std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("cbps converge counts an exact method's iterations as cbps lcp does", "[cli][converge]") {
+  // Issue 50, item 11: converge recorded max(1, iterations) for the exact methods, so a problem
+  // that Lemke solves with no pivot (q >= 0: lambda = 0) showed 1 in converge and 0 in lcp.
+  // A = diag(2, 3), b = (-1, -2), lambda in [0, inf): lambda = 0, w = -b >= 0, by hand.
+  const auto dir = scratch_dir("converge_counts");
+  const auto folder = dir / "hand";
+  std::filesystem::create_directories(folder);
+  const std::string vector = "%%MatrixMarket matrix array real general\n2 1\n";
+  cbps::test::write_file(folder / "A.mtx",
+                         "%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 2\n2 2 3\n");
+  cbps::test::write_file(folder / "b.mtx", vector + "-1\n-2\n");
+  cbps::test::write_file(folder / "cmin.mtx", vector + "0\n0\n");
+  cbps::test::write_file(folder / "cmax.mtx", vector + "inf\ninf\n");
+  const auto c = run_cli("converge " + folder.string() +
+                         " --solvers lemke,direct --quiet --no-plot --out " + (dir / "c").string());
+  INFO(c.err);
+  REQUIRE(c.code == 0);
+  const auto summary = nlohmann::json::parse(slurp(dir / "c" / "summary.json"));
+  for (const auto& s : summary["solvers"]) {
+    const std::string solver = s["solver"].get<std::string>();
+    CAPTURE(solver);
+    const auto l = run_cli("lcp " + folder.string() + " --solver " + solver + " --json");
+    REQUIRE(l.code == 0);
+    const auto j = nlohmann::json::parse(l.out);
+    CHECK(j["status"] == "solved");
+    CHECK(s["iterations"] == j["iterations"]);
+    if (solver == "lemke") CHECK(s["iterations"] == 0);  // q = -b >= 0: no pivot
+  }
+}
