@@ -558,3 +558,28 @@ TEST_CASE("J's body names stay readable when the bands are narrow: upright, apar
     if (x.size() < step.bodies.size()) CHECK(svg.find("named: the bands are") != std::string::npos);
   }
 }
+
+TEST_CASE("J's table of a wide system is shown whole, scrolling, not cut at 10 bodies",
+          "[studies][teaching]") {
+  // Issue 50, item 13: a chain of 20 links (20 rows, 120 columns) gave a picture and "its table
+  // is shown up to 60 columns"; the table now scrolls sideways (div.scroll) with its row labels
+  // sticky, up to 60 bodies.
+  const TeachingStep step = step_of("chain", {{"n", "20"}}, 3);
+  const std::string html = teaching_page_html(step);
+  const std::string J = table_of(html, "table-J");
+  REQUIRE_FALSE(J.empty());
+  const std::size_t at = html.find("<table id=\"table-J\"");
+  CHECK(html.rfind("<div class=\"scroll\">", at) ==
+        at - std::string("<div class=\"scroll\">").size());
+  const auto rows = rows_of(J);
+  REQUIRE(rows.size() == 20);
+  for (const auto& r : rows) CHECK(r.values.size() == 120);
+  CHECK(html.find("th.row{text-align:left;font-weight:500;position:sticky;left:0") !=
+        std::string::npos);
+  // Beyond 60 bodies the picture alone, and the page says where the table stops.
+  TeachingLimits few;
+  few.dense_bodies = 15;
+  const std::string limited = teaching_page_html(step, few);
+  CHECK(table_of(limited, "table-J").empty());
+  CHECK(limited.find("90 columns (15 bodies)") != std::string::npos);
+}

@@ -100,10 +100,11 @@ TeachingStep teaching_step(const Simulation& sim,
 
 /// Where the page switches from tables to pictures and statistics.
 struct TeachingLimits {
-  int dense_rows = 60;    ///< tables of J, A and the row vectors up to this many rows
-  int dense_bodies = 10;  ///< J's table up to 6 × this many columns; M⁻¹, v tables: 60 bodies
-  int eigen_rows = 400;   ///< eigenvalues of A (dense, O(c³)) up to this many rows
-  int bar_rows = 250;     ///< λ's picture: one bar per row up to this many, then per bin of rows
+  int dense_rows = 60;  ///< tables of J, A and the row vectors up to this many rows
+  /// The tables of J (6 columns a body, scrolling sideways), M⁻¹ and v up to this many bodies.
+  int dense_bodies = 60;
+  int eigen_rows = 400;  ///< eigenvalues of A (dense, O(c³)) up to this many rows
+  int bar_rows = 250;    ///< λ's picture: one bar per row up to this many, then per bin of rows
 };
 
 /// The eigenvalues of a symmetric positive semidefinite A, ascending, and its null space
