@@ -94,6 +94,23 @@ TEST_CASE("Lemke's pivots stop at the time limit", "[time-limit][lemke]") {
   const SolverSummary s = check_stops_at_limit(RandomProblem(200), Method::Lemke);
   CHECK(s.pivots >= 1);
   CHECK(s.pivots < 10);  // one check per pivot: it stops within the pivot in hand
+  // A non-symmetric A (Lemke takes any square A): A + S with S skew, positive definite still.
+  RandomProblem skewed(200, 5);
+  for (int k = 0; k + 1 < 200; ++k) {
+    skewed.A.coeffRef(k, k + 1) += 0.3;
+    skewed.A.coeffRef(k + 1, k) -= 0.3;
+  }
+  VecX lambda;
+  BoxedProblem p = skewed.problem();
+  p.symmetric = false;
+  const SolverSummary n = solve(p, lambda, limited(Method::Lemke, 1e-9));
+  INFO(n.message);
+  CHECK(n.termination == Termination::TimeLimit);
+  CHECK(lambda.allFinite());
+  VecX free_lambda;
+  const SolverSummary free = solve(p, free_lambda, limited(Method::Lemke, 600.0));
+  INFO(free.message);
+  CHECK(free.termination == Termination::Direct);
 }
 
 TEST_CASE("direct on cones stops at the time limit", "[time-limit][cone-direct]") {
