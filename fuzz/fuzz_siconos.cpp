@@ -1,7 +1,10 @@
-// libFuzzer target for the Siconos .dat reader (src/io/siconos.cpp): every input is read both as an
-// LCP (relay = false) and as a relay problem (relay = true). Each either returns a problem whose
-// M, q, lb and ub have the right sizes and no NaN (M, q finite; lb ≤ ub), or throws
-// cbps::InputError; any other exception, a crash or a sanitizer report is a finding.
+// libFuzzer target for the Siconos .dat readers (src/io/siconos.cpp, src/io/siconos_fc3d.cpp):
+// every input is read as an LCP (relay = false), as a relay problem (relay = true) and as a
+// frictional-contact dump. Each either returns a problem whose matrices and vectors have the
+// right sizes and no NaN (M, q finite; lb ≤ ub; a friction-contact problem's A and b finite, three
+// rows per contact, each mu ≥ 0), or throws cbps::InputError; any other exception, a crash or a
+// sanitizer report is a finding.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -11,6 +14,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
+#include "cbps/io/siconos_fc3d.hpp"
 
 namespace {
 
@@ -31,6 +35,19 @@ void check(const cbps::StoredLcp& p, bool relay) {
   require(p.boxed == relay, "boxed is not the relay flag");
 }
 
+void check(const cbps::StoredProblem& p) {
+  const auto c = p.b.size();
+  require(p.A.rows() == c && p.A.cols() == c && p.cmin.size() == c && p.cmax.size() == c,
+          "sizes do not agree");
+  require(p.cones.contacts() * 3 == c, "not three rows per contact");
+  bool finite = p.b.allFinite();
+  for (int j = 0; j < p.A.outerSize(); ++j)
+    for (cbps::SpMat::InnerIterator it(p.A, j); it; ++it)
+      finite = finite && std::isfinite(it.value());
+  require(finite, "A or b is not finite");
+  require((p.cones.mu.array() >= 0.0).all(), "a negative mu");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
@@ -41,6 +58,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       check(cbps::parse_siconos(in, "fuzz.dat", relay), relay);
     } catch (const cbps::InputError&) {
     }
+  }
+  try {
+    std::istringstream in(text);
+    check(cbps::parse_siconos_fc3d(in, "fuzz.dat"));
+  } catch (const cbps::InputError&) {
   }
   return 0;
 }

@@ -233,6 +233,8 @@ inline VecX solve_exact(const Constructed& p,
 
 /// Where the external data lives (tests/data/README.md).
 inline const std::filesystem::path kSiconosDir = std::filesystem::path(CBPS_DATA_DIR) / "siconos";
+/// Siconos' frictional-contact dumps (tests/data/siconos-fc3d).
+inline const std::filesystem::path kFc3dDir = std::filesystem::path(CBPS_DATA_DIR) / "siconos-fc3d";
 
 inline std::vector<std::filesystem::path> dat_files(const std::filesystem::path& dir) {
   INFO("the Siconos data folder is missing: " << dir.string());

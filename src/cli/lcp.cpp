@@ -619,8 +619,9 @@ void register_lcp(CLI::App& app, Action& run) {
   auto o = std::make_shared<LcpOptions>();
   cmd->add_option("PROBLEM",
                   o->problem,
-                  "folder from `cbps matrices`, a Siconos .dat file, or an FCLIB local problem "
-                  "(HDF5, docs/cones.md) (required unless --generate)");
+                  "folder from `cbps matrices`, a Siconos .dat file (LCP, relay, or a "
+                  "frictional-contact dump, local or global), or an FCLIB problem (HDF5, "
+                  "docs/cones.md) (required unless --generate)");
   cmd->add_option(
       "--solver",
       o->solver,
@@ -665,8 +666,10 @@ void register_lcp(CLI::App& app, Action& run) {
       ->check(non_negative());
   cmd->add_option("--siconos",
                   o->siconos,
-                  "what a .dat file holds: auto (from the count of numbers: n^2 + n an LCP, "
-                  "n^2 + 3n a relay problem), lcp or relay (default auto)");
+                  "what a .dat file holds: auto (from its contents: a frictional-contact dump "
+                  "begins d nc storage, an LCP n 0 n n; then n^2 + n numbers an LCP, n^2 + 3n a "
+                  "relay problem), lcp, relay or fc3d (Siconos' frictional-contact dump, local "
+                  "or global, docs/cones.md) (default auto)");
   add_cone_option(cmd, o->cone);
   cmd->add_option("--generate",
                   o->generate,

@@ -4,8 +4,6 @@
 #include <hdf5.h>
 #include <hdf5_hl.h>
 
-#include <Eigen/Cholesky>
-#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -17,6 +15,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/system/system.hpp"
+#include "global_problem.hpp"
 
 namespace cbps {
 
@@ -177,19 +176,6 @@ std::vector<double> friction_coefficients(const Reader& in,
   return mu;
 }
 
-/// The rows of an FCLIB problem: m contact rows (normal, t1, t2 per contact) in the cones of
-/// `mu`, then e free rows.
-void in_cones(StoredProblem& p, long m, long e, const std::vector<double>& mu) {
-  p.cmin = VecX::Constant(m + e, -kInf);
-  p.cmax = VecX::Constant(m + e, kInf);
-  p.cones.mu.resize(m / 3);
-  for (long i = 0; i < m / 3; ++i) {
-    p.cones.normal.push_back(static_cast<int>(3 * i));
-    p.cones.mu(i) = mu[static_cast<std::size_t>(i)];
-    p.cmin(3 * i) = 0.0;  // the normal row alone: [0, ∞) (the cone decides)
-  }
-}
-
 /// The stored problem of W, V, R, q, s and mu: A = [W V; Vᵀ R], b = −[q; s].
 StoredProblem assemble(const SpMat& W,
                        const SpMat* V,
@@ -313,59 +299,6 @@ Eigen::PermutationMatrix<Eigen::Dynamic> file_order(const StoredProblem& p, long
   return file_row;
 }
 
-/// The largest block of a block-diagonal M whose inverse read_global forms entry by entry: a
-/// rigid body's 6 rows (Siconos' and cbps's bodies), with room for coupled pairs.
-constexpr long kInverseBlock = 12;
-
-/// The inverse of a symmetric M made of independent blocks of at most kInverseBlock rows (the
-/// components of its pattern), each inverted by a dense LLᵀ: M⁻¹ from M (reading a global
-/// problem) and M from Minv (writing one). False, `inverse` untouched, for larger blocks, and
-/// with `failure` saying which block where one is not positive definite.
-bool block_inverse(const SpMat& M, SpMat& inverse, std::string& failure) {
-  const long n = M.rows();
-  std::vector<long> component(static_cast<std::size_t>(n), -1);
-  std::vector<std::vector<long>> blocks;
-  const SpMat pattern = SpMat(M.transpose()) + M;  // both triangles, whichever M stores
-  for (long start = 0; start < n; ++start) {
-    if (component[static_cast<std::size_t>(start)] >= 0) continue;
-    std::vector<long> members{start};
-    component[static_cast<std::size_t>(start)] = static_cast<long>(blocks.size());
-    for (std::size_t k = 0; k < members.size(); ++k) {
-      for (SpMat::InnerIterator it(pattern, members[k]); it; ++it) {
-        long& c = component[static_cast<std::size_t>(it.row())];
-        if (c >= 0) continue;
-        c = static_cast<long>(blocks.size());
-        members.push_back(it.row());
-        if (static_cast<long>(members.size()) > kInverseBlock) return false;
-      }
-    }
-    std::sort(members.begin(), members.end());
-    blocks.push_back(std::move(members));
-  }
-  std::vector<Triplet> entries;
-  for (const std::vector<long>& block : blocks) {
-    const long size = static_cast<long>(block.size());
-    Eigen::MatrixXd B(size, size);
-    for (long r = 0; r < size; ++r)
-      for (long c = 0; c < size; ++c)
-        B(r, c) = M.coeff(block[std::size_t(r)], block[std::size_t(c)]);
-    const Eigen::LLT<Eigen::MatrixXd> llt(B);
-    if (llt.info() != Eigen::Success) {
-      failure = "the block of rows " + std::to_string(block.front()) + ".." +
-                std::to_string(block.back()) + " is not positive definite";
-      return false;
-    }
-    const Eigen::MatrixXd D = llt.solve(Eigen::MatrixXd::Identity(size, size));
-    for (long r = 0; r < size; ++r)
-      for (long c = 0; c < size; ++c)
-        if (D(r, c) != 0.0)
-          entries.emplace_back(block[std::size_t(r)], block[std::size_t(c)], D(r, c));
-  }
-  inverse.resize(n, n);
-  inverse.setFromTriplets(entries.begin(), entries.end());
-  return true;
-}
-
 /// An FCLIB global problem, M v = H r + G l + f, Gᵀ v + b = 0, u = Hᵀ v + w (fclib.h), with v
 /// eliminated: J = [Hᵀ; Gᵀ] (r's rows, then l's), A = J M⁻¹ Jᵀ (6.2.9),
 /// b = −[Hᵀ M⁻¹ f + w; Gᵀ M⁻¹ f + b_G]. With a block-diagonal M (rigid bodies) J and M⁻¹ are
@@ -380,12 +313,6 @@ StoredProblem read_global(const Reader& in, VecX* solution) {
   if (M.cols() != n)
     in.fail("/fclib_global/M",
             std::to_string(n) + " x " + std::to_string(M.cols()) + ": M must be square");
-  const SpMat asymmetry = M - SpMat(M.transpose());
-  if (asymmetry.nonZeros() > 0 &&
-      asymmetry.coeffs().cwiseAbs().maxCoeff() > 1e-12 * SpMat(M).coeffs().cwiseAbs().maxCoeff())
-    in.fail("/fclib_global/M",
-            "not symmetric (a mass matrix is; entries differ by up to " +
-                std::to_string(asymmetry.coeffs().cwiseAbs().maxCoeff()) + ")");
   const SpMat H = in.matrix("/fclib_global/H");
   if (H.rows() != n || H.cols() % 3 != 0)
     in.fail("/fclib_global/H",
@@ -404,46 +331,15 @@ StoredProblem read_global(const Reader& in, VecX* solution) {
   const std::vector<double> bG =
       e > 0 ? in.doubles("/fclib_global/vectors/b", e) : std::vector<double>{};
   const std::vector<double> mu = friction_coefficients(in, "/fclib_global/vectors/mu", m / 3);
-  SpMatRow J(m + e, n);  // [Hᵀ; Gᵀ]
-  {
-    std::vector<Triplet> entries;
-    for (const auto& [B, row0] : {std::pair<const SpMat*, long>{&H, 0}, {&G, m}})
-      for (Eigen::Index j = 0; j < B->outerSize(); ++j)
-        for (SpMat::InnerIterator it(*B, j); it; ++it)
-          entries.emplace_back(row0 + it.col(), it.row(), it.value());
-    J.setFromTriplets(entries.begin(), entries.end());
-  }
-  const VecX fv = Eigen::Map<const VecX>(f.data(), n);
-  SpMat Minv, A;  // A = J M⁻¹ Jᵀ (6.2.9)
-  VecX Minv_f;
-  std::string failure;
-  const bool blocks = block_inverse(M, Minv, failure);
-  if (!failure.empty()) in.fail("/fclib_global/M", failure);
-  if (blocks) {
-    A = compute_A(J, Minv);
-    Minv_f = Minv * fv;
-  } else {  // M⁻¹ is not formed: M⁻¹ Jᵀ by its sparse LDLᵀ
-    const Eigen::SimplicialLDLT<SpMat> ldlt(M);  // M's lower triangle (symmetric, checked)
-    if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().array() > 0.0).all())
-      in.fail("/fclib_global/M", "not symmetric positive definite (its LDL^T has a pivot <= 0)");
-    A = J * SpMat(ldlt.solve(SpMat(J.transpose())));
-    Minv_f = ldlt.solve(fv);
-  }
-  StoredProblem p;
-  p.A = 0.5 * (A + SpMat(A.transpose()));  // symmetric to the bit, as J M⁻¹ Jᵀ is
-  const VecX q = J * Minv_f;
-  p.b.resize(m + e);
-  for (long k = 0; k < m; ++k) p.b(k) = -(q(k) + w[static_cast<std::size_t>(k)]);
-  for (long k = 0; k < e; ++k) p.b(m + k) = -(q(m + k) + bG[static_cast<std::size_t>(k)]);
-  in_cones(p, m, e, mu);
-  if (blocks) {
-    p.J = J;
-    p.Minv = Minv;
-  } else {
-    p.without_jacobian = "an FCLIB global problem whose M couples more than " +
-                         std::to_string(kInverseBlock) +
-                         " rows: A = H^T M^-1 H formed by a sparse LDL^T of M";
-  }
+  GlobalProblem g{M,
+                  H,
+                  G,
+                  Eigen::Map<const VecX>(f.data(), n),
+                  Eigen::Map<const VecX>(w.data(), m),
+                  Eigen::Map<const VecX>(bG.data(), e),
+                  mu};
+  StoredProblem p =
+      eliminate_velocities(g, [&](const std::string& why) { in.fail("/fclib_global/M", why); });
   if (solution != nullptr && in.exists("/solution/r")) {
     const std::vector<double> r = in.doubles("/solution/r", m);
     *solution = VecX::Zero(m + e);

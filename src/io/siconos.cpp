@@ -14,106 +14,20 @@
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
 #include "cbps/io/input_file.hpp"
+#include "token_reader.hpp"
 
 namespace cbps {
 
 namespace {
 
-struct Token {
-  std::string text;
-  int line = 0;
-};
-
-/// Reads the fields of one file in order; every error names the file and the line.
-class TokenReader {
- public:
-  TokenReader(std::istream& in, const std::string& source) : path_(source) {
-    std::ostringstream text;
-    text << in.rdbuf();
-    split(text.str());
-  }
-
-  [[noreturn]] void fail(int line, const std::string& why) const {
-    throw InputError(path_ + ": line " + std::to_string(line) + ": " + why);
-  }
-
-  /// The next token, or a failure naming `what` at the end of the file.
-  const Token& next(const std::string& what) {
-    if (pos_ >= tokens_.size()) fail(last_line_, "end of file where " + what + " was expected");
-    return tokens_[pos_++];
-  }
-
-  /// The line of the token read last.
-  int line() const { return pos_ == 0 ? 1 : tokens_[pos_ - 1].line; }
-
-  /// How many tokens are left to read.
-  std::size_t remaining() const { return tokens_.size() - pos_; }
-
-  /// How many of the tokens left, from the next one on, are numbers before the first that is not.
-  std::size_t leading_numbers() const {
-    std::size_t count = 0;
-    double value = 0;
-    while (pos_ + count < tokens_.size() && parse_number(tokens_[pos_ + count].text, value))
-      ++count;
-    return count;
-  }
-
-  /// A whole token as an integer.
-  long next_integer(const std::string& what) {
-    const Token& t = next(what);
-    errno = 0;
-    char* end = nullptr;
-    const long value = std::strtol(t.text.c_str(), &end, 10);
-    if (end == t.text.c_str() || *end != '\0' || errno == ERANGE)
-      fail(t.line, "expected an integer " + what + ", found '" + t.text + "'");
-    return value;
-  }
-
-  /// A whole token as a finite double; describe() names it (called only on failure).
-  template <class Describe>
-  double next_number(const Describe& describe) {
-    if (pos_ >= tokens_.size()) next(describe());
-    const Token& t = tokens_[pos_++];
-    double value = 0;
-    if (!parse_token(t.text, value))
-      fail(t.line, "expected a number " + describe() + ", found '" + t.text + "'");
-    if (!std::isfinite(value)) fail(t.line, describe() + " is not finite ('" + t.text + "')");
-    return value;
-  }
-
-  /// The free text after the data must not start with a number (see siconos.hpp).
-  void expect_end_of_data(const std::string& after) const {
-    if (pos_ >= tokens_.size()) return;
-    const Token& t = tokens_[pos_];
-    double value = 0;
-    if (parse_token(t.text, value))
-      fail(t.line,
-           "a number ('" + t.text + "') after " + after + ": wrong n or wrong problem type");
-  }
-
- private:
-  void split(const std::string& text) {
-    int line = 1;
-    std::string current;
-    for (char c : text) {
-      const bool space = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
-      if (space) {
-        if (!current.empty()) tokens_.push_back({current, line});
-        current.clear();
-        if (c == '\n') ++line;
-      } else {
-        current.push_back(c);
-      }
-    }
-    if (!current.empty()) tokens_.push_back({current, line});
-    last_line_ = tokens_.empty() ? 1 : tokens_.back().line;
-  }
-
-  std::string path_;
-  std::vector<Token> tokens_;
-  std::size_t pos_ = 0;
-  int last_line_ = 1;
-};
+/// The free text after the data must not start with a number (see siconos.hpp).
+void expect_end_of_data(const TokenReader& reader, const std::string& after) {
+  const Token* t = reader.peek();
+  double value = 0;
+  if (t != nullptr && parse_token(t->text, value))
+    reader.fail(t->line,
+                "a number ('" + t->text + "') after " + after + ": wrong n or wrong problem type");
+}
 
 /// n numbers into v, named e.g. "q[3]".
 void read_vector(TokenReader& reader, const std::string& name, VecX& v) {
@@ -129,6 +43,8 @@ StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay)
 
 StoredLcp parse_siconos(std::istream& in, const std::string& source, SiconosKind kind) {
   TokenReader reader(in, source);
+  if (kind == SiconosKind::FrictionContact)
+    reader.fail(1, "a frictional-contact problem is not an LCP (read_problem reads it)");
 
   // Header: n, storage type, rows cols, rows cols.
   const long n = reader.next_integer("n (size of the problem)");
@@ -195,7 +111,7 @@ StoredLcp parse_siconos(std::istream& in, const std::string& source, SiconosKind
     p.lb = VecX::Zero(n);
     p.ub = VecX::Constant(n, kInf);
   }
-  reader.expect_end_of_data(relay ? "ub" : "q");
+  expect_end_of_data(reader, relay ? "ub" : "q");
   return p;
 }
 
@@ -212,7 +128,8 @@ SiconosKind parse_siconos_kind(const std::string& text, const std::string& what)
   if (text == "auto") return SiconosKind::Auto;
   if (text == "lcp") return SiconosKind::Lcp;
   if (text == "relay") return SiconosKind::Relay;
-  throw InputError(what + " '" + text + "': expected auto, lcp or relay");
+  if (text == "fc3d") return SiconosKind::FrictionContact;
+  throw InputError(what + " '" + text + "': expected auto, lcp, relay or fc3d");
 }
 
 }  // namespace cbps

@@ -14,6 +14,7 @@
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/output_dir.hpp"
 #include "cbps/io/siconos.hpp"
+#include "cbps/io/siconos_fc3d.hpp"
 
 namespace cbps {
 
@@ -168,6 +169,9 @@ StoredProblem read_folder(const std::string& dir) {
 }
 
 StoredProblem read_dat(const std::string& path, SiconosKind kind) {
+  if (kind == SiconosKind::FrictionContact ||
+      (kind == SiconosKind::Auto && looks_like_siconos_fc3d(path)))
+    return read_siconos_fc3d(path);
   const StoredLcp s = read_siconos(path, kind);
   StoredProblem p;
   p.without_jacobian = "a Siconos file carries no J and Minv";

@@ -52,8 +52,10 @@ StoredLcp read_siconos(const std::string& path, bool relay);
 /// StoredLcp::source.
 StoredLcp parse_siconos(std::istream& in, const std::string& source, bool relay);
 
-/// What a .dat file holds: found from its contents (Auto), or as the user says.
-enum class SiconosKind { Auto, Lcp, Relay };
+/// What a .dat file holds: found from its contents (Auto), or as the user says. FrictionContact
+/// is a frictional-contact dump, local or global (io/siconos_fc3d.hpp), read by read_problem;
+/// read_siconos reads the other two.
+enum class SiconosKind { Auto, Lcp, Relay, FrictionContact };
 
 /// Reads a dense Siconos .dat file of the given kind. Auto tells the two apart by the count of
 /// numbers after the header: n² + n (M, q) is an LCP, n² + 3n (M, q, lb, ub) a relay problem;
@@ -63,7 +65,7 @@ enum class SiconosKind { Auto, Lcp, Relay };
 StoredLcp read_siconos(const std::string& path, SiconosKind kind);
 StoredLcp parse_siconos(std::istream& in, const std::string& source, SiconosKind kind);
 
-/// The kind named on the command line: "auto", "lcp" or "relay"; InputError otherwise.
+/// The kind named on the command line: "auto", "lcp", "relay" or "fc3d"; InputError otherwise.
 SiconosKind parse_siconos_kind(const std::string& text, const std::string& what);
 
 }  // namespace cbps
