@@ -586,11 +586,10 @@ int lcp_command(const LcpOptions& o) {
   // solver here (options.cfm, applied by solve()); the residual is that problem's.
 
   // The default (lcp --help says it, once): the exact path for a `cbps matrices` folder, for a
-  // problem on cones whose A is symmetric and for a Siconos file too large for dense Lemke;
-  // nsgs on cones whose A is not symmetric (direct solves the QP of 6.2 and refuses it); Lemke
+  // problem on cones (whatever its A) and for a Siconos file too large for dense Lemke; Lemke
   // for the other Siconos files.
   const bool cones = !p.cones.empty();
-  const char* fallback = cones ? (max_asymmetry(p.A) <= symmetry_tolerance(p.A) ? "direct" : "nsgs")
+  const char* fallback = cones                                         ? "direct"
                          : !p.folder && p.rows() <= kMaxDenseLemkeRows ? "lemke"
                                                                        : "direct";
   const SolverSpec spec = given ? *given : parse_solver_spec(fallback, "--solver");
@@ -628,11 +627,11 @@ void register_lcp(CLI::App& app, Action& run) {
       "NAME[:OMEGA][:key=value]... of the list below (" + cli_solver_names() +
           "), with the parameters the list gives. Default: direct (the exact path: interior "
           "point with a crossover, in body space when the folder has J.mtx and Minv.mtx; on "
-          "friction cones its second-order-cone form), except lemke for a Siconos .dat file of "
-          "up to 3000 rows and nsgs for a problem on friction cones whose A is not symmetric "
-          "(an FCLIB file's W may not be). Cones are solved by nsgs, direct and Siconos' "
+          "friction cones its second-order-cone form, any A), except lemke for a Siconos LCP or "
+          "relay file of up to 3000 rows. Cones are solved by nsgs, direct and Siconos' "
           "siconos:fc3d-nsgs, -nsn-ac, -prox, -admm. "
-          "direct and active-set need a symmetric A, lemke takes any square A; "
+          "direct (except on cones) and active-set need a symmetric A, lemke takes any square "
+          "A; "
           "matrix-free and shock read J and Minv (a cbps matrices folder, not a "
           "Siconos file); tao:TYPE is PETSc/TAO under MPI, alone or under "
           "`mpirun -n N` (symmetric A; TYPE one of " +

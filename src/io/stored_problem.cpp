@@ -349,14 +349,12 @@ void check_factors_agree(const std::string& dir, const FactorsGap& gap) {
 }
 
 void require_symmetric(const StoredProblem& p, const std::string& what) {
+  if (!p.cones.empty()) return;  // on cones direct takes any A (needs_symmetric)
   const double asymmetry = max_asymmetry(p.A);
   if (asymmetry > symmetry_tolerance(p.A))
     throw InputError(
         what + ": needs a symmetric A (the direct path solves the QP of 6.2); max |A - A^T| = " +
-        number_text(asymmetry) + "; " +
-        (p.cones.empty() ? "`cbps lcp --solver lemke` solves any square A"
-                         : "on friction cones `--solver nsgs` (and Siconos' siconos:fc3d-nsgs, "
-                           "-nsn-ac, -prox, -admm under Coulomb's law) take any A"));
+        number_text(asymmetry) + "; " + "`cbps lcp --solver lemke` solves any square A");
 }
 
 }  // namespace cbps

@@ -371,7 +371,7 @@ SolverSummary solve_posed(const BoxedProblem& problem, VecX& lambda, const Solve
   // A step's A = J Minv Jᵀ is symmetric by construction (BoxedProblem::symmetric): not tested.
   const double asymmetry = problem.symmetric ? 0.0 : max_asymmetry(problem.A);
   if (asymmetry > kSymmetryTolerance && asymmetry > symmetry_tolerance(problem.A)) {
-    if (needs_symmetric(options.method))
+    if (needs_symmetric(options.method, problem.cones != nullptr))
       throw InputError("method '" + std::string(to_string(options.method)) +
                        "' minimises the QP 1/2 lambda^T A lambda - b^T lambda of 6.2, which is the "
                        "boxed LCP only for a symmetric A; max |A - A^T| = " +

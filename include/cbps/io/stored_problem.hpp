@@ -124,7 +124,8 @@ long folder_cone_contacts(const std::string& dir);
 
 /// InputError naming `what` and max |A − Aᵀ| unless A is symmetric to kSymmetryTolerance
 /// (system/boxed_problem.hpp; solve() makes the same test on every solve):
-/// the direct path solves the QP of 6.2, which needs it.
+/// the direct path solves the QP of 6.2, which needs it. A problem on friction cones passes
+/// whatever its A: direct solves the law itself there (needs_symmetric).
 void require_symmetric(const StoredProblem& p, const std::string& what);
 
 }  // namespace cbps

@@ -151,7 +151,10 @@ inline bool reads_A(Method method, bool cones) {
 /// non-symmetric A for them (InputError). The sweeps of 7.1.1 (pgs, psor, sgs, jacobi, rbgs,
 /// block-pgs, shock, pgs-nesterov) take any A with a positive diagonal: they read A's rows
 /// (BoxedProblem::A_rows). matrix-free sweeps J Minv Jᵀ, which solve() checks against A.
-inline bool needs_symmetric(Method method) {
+/// On friction cones (`cones`) direct takes any A: past the relaxation's interior point, which it
+/// runs on A's symmetric part, its stages solve the law itself on A (cone/cone_direct.hpp).
+inline bool needs_symmetric(Method method, bool cones = false) {
+  if (method == Method::Direct && cones) return false;
   return method == Method::Direct || method == Method::ActiveSet || method == Method::Apgd ||
          method == Method::Nncg || method == Method::PgsSm || method == Method::Admm;
 }

@@ -5,7 +5,6 @@
 #include "cbps/solvers/cone/cone_direct.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
 #include <algorithm>
 #include <chrono>
@@ -17,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "cbps/solvers/cone/nsgs.hpp"
+#include "cbps/solvers/exact/cholmod_factor.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/system/cone_problem.hpp"
 #include "interior_system.hpp"
@@ -62,10 +63,24 @@ constexpr int kOuterStall = 5;
 /// where it does not finish would otherwise go on for minutes (base-8 pyramid: 392 spent for
 /// 4.6e-5 N).
 constexpr int kMaxFactorizations = 300;
-/// Levenberg–Marquardt steps on Alart–Curnier's function (Coulomb) at most, and the count in a
-/// row that do not lower the law's residual by kProgress that ends them.
-constexpr int kMaxAlartCurnier = 30;
-constexpr int kAlartCurnierStall = 3;
+/// Where the stages above stall: rounds of NSGS sweeps then Newton's steps on Alart–Curnier's
+/// function (sweeps_then_newton), at most kSweepRounds of kSweepsPerRound sweeps, with a budget
+/// of kSweepFactorizations factorizations of their own.
+constexpr int kSweepRounds = 10;
+/// A start (the best point, zero) ends after this many rounds in a row that do not lower the
+/// best residual by a tenth: the sweeps may dwell on a plateau for a round, then fall
+/// (Capsules-i125-1213: 3.7e-6 N for 4,000 sweeps, then 1.2e-8 N), but where Coulomb's law has
+/// no answer near (the paper's pyramids settling, RockPile) they only wander.
+constexpr int kSweepStrikes = 2;
+constexpr int kSweepsPerRound = 2000;
+constexpr int kSweepFactorizations = 100;
+/// Newton steps on Alart–Curnier's function (Coulomb) at most, and the count in a row that do
+/// not lower the law's residual by the fraction kNewtonProgress that ends them (Newton's and
+/// Levenberg–Marquardt's steps near an answer lower it by far more: Capsules-i101-404, 2.8e-8 N
+/// to 6e-14 N in about 30 steps).
+constexpr int kMaxAlartCurnier = 100;
+constexpr int kAlartCurnierStall = 5;
+constexpr double kNewtonProgress = 1e-3;
 constexpr double kProgress = 1e-3;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
@@ -81,6 +96,12 @@ struct Setup {
   double md = 1.0;  ///< max A_kk, kg⁻¹
   double bn = 1.0;  ///< ‖b‖∞, m/s²
   SpMat A;          ///< A', every diagonal entry stored
+  /// (A' + A'ᵀ)/2 where A is not symmetric (an FCLIB or Siconos W; empty otherwise): the matrix
+  /// of the relaxation's interior point, a QP's, whose answer starts the stages that solve the
+  /// law on A' itself (proximal Newton, Alart–Curnier's steps); every residual is A''s.
+  SpMat A_sym;
+  /// The matrix of the interior point's QP: A', or its symmetric part.
+  const SpMat& qp() const { return A_sym.size() > 0 ? A_sym : A; }
   VecX b, cmin, cmax;
   std::vector<char> fixed;  ///< rows held at fixed_value (cmin = cmax, a mu = 0 contact's t1, t2)
   VecX fixed_value;
@@ -117,6 +138,10 @@ Setup make_setup(const BoxedProblem& p) {
   for (Eigen::Index k = 0; k < c; ++k) t.emplace_back(int(k), int(k), 0.0);  // the diagonal
   S.A.resize(c, c);
   S.A.setFromTriplets(t.begin(), t.end());
+  if (!p.symmetric && max_asymmetry(p.A) > symmetry_tolerance(p.A)) {
+    S.A_sym = 0.5 * (S.A + SpMat(S.A.transpose()));
+    S.body.reset();  // body space factors J Minv Jᵀ, which is symmetric: not this A
+  }
   S.b = p.b / S.bn;
   S.cmin = p.cmin * x_scale;
   S.cmax = p.cmax * x_scale;
@@ -262,11 +287,13 @@ struct Counts {
   /// Where the interior point's Newton systems were solved: "body" while all were, "row" once
   /// any was, "" before the first.
   std::string space;
-  int body_factorizations = 0;  ///< interior factorizations in body space
+  int body_factorizations = 0;      ///< interior factorizations in body space
+  int sweeps = 0;                   ///< NSGS sweeps (sweeps_then_newton)
+  int budget = kMaxFactorizations;  ///< factorizations the stages may spend
   /// SolverOptions::deadline: the stages stop at it as at their budget.
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
   bool spent() const {
-    return factorizations >= kMaxFactorizations || std::chrono::steady_clock::now() >= deadline;
+    return factorizations >= budget || std::chrono::steady_clock::now() >= deadline;
   }
 };
 
@@ -402,7 +429,7 @@ VecX interior(const Setup& S,
   for (const Constraint& k : S.constraints) e(k.at) = 1.0;
   VecX s = e, z = e;  // the cones' axes
   std::vector<Mat3> W(S.constraints.size()), Winv(S.constraints.size());
-  InteriorSystem system(S.A, S.md, S.fixed, S.constraints, S.body ? &*S.body : nullptr);
+  InteriorSystem system(S.qp(), S.md, S.fixed, S.constraints, S.body ? &*S.body : nullptr);
   const int factorizations_before = counts.factorizations;
   const int body_before = counts.body_factorizations;
   const auto tally = [&] {  // what the system factored, into the counts
@@ -415,7 +442,7 @@ VecX interior(const Setup& S,
   double best_r = judged(x);
   for (int it = 0; it < kMaxInterior; ++it) {
     refresh(x);
-    VecX rx = S.A * x - b - E_transpose(S, z);
+    VecX rx = S.qp() * x - b - E_transpose(S, z);
     for (Eigen::Index k = 0; k < c; ++k)
       if (S.fixed[std::size_t(k)]) rx(k) = 0.0;
     const VecX rs = s - E_times(S, x, true);
@@ -593,7 +620,8 @@ void proximal_newton(const Setup& S,
                      double target,
                      int max_outer,
                      VecX& x,
-                     Counts& counts) {
+                     Counts& counts,
+                     bool alart_curnier = false) {
   const Eigen::Index c = S.c;
   Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
   bool analysed = false;
@@ -610,7 +638,7 @@ void proximal_newton(const Setup& S,
     const VecX b_eps = b + eps * x;
     SpMat jacobian;
     for (int it = 0; it < kMaxNewton; ++it) {
-      const VecX F = natural_map_newton(S, cones, A_eps, b_eps, x, &jacobian);
+      const VecX F = natural_map_newton(S, cones, A_eps, b_eps, x, &jacobian, alart_curnier);
       const double f = F.norm();
       if (!(f > kInnerFraction * best_r) || counts.spent()) break;
       if (!analysed) {
@@ -626,7 +654,7 @@ void proximal_newton(const Setup& S,
       bool accepted = false;
       for (; t >= kSmallestStep; t *= 0.5) {
         const VecX trial = x + t * d;
-        if (natural_map_newton(S, cones, A_eps, b_eps, trial, nullptr).norm() <=
+        if (natural_map_newton(S, cones, A_eps, b_eps, trial, nullptr, alart_curnier).norm() <=
             (1.0 - kArmijo * t) * f) {
           x = trial;
           accepted = true;
@@ -653,20 +681,41 @@ void proximal_newton(const Setup& S,
   x = best;
 }
 
-/// Coulomb's first try, from the relaxation's answer x: Levenberg–Marquardt steps on
-/// alart_curnier_map over all contacts (the box's natural map for the other rows),
-/// (GᵀG + ν I) d = −Gᵀ F with ν = ‖F‖² (Yamashita & Fukushima, Computing Suppl. 15, 2001: fast
-/// near a solution even where the solutions are not isolated, as on a singular A), factored by
-/// Eigen's SimplicialLDLT, an Armijo search on ‖F‖². Ends at `target` (the law's own residual,
-/// De Saxcé's natural map), after kMaxAlartCurnier steps or kAlartCurnierStall without progress.
-/// x becomes the point of least residual, which it returns. On a block sliding down a slope from
-/// the box's state this finishes in a few steps where the fixed point below does not; on piles near
-/// rest whose contacts slide at 1e-8 m/s it stalls as the others do (docs/cones.md).
+/// Coulomb's first try, from the relaxation's answer x: semismooth Newton steps on
+/// alart_curnier_map over all contacts (the box's natural map for the other rows), G d = −F with
+/// G its generalized Jacobian, which is not symmetric (nor is A where a file's W is not),
+/// factored by Eigen's SparseLU (one analysis), an Armijo search on ‖F‖² (the NSN-AC of Siconos;
+/// Alart & Curnier 1991, Christensen, Klarbring, Pang & Strömberg, Int. J. Numer. Meth. Engng 42,
+/// 1998). Where G is singular or its step does not descend, a Levenberg–Marquardt step
+/// (GᵀG + ν I) d = −Gᵀ F with ν = ‖F‖ (Fan & Yuan, Computing 74, 2005: fast near a solution even
+/// where the solutions are not isolated, as on a singular A), factored by CHOLMOD. Ends
+/// at `target` (the law's own residual, De Saxcé's natural map), after kMaxAlartCurnier steps or
+/// kAlartCurnierStall without progress, or where neither step descends. x becomes the point of
+/// least residual, which it returns. From the relaxation's answer this finishes Siconos' test
+/// problems whose W is not symmetric (Rover, OneObject, Capsules) and those where the relaxation
+/// leaves contacts sliding (NESpheres_30_1, Confeti).
 double alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts) {
   VecX best = x;
   double best_r = residual(S, S.law, S.b, x);
-  Eigen::SimplicialLDLT<SpMat> ldlt;
+  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
+  bool analysed = false;
+  CholmodFactor normal;  // GᵀG + ν I
+  long normal_pattern = -1;
   SpMat G;
+  // x + t d for the first t = 1, 1/2, ... down to `smallest` with ‖F‖² decreasing by Armijo's
+  // fraction.
+  const auto descend = [&](const VecX& d, double f, double smallest) {
+    if (!d.allFinite()) return false;
+    for (double t = 1.0; t >= smallest; t *= 0.5) {
+      const VecX trial = x + t * d;
+      if (natural_map_newton(S, S.law, S.A, S.b, trial, nullptr, true).squaredNorm() <=
+          (1.0 - kArmijo * t) * f) {
+        x = trial;
+        return true;
+      }
+    }
+    return false;
+  };
   int stall = 0;
   for (int it = 0;
        it < kMaxAlartCurnier && best_r > target && stall < kAlartCurnierStall && !counts.spent();
@@ -674,30 +723,33 @@ double alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& count
     const VecX F = natural_map_newton(S, S.law, S.A, S.b, x, &G, true);
     const double f = F.squaredNorm();
     if (!(f > 0.0)) break;  // Alart–Curnier's function is zero: the law holds
-    const SpMat Gt = G.transpose();
-    SpMat H = Gt * G;
-    SpMat nu(S.c, S.c);
-    nu.setIdentity();
-    H += f * nu;
-    ldlt.compute(H);
-    ++counts.factorizations;
     ++counts.alart_curnier;
-    if (ldlt.info() != Eigen::Success) break;
-    const VecX d = ldlt.solve(-(Gt * F));
-    if (!d.allFinite()) break;
-    bool accepted = false;
-    for (double t = 1.0; t >= kSmallestStep; t *= 0.5) {
-      const VecX trial = x + t * d;
-      if (natural_map_newton(S, S.law, S.A, S.b, trial, nullptr, true).squaredNorm() <=
-          (1.0 - kArmijo * t) * f) {
-        x = trial;
-        accepted = true;
-        break;
+    if (!analysed) {
+      lu.analyzePattern(G);
+      analysed = true;
+    }
+    lu.factorize(G);
+    ++counts.factorizations;
+    // Newton's step where it is whole: a damped one on a singular G stalls far from the answer
+    // (Capsules: 6e-7 N after 60 steps) where Levenberg–Marquardt's goes on (to 4e-16 N).
+    bool moved = lu.info() == Eigen::Success && descend(lu.solve(-F), f, 1.0);
+    if (!moved && !counts.spent()) {  // Levenberg–Marquardt
+      const SpMat Gt = G.transpose();
+      const SpMat H = Gt * G;
+      // One analysis while GᵀG keeps its pattern (G stores every contact's 3×3 blocks).
+      const bool factored = H.nonZeros() == normal_pattern ? normal.refactor(H, std::sqrt(f))
+                                                           : normal.factor(H, std::sqrt(f));
+      normal_pattern = H.nonZeros();
+      ++counts.factorizations;
+      if (factored) {
+        VecX d;
+        normal.solve(-(Gt * F), d);
+        moved = descend(d, f, kSmallestStep);
       }
     }
-    if (!accepted) break;
+    if (!moved) break;
     const double r = residual(S, S.law, S.b, x);
-    stall = r < (1.0 - kProgress) * best_r ? 0 : stall + 1;
+    stall = r < (1.0 - kNewtonProgress) * best_r ? 0 : stall + 1;
     if (r < best_r) {
       best_r = r;
       best = x;
@@ -734,6 +786,56 @@ void coulomb_fixed_point(const Setup& S,
   x = best;
 }
 
+/// The last stage, where the others stall: rounds of NSGS sweeps (nsgs.hpp; Jean & Moreau 1992)
+/// on the unscaled problem from the best point so far (then from zero), each followed by Newton's
+/// steps on Alart–Curnier's function (Coulomb) or proximal Newton on the relaxation from the
+/// sweeps' answer, until the law's residual meets the target, the rounds, the factorizations or
+/// a start's progress (kSweepStrikes) run out, or the deadline passes. The sweeps converge linearly
+/// where Newton's steps stall (a rank-deficient W whose answers are not isolated: Siconos'
+/// Capsules), and Newton's steps finish from the sweeps' answer in a few where the sweeps alone
+/// would need tens of thousands. x (scaled) becomes the best point.
+void sweeps_then_newton(const BoxedProblem& problem,
+                        const Setup& S,
+                        const SolverOptions& options,
+                        const std::function<double(const VecX&)>& target_of,
+                        VecX& x,
+                        Counts& counts) {
+  const double alpha = S.bn / S.md;  // λ = alpha x
+  SolverOptions sweeps = options;
+  sweeps.method = Method::Nsgs;
+  sweeps.max_iterations = kSweepsPerRound;
+  sweeps.after_sweep = nullptr;
+  counts.budget = counts.factorizations + kSweepFactorizations;
+  double best_r = residual(S, S.law, S.b, x);
+  // From the best point so far, then from zero: Coulomb's problem is not monotone, and the sweeps
+  // that stall near one point may converge from another (Capsules-i125-1213: stalled at 2e-6 N
+  // from the relaxation's answer, converged from zero). The sweeps go on from their own iterate
+  // round after round (they may dwell on a plateau, then fall once the contacts' states settle);
+  // Newton's steps start from a copy of it.
+  for (const bool cold : {false, true}) {
+    VecX lambda = cold ? VecX::Zero(S.c) : VecX(alpha * x);
+    int strikes = 0;  // rounds in a row that did not lower the best residual by a tenth
+    for (int round = 0; round < kSweepRounds && strikes < kSweepStrikes && best_r > target_of(x) &&
+                        !counts.spent();
+         ++round) {
+      sweeps.tolerance = target_of(x) * alpha;  // N
+      counts.sweeps += solve_nsgs(problem, lambda, sweeps).iterations;
+      VecX y = lambda / alpha;
+      if (S.law.law == ConeLaw::Coulomb)
+        alart_curnier_steps(S, target_of(y), y, counts);
+      else
+        proximal_newton(S, S.ccp, S.b, target_of(y), kMaxOuter, y, counts);
+      const double r = residual(S, S.law, S.b, y);
+      strikes = r < 0.9 * best_r ? 0 : strikes + 1;
+      if (r < best_r) {
+        best_r = r;
+        x = y;
+      }
+    }
+    if (best_r <= target_of(x) || counts.spent()) break;
+  }
+}
+
 /// The stages in their order (cone_direct.hpp) on the scaled problem: the answer in units of x.
 /// The relaxation's interior point first. Under Coulomb's law its answer stands where it keeps
 /// Coulomb's law too (a pile at rest: no contact slides, so De Saxcé's term is zero); else the
@@ -760,11 +862,29 @@ VecX run_stages(const Setup& S,
   } else if (S.law.law == ConeLaw::Ccp) {
     proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
   } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
-    VecX y = x;
-    const double tried = alart_curnier_steps(S, target_of(y), y, counts);
+    const double x_r = residual(S, S.law, S.b, x);
+    const bool from_refreshed = refreshed_r < x_r;
+    VecX y = from_refreshed ? refreshed : x;  // the better start first, then the other
+    double tried = alart_curnier_steps(S, target_of(y), y, counts);
+    if (tried > target_of(y) && refreshed.size() > 0) {
+      VecX z = from_refreshed ? x : refreshed;
+      const double other = alart_curnier_steps(S, target_of(z), z, counts);
+      if (other < tried) {
+        tried = other;
+        y = z;
+      }
+    }
     if (tried > target_of(y)) {
       coulomb_fixed_point(S, proximal, target_of, x, counts);
-      proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts);
+      proximal_newton(S, S.law, S.b, target_of(x), kMaxOuter, x, counts, true);
+      if (residual(S, S.law, S.b, x) < tried) {  // Newton's steps again, from the best point
+        VecX z = x;
+        const double again = alart_curnier_steps(S, target_of(z), z, counts);
+        if (again < tried) {
+          tried = again;
+          y = z;
+        }
+      }
     }
     if (tried < residual(S, S.law, S.b, x)) x = y;
     if (refreshed_r < residual(S, S.law, S.b, x)) x = refreshed;
@@ -815,7 +935,9 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     const VecX l = v * (S.bn / S.md);
     return S.in_x_units(std::max(options.tolerance, residual_floor(problem, l)));
   };
-  const VecX x = run_stages(S, proximal, target_of, counts);
+  VecX x = run_stages(S, proximal, target_of, counts);
+  if (residual(S, S.law, S.b, x) > target_of(x))
+    sweeps_then_newton(problem, S, options, target_of, x, counts);
   VecX answer = x * (S.bn / S.md);
   for (Eigen::Index k = 0; k < c; ++k)  // fixed rows exactly at their value
     if (S.fixed[std::size_t(k)] && !S.in_cone[std::size_t(k)]) answer(k) = problem.cmin(k);
@@ -838,6 +960,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   if (S.law.law == ConeLaw::Coulomb)
     msg << " (" << counts.desaxce << " with De Saxce's term refreshed), " << counts.alart_curnier
         << " Alart-Curnier steps, " << counts.rounds << " fixed-point rounds";
+  if (counts.sweeps > 0) msg << ", " << counts.sweeps << " NSGS sweeps";
   msg << ", ";
   msg << counts.outer << " proximal steps, " << counts.factorizations << " factorizations";
   if (counts.body_factorizations > 0) {
@@ -849,8 +972,8 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   }
   msg << "; residual " << summary.residual << " N (tolerance " << options.tolerance
       << " N, rounding floor " << floor << " N)";
-  if (!reached && counts.factorizations >= kMaxFactorizations)
-    msg << "; stopped at its budget of " << kMaxFactorizations << " factorizations";
+  if (!reached && counts.factorizations >= counts.budget)
+    msg << "; stopped at its budget of " << counts.budget << " factorizations";
   if (!reached && S.law.law == ConeLaw::Coulomb)
     msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
            "point with De Saxce's term refreshed, the fixed point on s = mu |u_t| and the "

@@ -6,9 +6,11 @@
 
 namespace cbps {
 
-/// The exact path for a problem with cones, A symmetric positive semidefinite, sparse. Every
-/// stage works on the problem scaled to max A_kk = 1 and ‖b‖∞ = 1 and judges by the law's
-/// natural-map residual (cone_problem.hpp; the box's for rows no contact owns).
+/// The exact path for a problem with cones, A sparse, any A: where A is not symmetric (a file's
+/// W), stage 1 runs on its symmetric part (A + Aᵀ)/2, a start; every other stage, every residual
+/// and the verdict use A itself. Every stage works on the problem scaled to max A_kk = 1 and
+/// ‖b‖∞ = 1 and judges by the law's natural-map residual (cone_problem.hpp; the box's for rows
+/// no contact owns).
 ///   1. The convex relaxation (CCP: min ½ λᵀAλ − bᵀλ over the cones and the other rows' boxes)
 ///      by a primal-dual interior-point method on second-order cones: Nesterov–Todd scaling
 ///      (Nesterov & Todd, SIAM J. Optim. 8(2) 1998), Mehrotra's predictor-corrector, from the
@@ -44,24 +46,33 @@ namespace cbps {
 ///      by Coulomb's residual): a pile settling under the paper's box, whose answer has contacts
 ///      opening, sticking and sliding at 1e-9 m/s, finishes there (base-3 pyramid: 46
 ///      iterations, where the rest of this stage stalls at 1.8e-9 N). Where it does not finish,
-///      from the CCP's answer
-///      Levenberg–Marquardt steps on Alart and Curnier's function of the contacts (Alart &
+///      semismooth Newton steps on Alart and Curnier's function of the contacts (Alart &
 ///      Curnier, Comput. Methods Appl. Mech. Engrg. 92, 1991: the same solutions, with u_t
-///      entering linearly, so no kink where a contact sticks or slides slowly), ν = ‖F‖²
-///      (Yamashita & Fukushima 2001: fast where the solutions are not isolated); where those do
-///      not finish, the fixed point on s = mu ‖u_t‖ (each round the CCP of b_n − s by stages 1
-///      and 2; Haslinger's approach, Acary et al. 2018) while each round cuts Coulomb's residual
-///      by a tenth, at most 20 rounds, then stage 2 on Coulomb's map itself; the best answer
-///      of the three. Coulomb's problem is not monotone: on the larger piles settling under the
-///      paper's box (400 and 1,600 contacts) none of this finishes (docs/cones.md), and it says
-///      so.
-/// A solve spends at most 300 factorizations: every stage stops there (the relaxation needs far
-/// fewer; Coulomb's law where it cannot finish would go on for minutes).
+///      entering linearly, so no kink where a contact sticks or slides slowly; the NSN-AC of
+///      Siconos), from the better of the two interior answers, then from the other: the
+///      Jacobian G is not symmetric (SparseLU); Newton's step where it is whole, else a
+///      Levenberg–Marquardt step (GᵀG + ‖F‖ I) d = −Gᵀ F (CHOLMOD; Fan & Yuan, Computing 74,
+///      2005: fast where the solutions are not isolated); where those do not finish, the fixed
+///      point on s = mu ‖u_t‖ (each round the CCP of b_n − s by stages 1 and 2; Haslinger's
+///      approach, Acary et al. 2018) while each round cuts Coulomb's residual by a tenth, at
+///      most 20 rounds, then proximal Newton on Alart–Curnier's function, then Newton's steps
+///      again from the best point; the best answer of these.
+///   4. Where stages 1 to 3 stop short (either law): rounds of NSGS sweeps (nsgs.hpp) on the
+///      problem from the best point so far, then from zero, each followed by Newton's steps on
+///      Alart–Curnier's function (the relaxation: stage 2) from the sweeps' answer
+///      (sweeps_then_newton in cone_direct.cpp): the sweeps converge linearly where Newton's
+///      steps stall on a rank-deficient W (Siconos' Capsules), and Newton's steps finish from
+///      their answer. Coulomb's problem is not monotone: on the larger piles settling under the
+///      paper's box (400 and 1,600 contacts) and on Siconos' RockPile none of this finishes
+///      (docs/cones.md), and it says so.
+/// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more: every stage stops
+/// there (the relaxation needs far fewer; Coulomb's law where it cannot finish would go on for
+/// minutes).
 /// Returns Termination::Direct only when the law's residual of lambda is at most
 /// max(options.tolerance, residual_floor): never an answer it has not verified; otherwise
 /// NotConverged with the best lambda found and the message says how far it got (NonFinite for
 /// non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
-/// factorizations (CHOLMOD, SparseLU and SimplicialLDLT together), space "row".
+/// factorizations (CHOLMOD and SparseLU together), space "row".
 SolverSummary solve_cone_direct(const BoxedProblem& problem,
                                 VecX& lambda,
                                 const SolverOptions& options);
