@@ -121,18 +121,24 @@ int report(const LcpOptions& o,
     std::printf("residual %s (natural map, infinity norm; scale %s)\n",
                 number_text(v.residual).c_str(),
                 number_text(v.scale).c_str());
+    if (v.unit_free)
+      std::printf("unit-free residual %s (%s N over the force scale %s N)\n",
+                  number_text(v.unit_free->relative).c_str(),
+                  number_text(v.unit_free->residual).c_str(),
+                  number_text(v.unit_free->scale).c_str());
     std::printf("%s\n", r.message.c_str());
     if (!v.peer_disagrees.empty()) std::printf("%s\n", v.peer_disagrees.c_str());
     if (v.cone)
       std::printf(
           "cone law %s, %ld contacts: Signorini gap %s, cone violation %s N, dissipation gap "
-          "%s, FCLIB merit %s\n",
+          "%s, FCLIB merit %s, Siconos error %s\n",
           std::string(to_string(p.stored->cones.law)).c_str(),
           p.stored->cones.contacts(),
           number_text(v.cone->signorini).c_str(),
           number_text(v.cone->violation).c_str(),
           number_text(v.cone->dissipation).c_str(),
-          number_text(v.cone->fclib_merit).c_str());
+          number_text(v.cone->fclib_merit).c_str(),
+          number_text(v.cone->siconos_error).c_str());
     if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
     if (v.solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }

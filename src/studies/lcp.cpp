@@ -149,6 +149,8 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
     const VecX w = s.A * r.lambda + s.cfm * r.lambda - s.b;  // w = (A + eps E) λ − b (6.2)
     v.cone = cone_measures(s.cones, r.lambda, w, s.b);
   }
+  if (sized && p.stored != nullptr)
+    v.unit_free = unit_free_residual(p.stored->problem(), r.lambda, p.stored->cfm);
   if (r.peer && r.peer_said_ok != v.solved) {
     const double criterion = kLcpSolvedTolerance * v.scale;
     v.peer_disagrees = std::string(r.peer_said_ok ? "peer said ok" : "peer said failed") +
@@ -200,10 +202,17 @@ nlohmann::json lcp_result_json(const std::string& problem,
                  {"signorini", number_json(c.signorini)},
                  {"violation", number_json(c.violation)},
                  {"dissipation", number_json(c.dissipation)},
-                 {"fclib_merit", number_json(c.fclib_merit)}};
+                 {"fclib_merit", number_json(c.fclib_merit)},
+                 {"siconos_error", number_json(c.siconos_error)}};
   } else {
     j["cone"] = nullptr;
   }
+  if (v.unit_free)
+    j["unit_free"] = {{"residual", number_json(v.unit_free->residual)},
+                      {"scale", number_json(v.unit_free->scale)},
+                      {"relative", number_json(v.unit_free->relative)}};
+  else
+    j["unit_free"] = nullptr;
   j["lambda"] = !p.lambda_in_json ? nlohmann::json(nullptr)
                 : sized           ? vector_json(r.lambda)
                                   : nlohmann::json::array();

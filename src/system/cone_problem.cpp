@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "cbps/base/error.hpp"
 #include "cbps/system/boxed_problem.hpp"
@@ -114,7 +115,7 @@ ConeMeasures cone_measures(const ConeContacts& cones,
                            const VecX& w,
                            const VecX& b) {
   ConeMeasures m;
-  double merit_squares = 0.0, q_squares = 0.0;
+  double merit_squares = 0.0, q_squares = 0.0, r_squares = 0.0, u_squares = 0.0;
   for (long i = 0; i < cones.contacts(); ++i) {
     const int n = cones.normal[static_cast<std::size_t>(i)];
     const double mu = cones.mu(i);
@@ -127,8 +128,15 @@ ConeMeasures cone_measures(const ConeContacts& cones,
                  std::max(0.0, r(1) * u(1) + r(2) * u(2) + mu * std::max(r(0), 0.0) * u_t));
     merit_squares += cone_natural_map(r, u, mu, ConeLaw::Coulomb).squaredNorm();
     q_squares += b.segment<3>(n).squaredNorm();
+    r_squares += r.squaredNorm();
+    u_squares += u.squaredNorm();
   }
   m.fclib_merit = std::sqrt(merit_squares) / (1.0 + std::sqrt(std::sqrt(q_squares)));
+  const double relative_to =
+      std::sqrt(std::max({q_squares, r_squares, u_squares}));  // max(‖q‖₂, ‖r‖₂, ‖u‖₂)
+  m.siconos_error = relative_to > std::numeric_limits<double>::epsilon()
+                        ? std::sqrt(merit_squares) / relative_to
+                        : std::sqrt(merit_squares);
   return m;
 }
 

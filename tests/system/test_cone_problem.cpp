@@ -105,3 +105,20 @@ TEST_CASE("a problem's residual takes the cone law at its contacts and the box e
   problem.cones = nullptr;  // as three boxes the same lambda is no solution (w_1 = 1.5 ≠ 0)
   CHECK(natural_map_residual(problem, solved) > 1.0);
 }
+
+TEST_CASE("Siconos' error of one contact, by hand from Siconos 4.4's definition", "[cones]") {
+  // fc3d_compute_error: sqrt(Σ ‖r − P_K(r − û)‖²) / max(‖q‖₂, ‖r‖₂, ‖u‖₂). W = 4 I,
+  // q = −b = (−4, −8, 0), mu = 0.5, r = 0: u = q, û = (−4 + 0.5·8, −8, 0) = (0, −8, 0),
+  // P_K((0, 8, 0)) = (4/1.25)(1, 0.5, 0) = (3.2, 1.6, 0), sum of squares 12.8; the divisor
+  // max(sqrt 80, 0, sqrt 80): error sqrt(12.8 / 80) = 0.4.
+  ConeContacts cones;
+  cones.normal = {0};
+  cones.mu = VecX::Constant(1, 0.5);
+  const VecX b = (VecX(3) << 4.0, 8.0, 0.0).finished();
+  const VecX lambda = VecX::Zero(3);
+  const ConeMeasures m = cone_measures(cones, lambda, -b, b);
+  CHECK(m.siconos_error == Approx(0.4).epsilon(1e-14));
+  // At the answer (1, 0.5, 0) (u = (0, −6, 0)): 0.
+  const VecX answer = (VecX(3) << 1.0, 0.5, 0.0).finished();
+  CHECK(cone_measures(cones, answer, 4.0 * answer - b, b).siconos_error <= 1e-16);
+}

@@ -13,6 +13,7 @@
 
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
@@ -84,6 +85,9 @@ struct LcpVerdict {
   /// A problem with cones (an FCLIB file): lambda measured against the cone law
   /// (system/cone_problem.hpp); empty for a boxed problem.
   std::optional<ConeMeasures> cone;
+  /// The unit-free residual of lambda (system/unit_free.hpp), where this process holds the
+  /// problem.
+  std::optional<UnitFreeResidual> unit_free;
 };
 /// The verdict; `measured`: the residual as the solver measured it on vectors no process holds
 /// whole (TAO), else measured here on lambda.

@@ -91,6 +91,12 @@ struct ConeMeasures {
   /// FCLIB's MERIT_1 of lambda for Coulomb's law (whatever `law`): sqrt(Σ ‖natural map‖₂²) /
   /// (1 + sqrt(‖q‖₂)), q = −b restricted to the contacts' rows (fcmer.c's definition)
   double fclib_merit = 0.0;
+  /// Siconos 4.4's relative error of lambda for Coulomb's law (fc3d_compute_error, with the
+  /// ‖q‖₂ its solvers pass): sqrt(Σ ‖natural map‖₂²) / max(‖q‖₂, ‖r‖₂, ‖u‖₂), the contacts' rows
+  /// (not divided where that maximum is below the machine epsilon). Like FCLIB's merit it mixes
+  /// units (N with m/s²): shown so that users can compare with published numbers, never the
+  /// verdict (system/unit_free.hpp).
+  double siconos_error = 0.0;
 };
 ConeMeasures cone_measures(const ConeContacts& cones,
                            const VecX& lambda,

@@ -1,0 +1,103 @@
+// The unit-free residual (system/unit_free.hpp): closed forms by hand, zero at a solution, and the
+// same number whatever the units of force and of velocity, on Siconos' own problems (a boxed
+// relay problem, a frictional contact problem whose W is not symmetric) under both cone laws.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/cone_problem.hpp"
+#include "cbps/system/unit_free.hpp"
+#include "fixture.hpp"
+
+using namespace cbps;
+
+namespace {
+
+/// The same problem and lambda in other units: force divided by `force` (λ, cmin, cmax → ·/s,
+/// A → s A), then velocity multiplied by `velocity` (A → s A, b → s b).
+struct Scaled {
+  SpMat A;
+  VecX b, cmin, cmax, lambda;
+};
+Scaled in_units(const StoredProblem& p, const VecX& lambda, double force, double velocity) {
+  return {SpMat(p.A * (force * velocity)),
+          p.b * velocity,
+          p.cmin / force,
+          p.cmax / force,
+          lambda / force};
+}
+
+double relative(const Scaled& s, const ConeContacts* cones) {
+  BoxedProblem q{s.A, s.b, s.cmin, s.cmax};
+  q.cones = cones;
+  return unit_free_residual(q, s.lambda).relative;
+}
+
+}  // namespace
+
+TEST_CASE("the unit-free residual of a row and of a contact, by hand", "[unit-free]") {
+  // One row, A = 2, b = 4, [0, ∞), λ = 1: w = −2, ρ = 1/2, F = 1 − max(0, 1 + 1) = −1;
+  // S = max(|λ|, ρ |b|) = 2.
+  const SpMat A = (MatX(1, 1) << 2.0).finished().sparseView();
+  const VecX b = VecX::Constant(1, 4.0), cmin = VecX::Zero(1), cmax = VecX::Constant(1, kInf);
+  const BoxedProblem row{A, b, cmin, cmax};
+  const UnitFreeResidual u = unit_free_residual(row, VecX::Constant(1, 1.0));
+  CHECK(u.residual == 1.0);
+  CHECK(u.scale == 2.0);
+  CHECK(u.relative == 0.5);
+  CHECK(unit_free_residual(row, VecX::Constant(1, 2.0)).relative == 0.0);  // the answer
+  // Nothing asked and nothing given: 0.
+  CHECK(unit_free_residual(BoxedProblem{A, VecX::Zero(1), cmin, cmax}, VecX::Zero(1)).relative ==
+        0.0);
+  // One contact, W = 4 I, b = (4, 8, 0), mu = 0.5, Coulomb: r = (1, 0.5, 0) slides (u_n = 0,
+  // u_t = (−6, 0), r_t = −mu r_n u_t/|u_t|). At r = 0: ρ = 1/4, ρ û = (−1 + 0.5·2, −2, 0) =
+  // (0, −2, 0), P_K((0, 2, 0)) = ((0 + 0.5·2)/1.25)(1, 0.5, 0) = (0.8, 0.4, 0), |F| = sqrt(0.8)
+  // = 0.894...; S = ρ |b|∞ = 2.
+  const SpMat W = (Mat3::Identity() * 4.0).sparseView();
+  const VecX bc = (VecX(3) << 4.0, 8.0, 0.0).finished();
+  const VecX cminc = (VecX(3) << 0.0, -kInf, -kInf).finished(), cmaxc = VecX::Constant(3, kInf);
+  ConeContacts cones;
+  cones.normal = {0};
+  cones.mu = VecX::Constant(1, 0.5);
+  BoxedProblem contact{W, bc, cminc, cmaxc};
+  contact.cones = &cones;
+  const UnitFreeResidual at_zero = unit_free_residual(contact, VecX::Zero(3));
+  CHECK(at_zero.residual == Approx(std::sqrt(0.8)).epsilon(1e-14));
+  CHECK(at_zero.scale == 2.0);
+  CHECK(unit_free_residual(contact, (VecX(3) << 1.0, 0.5, 0.0).finished()).relative <= 1e-16);
+}
+
+TEST_CASE("the unit-free residual does not change with the units of force and velocity",
+          "[unit-free]") {
+  // Siconos' relay problem (boxed rows) and a rover's frictional contacts (W not symmetric),
+  // at a lambda that is not the answer; cbps's scale max(1, |b|inf, max |A_ij|) does change.
+  const StoredProblem relay =
+      read_problem((test::kSiconosDir / "relay" / "relay_4x4.dat").string());
+  StoredProblem rover = read_problem((test::kFc3dDir / "Rover4396.dat").string());
+  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+    rover.cones.law = law;
+    for (const StoredProblem* p : {&relay, static_cast<const StoredProblem*>(&rover)}) {
+      VecX lambda(p->rows());
+      for (Eigen::Index k = 0; k < lambda.size(); ++k) lambda(k) = 0.3 + std::sin(1.0 + k);
+      if (!p->cones.empty())
+        for (const int n : p->cones.normal) lambda(n) = 1.0 + std::abs(lambda(n));
+      const ConeContacts* cones = p->cones.empty() ? nullptr : &p->cones;
+      const double base = relative(in_units(*p, lambda, 1.0, 1.0), cones);
+      INFO("rows " << p->rows() << ", law " << to_string(law) << ", relative " << base);
+      REQUIRE(base > 1e-3);
+      for (const auto& [force, velocity] :
+           {std::pair{1e3, 1.0}, {1e-4, 1.0}, {1.0, 1e-2}, {1.0, 1e5}, {1e2, 1e-3}}) {
+        const Scaled s = in_units(*p, lambda, force, velocity);
+        CHECK(relative(s, cones) == Approx(base).epsilon(1e-12));
+      }
+      // cbps's own scale moves with the units: the reason for this residual.
+      const Scaled far = in_units(*p, lambda, 1e3, 1e3);
+      BoxedProblem q{far.A, far.b, far.cmin, far.cmax};
+      q.cones = cones;
+      const double scaled_old = natural_map_residual(q, far.lambda) / scale_of(q);
+      const double old = natural_map_residual(p->problem(), lambda) / scale_of(p->problem());
+      CHECK(std::abs(std::log10(scaled_old / old)) > 1.0);
+    }
+  }
+}
