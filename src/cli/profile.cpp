@@ -142,13 +142,15 @@ int profile_command(const ProfileOptions& o) {
 void register_profile(CLI::App& app, Action& run) {
   auto* cmd = app.add_subcommand(
       "profile",
-      "performance profiles (Dolan & More 2002) of solvers over a problem library: "
+      "performance profiles (Dolan & More 2002) of solvers over a problem library or a folder of "
+      "problem files: "
       "profile.json, profile.csv, summary.txt, profile.png/.svg");
   auto o = std::make_shared<ProfileOptions>();
   cmd->add_option("LIBRARY",
                   o->library,
                   "a problem library: the folder scripts/make_problem_library.py wrote (or its "
-                  "library.json)")
+                  "library.json); or any folder of problem files without library.json (FCLIB "
+                  ".hdf5, Siconos .dat, `cbps matrices` folders), whose answers are not known")
       ->required();
   cmd->add_option(
       "--solvers",

@@ -38,6 +38,9 @@ double seconds_since(Clock::time_point start) {
 
 /// Why a spec cannot run on a problem (empty: it can): what `cbps converge` refuses.
 std::string not_applicable(const SolverSpec& spec, const ProfileProblem& p) {
+  if (needs_symmetric(spec.method, !p.stored.cones.empty()) &&
+      max_asymmetry(p.stored.A) > symmetry_tolerance(p.stored.A))
+    return "not applicable: A is not symmetric (the method minimises the QP of 6.2)";
   if (needs_jacobian(spec.method) && !p.stored.has_jacobian())
     return "not applicable: no J and Minv (a Siconos file)";
   if (spec.contacts_first && p.stored.kinds.empty())
@@ -84,14 +87,51 @@ std::string curve_key(const SolverSpec& spec) {
   return key.str();
 }
 
+/// The problems of a folder without library.json: its FCLIB files (.hdf5, .h5), Siconos .dat
+/// files and `cbps matrices` folders (a subfolder with A.mtx), in name order; no lambda* known.
+std::vector<ProfileEntry> folder_entries(const fs::path& folder, bool quick) {
+  if (quick)
+    throw InputError(folder.string() +
+                     ": --quick: a folder of problem files has no library.json to mark problems "
+                     "quick");
+  std::vector<fs::path> paths;
+  std::error_code listing;
+  for (const fs::directory_entry& d : fs::directory_iterator(folder, listing)) {
+    const fs::path& f = d.path();
+    const std::string extension = f.extension().string();
+    std::error_code ec;  // an entry that cannot be read is not listed
+    if (d.is_directory(ec) ? fs::is_regular_file(f / "A.mtx", ec)
+                           : extension == ".dat" || extension == ".hdf5" || extension == ".h5")
+      paths.push_back(f);
+  }
+  if (listing) throw InputError(folder.string() + ": cannot list the folder: " + listing.message());
+  std::sort(paths.begin(), paths.end());
+  std::vector<ProfileEntry> entries;
+  for (const fs::path& f : paths) {
+    ProfileEntry e;
+    e.name = f.filename().string();
+    e.path = fs::absolute(f).string();
+    e.index = {{"name", e.name}, {"path", e.name}, {"exact", nullptr}};
+    entries.push_back(std::move(e));
+  }
+  if (entries.empty())
+    throw InputError(folder.string() +
+                     ": no library.json and no problem in it (.dat, .hdf5, .h5 files, folders "
+                     "with A.mtx)");
+  return entries;
+}
+
 }  // namespace
 
-/// The index of LIBRARY (a folder holding library.json, or that file): its problems, only the
-/// quick ones with `quick`. InputError naming the file for anything missing or malformed.
+/// The index of LIBRARY (a folder holding library.json, or that file; a folder without one: its
+/// problem files, folder_entries): its problems, only the quick ones with `quick`. InputError
+/// naming the file for anything missing or malformed.
 std::vector<ProfileEntry> read_library(const std::string& library, bool quick) {
   std::error_code ec;
-  const fs::path file =
-      fs::is_directory(library, ec) ? fs::path(library) / "library.json" : fs::path(library);
+  const bool is_folder = fs::is_directory(library, ec);
+  if (is_folder && !fs::exists(fs::path(library) / "library.json", ec))
+    return folder_entries(library, quick);
+  const fs::path file = is_folder ? fs::path(library) / "library.json" : fs::path(library);
   std::ifstream in(file);
   if (!in)
     throw InputError(file.string() +
@@ -130,8 +170,8 @@ std::vector<ProfileEntry> read_library(const std::string& library, bool quick) {
 ProfileProblem load_profile_problem(const ProfileEntry& e) {
   ProfileProblem p;
   p.stored = read_problem(e.path);
-  require_symmetric(p.stored, "profile " + e.path);
   p.scale = scale_of(p.problem(), p.stored.cfm);
+  if (e.exact.empty()) return p;  // a folder of problem files: lambda* not known
   p.exact = read_matrix_market_vector(e.exact);
   if (p.exact.size() != p.stored.rows())
     throw InputError(e.exact + ": " + std::to_string(p.exact.size()) + " values for a problem of " +

@@ -251,3 +251,45 @@ TEST_CASE("cbps profile refuses bad input with exit 2, naming the file", "[cli][
   }
   CHECK_FALSE(fs::exists(out));  // nothing written
 }
+
+TEST_CASE("cbps profile on a folder of problem files without library.json", "[cli][profile]") {
+  // Issue 51, item 4: Siconos' own dumps (a local problem whose W is not symmetric, a global
+  // one), an FCLIB file and a non-symmetric Siconos LCP, side by side, their answers unknown.
+  const auto dir = scratch_dir("profile_folder");
+  const fs::path folder = dir / "problems";
+  fs::create_directories(folder);
+  const fs::path fc3d = fs::path(CBPS_DATA_DIR) / "siconos-fc3d";
+  for (const char* name : {"Rover4396.dat", "GFC3D_Example0.dat"})
+    fs::copy_file(fc3d / name, folder / name);
+  fs::copy_file(fs::path(CBPS_DATA_DIR) / "fclib" / "Boxes_Stack_local_problem_test.hdf5",
+                folder / "boxes.hdf5");
+  fs::copy_file(fs::path(CBPS_DATA_DIR) / "siconos" / "lcp" / "lcp_CPS_4.dat",
+                folder / "lcp_CPS_4.dat");
+  fs::create_directories(folder / "not-a-problem");  // no A.mtx: not listed
+  const auto r = run_cli("profile " + folder.string() +
+                         " --solvers nsgs,direct --time-limit 5 --quiet --no-plot --json");
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  REQUIRE(j.at("problems").size() == 4);
+  CHECK(j.at("problems")[0].at("name") == "GFC3D_Example0.dat");  // name order
+  CHECK(j.at("problems")[0].at("exact").is_null());
+  std::map<std::string, std::string> status;
+  for (const auto& m : j.at("measurements"))
+    status[m.at("problem").get<std::string>() + " " + m.at("solver").get<std::string>()] =
+        m.at("status").get<std::string>();
+  CHECK(status.at("Rover4396.dat direct") == "solved");
+  CHECK(status.at("GFC3D_Example0.dat direct") == "solved");
+  CHECK(status.at("boxes.hdf5 direct") == "solved");
+  // CPS 4's M is not symmetric: the QP's exact path does not apply; nsgs is PGS there.
+  CHECK(status.at("lcp_CPS_4.dat direct").rfind("not applicable: A is not symmetric", 0) == 0);
+  for (const auto& m : j.at("measurements")) CHECK(m.at("lambda_error").is_null());
+  // --quick needs a library's marks.
+  const auto quick = run_cli("profile " + folder.string() + " --quick --solvers nsgs --no-plot");
+  CHECK(quick.code == 2);
+  CHECK(quick.err.find("no library.json to mark problems quick") != std::string::npos);
+  // A folder with nothing to profile.
+  const auto empty = run_cli("profile " + (folder / "not-a-problem").string() + " --no-plot");
+  CHECK(empty.code == 2);
+  CHECK(empty.err.find("no library.json and no problem in it") != std::string::npos);
+}

@@ -37,12 +37,15 @@ inline constexpr double kProfileTaus[] = {1.0, 2.0, 10.0};
 struct ProfileEntry {
   std::string name;
   std::string path;   ///< absolute: a `cbps matrices` folder or a Siconos .dat file
-  std::string exact;  ///< absolute: the direct path's lambda (lambda.mtx)
+  std::string exact;  ///< absolute: the direct path's lambda (lambda.mtx); empty: not known
   nlohmann::json index;
 };
 
 /// The index of LIBRARY (a folder holding library.json, or that file): its problems, only the
-/// quick ones with `quick`. InputError naming the file for anything missing or malformed.
+/// quick ones with `quick`. A folder without library.json is a folder of problems: its FCLIB
+/// files (.hdf5, .h5), Siconos .dat files and `cbps matrices` folders, in name order, with no
+/// lambda* (ProfileEntry::exact empty; `quick` is then an error). InputError naming the file for
+/// anything missing or malformed.
 std::vector<ProfileEntry> read_library(const std::string& library, bool quick);
 
 /// A problem loaded for the solvers, with what is known about its answer. With a cfm.txt the
@@ -50,7 +53,7 @@ std::vector<ProfileEntry> read_library(const std::string& library, bool quick);
 /// the solvers' options (study_options).
 struct ProfileProblem {
   StoredProblem stored;
-  VecX exact;             ///< the library's lambda*, N
+  VecX exact;             ///< the library's lambda*, N (empty: not known)
   bool definite = false;  ///< rank A = rows: lambda* unique, so ‖λ − λ*‖ means something
   double scale = 1.0;     ///< scale_of(A + eps E, b)
   /// With the row kinds and manifolds of the folder's labels.json (read_problem).
@@ -61,8 +64,8 @@ struct ProfileProblem {
   }
 };
 
-/// Reads an entry's problem and lambda*; InputError when A is not symmetric or lambda* does not
-/// fit.
+/// Reads an entry's problem and lambda* (where the entry has one); InputError when lambda* does
+/// not fit. A method that needs a symmetric A is "not applicable" on a problem without one.
 ProfileProblem load_profile_problem(const ProfileEntry& e);
 
 /// The first sweep and time at which the relative residual reached a tolerance; −1: never.
