@@ -75,13 +75,12 @@ constexpr int kSweepStrikes = 2;
 constexpr int kSweepsPerRound = 2000;
 constexpr int kSweepFactorizations = 100;
 /// Newton steps on Alart–Curnier's function (Coulomb) at most, and the count in a row that do
-/// not lower the law's residual by the fraction kNewtonProgress that ends them (Newton's and
-/// Levenberg–Marquardt's steps near an answer lower it by far more: Capsules-i101-404, 2.8e-8 N
-/// to 6e-14 N in about 30 steps).
+/// not lower the law's residual by the fraction kNewtonProgress that ends them. Small: where the
+/// answers are not isolated Levenberg–Marquardt's steps converge only linearly (Capsules-i101-404:
+/// 2.8e-8 N to 6e-14 N in about 30 steps, some lowering it by a few per cent).
 constexpr int kMaxAlartCurnier = 100;
 constexpr int kAlartCurnierStall = 5;
 constexpr double kNewtonProgress = 1e-3;
-constexpr double kProgress = 1e-3;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
 /// Armijo's sufficient decrease and the smallest step tried.
