@@ -612,7 +612,9 @@ VecX natural_map_newton(const Setup& S,
 
 /// Stage 2: proximal points around semismooth Newton on `cones`' law with right side b, from x;
 /// ends at `target` (scaled), after kMaxOuter steps or kOuterStall without progress, or at a
-/// factorization that fails. x becomes the best point found.
+/// factorization that fails. With `alart_curnier` (Coulomb's law only) each subproblem's Newton
+/// steps are on Alart–Curnier's function instead of the natural map. x becomes the best point
+/// found.
 void proximal_newton(const Setup& S,
                      const ConeContacts& cones,
                      const VecX& b,
