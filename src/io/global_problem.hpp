@@ -34,7 +34,8 @@ struct GlobalProblem {
 /// b = −[Hᵀ M⁻¹ f + w; Gᵀ M⁻¹ f + b_G], the contacts' rows in cones (law Coulomb), l's rows
 /// free. With a block-diagonal M (rigid bodies) J and M⁻¹ are kept, as a `cbps matrices`
 /// folder's; else A comes from a sparse LDLᵀ of M. `fail_M` is called (and must throw) with
-/// what is wrong with M: not symmetric, not positive definite.
+/// what is wrong with M: not symmetric, not positive definite, or so near singular that A or b
+/// overflows.
 StoredProblem eliminate_velocities(const GlobalProblem& g,
                                    const std::function<void(const std::string& why)>& fail_M);
 

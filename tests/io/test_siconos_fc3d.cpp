@@ -163,3 +163,11 @@ TEST_CASE("what the friction-contact reader refuses, by name and line", "[sicono
             .find("a local problem of nc = 2 "
                   "contacts has a 6 x 6 W") != std::string::npos);
 }
+
+TEST_CASE("a global dump whose elimination overflows is refused, naming M", "[siconos-fc3d]") {
+  // M = 1e-300 I (positive definite), H = 1e300 I: H^T M^-1 H = 1e900 overflows.
+  const std::string text =
+      "3 1  0 3 3 3 3  1e-300 0 0 0 1e-300 0 0 0 1e-300  0 3 3 3 3  1e300 0 0 0 1e300 0 0 0 1e300"
+      "  0 0 0  0 0 0  0.5";
+  CHECK(failure(text).find("overflows") != std::string::npos);
+}
