@@ -221,7 +221,8 @@ void require_method_inputs(const SolverSpec& spec, const Inputs& in) {
     return;
   }
   if (!is_iterative(spec.method)) {
-    require_symmetric(in.p, what);  // the exact paths solve the QP of 6.2
+    // The exact paths solve the QP of 6.2; direct on cones takes any A (needs_symmetric).
+    if (needs_symmetric(spec.method, !in.cones.empty())) require_symmetric(in.p, what);
     return;
   }
   // The sweeps divide by A_kk (7.1.1), as `cbps lcp` checks before PGS and Jacobi.

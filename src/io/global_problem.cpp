@@ -4,7 +4,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
-#include <cmath>
 #include <utility>
 
 #include "cbps/base/error.hpp"
@@ -112,10 +111,9 @@ StoredProblem eliminate_velocities(const GlobalProblem& g,
   p.b.resize(m + e);
   p.b.head(m) = -(q.head(m) + g.w);
   if (e > 0) p.b.tail(e) = -(q.tail(e) + g.b_G);
-  bool finite = p.b.allFinite();
-  for (Eigen::Index j = 0; j < p.A.outerSize() && finite; ++j)
-    for (SpMat::InnerIterator it(p.A, j); it; ++it) finite = finite && std::isfinite(it.value());
-  if (!finite) fail("H^T M^-1 H or H^T M^-1 f overflows (entries beyond the range of a double)");
+  p.A.makeCompressed();  // coeffs(): every stored value
+  if (!p.b.allFinite() || !p.A.coeffs().allFinite())
+    fail("H^T M^-1 H or H^T M^-1 f overflows (entries beyond the range of a double)");
   in_cones(p, m, e, g.mu);
   if (blocks) {
     p.J = J;

@@ -38,8 +38,7 @@ double seconds_since(Clock::time_point start) {
 
 /// Why a spec cannot run on a problem (empty: it can): what `cbps converge` refuses.
 std::string not_applicable(const SolverSpec& spec, const ProfileProblem& p) {
-  if (needs_symmetric(spec.method, !p.stored.cones.empty()) &&
-      max_asymmetry(p.stored.A) > symmetry_tolerance(p.stored.A))
+  if (needs_symmetric(spec.method, !p.stored.cones.empty()) && !p.symmetric)
     return "not applicable: A is not symmetric (the method minimises the QP of 6.2)";
   if (needs_jacobian(spec.method) && !p.stored.has_jacobian())
     return "not applicable: no J and Minv (a Siconos file)";
@@ -171,6 +170,7 @@ ProfileProblem load_profile_problem(const ProfileEntry& e) {
   ProfileProblem p;
   p.stored = read_problem(e.path);
   p.scale = scale_of(p.problem(), p.stored.cfm);
+  p.symmetric = max_asymmetry(p.stored.A) <= symmetry_tolerance(p.stored.A);
   if (e.exact.empty()) return p;  // a folder of problem files: lambda* not known
   p.exact = read_matrix_market_vector(e.exact);
   if (p.exact.size() != p.stored.rows())

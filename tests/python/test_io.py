@@ -1,5 +1,7 @@
 """Stored problems written from Python are read by the command line (and scipy) as written, and
 read back bit for bit; verify() is `cbps verify`."""
+import pathlib
+
 import numpy as np
 import pytest
 import scipy.io
@@ -79,3 +81,32 @@ def test_verify_is_cbps_verify():
     assert [c["equation"] for c in checks] == [c["equation"] for c in expected]
     assert [c["what"] for c in checks] == [c["what"] for c in expected]
     assert all(c["pass"] for c in checks)
+
+
+def test_siconos_frictional_contact_dump_read_and_solved():
+    """Siconos' own dump of a rover's two contacts (W not symmetric) reads as `cbps lcp` reads it,
+    its contacts in Coulomb's cone, and direct meets the law on the true W (the natural map of
+    each contact, computed here from lambda alone)."""
+    path = pathlib.Path(__file__).resolve().parents[1] / "data" / "siconos-fc3d" / "Rover4396.dat"
+    p = cbps.read_problem(str(path), kind="fc3d")
+    A = p.A.toarray()
+    assert np.abs(A - A.T).max() > 1e-6
+    assert p.cones["law"] == "coulomb"
+    assert list(p.cones["normal_row"]) == [0, 3]
+    lam, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, "direct", cones=p.cones)
+    assert s["termination"] == "direct solve"
+    u = A @ lam - p.b
+    for n, mu in zip(p.cones["normal_row"], p.cones["mu"]):
+        r, v = lam[n:n + 3], u[n:n + 3].copy()
+        v[0] += mu * np.hypot(v[1], v[2])  # De Saxce's velocity
+        x = r - v
+        xt = np.hypot(x[1], x[2])
+        if xt <= mu * x[0]:
+            proj = x
+        elif mu * xt <= -x[0]:
+            proj = np.zeros(3)
+        else:
+            a = (x[0] + mu * xt) / (1 + mu * mu)
+            proj = np.array([a, mu * a * x[1] / xt, mu * a * x[2] / xt])
+        assert np.linalg.norm(r - proj) <= 1e-9
+    assert cli_json("lcp", path, "--json")["status"] == "solved"

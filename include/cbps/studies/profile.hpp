@@ -55,6 +55,7 @@ struct ProfileProblem {
   StoredProblem stored;
   VecX exact;             ///< the library's lambda*, N (empty: not known)
   bool definite = false;  ///< rank A = rows: lambda* unique, so ‖λ − λ*‖ means something
+  bool symmetric = true;  ///< A symmetric to symmetry_tolerance (measured once, when read)
   double scale = 1.0;     ///< scale_of(A + eps E, b)
   /// With the row kinds and manifolds of the folder's labels.json (read_problem).
   BoxedProblem problem() const { return stored.problem(); }
