@@ -30,7 +30,7 @@ def _profile_table(src):
     rows = []
     for solver in need(j, "solvers", where=PROFILE):
         name = solver["solver"]
-        solved = [round(_rho(src, "time", t)[name]["inf"] * n) for t in (1e-3, 1e-6, 1e-10)]
+        solved = [round(_rho(src, "time", t)[name]["inf"] * n) for t in (1e-4, 1e-8, 1e-10)]
         t10 = _rho(src, "time", 1e-10)[name]
         cells = [f"`{name}`", " / ".join(str(k) for k in solved), _pct(t10["1"]), _pct(t10["10"])]
         if solver["exact"]:
@@ -38,7 +38,7 @@ def _profile_table(src):
         else:
             cells.append(_pct(_rho(src, "sweeps", 1e-10)[name]["1"]))
         rows.append(cells)
-    return table(["solver", f"solved of {n} (1e-3 / 1e-6 / 1e-10)", "fastest at 1e-10",
+    return table(["solver", f"solved of {n} (1e-4 / 1e-8 / 1e-10)", "fastest at 1e-10",
                   "within 10× the fastest", "fewest sweeps at 1e-10"], rows, "lrrrr")
 
 
@@ -56,7 +56,7 @@ def _profile_headline(src):
 
     def solved(name):
         return round(time10[name]["inf"] * n)
-    text = (f"At 1e-10 of the scale `{best}` is the fastest on {_pct(time10[best]['1'])} of the "
+    text = (f"At a unit-free 1e-10 `{best}` is the fastest on {_pct(time10[best]['1'])} of the "
             f"{n} problems and solves {solved(best)}; `{most}` solves {solved(most)} "
             f"(fastest on {_pct(time10[most]['1'])}, within 10× the fastest on "
             f"{_pct(time10[most]['10'])}); `{fewest}` needs the fewest sweeps on "

@@ -20,11 +20,11 @@ peer's own word (the `peer` object of `cbps lcp --json`).
 
 "profile": scripts/make_problem_library.py writes the library (37 problems; --quick the 8 quick
 ones), `cbps profile LIB --solvers pgs,direct,PEERS... --quiet --out W/profile` runs every solver
-on every problem, and its profile.json is reduced to: per solver the problems solved at 1e-3,
-1e-6 and 1e-10 of the scale (a measurement's `reached`) and the median time and iterations of
+on every problem, and its profile.json is reduced to: per solver the problems solved at a
+unit-free 1e-4, 1e-8 and 1e-10 (a measurement's `reached`) and the median time and iterations of
 those solved at 1e-10; per problem family (a scene problem's name up to its first '-', "siconos"
 for the Siconos files) and solver the problems run, solved, failed (of those the peer's process
-ended by Siconos: aborted), claimed solved wrongly ("peer said ok; residual ..."), refused ("not
+ended by Siconos: aborted), claimed solved wrongly ("peer said ok; unit-free residual ..."), refused ("not
 applicable: ...") and the largest relative residual of the unsolved; and every measurement's
 problem, solver, status, relative residual, time, iterations and the peer's own status.
 Iterations are as profile.json gives them: sweeps, pivots, outer iterations, and 0 where a peer
@@ -68,9 +68,9 @@ PROBLEMS = [
      ["pyramid", "--param", "base=10", "--step", "10"]),
 ]
 QUICK = ("stack10", "pyramid5")
-TOLERANCES = ("0.001", "1e-06", "1e-10")
+TOLERANCES = ("0.0001", "1e-08", "1e-10")  # cbps profile's (include/cbps/studies/profile.hpp)
 # How profile.json's status marks a peer's outcome (src/studies/profile.cpp, profile_peer).
-WRONG_CLAIM = "peer said ok; residual"
+WRONG_CLAIM = "peer said ok; unit-free residual"  # profile.cpp profile_peer
 PEER_FAILED = "peer said failed"
 REFUSED = "not applicable: "
 ABORTED = "ended the process"  # the peer_status of a Siconos child that did not reply

@@ -87,7 +87,7 @@ def plot(data):
         ax.set_ylim(0.0, 1.02)
         ax.set_xlabel("log2 tau (cost within tau x the best)")
         ax.set_ylabel("rho(tau): fraction of problems")
-        ax.set_title(f"{p['measure']}, relative residual <= {p['tolerance']:g}")
+        ax.set_title(f"{p['measure']}, unit-free residual <= {p['tolerance']:g}")
         ax.grid(True, alpha=0.3)
     # One legend for every solver (a solver may be missing from a panel: the exact paths have no
     # sweeps), beside the panels: it is measured once drawn and the panels are laid out in the

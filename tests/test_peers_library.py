@@ -18,10 +18,11 @@ two-box stack, `cbps matrices --cfm 1e-3`), whose problem is A + eps I. Checks:
     max(1, |b|_inf, max |A_ij|) of the files, and the natural-map residual of the returned lambda,
     computed here in exact rational arithmetic from A, b, cmin, cmax as read by scipy (or the
     Siconos file as read by scripts/make_problem_library.py), is the reported one to cbps's own
-    rounding and gives the same verdict (<= 1e-9 x scale);
-  - "peer.disagrees" is "peer said ok; residual R N > T N (1e-09 x scale)" exactly where the
-    peer said ok and cbps says not solved (R the residual, T 1e-9 x scale), "peer said failed;
-    residual ..." where it said failed and cbps says solved, null elsewhere;
+    rounding, and the unit-free residual computed here likewise (include/cbps/system/
+    unit_free.hpp) gives the same verdict (<= 1e-9, to the rounding of cbps's computation);
+  - "peer.disagrees" is "peer said ok; unit-free residual R > 1e-09" exactly where the peer said
+    ok and cbps says not solved (R the result's unit_free.relative), "peer said failed;
+    unit-free residual ..." where it said failed and cbps says solved, null elsewhere;
   - where cbps says the peer solved the problem, the direct path's lambda agrees with the peer's
     to the bounds derived below from both residuals;
   - `cbps profile TMP/lib --quick` with peers among its solvers and `cbps converge` of a chain
@@ -59,7 +60,8 @@ widened by 8 n u |S|_F (a backward-stable eigensolver).
 
 (2) and (3) with B from the computed e hold for any two points too. What ties them to cbps's
 verdicts is the same bounds with B_claim in place of B: when both residuals are at most
-T_i = 1e-9 x scale (+ the rounding of cbps's residual), |e|_2 <= sqrt(n) (T_1 + T_2) and by (1)
+T_i (each lambda's natural-map residual as computed here, + its rounding), |e|_2 <= sqrt(n)
+(T_1 + T_2) and by (1)
 and Cauchy-Schwarz d^T A d <= |A d + d|_2 sqrt(n) (T_1 + T_2) = B_claim. Those checks use
 nothing computed from the residual vectors: they fail when a lambda cbps called solved is not
 a solution of the problem in the files (e.g. judged on a wrongly converted problem).
@@ -83,7 +85,7 @@ PEERS = ("siconos:lemke", "siconos:pgs", "siconos:enum", "siconos:avi", "bullet:
 LCP_KEYS = ("problem", "rows", "cfm", "solver", "status", "iterations", "wall_time_s", "residual",
             "scale", "message", "space", "space_reason", "lambda")
 PEER_KEYS = ("status", "said_ok", "iterations", "convert_time_s", "solve_time_s", "disagrees")
-SOLVED = 1e-9  # `cbps lcp`'s "solved": residual <= 1e-9 x scale (docs/outputs.md)
+SOLVED = 1e-9  # `cbps lcp`'s "solved": unit-free residual <= 1e-9 (docs/cones.md, outputs.md)
 U = 2.0 ** -53  # unit round-off
 PROFILE_SOLVERS = ("pgs", "direct", "siconos:lemke", "siconos:pgs", "bullet:dantzig", "bullet:pgs")
 CONVERGE_SOLVERS = ("pgs", "siconos:pgs", "bullet:dantzig")
@@ -172,6 +174,30 @@ class Problem:
         size = self.absA @ x + self.cfm * x + np.abs(self.b) + x
         return 4 * (self.k + 3) * U * float(np.max(size, initial=0.0))
 
+    def unit_free(self, xe, Ax, x):
+        """(relative, slack): the unit-free residual of include/cbps/system/unit_free.hpp at x,
+        computed exactly from its definition (each row's natural map with step rho_k = 1/A_kk,
+        the float cbps divides to, over max(|x|inf, max rho_k |b_k|)), and a bound on the
+        rounding of cbps's float computation of it (rho_k times the residual's rounding)."""
+        diagonal = self.dense.diagonal()
+        top = float(np.max(diagonal, initial=0.0))
+        fallback = 1.0 / top if top > 0.0 else 1.0
+        rho = [1.0 / d if d > 0.0 else fallback for d in diagonal]
+        largest = Fraction(0)
+        for k in range(self.n):
+            t = xe[k] - Fraction(rho[k]) * (Ax[k] - self.b_exact[k])
+            if self.lo[k] is not None and t < self.lo[k]:
+                t = self.lo[k]
+            if self.hi[k] is not None and t > self.hi[k]:
+                t = self.hi[k]
+            largest = max(largest, abs(xe[k] - t))
+        scale = max([abs(v) for v in xe] + [Fraction(rho[k]) * abs(self.b_exact[k])
+                                            for k in range(self.n)] + [Fraction(0)])
+        if scale == 0:
+            return (0.0 if largest == 0 else math.inf), 0.0
+        slack = max(rho + [0.0]) * self.rounding(x) / float(scale)
+        return float(largest / scale), slack
+
     def residual(self, x):
         """(exact residual vector r, exact A x + eps x) of a finite float vector x."""
         xe = [Fraction(float(v)) for v in x]
@@ -234,12 +260,12 @@ def agreement(p, peer_run, direct_run, check, where):
     lam, mu = Fraction(p.lambda_max), Fraction(p.mu)
     extra_A = (lam + mu) * mu * dd
     B = max(Fraction(0), ip)
-    # The claim: both residuals at most 1e-9 x scale (+ rounding), so |e|_2 <= sqrt(n)(T1 + T2).
+    # The claim: both residuals at most T1, T2 (+ rounding), so |e|_2 <= sqrt(n)(T1 + T2).
     Ad_plus_d = math.sqrt(float(sq([a + b for a, b in zip(Ad, d)])))
     B_claim = Fraction(Ad_plus_d * math.sqrt(n) * (t1 + t2) * (1 + 1e-12))
     check(dAd <= B_claim,
           f"{where}: d^T A d = {float(dAd):.6g} > |A d + d| sqrt(n) (T1 + T2) = "
-          f"{float(B_claim):.6g}: a lambda called solved is not within 1e-9 x scale")
+          f"{float(B_claim):.6g}: a lambda called solved is not within its residual")
     # (2) for S = (A + A^T) / 2 (d^T A d = d^T S d), then |A d| <= |S d| + |N|_F |d|.
     asym = p.asymmetry * math.sqrt(float(dd))
     for name, bound in (("B", B), ("B_claim", B_claim)):
@@ -311,22 +337,21 @@ def check_disagrees(j, check, where):
     solved = j["status"] == "solved"
     text = peer.get("disagrees")
     if peer["said_ok"] and not solved:
-        check(isinstance(text, str) and text.startswith("peer said ok; residual"),
+        check(isinstance(text, str) and text.startswith("peer said ok; unit-free residual"),
               f"{where}: the peer said ok, cbps says {j['status']}, disagrees is {text!r}")
-        m = re.fullmatch(r"peer said ok; residual (\S+) N > (\S+) N \(1e-0?9 x scale\)",
-                         text or "")
-        check(m is not None, f"{where}: disagrees {text!r} is not 'peer said ok; residual R N > T N "
-                             "(1e-09 x scale)'")
+        m = re.fullmatch(r"peer said ok; unit-free residual (\S+) > (\S+)", text or "")
+        check(m is not None, f"{where}: disagrees {text!r} is not 'peer said ok; unit-free "
+                             "residual R > 1e-09'")
         if m:
             R, T = float(m.group(1)), float(m.group(2))
-            res = number(j["residual"])
-            check(math.isclose(R, res, rel_tol=1e-5) or (math.isinf(R) and math.isinf(res)),
-                  f"{where}: disagrees says residual {R}, the result {res}")
-            check(math.isclose(T, SOLVED * j["scale"], rel_tol=1e-5),
-                  f"{where}: disagrees says T = {T}, 1e-9 x scale is {SOLVED * j['scale']}")
+            uf = j["unit_free"]["relative"] if j.get("unit_free") else math.inf
+            uf = math.inf if uf is None else uf
+            check(math.isclose(R, uf, rel_tol=1e-5) or (math.isinf(R) and math.isinf(uf)),
+                  f"{where}: disagrees says residual {R}, the result's unit-free {uf}")
+            check(T == SOLVED, f"{where}: disagrees says T = {T}, the verdict's is {SOLVED}")
             check(R > T, f"{where}: disagrees says {R} > {T}")
     elif not peer["said_ok"] and solved:
-        check(isinstance(text, str) and text.startswith("peer said failed; residual"),
+        check(isinstance(text, str) and text.startswith("peer said failed; unit-free residual"),
               f"{where}: the peer said failed, cbps says solved, disagrees is {text!r}")
     else:
         check(text is None, f"{where}: peer said_ok {peer['said_ok']}, status {j['status']}, "
@@ -373,10 +398,10 @@ def check_profile(cbps, lib, tmp, problems, check):
             ct = m.get("convert_time_s")
             check(isinstance(ct, (int, float)) and 0 <= ct <= number(m["time_s"]),
                   f"{where}: convert_time_s {ct!r} not within time_s {m['time_s']}")
-            rel = number(m["residual_relative"])
+            rel = number(m["residual_relative"])  # unit-free (cbps profile)
             solved = rel <= 1e-10
             if solved:
-                check(status == "solved", f"{where}: residual {rel:.3g} of the scale, status "
+                check(status == "solved", f"{where}: unit-free residual {rel:.3g}, status "
                                           f"{status!r}")
             elif ps.startswith("time limit"):
                 # Killed at --time-limit (a Siconos child, or Bullet's, which runs in a child
@@ -384,9 +409,9 @@ def check_profile(cbps, lib, tmp, problems, check):
                 # reach the 0.5 s limit on the base-3 pyramid).
                 check(status == "time limit", f"{where}: peer_status {ps!r}, status {status!r}")
             else:
-                check(status.startswith("peer said ok; residual ")
+                check(status.startswith("peer said ok; unit-free residual ")
                       or status == f"peer said failed: {ps}",
-                      f"{where}: residual {rel:.3g} of the scale, status {status!r} "
+                      f"{where}: unit-free residual {rel:.3g}, status {status!r} "
                       f"(peer_status {ps!r})")
     check(len(profile["measurements"]) == len(problems) * len(PROFILE_SOLVERS),
           f"profile: {len(profile['measurements'])} measurements, not "
@@ -498,11 +523,12 @@ def main():
             xe2, r2, Ax2 = p.residual(x2)
             rho2 = p.rounding(x2)
             exact2 = float(norm_inf(r2))
-            check(exact2 <= SOLVED * p.scale + rho2,
-                  f"{where}: residual {exact2:.6g} > 1e-9 x scale {p.scale:.6g}")
+            uf2, slack2 = p.unit_free(xe2, Ax2, x2)
+            check(uf2 <= SOLVED + slack2,
+                  f"{where}: unit-free residual {uf2:.6g} > 1e-9 (slack {slack2:.3g})")
             check(abs(number(j["residual"]) - exact2) <= rho2,
                   f"{where}: reported residual {j['residual']}, computed here {exact2:.17g}")
-            direct = (xe2, r2, Ax2, SOLVED * p.scale + rho2)
+            direct = (xe2, r2, Ax2, exact2 + rho2)
 
             for peer in PEERS:
                 where = f"{p.name} {peer}"
@@ -551,17 +577,17 @@ def main():
                 check(abs(reported - exact1) <= rho1,
                       f"{where}: reported residual {reported!r}, computed here {exact1:.17g} "
                       f"(rounding bound {rho1:.3g})")
-                threshold = SOLVED * p.scale
+                uf1, slack1 = p.unit_free(xe1, Ax1, x1)
                 if status == "solved":
-                    check(exact1 <= threshold + rho1,
-                          f"{where}: cbps says solved, residual computed here {exact1:.6g} > "
-                          f"{threshold:.6g}")
-                    stats = agreement(p, (xe1, r1, Ax1, threshold + rho1), direct, check, where)
+                    check(uf1 <= SOLVED + slack1,
+                          f"{where}: cbps says solved, unit-free residual computed here "
+                          f"{uf1:.6g} > 1e-9 (slack {slack1:.3g})")
+                    stats = agreement(p, (xe1, r1, Ax1, exact1 + rho1), direct, check, where)
                     agreements.append((p.name, peer, stats))
                 else:
-                    check(exact1 > threshold - rho1,
-                          f"{where}: cbps says {status}, residual computed here {exact1:.6g} <= "
-                          f"{threshold:.6g}")
+                    check(uf1 > SOLVED - slack1,
+                          f"{where}: cbps says {status}, unit-free residual computed here "
+                          f"{uf1:.6g} <= 1e-9 (slack {slack1:.3g})")
 
         # The table: problem x peer -> cbps's status ("*": the peer's word disagrees).
         width = max(len(p.name) for p in problems)
@@ -572,7 +598,7 @@ def main():
                 table.get((p.name, peer), "-").ljust(c) for peer, c in zip(PEERS, cols)))
         print("(* the peer's own word disagrees with cbps's verdict: peer.disagrees)")
         print("\nagreement with the direct path where a peer solved (|w1 - w2|, |J^T d|, N, and "
-              "their bounds from 1e-9 x scale):")
+              "their bounds from both residuals):")
         for name, peer, s in agreements:
             jt = "" if s["JTd"] is None else f"  |J^T d| {s['JTd']:.3g} <= {s['JTd_bound']:.3g}"
             print(f"  {name} {peer}: |A d| {s['w']:.3g} <= {s['w_bound']:.3g}{jt}")

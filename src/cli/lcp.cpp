@@ -118,14 +118,15 @@ int report(const LcpOptions& o,
                 r.iterations,
                 r.pivots ? "pivots" : "iterations",
                 number_text(wall).c_str());
-    std::printf("residual %s (natural map, infinity norm; scale %s)\n",
-                number_text(v.residual).c_str(),
-                number_text(v.scale).c_str());
     if (v.unit_free)
-      std::printf("unit-free residual %s (%s N over the force scale %s N)\n",
+      std::printf("unit-free residual %s (%s N over the force scale %s N; solved at <= %s)\n",
                   number_text(v.unit_free->relative).c_str(),
                   number_text(v.unit_free->residual).c_str(),
-                  number_text(v.unit_free->scale).c_str());
+                  number_text(v.unit_free->scale).c_str(),
+                  number_text(kSolvedTolerance).c_str());
+    std::printf("residual %s (natural map, infinity norm; data scale %s)\n",
+                number_text(v.residual).c_str(),
+                number_text(v.scale).c_str());
     std::printf("%s\n", r.message.c_str());
     if (!v.peer_disagrees.empty()) std::printf("%s\n", v.peer_disagrees.c_str());
     if (v.cone)

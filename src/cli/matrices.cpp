@@ -16,11 +16,11 @@
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
-#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/explain.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -66,7 +66,7 @@ void write_cones(const MatricesOptions& o,
 
 /// --fclib --cone LAW on a scene whose friction is a box: the step's A and b with its contacts
 /// posed in Coulomb's cone of the scene's mu (contacts_in_cones), solved by the exact path on
-/// cones; /solution only when that answer is verified (lcp's criterion, kLcpSolvedTolerance).
+/// cones; /solution only when that answer is verified (lcp's verdict, system/unit_free.hpp).
 void write_boxed_as_cones(const MatricesOptions& o,
                           const Scene& scene,
                           const System& sys,
@@ -94,9 +94,8 @@ void write_boxed_as_cones(const MatricesOptions& o,
   exact.tolerance = 0.0;
   VecX lambda = VecX::Zero(posed.rows());
   const SolverSummary s = solve(posed.problem(), lambda, exact);
-  const double residual = natural_map_residual(posed.problem(), lambda);
-  const double scale = scale_of(posed.problem());
-  const bool verified = solved_by_residual(lambda, residual, scale);
+  const UnitFreeResidual unit_free = unit_free_residual(posed.problem(), lambda);
+  const bool verified = is_solved(unit_free, lambda);
   const FclibInfo info{
       scene.name + ", step " + std::to_string(o.at_step) + ", posed on Coulomb's cone",
       "written by cbps matrices: the step solved the scene's box (friction=" +
@@ -113,9 +112,9 @@ void write_boxed_as_cones(const MatricesOptions& o,
               o.global ? FclibForm::Global : FclibForm::Local);
   if (!verified && !o.quiet)
     std::fprintf(stderr,
-                 "cbps matrices: %s: no /solution in the file (relative residual %s): %s\n",
+                 "cbps matrices: %s: no /solution in the file (unit-free residual %s): %s\n",
                  o.fclib.c_str(),
-                 number_text(residual / scale).c_str(),
+                 number_text(unit_free.relative).c_str(),
                  s.message.c_str());
 }
 
@@ -172,8 +171,8 @@ int matrices_command(const MatricesOptions& o) {
   // With Coulomb friction the boxed problem written is the one whose bounds ±mu lambda_n come
   // from lambda itself: lambda must solve it, by `cbps lcp`'s verdict (a singular resting
   // contact may leave the direct path a little above its rounding floor, never above that).
-  const double own = coulomb_residual(sys.problem(), sys.coulomb(), lambda, scene.solver.cfm);
-  if (coulomb && !solved_by_residual(lambda, own, scale_of(sys.problem(), scene.solver.cfm)))
+  if (coulomb &&
+      !is_solved(coulomb_unit_free(sys.problem(), sys.coulomb(), lambda, scene.solver.cfm), lambda))
     throw ComputationError("matrices: " + scene.name + ", step " + std::to_string(o.at_step) +
                            ": the Coulomb bounds did not reach a fixed point (" + direct.message +
                            "), so no boxed problem is the step's; nothing written");

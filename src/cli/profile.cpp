@@ -36,16 +36,18 @@ struct ProfileOptions {
 
 /// tao:TYPE from lambda = 0: each TAO iteration as a sweep (the monitor of solve_tao, with the
 /// natural-map residual on PETSc's vectors), at most the budget's iterations, stopped by the
-/// monitor at the time limit, by solve_tao's test at relative residual 1e-10.
+/// monitor at the time limit or once the unit-free residual reaches 1e-10.
 ProfileMeasurement run_tao(const ProfileProblem& p,
                            const SolverSpec& spec,
                            const ProfileLimits& o,
                            const TaoInProcess& tao) {
   ProfileMeasurement m;
-  m.reach(0, 0.0, p.residual(VecX::Zero(p.stored.rows())) / p.scale);
-  const distributed::TaoMonitor monitor = [&](const distributed::TaoIterate& at, const VecX&) {
+  m.reach(0, 0.0, p.relative(VecX::Zero(p.stored.rows())));
+  // One process: the monitor's lambda is the whole answer.
+  const distributed::TaoMonitor monitor = [&](const distributed::TaoIterate& at,
+                                              const VecX& lambda) {
     if (at.iteration == 0) return true;  // TAO's start
-    const double relative = at.residual / p.scale;
+    const double relative = p.relative(lambda);
     m.reach(at.iteration, at.time_s, relative);
     m.iterations = at.iteration;
     m.time_s = at.time_s;
@@ -59,7 +61,7 @@ ProfileMeasurement run_tao(const ProfileProblem& p,
   const TaoRun r = tao.solve(BoxedProblem{A_solved, p.stored.b, p.stored.cmin, p.stored.cmax},
                              spec.tao,
                              o.budget_iterations,
-                             kProfileTolerances[kProfileTolerancesCount - 1] * p.scale,
+                             0.0,  // the monitor stops it: the unit-free residual is not TAO's
                              monitor);
   if (m.status.empty())
     m.status = r.reason == "DIVERGED_MAXITS" ? "iteration budget" : "TAO " + r.reason;

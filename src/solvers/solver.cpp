@@ -26,6 +26,7 @@
 #include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/paper/pgs_matrix_free.hpp"
 #include "cbps/solvers/peers/peers.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "exact/newton_system.hpp"
 
 namespace cbps {
@@ -112,7 +113,7 @@ namespace {
 
 /// Method::Lemke: the dense pivoting method of lemke.hpp on M = A, q = −b (the standard LCP when
 /// cmin = 0 and cmax = +inf, else the boxed one), verified on the problem itself: Direct when
-/// the natural-map residual is ≤ kLcpSolvedTolerance · scale_of (6.2). A ray termination whose
+/// cbps's verdict holds (is_solved, system/unit_free.hpp). A ray termination whose
 /// last point passes that check is a solution, and is reported as one, with the ray named.
 SolverSummary solve_lemke_method(const BoxedProblem& problem,
                                  VecX& lambda,
@@ -134,14 +135,15 @@ SolverSummary solve_lemke_method(const BoxedProblem& problem,
   s.iterations = r.pivots;
   s.pivots = r.pivots;
   s.residual = natural_map_residual(problem, lambda);
-  const bool passes = solved_by_residual(lambda, s.residual, scale_of(problem));
+  const UnitFreeResidual unit_free = unit_free_residual(problem, lambda);
+  const bool passes = is_solved(unit_free, lambda);
   s.message = r.message;
   if (passes) {
     s.termination = Termination::Direct;
     if (!r.solved()) {
       std::ostringstream msg;
-      msg << "Lemke: solved: its last point has residual " << s.residual
-          << " N <= " << kLcpSolvedTolerance << " x scale " << scale_of(problem)
+      msg << "Lemke: solved: its last point has unit-free residual " << unit_free.relative
+          << " <= " << kSolvedTolerance << " (" << s.residual << " N)"
           << ", although the pivoting ended "
           << (r.status == LcpResult::Status::NoSolution ? "in a ray termination"
                                                         : "without a verified basis")
@@ -170,9 +172,14 @@ SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const Solve
       return solve_jacobi(problem, lambda, options);
     case Method::MatrixFree:
       return solve_matrix_free(problem, lambda, options);
-    case Method::Direct:
-      return problem.cones != nullptr ? solve_cone_direct(problem, lambda, options)
-                                      : solve_direct(problem, lambda, options);
+    case Method::Direct: {
+      if (problem.cones != nullptr) return solve_cone_direct(problem, lambda, options);
+      // The tolerance read both as N and as a unit-free residual (UnitFreeTarget::both, at λ = 0:
+      // the force scale b alone calls for), the rounding floor still stopping it.
+      SolverOptions aimed = options;
+      aimed.tolerance = unit_free_target(problem).both(options.tolerance, VecX());
+      return solve_direct(problem, lambda, aimed);
+    }
     case Method::ActiveSet:
       return solve_active_set(problem, lambda, options);
     case Method::PgsNesterov:

@@ -130,7 +130,7 @@ LcpOutcome solve_stored(const SolverSpec& spec,
 }
 
 LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> measured) {
-  // cbps's own check of the returned lambda (6.2), independent of the solver's claim.
+  // cbps's own check of the returned lambda (unit_free.hpp), independent of the solver's claim.
   LcpVerdict v;
   const bool sized = r.lambda.size() == p.rows;
   v.residual = !sized     ? kInf
@@ -139,7 +139,14 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
                    ? natural_map_residual(p.stored->problem(), r.lambda, p.stored->cfm)
                    : kInf;
   v.scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
-  v.solved = sized && solved_by_residual(r.lambda, v.residual, v.scale);
+  if (sized && p.stored != nullptr)
+    v.unit_free = unit_free_residual(p.stored->problem(), r.lambda, p.stored->cfm);
+  // A problem no process holds whole (TAO, the exact path under MPI) is still judged by the
+  // natural map over the data's scale (kDistributedSolvedTolerance): its unit-free residual is
+  // not yet formed across ranks.
+  v.solved = sized && (v.unit_free ? is_solved(*v.unit_free, r.lambda)
+                                   : r.lambda.allFinite() &&
+                                         v.residual <= kDistributedSolvedTolerance * v.scale);
   v.status = v.solved        ? "solved"
              : r.no_solution ? "no_solution"
              : r.time_limit  ? "time limit"
@@ -149,14 +156,11 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
     const VecX w = s.A * r.lambda + s.cfm * r.lambda - s.b;  // w = (A + eps E) λ − b (6.2)
     v.cone = cone_measures(s.cones, r.lambda, w, s.b);
   }
-  if (sized && p.stored != nullptr)
-    v.unit_free = unit_free_residual(p.stored->problem(), r.lambda, p.stored->cfm);
-  if (r.peer && r.peer_said_ok != v.solved) {
-    const double criterion = kLcpSolvedTolerance * v.scale;
+  if (r.peer && r.peer_said_ok != v.solved) {  // a peer runs in one process: unit_free is set
+    const double relative = v.unit_free ? v.unit_free->relative : kInf;
     v.peer_disagrees = std::string(r.peer_said_ok ? "peer said ok" : "peer said failed") +
-                       "; residual " + number_text(v.residual) + " N " + (v.solved ? "<= " : "> ") +
-                       number_text(criterion) + " N (" + number_text(kLcpSolvedTolerance) +
-                       " x scale)";
+                       "; unit-free residual " + number_text(relative) +
+                       (v.solved ? " <= " : " > ") + number_text(kSolvedTolerance);
   }
   return v;
 }

@@ -181,7 +181,7 @@ ProfileProblem load_profile_problem(const ProfileEntry& e) {
 }
 
 void finish_measurement(ProfileMeasurement& m, const ProfileProblem& p, const VecX& lambda) {
-  m.residual = p.residual(lambda) / p.scale;
+  m.residual = p.relative(lambda);
   if (p.definite && lambda.size() == p.exact.size())
     m.lambda_error = (lambda - p.exact).lpNorm<Eigen::Infinity>();
 }
@@ -193,14 +193,14 @@ ProfileMeasurement profile_iterative(const ProfileProblem& p,
   m.status = not_applicable(spec, p);
   if (!m.status.empty()) return m;
   VecX lambda = VecX::Zero(p.stored.rows());
-  m.reach(0, 0.0, p.residual(lambda) / p.scale);
+  m.reach(0, 0.0, p.relative(lambda));
   SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
   const auto start = Clock::now();
   double measuring = 0.0;  // s spent in after_sweep so far, taken off the times
   options.after_sweep = [&](int k, const VecX& l, double) {
     const auto entered = Clock::now();
     const double time_s = std::chrono::duration<double>(entered - start).count() - measuring;
-    const double relative = p.residual(l) / p.scale;
+    const double relative = p.relative(l);
     m.reach(k, time_s, relative);
     m.iterations = k;
     m.time_s = time_s;
@@ -257,11 +257,11 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
   for (std::size_t t = first; t < kProfileTolerancesCount; ++t) {
     lambda = VecX::Zero(p.stored.rows());
     SolverOptions options = study_options(spec, o.budget_iterations, p.stored.cfm);
-    options.tolerance = kProfileTolerances[t] * p.scale;
-    options.time_limit = o.time_limit;  // a peer's child is killed at it
+    options.tolerance = kProfileTolerances[t];  // the peer's own measure, relative (peers.md)
+    options.time_limit = o.time_limit;          // a peer's child is killed at it
     summary = solve(p.problem(), lambda, options);
     const double time_s = summary.convert_time_s + summary.peer_solve_time_s;
-    const double relative = p.residual(lambda) / p.scale;
+    const double relative = p.relative(lambda);
     const long at = iterative ? std::max(1, summary.iterations) : 1;
     for (std::size_t i = 0; i < kProfileTolerancesCount; ++i)
       if (relative <= kProfileTolerances[i] && m.reached[i].iterations < 0)
@@ -281,9 +281,8 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
   const bool solved = m.reached[kProfileTolerancesCount - 1].iterations >= 0;
   m.status = solved                                          ? "solved"
              : summary.termination == Termination::TimeLimit ? "time limit"
-             : summary.peer_said_ok
-                 ? "peer said ok; residual " + number_text(m.residual) + " of the scale"
-                 : "peer said failed: " + summary.peer_status;
+             : summary.peer_said_ok ? "peer said ok; unit-free residual " + number_text(m.residual)
+                                    : "peer said failed: " + summary.peer_status;
   return m;
 }
 
@@ -332,7 +331,7 @@ std::string profile_summary_text(const std::vector<ProfileEntry>& entries,
                 o.time_limit,
                 wall_time_s);
   out << line;
-  out << "residual relative to scale_of = max(1, |b|inf, max |A_ij|); rho(tau): fraction of "
+  out << "unit-free residual (docs/cones.md); rho(tau): fraction of "
          "problems within tau x the best solver's cost (Dolan & More 2002); exact paths have "
          "no sweeps\n";
   for (std::size_t t = 0; t < kProfileTolerancesCount; ++t) {

@@ -5,11 +5,11 @@
 
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/solvers/exact/direct.hpp"
-#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/scheme.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
@@ -151,8 +151,11 @@ void CrossCheck::start(Simulation& sim) {
     if (s.termination != Termination::Direct) ++direct_short;
     if (!s.route.empty()) ++routes[s.route];
     direct_pivots += s.pivots;
-    // Verified as `cbps lcp` verifies: residual ≤ 1e-9 · max(1, ‖b‖∞, max |A_ij|).
-    if (!(s.residual <= kLcpSolvedTolerance * scale_of(sys.problem()))) ++direct_unverified;
+    // Verified as `cbps lcp` verifies (system/unit_free.hpp), with the Coulomb bounds at λ.
+    const UnitFreeResidual unit_free =
+        coulomb_unit_free(problem, sys.coulomb(), lambda_direct, cfm);
+    if (!is_solved(unit_free, lambda_direct)) ++direct_unverified;
+    max_keep_nan(max_direct_unit_free, unit_free.relative);
     const VecX v2_direct = compute_v2(sys, lambda_direct);
     const double difference = v2.size() > 0 ? (v2 - v2_direct).lpNorm<Eigen::Infinity>() : 0.0;
     max_velocity_difference = std::max(max_velocity_difference, difference);
@@ -174,6 +177,7 @@ nlohmann::json CrossCheck::json() const {
   nlohmann::json j = {{"max_velocity_difference", number_json(max_velocity_difference)},
                       {"max_pgs_residual", number_json(max_residual)},
                       {"max_direct_residual", number_json(max_direct_residual)},
+                      {"max_direct_unit_free", number_json(max_direct_unit_free)},
                       {"direct_stopped_short", direct_short},
                       {"direct_unverified", direct_unverified},
                       {"steps_checked", steps_checked},

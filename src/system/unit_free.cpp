@@ -11,28 +11,63 @@
 
 namespace cbps {
 
-UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lambda, double cfm) {
+namespace {
+
+/// UnitFreeResidual from its two maxima (N): relative = residual / scale, 0 when both are 0, ∞
+/// when only the scale is, NaN when the residual is.
+UnitFreeResidual unit_free_of(double residual, double scale) {
   UnitFreeResidual u;
+  u.residual = residual;
+  u.scale = scale;
+  if (std::isnan(residual))
+    u.relative = std::numeric_limits<double>::quiet_NaN();
+  else if (residual == 0.0)
+    u.relative = 0.0;
+  else
+    u.relative = scale > 0.0 ? residual / scale : kInf;
+  return u;
+}
+
+}  // namespace
+
+VecX unit_free_steps(const BoxedProblem& problem, double cfm) {
   const Eigen::Index c = problem.rows();
-  if (c == 0 || lambda.size() != c) return u;
-  const VecX w = times_A(problem, lambda) + cfm * lambda - problem.b;  // (A + eps E) λ − b (6.2)
+  if (c == 0) return VecX();
   const VecX diagonal = diagonal_of_A(problem).array() + cfm;
   const double largest = diagonal.maxCoeff();
   const double fallback = largest > 0.0 ? 1.0 / largest : 1.0;
   VecX rho(c);
   for (Eigen::Index k = 0; k < c; ++k) rho(k) = diagonal(k) > 0.0 ? 1.0 / diagonal(k) : fallback;
-  std::vector<char> in_cone(std::size_t(c), 0);
   if (problem.cones != nullptr) {
     const ConeContacts& cones = *problem.cones;
     for (long i = 0; i < cones.contacts(); ++i) {
       const int n = cones.normal[std::size_t(i)];
       const double top = diagonal.segment<3>(n).maxCoeff();
-      const double rho_a = top > 0.0 ? 1.0 / top : fallback;
-      rho.segment<3>(n).setConstant(rho_a);
+      rho.segment<3>(n).setConstant(top > 0.0 ? 1.0 / top : fallback);
+    }
+  }
+  return rho;
+}
+
+UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lambda, double cfm) {
+  UnitFreeResidual u;
+  const Eigen::Index c = problem.rows();
+  if (lambda.size() != c) {
+    u.relative = kInf;  // no answer to this problem
+    return u;
+  }
+  if (c == 0) return u;
+  const VecX w = times_A(problem, lambda) + cfm * lambda - problem.b;  // (A + eps E) λ − b (6.2)
+  const VecX rho = unit_free_steps(problem, cfm);
+  std::vector<char> in_cone(std::size_t(c), 0);
+  if (problem.cones != nullptr) {
+    const ConeContacts& cones = *problem.cones;
+    for (long i = 0; i < cones.contacts(); ++i) {
+      const int n = cones.normal[std::size_t(i)];
       const Vec3 r = lambda.segment<3>(n);
       // ρ F(r; u) for the map of u scaled by ρ: the law's û is positively homogeneous in u.
       max_keep_nan(u.residual,
-                   cone_natural_map(r, rho_a * w.segment<3>(n), cones.mu(i), cones.law).norm());
+                   cone_natural_map(r, rho(n) * w.segment<3>(n), cones.mu(i), cones.law).norm());
       in_cone[std::size_t(n)] = in_cone[std::size_t(n + 1)] = in_cone[std::size_t(n + 2)] = 1;
     }
   }
@@ -41,15 +76,29 @@ UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lam
     max_keep_nan(u.residual,
                  natural_map_row(lambda(k), rho(k) * w(k), problem.cmin(k), problem.cmax(k)));
   }
-  u.scale = std::max(lambda.lpNorm<Eigen::Infinity>(),
-                     (rho.array() * problem.b.array().abs()).maxCoeff());
-  if (std::isnan(u.residual))
-    u.relative = std::numeric_limits<double>::quiet_NaN();
-  else if (u.residual == 0.0)
-    u.relative = 0.0;
-  else
-    u.relative = u.scale > 0.0 ? u.residual / u.scale : kInf;
-  return u;
+  return unit_free_of(u.residual,
+                      std::max(lambda.lpNorm<Eigen::Infinity>(),
+                               (rho.array() * problem.b.array().abs()).maxCoeff()));
 }
+
+double UnitFreeTarget::newtons(double relative, const VecX& lambda) const {
+  const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
+  return relative * std::max(l, rho_b) / std::max(1.0, rho_max);
+}
+
+UnitFreeTarget unit_free_target(const BoxedProblem& problem, double cfm) {
+  UnitFreeTarget t;
+  if (problem.rows() == 0) return t;
+  const VecX rho = unit_free_steps(problem, cfm);
+  t.rho_b = (rho.array() * problem.b.array().abs()).maxCoeff();
+  t.rho_max = rho.maxCoeff();
+  return t;
+}
+
+bool is_solved(const UnitFreeResidual& u, const VecX& lambda) {
+  return lambda.allFinite() && u.relative <= kSolvedTolerance;
+}
+
+
 
 }  // namespace cbps

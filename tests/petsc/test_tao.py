@@ -174,6 +174,7 @@ def mode_type(cbps, root, tao_type):
         for ranks in RANKS:
             label = f"tao:{tao_type} on {name} at {ranks} rank(s)"
             out = os.path.join(root, f"{name}.{tao_type}.{ranks}")
+            shutil.rmtree(out, ignore_errors=True)  # a result of an earlier run is not this one
             r = run([cbps, "lcp", os.path.join(root, name), "--solver", "tao:" + tao_type,
                      "--json", "--out", out] + ITERATIONS[name], ranks)
             if not check(r.returncode in (0, 1), f"{label}: exit {r.returncode}: {r.stderr}"):

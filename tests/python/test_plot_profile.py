@@ -17,7 +17,7 @@ def profile_json(solvers, problems=6):
     """A profile.json as `cbps profile` writes it (docs/outputs.md): ratios >= 1 or "inf"
     (failed); `direct` has no sweeps, so it is in the time profiles only."""
     rng = random.Random(3)
-    tolerances = [1e-3, 1e-6, 1e-10]
+    tolerances = [1e-4, 1e-8, 1e-10]
     profiles = []
     for measure in ("time", "sweeps"):
         for tol in tolerances:

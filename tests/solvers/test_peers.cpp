@@ -17,6 +17,7 @@
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/system.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "fixture.hpp"
 
 using namespace cbps;
@@ -183,16 +184,16 @@ TEST_CASE("on the vendored Siconos problems, Siconos' Lemke and cbps's reach the
       }
       INFO(file.filename().string());
       const BoxedProblem p = stored.problem();
-      const double criterion = kLcpSolvedTolerance * scale_of(p);
       VecX ours = VecX::Zero(p.rows()), theirs = VecX::Zero(p.rows());
       SolverOptions lemke;
       lemke.method = Method::Lemke;
       const SolverSummary c = solve(p, ours, lemke);
       const SolverSummary s = solve(p, theirs, peer_options(Method::SiconosLemke));
       INFO("cbps lemke: " << c.message << "\nsiconos:lemke: " << s.message);
-      // The same verdict by the same residual: both solved, or neither (lcp_CPS_3 and the
+      // The same verdict (unit_free.hpp) on both: both solved, or neither (lcp_CPS_3 and the
       // perturbed Pang problem have no solution; both pivotings end in a ray).
-      const bool c_solved = c.residual <= criterion, s_solved = s.residual <= criterion;
+      const bool c_solved = is_solved(unit_free_residual(p, ours), ours);
+      const bool s_solved = is_solved(unit_free_residual(p, theirs), theirs);
       CHECK(c_solved == s_solved);
       ++compared;
       // Siconos' own word (its Lemke's end and its own check of the answer) agrees with cbps's
@@ -286,7 +287,6 @@ TEST_CASE("Siconos' fc3d solvers on a sliding box: Coulomb's law, judged by cbps
   BoxedProblem problem = sys.problem();
   problem.cones = &cones;
   REQUIRE(peer_class(problem) == PeerClass::FrictionContact);
-  const double scale = scale_of(problem);
   for (const Method m : {Method::SiconosFc3dNsgs,
                          Method::SiconosFc3dProx,
                          Method::SiconosFc3dNsnAc,
@@ -300,7 +300,7 @@ TEST_CASE("Siconos' fc3d solvers on a sliding box: Coulomb's law, judged by cbps
     REQUIRE(lambda.allFinite());
     const double residual = natural_map_residual(problem, lambda);
     CHECK(s.residual == residual);  // cbps's verdict is cbps's residual, never the peer's word
-    const bool solved = residual <= kLcpSolvedTolerance * scale;
+    const bool solved = is_solved(unit_free_residual(problem, lambda), lambda);
     CHECK((s.termination != Termination::PeerUnsolved) == solved);
     if (m == Method::SiconosFc3dNsgs || m == Method::SiconosFc3dProx) {
       // The two that solve the slide: Coulomb's law on the sums.

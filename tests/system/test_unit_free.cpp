@@ -101,3 +101,51 @@ TEST_CASE("the unit-free residual does not change with the units of force and ve
     }
   }
 }
+
+TEST_CASE("the direct path's target bounds the unit-free residual, and the verdict reads it",
+          "[unit-free]") {
+  // unit_free_target turns a unit-free target into a natural-map residual with unit step: any
+  // lambda whose natural map is at most target.newtons(t, lambda) has a unit-free residual of at
+  // most t (a natural map's norm grows with its step and shrinks over it). Checked in units where
+  // the steps 1/A_kk are far above 1 and far below it, at lambdas near and far from the answer.
+  StoredProblem rover = read_problem((test::kFc3dDir / "Rover4396.dat").string());
+  const StoredProblem relay =
+      read_problem((test::kSiconosDir / "relay" / "relay_4x4.dat").string());
+  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+    rover.cones.law = law;
+    for (const StoredProblem* p : {&relay, static_cast<const StoredProblem*>(&rover)}) {
+      const ConeContacts* cones = p->cones.empty() ? nullptr : &p->cones;
+      for (const double force : {1e-6, 1.0, 1e6}) {
+        for (const double size : {1e-9, 1e-3, 1.0}) {
+          VecX lambda(p->rows());
+          for (Eigen::Index k = 0; k < lambda.size(); ++k) lambda(k) = size * std::sin(2.0 + k);
+          const Scaled s = in_units(*p, lambda, force, 1.0);
+          BoxedProblem q{s.A, s.b, s.cmin, s.cmax};
+          q.cones = cones;
+          const UnitFreeTarget target = unit_free_target(q);
+          const double natural = natural_map_residual(q, s.lambda);
+          const UnitFreeResidual u = unit_free_residual(q, s.lambda);
+          // The bound at t = natural / newtons(1, λ), the smallest t the target certifies.
+          const double certified = natural / target.newtons(1.0, s.lambda);
+          INFO("rows " << p->rows() << ", force unit " << force << ", |lambda| " << size
+                       << ": unit-free " << u.relative << ", certified " << certified);
+          CHECK(u.relative <= certified * (1.0 + 1e-12));
+        }
+      }
+    }
+  }
+  // The verdict: at most kSolvedTolerance, finite; a lambda of the wrong size is never solved.
+  const VecX one = VecX::Constant(1, 1.0);
+  UnitFreeResidual u;
+  u.relative = kSolvedTolerance;
+  CHECK(is_solved(u, one));
+  u.relative = 2.0 * kSolvedTolerance;
+  CHECK_FALSE(is_solved(u, one));
+  u.relative = std::nan("");
+  CHECK_FALSE(is_solved(u, one));
+  u.relative = 0.0;
+  CHECK_FALSE(is_solved(u, VecX::Constant(1, std::nan(""))));
+  const SpMat A = SpMat(Eigen::MatrixXd::Identity(2, 2).sparseView());
+  const VecX b = VecX::Ones(2), lo = VecX::Zero(2), hi = VecX::Constant(2, kInf);
+  CHECK_FALSE(is_solved(unit_free_residual(BoxedProblem{A, b, lo, hi}, one), one));
+}

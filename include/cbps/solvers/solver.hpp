@@ -281,8 +281,8 @@ enum class Termination {
   NonFinite,
   Stopped,     ///< SolverOptions::after_sweep returned false
   NoSolution,  ///< Lemke's ray termination: no solution found (none exists if A is copositive-plus)
-  /// A peer (peers/peers.hpp) returned a lambda whose natural-map residual is above
-  /// kLcpSolvedTolerance · scale_of, whatever it said of it
+  /// A peer (peers/peers.hpp) returned a lambda cbps's verdict does not call solved
+  /// (system/unit_free.hpp), whatever it said of it
   PeerUnsolved,
   TimeLimit  ///< SolverOptions::time_limit passed before the method's own stop
 };

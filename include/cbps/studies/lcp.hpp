@@ -3,8 +3,8 @@
 //
 // Both are held in the paper's convention (6.2): w = A lambda − b, cmin ≤ lambda ≤ cmax, which
 // is Siconos' w = M z + q, lb ≤ z ≤ ub with M = A, q = −b, lb = cmin, ub = cmax. The verdict is
-// "solved" only if the natural-map residual of the returned lambda is ≤ kLcpSolvedTolerance ·
-// max(1, ‖q‖∞, max |M_ij|) (with a cfm.txt, of A + eps E).
+// "solved" only if the unit-free residual of the returned lambda (system/unit_free.hpp) is ≤
+// kSolvedTolerance (with a cfm.txt, that of A + eps E).
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -49,7 +49,7 @@ struct LcpFacts {
       kind;  ///< "cbps matrices folder", "Siconos file", "FCLIB file", "generated on N ranks"
   /// The problem, when one process holds it (solved as A + eps E with a cfm.txt).
   const StoredProblem* stored = nullptr;
-  double scale = 0.0;          ///< without `stored`: scale_of measured elsewhere
+  double scale = 0.0;          ///< without `stored`: scale_of measured elsewhere (reported)
   bool lambda_in_json = true;  ///< false: "lambda": null (too large to print)
 };
 
@@ -74,23 +74,31 @@ LcpOutcome solve_stored(const SolverSpec& spec,
 /// cbps's verdict on a returned lambda.
 struct LcpVerdict {
   double residual = 0.0;  ///< natural map, ∞-norm, N (∞ when lambda has the wrong size)
-  double scale = 1.0;     ///< scale_of
-  bool solved = false;    ///< residual ≤ kLcpSolvedTolerance · scale, lambda finite
+  /// scale_of, max(1, ‖b‖∞, max |A_ij|): reported beside the residual for its size, not the
+  /// verdict's (that is unit_free's)
+  double scale = 1.0;
+  /// is_solved(unit_free, lambda): relative ≤ kSolvedTolerance, lambda finite (distributed:
+  /// residual ≤ kDistributedSolvedTolerance · scale)
+  bool solved = false;
   /// "solved", "no_solution" (Lemke's ray), "time limit" (not solved when --time-limit
   /// stopped the method) or "failed"
   std::string status;
-  /// A peer whose word disagrees with cbps's verdict: "peer said ok; residual R N > T N" (or
-  /// "peer said failed; residual ... <= ..."); empty otherwise.
+  /// A peer whose word disagrees with cbps's verdict: "peer said ok; unit-free residual R >
+  /// 1e-09" (or "peer said failed; unit-free residual ... <= ..."); empty otherwise.
   std::string peer_disagrees;
   /// A problem with cones (an FCLIB file): lambda measured against the cone law
   /// (system/cone_problem.hpp); empty for a boxed problem.
   std::optional<ConeMeasures> cone;
-  /// The unit-free residual of lambda (system/unit_free.hpp), where this process holds the
-  /// problem.
+  /// The unit-free residual of lambda (system/unit_free.hpp), the verdict's, where this process
+  /// holds the problem; empty when lambda has the wrong size or no process holds it whole.
   std::optional<UnitFreeResidual> unit_free;
 };
+/// The verdict of a problem no process holds whole (TAO, the exact path under MPI): the natural
+/// map's residual at most this times the data's scale (scale_of), until the unit-free residual
+/// is formed across ranks.
+inline constexpr double kDistributedSolvedTolerance = 1e-9;
 /// The verdict; `measured`: the residual as the solver measured it on vectors no process holds
-/// whole (TAO), else measured here on lambda.
+/// whole (TAO, direct under MPI), else measured here on lambda.
 LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> measured = {});
 
 /// result.json (docs/outputs.md) of `problem` solved by `solver` in `wall` s.

@@ -1,11 +1,12 @@
 // Performance profiles (Dolan & Moré, Math. Program. 91, 2002) of solvers over a problem
 // library (scripts/make_problem_library.py): the study behind `cbps profile`.
 //
-// Every solver runs on every problem from lambda = 0. After each sweep the natural-map residual
-// (6.2) is divided by the problem's scale, scale_of(A + eps E, b) = max(1, ‖b‖∞, max |A_ij|), the
-// one scale `cbps lcp` and the tests judge residuals by; the first sweep and time at which this
-// relative residual falls to 1e-3, 1e-6 and 1e-10 are the solver's costs there (not reached
-// within the budget: a failure, ratio ∞). Time is the wall time from the call of solve() to the
+// Every solver runs on every problem from lambda = 0. After each sweep the unit-free residual
+// (system/unit_free.hpp: each row's natural map with its own step 1/A_kk over the force scale),
+// the one measure `cbps lcp`'s verdict and the tests judge answers by, is taken; the first sweep
+// and time at which it falls to 1e-4, 1e-8 and 1e-10 (the tolerances of Acary, Brémond & Huber
+// 2018's profiles) are the solver's costs there (not reached within the budget: a failure,
+// ratio ∞). Time is the wall time from the call of solve() to the
 // end of that sweep less the time spent measuring, so a method's setup (ADMM's factorization)
 // counts. The exact paths (direct, active-set) are one solve each: their cost at a tolerance is
 // the solve's time if its final residual meets it. They have no sweeps, so they are in the time
@@ -24,11 +25,12 @@
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/studies/performance_profile.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
-/// The relative residuals whose first sweep and time are the costs (of scale_of).
-inline constexpr double kProfileTolerances[] = {1e-3, 1e-6, 1e-10};
+/// The unit-free residuals whose first sweep and time are the costs.
+inline constexpr double kProfileTolerances[] = {1e-4, 1e-8, 1e-10};
 inline constexpr std::size_t kProfileTolerancesCount = std::size(kProfileTolerances);
 /// The tau at which the summary reports rho_s(tau).
 inline constexpr double kProfileTaus[] = {1.0, 2.0, 10.0};
@@ -56,12 +58,13 @@ struct ProfileProblem {
   VecX exact;             ///< the library's lambda*, N (empty: not known)
   bool definite = false;  ///< rank A = rows: lambda* unique, so ‖λ − λ*‖ means something
   bool symmetric = true;  ///< A symmetric to symmetry_tolerance (measured once, when read)
-  double scale = 1.0;     ///< scale_of(A + eps E, b)
+  double scale = 1.0;     ///< scale_of(A + eps E, b): the data's size, reported, not a measure
   /// With the row kinds and manifolds of the folder's labels.json (read_problem).
   BoxedProblem problem() const { return stored.problem(); }
-  /// The natural-map residual of lambda for the problem of A + eps E (6.2), N.
-  double residual(const VecX& lambda) const {
-    return natural_map_residual(problem(), lambda, stored.cfm);
+  /// The unit-free residual of lambda for the problem of A + eps E (system/unit_free.hpp), the
+  /// profile's measure.
+  double relative(const VecX& lambda) const {
+    return unit_free_residual(problem(), lambda, stored.cfm).relative;
   }
 };
 

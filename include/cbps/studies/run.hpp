@@ -86,9 +86,10 @@ class CrossCheck : public StepObserver {
   double max_velocity_difference = 0.0;  ///< m/s, max over the steps of max |v2 - v2_direct|
   double max_residual = 0.0;             ///< N, of the iterative solver's lambda
   double max_direct_residual = 0.0;      ///< N, of the direct path's lambda
+  double max_direct_unit_free = 0.0;     ///< its largest unit-free residual (unit_free.hpp)
   long steps_checked = 0;
   long direct_short = 0;       ///< steps the direct path ended short of its tolerance
-  long direct_unverified = 0;  ///< steps whose direct residual is above cbps lcp's criterion
+  long direct_unverified = 0;  ///< steps whose direct answer `cbps lcp` would not call solved
   long steps_beyond = 0;       ///< steps beyond the tolerance
   long first_beyond = -1;      ///< the first of them (0-based step), -1 if none
   double first_beyond_difference = 0.0;

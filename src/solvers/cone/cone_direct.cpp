@@ -20,6 +20,7 @@
 #include "cbps/solvers/exact/cholmod_factor.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/system/cone_problem.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "interior_system.hpp"
 
 namespace cbps {
@@ -893,6 +894,44 @@ VecX run_stages(const Setup& S,
   return x;
 }
 
+/// The summary's message: what each stage did, the residual against its target, and why it
+/// stopped short where it did.
+std::string cone_direct_message(const Setup& S,
+                                const Counts& counts,
+                                bool reached,
+                                double residual,
+                                double target,
+                                double floor) {
+  std::ostringstream msg;
+  msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
+      << to_string(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
+      << " interior iterations";
+  if (S.law.law == ConeLaw::Coulomb)
+    msg << " (" << counts.desaxce << " with De Saxce's term refreshed), " << counts.alart_curnier
+        << " Alart-Curnier steps, " << counts.rounds << " fixed-point rounds";
+  if (counts.sweeps > 0) msg << ", " << counts.sweeps << " NSGS sweeps";
+  msg << ", ";
+  msg << counts.outer << " proximal steps, " << counts.factorizations << " factorizations";
+  if (counts.body_factorizations > 0) {
+    msg << " (" << counts.body_factorizations << " interior ones in body space, M + Jt Omega J";
+    if (counts.space == "row")
+      msg << ", the rest in row space once a body-space solve's backward error exceeded "
+          << kBodyAccuracy;
+    msg << ")";
+  }
+  msg << "; residual " << residual << " N (target " << target
+      << " N: the tolerance, in N and as a unit-free residual, or the rounding floor " << floor
+      << " N)";
+  if (!reached && counts.factorizations >= counts.budget)
+    msg << "; stopped at its budget of " << counts.budget << " factorizations";
+  if (!reached && S.law.law == ConeLaw::Coulomb)
+    msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
+           "point with De Saxce's term refreshed, the fixed point on s = mu |u_t| and the "
+           "semismooth Newton steps on Coulomb's own map each stopped short of it, and on a "
+           "singular A it may have no solution (docs/cones.md)";
+  return msg.str();
+}
+
 }  // namespace
 
 SolverSummary solve_cone_direct(const BoxedProblem& problem,
@@ -917,9 +956,15 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     summary.residual = std::numeric_limits<double>::quiet_NaN();
     return finish(Termination::NonFinite, "non-finite A or b");
   }
+  // The residual (N) to reach at λ: the tolerance read in N and as a unit-free residual
+  // (UnitFreeTarget::both), or the rounding floor where that is higher.
+  const UnitFreeTarget aim = unit_free_target(problem);
+  const auto target_newtons = [&](const VecX& l) {
+    return std::max(aim.both(options.tolerance, l), residual_floor(problem, l));
+  };
   // A guess that already meets the tolerance is kept as it is.
   const double guess_r = natural_map_residual(problem, lambda);
-  if (guess_r <= std::max(options.tolerance, residual_floor(problem, lambda))) {
+  if (guess_r <= target_newtons(lambda)) {
     summary.residual = guess_r;
     std::ostringstream msg;
     msg << "the guess already meets the tolerance (residual " << guess_r << " N)";
@@ -930,11 +975,9 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   Counts counts;
   counts.deadline = options.deadline;
   const double proximal = options.direct.proximal;
-  // The residual to reach at x: the tolerance, or the rounding floor where that is higher (in
-  // units of x).
+  // The residual to reach at x, in units of x.
   const std::function<double(const VecX&)> target_of = [&](const VecX& v) {
-    const VecX l = v * (S.bn / S.md);
-    return S.in_x_units(std::max(options.tolerance, residual_floor(problem, l)));
+    return S.in_x_units(target_newtons(v * (S.bn / S.md)));
   };
   VecX x = run_stages(S, proximal, target_of, counts);
   if (residual(S, S.law, S.b, x) > target_of(x))
@@ -953,34 +996,10 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   summary.factor_nnz = counts.factor_nnz;
   summary.space = counts.space;
   const double floor = residual_floor(problem, lambda);
-  const bool reached = summary.residual <= std::max(options.tolerance, floor);
-  std::ostringstream msg;
-  msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
-      << to_string(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
-      << " interior iterations";
-  if (S.law.law == ConeLaw::Coulomb)
-    msg << " (" << counts.desaxce << " with De Saxce's term refreshed), " << counts.alart_curnier
-        << " Alart-Curnier steps, " << counts.rounds << " fixed-point rounds";
-  if (counts.sweeps > 0) msg << ", " << counts.sweeps << " NSGS sweeps";
-  msg << ", ";
-  msg << counts.outer << " proximal steps, " << counts.factorizations << " factorizations";
-  if (counts.body_factorizations > 0) {
-    msg << " (" << counts.body_factorizations << " interior ones in body space, M + Jt Omega J";
-    if (counts.space == "row")
-      msg << ", the rest in row space once a body-space solve's backward error exceeded "
-          << kBodyAccuracy;
-    msg << ")";
-  }
-  msg << "; residual " << summary.residual << " N (tolerance " << options.tolerance
-      << " N, rounding floor " << floor << " N)";
-  if (!reached && counts.factorizations >= counts.budget)
-    msg << "; stopped at its budget of " << counts.budget << " factorizations";
-  if (!reached && S.law.law == ConeLaw::Coulomb)
-    msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
-           "point with De Saxce's term refreshed, the fixed point on s = mu |u_t| and the "
-           "semismooth Newton steps on Coulomb's own map each stopped short of it, and on a "
-           "singular A it may have no solution (docs/cones.md)";
-  return finish(reached ? Termination::Direct : Termination::NotConverged, msg.str());
+  const bool reached = summary.residual <= target_newtons(lambda);
+  const std::string message =
+      cone_direct_message(S, counts, reached, summary.residual, target_newtons(lambda), floor);
+  return finish(reached ? Termination::Direct : Termination::NotConverged, message);
 }
 
 }  // namespace cbps

@@ -162,15 +162,41 @@ void coulomb_bounds(const BoxedProblem& problem,
   move_bounds(coulomb, lambda, cmin, cmax);
 }
 
+namespace {
+
+/// f(the problem with the Coulomb bounds taken at lambda): A (+ cfm E, formed or through J and
+/// Minv), b and the cones as they are.
+template <class F>
+auto at_own_bounds(const BoxedProblem& problem,
+                   const CoulombRows& coulomb,
+                   const VecX& lambda,
+                   F&& f) {
+  VecX cmin, cmax;
+  coulomb_bounds(problem, coulomb, lambda, cmin, cmax);
+  BoxedProblem bounded{problem.A, problem.b, cmin, cmax, problem.J, problem.Minv};
+  bounded.cfm = problem.cfm;
+  bounded.cones = problem.cones;
+  return f(bounded);
+}
+
+}  // namespace
+
 double coulomb_residual(const BoxedProblem& problem,
                         const CoulombRows& coulomb,
                         const VecX& lambda,
                         double cfm) {
-  VecX cmin, cmax;
-  coulomb_bounds(problem, coulomb, lambda, cmin, cmax);
-  BoxedProblem moved{problem.A, problem.b, cmin, cmax, problem.J, problem.Minv};
-  moved.cfm = problem.cfm;  // A + cfm E, formed or through J and Minv
-  return natural_map_residual(moved, lambda, cfm);
+  return at_own_bounds(problem, coulomb, lambda, [&](const BoxedProblem& p) {
+    return natural_map_residual(p, lambda, cfm);
+  });
+}
+
+UnitFreeResidual coulomb_unit_free(const BoxedProblem& problem,
+                                   const CoulombRows& coulomb,
+                                   const VecX& lambda,
+                                   double cfm) {
+  return at_own_bounds(problem, coulomb, lambda, [&](const BoxedProblem& p) {
+    return unit_free_residual(p, lambda, cfm);
+  });
 }
 
 SolverSummary solve_coulomb(const BoxedProblem& problem,

@@ -10,6 +10,7 @@
 #include "cbps/base/numbers.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/system/cone_problem.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
@@ -146,8 +147,8 @@ SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const Solver
   s.peer_solve_time_s = run.solve_s;
   s.peer_iterations = run.iterations;
   s.residual = natural_map_residual(problem, lambda);
-  const double scale = scale_of(problem);
-  const bool solved = solved_by_residual(lambda, s.residual, scale);
+  const UnitFreeResidual unit_free = unit_free_residual(problem, lambda);
+  const bool solved = is_solved(unit_free, lambda);
   // An iterative peer stops by its own rule or its limit: ResidualTolerance only when cbps's
   // tolerance holds at its end.
   const bool at_tolerance = options.tolerance > 0.0 && s.residual <= options.tolerance;
@@ -161,8 +162,8 @@ SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const Solver
   msg << to_string(options.method) << " on the " << run.problem_class << ": peer "
       << (run.said_ok ? "said ok" : "said failed") << " (" << run.status << ")";
   if (run.iterations >= 0) msg << " after " << run.iterations << " iterations";
-  msg << "; residual " << s.residual << " N, " << (solved ? "<=" : ">") << " "
-      << kLcpSolvedTolerance << " x scale " << scale << ": "
+  msg << "; residual " << s.residual << " N, unit-free " << unit_free.relative << " "
+      << (solved ? "<=" : ">") << " " << kSolvedTolerance << ": "
       << (solved        ? "solved"
           : run.said_ok ? "not solved, although the peer said ok"
                         : "not solved")

@@ -21,14 +21,10 @@
 
 namespace cbps {
 
-/// Relative natural-map residual above which an answer is not reported Solved.
+/// The pivoting's own check of its basis: the LCP residual relative to lcp_scale(M, q) above
+/// which a basis is not reported Solved. (Method::Lemke then judges the answer by cbps's one
+/// verdict, system/unit_free.hpp.)
 inline constexpr double kLcpSolvedTolerance = 1e-9;
-/// The one verdict on a returned lambda: finite, and its natural-map residual (6.2), N, at most
-/// kLcpSolvedTolerance times the problem's scale (scale_of). Lemke, the peers and `cbps lcp`
-/// judge by it.
-inline bool solved_by_residual(const VecX& lambda, double residual, double scale) {
-  return lambda.allFinite() && residual <= kLcpSolvedTolerance * scale;
-}
 
 struct LcpResult {
   enum class Status {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cbps/solvers/solver.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
@@ -23,6 +24,14 @@ double coulomb_residual(const BoxedProblem& problem,
                         const CoulombRows& coulomb,
                         const VecX& lambda,
                         double cfm);
+
+/// The unit-free residual (system/unit_free.hpp, the verdict's) at lambda with the Coulomb bounds
+/// taken at lambda (coulomb_bounds) and constraint-force mixing cfm (kg⁻¹) on A's diagonal; the
+/// problem's cones, if any, kept.
+UnitFreeResidual coulomb_unit_free(const BoxedProblem& problem,
+                                   const CoulombRows& coulomb,
+                                   const VecX& lambda,
+                                   double cfm);
 
 /// Solves the problem with Coulomb bounds by options.method, from the guess in lambda. The
 /// direct path iterates to a fixed point: solve the boxed problem, move the bounds to

@@ -49,9 +49,9 @@ std::string peer_refusal(Method method, const BoxedProblem& problem);
 /// A peer on the whole problem from lambda (its guess where the peer takes one), with
 /// options.max_iterations and options.tolerance passed as the peer's own (docs/peers.md).
 /// InputError when peer_refusal is not empty. The summary's termination is cbps's verdict
-/// (Direct or ResidualTolerance when the natural-map residual is ≤ kLcpSolvedTolerance ·
-/// scale_of, NotConverged otherwise, NonFinite), its peer_status the peer's own word, and its
-/// message says "peer said ok; residual ..." when the two disagree.
+/// (Direct or ResidualTolerance when cbps's verdict holds, is_solved of system/unit_free.hpp;
+/// PeerUnsolved otherwise; NonFinite), its peer_status the peer's own word, and its message
+/// says "not solved, although the peer said ok" when the two disagree.
 SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options);
 
 /// What a peer returned, before cbps's verdict (siconos.cpp, bullet.cpp).
