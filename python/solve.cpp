@@ -19,6 +19,7 @@
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "convert.hpp"
 
 namespace cbps::python {
@@ -233,6 +234,18 @@ void require_method_inputs(const SolverSpec& spec, const Inputs& in) {
                        "; the iterative methods need a positive diagonal");
 }
 
+/// cbps's verdict on lambda (system/unit_free.hpp), as `cbps lcp` gives it: `unit_free` (a dict
+/// of `relative`, `residual` (N) and `scale` (N)) and `solved`.
+void add_verdict(py::dict& s, const BoxedProblem& problem, const VecX& lambda, double cfm) {
+  const UnitFreeResidual u = unit_free_residual(problem, lambda, cfm);
+  py::dict d;
+  d["relative"] = u.relative;
+  d["residual"] = u.residual;
+  d["scale"] = u.scale;
+  s["unit_free"] = d;
+  s["solved"] = is_solved(u, lambda);
+}
+
 py::tuple solve_lemke_py(const Inputs& in, bool record) {
   const StoredProblem& p = in.p;
   if (p.rows() > kMaxLemkeRows)
@@ -260,6 +273,7 @@ py::tuple solve_lemke_py(const Inputs& in, bool record) {
   s["termination"] = to_string(r.status);
   s["message"] = r.message;
   s["wall_time_s"] = wall;
+  add_verdict(s, p.problem(), r.z, 0.0);
   History h;
   h.add(0, guess_residual, 0.0);
   h.add(r.pivots, r.residual, wall);
@@ -381,6 +395,7 @@ py::tuple solve_py(const py::object& A,
   }
   if (interrupted) throw py::error_already_set();
   py::dict s = summary_dict(summary);
+  add_verdict(s, problem, lambda, cfm);
   s["method"] = spec.text;
   s["history"] = history && !split_islands ? py::object(h.dict()) : py::none();
   return py::make_tuple(to_numpy(lambda), s);

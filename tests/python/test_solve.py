@@ -253,3 +253,27 @@ def test_set_threads_as_the_command_line_sets_them():
     assert np.max(np.abs(A @ lam - b)) <= 1e-12
     with pytest.raises(cbps.InputError, match="threads -1"):
         cbps.set_threads(-1)
+
+
+def test_summary_carries_cbps_verdict(chain_folder):
+    """Every solve's summary has cbps's verdict on its lambda, as `cbps lcp` gives it: the
+    unit-free residual (each row's natural map with step 1/A_kk over max(|lambda|, max |b_k|/A_kk),
+    written again here from its definition) and `solved` exactly when it is at most 1e-9."""
+    A, b, cmin, cmax = stored(chain_folder)
+    d = A.diagonal()
+
+    def unit_free(lam):
+        rho = 1.0 / d
+        w = A @ lam - b
+        residual = np.max(np.abs(lam - np.clip(lam - rho * w, cmin, cmax)))
+        return residual / max(np.max(np.abs(lam)), np.max(rho * np.abs(b)))
+
+    for method, iterations in (("pgs", 3), ("pgs", 100000), ("direct", 1), ("lemke", 1)):
+        lam, s = cbps.solve(A, b, cmin, cmax, method, iterations=iterations)
+        mine = unit_free(lam)
+        assert s["unit_free"]["relative"] == pytest.approx(mine, rel=1e-6, abs=1e-15), method
+        assert s["solved"] == (mine <= 1e-9), (method, iterations, mine)
+    # Three sweeps of PGS on a chain with a heavy link are far from the answer; the direct path
+    # is not.
+    assert not cbps.solve(A, b, cmin, cmax, "pgs", iterations=3)[1]["solved"]
+    assert cbps.solve(A, b, cmin, cmax, "direct")[1]["solved"]
