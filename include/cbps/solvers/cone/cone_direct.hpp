@@ -11,6 +11,10 @@ namespace cbps {
 /// and the verdict use A itself. Every stage works on the problem scaled to max A_kk = 1 and
 /// ‖b‖∞ = 1 and judges by the law's natural-map residual (cone_problem.hpp; the box's for rows
 /// no contact owns).
+///   0. A cheap start: up to 200 NSGS sweeps (nsgs.hpp) from the guess, then under Coulomb's
+///      law the Newton steps of stage 3 from their answer with a budget of 8 factorizations;
+///      where that meets the target the stages below are not run, else its answer is kept if it
+///      is better than theirs (quick_start in cone_direct.cpp).
 ///   1. The convex relaxation (CCP: min ½ λᵀAλ − bᵀλ over the cones and the other rows' boxes)
 ///      by a primal-dual interior-point method on second-order cones: Nesterov–Todd scaling
 ///      (Nesterov & Todd, SIAM J. Optim. 8(2) 1998), Mehrotra's predictor-corrector, from the
@@ -68,8 +72,10 @@ namespace cbps {
 /// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more: every stage stops
 /// there (the relaxation needs far fewer; Coulomb's law where it cannot finish would go on for
 /// minutes).
-/// Returns Termination::Direct only when the law's residual of lambda is at most
-/// max(options.tolerance, residual_floor): never an answer it has not verified; otherwise
+/// Returns Termination::Direct only when the law's residual of lambda is at most the tolerance
+/// read in N and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the
+/// rounding floor, or, where the tolerance is below 1000 ulps of the force scale, when the
+/// unit-free residual is at most the tolerance: never an answer it has not verified; otherwise
 /// NotConverged with the best lambda found and the message says how far it got (NonFinite for
 /// non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
 /// factorizations (CHOLMOD and SparseLU together), space "row".
