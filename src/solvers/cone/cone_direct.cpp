@@ -75,8 +75,8 @@ constexpr int kSweepRounds = 10;
 constexpr int kSweepStrikes = 2;
 constexpr int kSweepsPerRound = 2000;
 constexpr int kSweepFactorizations = 100;
-/// Stage 0, a cheap start (quick_start): at most this many NSGS sweeps from the guess, then, under
-/// Coulomb's law, Newton's steps on Alart–Curnier's function with at most kQuickFactorizations
+/// Stage 0, a cheap start under Coulomb's law (quick_start): at most this many NSGS sweeps from
+/// the guess, then Newton's steps on Alart–Curnier's function with at most kQuickFactorizations
 /// factorizations. On Siconos' small and well-posed problems that is the answer (Confeti-ex13:
 /// 95 sweeps, 1.8 ms, where the interior point's stages took 0.56 s); elsewhere it costs a few
 /// percent of the stages (200 sweeps of the base-10 pyramid's 1,200 rows: about 20 ms).
@@ -848,9 +848,10 @@ void sweeps_then_newton(const BoxedProblem& problem,
   }
 }
 
-/// Stage 0 (kQuickSweeps): NSGS sweeps (nsgs.hpp) on the unscaled problem from `lambda`, then
-/// under Coulomb's law Newton's steps on Alart–Curnier's function from their answer, with a budget
-/// of kQuickFactorizations; x (scaled) becomes the better of the two.
+/// Stage 0 (kQuickSweeps), under Coulomb's law: NSGS sweeps (nsgs.hpp) on the unscaled problem
+/// from `lambda`, then Newton's steps on Alart–Curnier's function from their answer, with a budget
+/// of kQuickFactorizations; x (scaled) becomes the better of the two (under the relaxation:
+/// `lambda` itself).
 void quick_start(const BoxedProblem& problem,
                  const Setup& S,
                  const SolverOptions& options,
@@ -859,6 +860,9 @@ void quick_start(const BoxedProblem& problem,
                  VecX& x,
                  Counts& counts) {
   const double alpha = S.bn / S.md;  // λ = alpha x
+  x = lambda / alpha;
+  // The relaxation's interior point is cheap and exact; Coulomb's stages are the costly ones.
+  if (S.law.law != ConeLaw::Coulomb) return;
   SolverOptions sweeps = options;
   sweeps.method = Method::Nsgs;
   sweeps.max_iterations = kQuickSweeps;
@@ -867,7 +871,7 @@ void quick_start(const BoxedProblem& problem,
   sweeps.tolerance = target_of(swept / alpha) * alpha;  // N
   counts.sweeps += solve_nsgs(problem, swept, sweeps).iterations;
   x = swept / alpha;
-  if (residual(S, S.law, S.b, x) <= target_of(x) || S.law.law != ConeLaw::Coulomb) return;
+  if (residual(S, S.law, S.b, x) <= target_of(x)) return;
   const int budget = counts.budget;
   counts.budget = counts.factorizations + kQuickFactorizations;
   alart_curnier_steps(S, target_of(x), x, counts);
