@@ -227,6 +227,9 @@ ProfileMeasurement profile_exact(const ProfileProblem& p,
   VecX lambda = VecX::Zero(p.stored.rows());
   SolverOptions options = study_options(spec, 1, p.stored.cfm);
   options.time_limit = o.time_limit;
+  // Told the finest tolerance, as `cbps lcp` tells it its default: the direct path reads it in N
+  // and as a unit-free residual (system/unit_free.hpp), what the profile measures.
+  options.tolerance = kProfileTolerances[kProfileTolerancesCount - 1];
   const auto start = Clock::now();
   const SolverSummary summary = solve(p.problem(), lambda, options);
   m.time_s = seconds_since(start);

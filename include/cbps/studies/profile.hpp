@@ -8,7 +8,8 @@
 // 2018's profiles) are the solver's costs there (not reached within the budget: a failure,
 // ratio ∞). Time is the wall time from the call of solve() to the
 // end of that sweep less the time spent measuring, so a method's setup (ADMM's factorization)
-// counts. The exact paths (direct, active-set) are one solve each: their cost at a tolerance is
+// counts. The exact paths (direct, active-set) are one solve each, told 1e-10 as their tolerance
+// (as `cbps lcp` tells them by default): their cost at a tolerance is
 // the solve's time if its final residual meets it. They have no sweeps, so they are in the time
 // profiles only. A peer reports only its final point: a pivoting one runs once, like the exact
 // paths; an iterative one (siconos:pgs, bullet:pgs) runs once per tolerance, told it, and its
