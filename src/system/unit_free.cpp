@@ -99,6 +99,4 @@ bool is_solved(const UnitFreeResidual& u, const VecX& lambda) {
   return lambda.allFinite() && u.relative <= kSolvedTolerance;
 }
 
-
-
 }  // namespace cbps
