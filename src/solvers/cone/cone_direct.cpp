@@ -78,13 +78,13 @@ constexpr int kSweepFactorizations = 100;
 /// Stage 0, a cheap start under Coulomb's law (quick_start): at most this many NSGS sweeps from
 /// the guess, then Newton's steps on Alart–Curnier's function with at most kQuickFactorizations
 /// factorizations. On Siconos' small and well-posed problems that is the answer (Confeti-ex13:
-/// 95 sweeps, 1.8 ms, where the interior point's stages took 0.56 s); elsewhere it costs a few
-/// percent of the stages (200 sweeps of the base-10 pyramid's 1,200 rows: about 20 ms).
+/// 95 sweeps, 1.8 ms, where the interior point's stages took 0.56 s); elsewhere it adds those
+/// sweeps and factorizations to the stages.
 constexpr int kQuickSweeps = 200;
+constexpr int kQuickFactorizations = 8;
 /// A tolerance in N below this many ulps of the force scale is read as a unit-free residual
 /// (solve_cone_direct's `meets`).
 constexpr double kUlpsOfForces = 1e3;
-constexpr int kQuickFactorizations = 8;
 /// Newton steps on Alart–Curnier's function (Coulomb) at most, and the count in a row that do
 /// not lower the law's residual by the fraction kNewtonProgress that ends them. Small: where the
 /// answers are not isolated Levenberg–Marquardt's steps converge only linearly (Capsules-i101-404:
