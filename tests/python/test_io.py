@@ -8,6 +8,7 @@ import scipy.io
 import scipy.sparse as sp
 
 import cbps
+from cbps_problem import cone_natural_maps
 from conftest import cli_json
 
 
@@ -95,18 +96,9 @@ def test_siconos_frictional_contact_dump_read_and_solved():
     assert list(p.cones["normal_row"]) == [0, 3]
     lam, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, "direct", cones=p.cones)
     assert s["termination"] == "direct solve"
-    u = A @ lam - p.b
-    for n, mu in zip(p.cones["normal_row"], p.cones["mu"]):
-        r, v = lam[n:n + 3], u[n:n + 3].copy()
-        v[0] += mu * np.hypot(v[1], v[2])  # De Saxce's velocity
-        x = r - v
-        xt = np.hypot(x[1], x[2])
-        if xt <= mu * x[0]:
-            proj = x
-        elif mu * xt <= -x[0]:
-            proj = np.zeros(3)
-        else:
-            a = (x[0] + mu * xt) / (1 + mu * mu)
-            proj = np.array([a, mu * a * x[1] / xt, mu * a * x[2] / xt])
-        assert np.linalg.norm(r - proj) <= 1e-9
+    # Coulomb's natural map of each contact, written in numpy (scripts/cbps_problem.py).
+    maps = cone_natural_maps(lam, A @ lam - p.b, p.cones["normal_row"], p.cones["mu"], "coulomb")
+    assert np.max(maps) <= 1e-9
+    # cbps's verdict on it, as `cbps lcp` gives it.
+    assert s["solved"] and s["unit_free"]["relative"] <= 1e-9
     assert cli_json("lcp", path, "--json")["status"] == "solved"
