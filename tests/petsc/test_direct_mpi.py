@@ -52,7 +52,7 @@ PROBLEMS = {
 }
 RANKS = (1, 2)
 TIMEOUT_S = 120  # a hung rank fails the test instead of stalling the suite
-SOLVED = 1e-9    # kLcpSolvedTolerance: solved means residual <= 1e-9 * scale
+SOLVED = 1e-9    # kDistributedSolvedTolerance: under mpirun, residual <= 1e-9 * scale
 check, mpirun, failures = t.check, t.mpirun, t.failures  # tests/petsc/test_tao.py's
 
 

@@ -40,7 +40,7 @@ ITERATIONS = {"chain": [], "stack": ["--iterations", "300"]}
 SOLVE_CHAIN = {"bqpip", "gpcg", "tron", "bncg", "bnls", "bntr"}
 RANKS = (1, 2)
 TIMEOUT_S = 60  # a hung rank fails the test instead of stalling the suite
-SOLVED = 1e-9   # kLcpSolvedTolerance: solved means residual <= 1e-9 * scale
+SOLVED = 1e-9   # kDistributedSolvedTolerance: under mpirun, residual <= 1e-9 * scale
 failures = []
 
 

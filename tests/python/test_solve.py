@@ -7,6 +7,7 @@ import scipy.io
 import scipy.sparse as sp
 
 import cbps
+from cbps_problem import SOLVED, unit_free_residual
 from conftest import ROOT, cli, cli_json, natural_map_residual
 
 
@@ -258,21 +259,13 @@ def test_set_threads_as_the_command_line_sets_them():
 def test_summary_carries_cbps_verdict(chain_folder):
     """Every solve's summary has cbps's verdict on its lambda, as `cbps lcp` gives it: the
     unit-free residual (each row's natural map with step 1/A_kk over max(|lambda|, max |b_k|/A_kk),
-    written again here from its definition) and `solved` exactly when it is at most 1e-9."""
+    written in numpy in scripts/cbps_problem.py) and `solved` exactly when it is at most 1e-9."""
     A, b, cmin, cmax = stored(chain_folder)
-    d = A.diagonal()
-
-    def unit_free(lam):
-        rho = 1.0 / d
-        w = A @ lam - b
-        residual = np.max(np.abs(lam - np.clip(lam - rho * w, cmin, cmax)))
-        return residual / max(np.max(np.abs(lam)), np.max(rho * np.abs(b)))
-
     for method, iterations in (("pgs", 3), ("pgs", 100000), ("direct", 1), ("lemke", 1)):
         lam, s = cbps.solve(A, b, cmin, cmax, method, iterations=iterations)
-        mine = unit_free(lam)
+        mine = unit_free_residual(A, b, cmin, cmax, lam)
         assert s["unit_free"]["relative"] == pytest.approx(mine, rel=1e-6, abs=1e-15), method
-        assert s["solved"] == (mine <= 1e-9), (method, iterations, mine)
+        assert s["solved"] == (mine <= SOLVED), (method, iterations, mine)
     # Three sweeps of PGS on a chain with a heavy link are far from the answer; the direct path
     # is not.
     assert not cbps.solve(A, b, cmin, cmax, "pgs", iterations=3)[1]["solved"]
