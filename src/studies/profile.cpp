@@ -438,6 +438,9 @@ ProfileReport profile_report(const std::string& library,
   for (std::size_t p = 0; p < entries.size(); ++p) {
     nlohmann::json e = entries[p].index;
     e["scale"] = problems[p].scale;
+    e["rows"] = problems[p].stored.rows();
+    e["contacts"] = problems[p].stored.cones.contacts();
+    e["symmetric"] = problems[p].symmetric;
     j["problems"].push_back(e);
   }
   j["solvers"] = nlohmann::json::array();

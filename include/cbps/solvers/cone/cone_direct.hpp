@@ -11,8 +11,9 @@ namespace cbps {
 /// and the verdict use A itself. Every stage works on the problem scaled to max A_kk = 1 and
 /// ‖b‖∞ = 1 and judges by the law's natural-map residual (cone_problem.hpp; the box's for rows
 /// no contact owns).
-///   0. A cheap start under Coulomb's law: up to 200 NSGS sweeps (nsgs.hpp) from the guess, then
-///      the Newton steps of stage 3 from their answer with a budget of 8 factorizations;
+///   0. A cheap start under Coulomb's law, in rounds (kQuickRounds): NSGS sweeps (nsgs.hpp)
+///      from the guess, then the Newton steps of stage 3 from their answer with a budget of
+///      factorizations;
 ///      where that meets the target the stages below are not run, else its answer is kept if it
 ///      is better than theirs (quick_start in cone_direct.cpp).
 ///   1. The convex relaxation (CCP: min ½ λᵀAλ − bᵀλ over the cones and the other rows' boxes)
