@@ -36,7 +36,9 @@ UnitFreeResidual coulomb_unit_free(const BoxedProblem& problem,
 /// Solves the problem with Coulomb bounds by options.method, from the guess in lambda. The
 /// direct path iterates to a fixed point: solve the boxed problem, move the bounds to
 /// ±mu lambda_n, again, until lambda solves the box of its own bounds as closely as the solve
-/// solved its box (or no bound moves by more than 1e-12 max(1, ‖b‖∞)); at most 100 rounds,
+/// solved its box (or no bound moves by more than 1e-12 max(1, ‖b‖∞)); where the rounds stall
+/// (five without halving that residual) or a round's solve stops short, semismooth Newton steps
+/// on the Coulomb box's own natural map from the rounds' best lambda; at most 100 rounds,
 /// NotConverged otherwise. The iterative methods move the bounds before every sweep: the
 /// Gauss-Seidel and Jacobi sweeps within one solve (options.after_sweep still called, with the
 /// sweeps counted from the start), the others in one solve per sweep. A's symmetry is tested
