@@ -661,6 +661,31 @@ def sample_cones_pyramid(ctx):
         "energy_final": SMOOTH})
 
 
+# Siconos' problems the study's direct sample reruns: small ones of each kind (W not symmetric,
+# symmetric and singular, the cheap start and the stages after it), a second each.
+SICONOS_STUDY_SAMPLE = ("Rover1040.dat", "Rover3865.dat", "FrictionContact3D_RR_1c.dat",
+                        "NESpheres_30_1.dat", "OneObject-i100000-316.hdf5.dat",
+                        "Confeti-ex13-Fc3D-SBM.dat", "GFC3D_TwoRods1.dat")
+
+
+def sample_siconos_study(ctx):
+    """scripts/measure_siconos_study.py (docs/siconos-study.md): `direct` on a few of the
+    problems through `cbps lcp`, as the profile runs it (told 1e-10); the whole study (an hour,
+    every Siconos solver to its limit) is not rerun."""
+    relative = "validation/results/siconos-fc3d/profile.json"
+    runs = {(m["problem"], m["solver"]): m for m in committed(relative)["measurements"]}
+    for name in SICONOS_STUDY_SAMPLE:
+        c = runs[(name, "direct")]
+        m = ctx.cbps_json(["lcp", os.path.join(ROOT, "validation/data/siconos-fc3d", name),
+                           "--solver", "direct", "--tolerance", "1e-10", "--json"])
+        where = f"{name} direct: "
+        ctx.compare(relative, where + "solved to 1e-10", c["reached"]["1e-10"] is not None,
+                    m["status"] == "solved" and m["unit_free"]["relative"] <= 1e-10, EXACT)
+        ctx.compare(relative, where + "unit-free residual", c["residual_relative"],
+                    m["unit_free"]["relative"], auto(c["residual_relative"],
+                                                     m["unit_free"]["relative"]))
+
+
 def sample_peers(ctx):
     """scripts/measure_peers.py (target peers), the exact-path problem it runs first: the
     10-box stack at step 30 through `cbps lcp` with every peer, by the script's own functions
@@ -928,6 +953,8 @@ SAMPLES = [
     ("cones-pyramid", "validation/results/cones-pyramid/summary.json", "target cones-pyramid",
      None, sample_cones_pyramid),
     ("peers", "validation/results/peers/peers.json", "target peers", needs_peers, sample_peers),
+    ("siconos-study", "validation/results/siconos-fc3d/profile.json",
+     "scripts/measure_siconos_study.py", None, sample_siconos_study),
     ("distributed-tao", "validation/results/distributed/tao.json", "scripts/measure_tao.py",
      needs_petsc, sample_tao),
     ("distributed-tao-studies", "validation/results/distributed/tao-studies.json",

@@ -61,6 +61,7 @@ MODULES = {
     "docs/distributed.md": "doc_tables_distributed",
     "docs/peers.md": "doc_tables_peers",
     "docs/cones.md": "doc_tables_cones",
+    "docs/siconos-study.md": "doc_tables_siconos_study",
     "bench/README.md": "doc_tables_bench_readme",
     "validation/README.md": "doc_tables_validation_readme",
 }
