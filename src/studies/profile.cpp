@@ -309,6 +309,13 @@ Profile make_profile(double tolerance,
                     : sweeps          ? static_cast<double>(at.iterations)
                                       : at.time_s);
     }
+    // λ = 0 already meets the tolerance (a sweeping method checks it before its first sweep,
+    // at cost 0): every solver started there, so each that reached it is at the best cost. Left
+    // alone, the exact paths and the peers, whose one answer comes at the end of a solve, would
+    // get r = ∞ (performance_ratios) on a problem they solved (Siconos' GFC3D_TwoRods1 at 1e-4).
+    if (!row.empty() && *std::min_element(row.begin(), row.end()) == 0.0)
+      for (double& c : row)
+        if (std::isfinite(c)) c = 0.0;
     cost.push_back(std::move(row));
   }
   profile.ratios = performance_ratios(cost);

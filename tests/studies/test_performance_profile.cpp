@@ -1,18 +1,12 @@
 // Performance profiles (Dolan & Moré, Math. Program. 91, 2002) on tables worked out by hand.
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include "cbps/studies/performance_profile.hpp"
+#include "cbps/studies/profile.hpp"
 
 using namespace cbps;
-
-namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-}  // namespace
 
 TEST_CASE("performance ratios and rho(tau) match a table worked by hand (Dolan & More eq. 1)",
           "[profile]") {
@@ -73,4 +67,26 @@ TEST_CASE("performance ratios refuse negative costs and ragged tables", "[profil
   CHECK_THROWS_AS(performance_ratios({{1.0, -1.0}}), std::invalid_argument);
   CHECK_THROWS_AS(performance_ratios({{1.0, 2.0}, {1.0}}), std::invalid_argument);
   CHECK(performance_fraction({}, 0, 2.0) == 0.0);
+}
+
+TEST_CASE("where lambda = 0 already meets a tolerance, every solver that reached it has ratio 1",
+          "[profile]") {
+  // nsgs checks lambda = 0 before its first sweep (cost 0); direct's one answer comes after a
+  // solve of 5 ms, pgs never reaches the tolerance. On the second problem nobody starts solved.
+  const std::vector<SolverSpec> specs = {
+      parse_solver_spec("nsgs"), parse_solver_spec("direct"), parse_solver_spec("pgs")};
+  std::vector<std::vector<ProfileMeasurement>> runs(2, std::vector<ProfileMeasurement>(3));
+  runs[0][0].reached[0] = {0, 0.0};
+  runs[0][1].reached[0] = {1, 0.005};
+  runs[1][0].reached[0] = {40, 0.002};
+  runs[1][1].reached[0] = {1, 0.004};
+  runs[1][2].reached[0] = {80, 0.008};
+  const Profile time = make_profile(kProfileTolerances[0], 0, false, specs, runs);
+  REQUIRE(time.ratios.size() == 2);
+  CHECK(time.ratios[0][0] == 1.0);
+  CHECK(time.ratios[0][1] == 1.0);
+  CHECK(time.ratios[0][2] == kInf);
+  CHECK(time.ratios[1][0] == 1.0);
+  CHECK(time.ratios[1][1] == 2.0);
+  CHECK(time.ratios[1][2] == 4.0);
 }
