@@ -15,7 +15,9 @@ namespace cbps {
 ///      from the guess, then the Newton steps of stage 3 from their answer with a budget of
 ///      factorizations;
 ///      where that meets the target the stages below are not run, else its answer is kept if it
-///      is better than theirs (quick_start in cone_direct.cpp).
+///      is better than theirs (quick_start in cone_direct.cpp). A solve from λ = 0 of more than
+///      kQuickFirstRows rows runs stage 1 first, and this stage only where stage 1's answer does
+///      not already keep the law.
 ///   1. The convex relaxation (CCP: min ½ λᵀAλ − bᵀλ over the cones and the other rows' boxes)
 ///      by a primal-dual interior-point method on second-order cones: Nesterov–Todd scaling
 ///      (Nesterov & Todd, SIAM J. Optim. 8(2) 1998), Mehrotra's predictor-corrector, from the
