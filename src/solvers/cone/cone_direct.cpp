@@ -4,6 +4,7 @@
 // and their parameters are described at solve_cone_direct().
 #include "cbps/solvers/cone/cone_direct.hpp"
 
+#include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseLU>
 #include <algorithm>
@@ -90,8 +91,17 @@ struct QuickRound {
   int factorizations;
   Eigen::Index rows;  ///< the round runs on problems of at most this many rows
 };
-constexpr QuickRound kQuickRounds[] = {{20, 4, 64},
+constexpr QuickRound kQuickRounds[] = {{20, 4, 128},
                                        {180, 8, std::numeric_limits<Eigen::Index>::max()}};
+/// On problems of at most kQuickProximalRows rows, where a round's Newton steps stop short,
+/// proximal points around them (proximal_newton on Alart–Curnier's function, as Siconos' PROX)
+/// from the same sweeps, with a budget of kQuickProximal factorizations: where W is of low rank
+/// Newton's matrix is singular at most points and Levenberg–Marquardt's steps crawl (Siconos'
+/// OneObject, 72 rows, W of rank 6: 20 sweeps, 2 Newton steps and 9 proximal steps, 2 ms, where
+/// the interior point's stages took 6 ms). On larger ones they cost more than they save
+/// (BoxesStack1, 156 rows: 15 ms instead of 9; Capsules-i101-404, 675 rows, was left unsolved).
+constexpr Eigen::Index kQuickProximalRows = 128;
+constexpr int kQuickProximal = 25;
 /// A solve from λ = 0 of more rows than this starts with the relaxation's interior point, stage
 /// 0 only where that is not already the answer: there the sweeps and the row-space LU of
 /// Newton's steps cost more than the interior point (body space on a folder) that finishes them
@@ -562,6 +572,86 @@ Vec3 alart_curnier_map(const Vec3& r, const Vec3& u, double mu, double rho, Mat3
   return F;
 }
 
+/// Problems of at most this many rows take the Newton steps below with dense matrices: there the
+/// sparse LU's analysis and the sparse product C A cost more than the arithmetic (Siconos'
+/// OneObject, 72 rows of a W of rank 6 with every entry stored: an LU 28 µs dense, 75 µs sparse).
+constexpr Eigen::Index kDenseRows = 128;
+
+/// Newton's matrix G = Dm + Cm A_eps of natural_map_newton (Dm and Cm block-diagonal: a 3×3 block
+/// per contact, 1×1 per other row, given as triplets) and its factorizations: Eigen's SparseLU
+/// (one analysis: the pattern never changes) and CHOLMOD for Levenberg–Marquardt's GᵀG + ν I,
+/// or, on a problem of at most kDenseRows rows, LU with partial pivoting and LLᵀ.
+class NewtonMatrix {
+ public:
+  explicit NewtonMatrix(Eigen::Index c) : c_(c), dense_(c <= kDenseRows) {}
+
+  void assemble(const std::vector<Triplet>& dt,
+                const std::vector<Triplet>& ct,
+                const SpMat& A_eps) {
+    if (!dense_) {
+      SpMat Dm(c_, c_), Cm(c_, c_);
+      Dm.setFromTriplets(dt.begin(), dt.end());
+      Cm.setFromTriplets(ct.begin(), ct.end());
+      sparse_ = Dm + SpMat(Cm * A_eps);
+      return;
+    }
+    const MatX A = A_eps;
+    dense_G_.setZero(c_, c_);
+    for (const Triplet& t : ct)
+      if (t.value() != 0.0) dense_G_.row(t.row()) += t.value() * A.row(t.col());
+    for (const Triplet& t : dt) dense_G_(t.row(), t.col()) += t.value();
+  }
+
+  /// LU of G; false where a pivot is zero (G singular in floating point).
+  bool factor() {
+    if (dense_) {
+      dense_lu_.compute(dense_G_);
+      return dense_lu_.matrixLU().diagonal().cwiseAbs().minCoeff() > 0.0;
+    }
+    if (!analysed_) {
+      sparse_lu_.analyzePattern(sparse_);
+      analysed_ = true;
+    }
+    sparse_lu_.factorize(sparse_);
+    return sparse_lu_.info() == Eigen::Success;
+  }
+  /// G⁻¹ r with the last factor().
+  VecX solve(const VecX& r) const {
+    return dense_ ? VecX(dense_lu_.solve(r)) : VecX(sparse_lu_.solve(r));
+  }
+
+  /// Levenberg–Marquardt's step d = −(GᵀG + ν I)⁻¹ Gᵀ F; false where that matrix does not factor.
+  bool levenberg_marquardt(const VecX& F, double nu, VecX& d) {
+    if (dense_) {
+      MatX H = dense_G_.transpose() * dense_G_;
+      H.diagonal().array() += nu;
+      const Eigen::LLT<MatX> llt(H);
+      if (llt.info() != Eigen::Success) return false;
+      d = llt.solve(-(dense_G_.transpose() * F));
+      return true;
+    }
+    const SpMat Gt = sparse_.transpose();
+    const SpMat H = Gt * sparse_;
+    // One analysis while GᵀG keeps its pattern (G stores every contact's 3×3 blocks).
+    const bool factored =
+        H.nonZeros() == normal_pattern_ ? normal_.refactor(H, nu) : normal_.factor(H, nu);
+    normal_pattern_ = H.nonZeros();
+    if (factored) normal_.solve(-(Gt * F), d);
+    return factored;
+  }
+
+ private:
+  Eigen::Index c_;
+  bool dense_;
+  SpMat sparse_;
+  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> sparse_lu_;
+  bool analysed_ = false;
+  CholmodFactor normal_;  // GᵀG + ν I
+  long normal_pattern_ = -1;
+  MatX dense_G_;
+  Eigen::PartialPivLU<MatX> dense_lu_;
+};
+
 /// The law's natural map for stage 2's Newton steps, F(v) = v − P_K(v − ρ_α û(w)) per contact
 /// and v − clamp(v − w / A'_kk, cmin, cmax) for the other rows, w = A_eps v − b_eps; with
 /// `jacobian`, its generalized Jacobian I − D + C A_eps (D = ∂P at v − ρ_α û, C = ρ_α D ∂û/∂w;
@@ -573,7 +663,7 @@ VecX natural_map_newton(const Setup& S,
                         const SpMat& A_eps,
                         const VecX& b_eps,
                         const VecX& v,
-                        SpMat* jacobian,
+                        NewtonMatrix* jacobian,
                         bool alart_curnier = false) {
   const Eigen::Index c = S.c;
   const VecX w = A_eps * v - b_eps;
@@ -629,12 +719,7 @@ VecX natural_map_newton(const Setup& S,
       ct.emplace_back(int(k), int(k), inside ? S.rho_row(k) : 0.0);
     }
   }
-  if (jacobian != nullptr) {
-    SpMat Dm(c, c), Cm(c, c);
-    Dm.setFromTriplets(dt.begin(), dt.end());
-    Cm.setFromTriplets(ct.begin(), ct.end());
-    *jacobian = Dm + SpMat(Cm * A_eps);
-  }
+  if (jacobian != nullptr) jacobian->assemble(dt, ct, A_eps);
   return F;
 }
 
@@ -652,8 +737,7 @@ void proximal_newton(const Setup& S,
                      Counts& counts,
                      bool alart_curnier = false) {
   const Eigen::Index c = S.c;
-  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
-  bool analysed = false;
+  NewtonMatrix jacobian(c);
   VecX best = x;
   double best_r = residual(S, cones, b, x);
   int stall = 0;
@@ -665,19 +749,13 @@ void proximal_newton(const Setup& S,
     SpMat A_eps = S.A;
     for (Eigen::Index k = 0; k < c; ++k) A_eps.coeffRef(k, k) += eps;
     const VecX b_eps = b + eps * x;
-    SpMat jacobian;
     for (int it = 0; it < kMaxNewton; ++it) {
       const VecX F = natural_map_newton(S, cones, A_eps, b_eps, x, &jacobian, alart_curnier);
       const double f = F.norm();
       if (!(f > kInnerFraction * best_r) || counts.spent()) break;
-      if (!analysed) {
-        lu.analyzePattern(jacobian);
-        analysed = true;
-      }
-      lu.factorize(jacobian);
       ++counts.factorizations;
-      if (lu.info() != Eigen::Success) break;
-      const VecX d = lu.solve(-F);
+      if (!jacobian.factor()) break;
+      const VecX d = jacobian.solve(-F);
       if (!d.allFinite()) break;
       double t = 1.0;
       bool accepted = false;
@@ -726,11 +804,7 @@ void proximal_newton(const Setup& S,
 double alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& counts) {
   VecX best = x;
   double best_r = residual(S, S.law, S.b, x);
-  Eigen::SparseLU<SpMat, Eigen::COLAMDOrdering<int>> lu;
-  bool analysed = false;
-  CholmodFactor normal;  // GᵀG + ν I
-  long normal_pattern = -1;
-  SpMat G;
+  NewtonMatrix G(S.c);
   // x + t d for the first t = 1, 1/2, ... down to `smallest` with ‖F‖² decreasing by Armijo's
   // fraction.
   const auto descend = [&](const VecX& d, double f, double smallest) {
@@ -753,28 +827,14 @@ double alart_curnier_steps(const Setup& S, double target, VecX& x, Counts& count
     const double f = F.squaredNorm();
     if (!(f > 0.0)) break;  // Alart–Curnier's function is zero: the law holds
     ++counts.alart_curnier;
-    if (!analysed) {
-      lu.analyzePattern(G);
-      analysed = true;
-    }
-    lu.factorize(G);
     ++counts.factorizations;
     // Newton's step where it is whole: a damped one on a singular G stalls far from the answer
     // (Capsules: 6e-7 N after 60 steps) where Levenberg–Marquardt's goes on (to 4e-16 N).
-    bool moved = lu.info() == Eigen::Success && descend(lu.solve(-F), f, 1.0);
+    bool moved = G.factor() && descend(G.solve(-F), f, 1.0);
     if (!moved && !counts.spent()) {  // Levenberg–Marquardt
-      const SpMat Gt = G.transpose();
-      const SpMat H = Gt * G;
-      // One analysis while GᵀG keeps its pattern (G stores every contact's 3×3 blocks).
-      const bool factored = H.nonZeros() == normal_pattern ? normal.refactor(H, std::sqrt(f))
-                                                           : normal.factor(H, std::sqrt(f));
-      normal_pattern = H.nonZeros();
       ++counts.factorizations;
-      if (factored) {
-        VecX d;
-        normal.solve(-(Gt * F), d);
-        moved = descend(d, f, kSmallestStep);
-      }
+      VecX d;
+      if (G.levenberg_marquardt(F, std::sqrt(f), d)) moved = descend(d, f, kSmallestStep);
     }
     if (!moved) break;
     const double r = residual(S, S.law, S.b, x);
@@ -867,7 +927,8 @@ void sweeps_then_newton(const BoxedProblem& problem,
 
 /// Stage 0 (kQuickRounds), under Coulomb's law: rounds of NSGS sweeps (nsgs.hpp) on the
 /// unscaled problem from `lambda`, each followed by Newton's steps on Alart–Curnier's function
-/// from the sweeps' answer, until `met`; x (scaled) becomes the best point (under the
+/// from the sweeps' answer (on small problems, proximal points around them where they stop
+/// short: kQuickProximalRows), until `met`; x (scaled) becomes the best point (under the
 /// relaxation: `lambda` itself).
 void quick_start(const BoxedProblem& problem,
                  const Setup& S,
@@ -897,6 +958,16 @@ void quick_start(const BoxedProblem& problem,
     if (!met(y)) {
       counts.budget = counts.factorizations + round.factorizations;
       r = alart_curnier_steps(S, target_of(y), y, counts);
+      if (r > target_of(y) && S.c <= kQuickProximalRows) {
+        VecX z = y;  // the least residual so far
+        counts.budget = counts.factorizations + kQuickProximal;
+        proximal_newton(S, S.law, S.b, target_of(z), kMaxOuter, z, counts, true);
+        const double rz = residual(S, S.law, S.b, z);
+        if (rz < r) {
+          r = rz;
+          y = z;
+        }
+      }
       counts.budget = budget;
     }
     if (r < best_r) {

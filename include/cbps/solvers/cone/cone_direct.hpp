@@ -13,7 +13,9 @@ namespace cbps {
 /// no contact owns).
 ///   0. A cheap start under Coulomb's law, in rounds (kQuickRounds): NSGS sweeps (nsgs.hpp)
 ///      from the guess, then the Newton steps of stage 3 from their answer with a budget of
-///      factorizations;
+///      factorizations; on small problems (kQuickProximalRows), where those stop short, stage
+///      2's proximal points on Alart–Curnier's function from the best of them (a W of low rank
+///      makes Newton's matrix singular at most points: Siconos' OneObject);
 ///      where that meets the target the stages below are not run, else its answer is kept if it
 ///      is better than theirs (quick_start in cone_direct.cpp). A solve from λ = 0 of more than
 ///      kQuickFirstRows rows runs stage 1 first, and this stage only where stage 1's answer does
@@ -72,6 +74,9 @@ namespace cbps {
 ///      their answer. Coulomb's problem is not monotone: on the larger piles settling under the
 ///      paper's box (400 and 1,600 contacts) and on Siconos' RockPile none of this finishes
 ///      (docs/cones.md), and it says so.
+/// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
+/// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
+/// the arithmetic (NewtonMatrix in cone_direct.cpp).
 /// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more: every stage stops
 /// there (the relaxation needs far fewer; Coulomb's law where it cannot finish would go on for
 /// minutes).
