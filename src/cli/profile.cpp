@@ -86,11 +86,12 @@ int profile_command(const ProfileOptions& o) {
   for (std::size_t p = 0; p < problems.size(); ++p) {
     runs.emplace_back();
     for (const SolverSpec& spec : specs) {
-      runs.back().push_back(!spec.tao.empty()      ? run_tao(problems[p], spec, limits, tao)
-                            : is_peer(spec.method) ? profile_peer(problems[p], spec, limits)
-                            : is_iterative(spec.method)
-                                ? profile_iterative(problems[p], spec, limits)
-                                : profile_exact(problems[p], spec, limits));
+      runs.back().push_back(best_of_runs([&] {
+        return !spec.tao.empty()           ? run_tao(problems[p], spec, limits, tao)
+               : is_peer(spec.method)      ? profile_peer(problems[p], spec, limits)
+               : is_iterative(spec.method) ? profile_iterative(problems[p], spec, limits)
+                                           : profile_exact(problems[p], spec, limits);
+      }));
       const ProfileMeasurement& m = runs.back().back();
       if (!o.quiet)
         std::fprintf(stderr,

@@ -90,3 +90,37 @@ TEST_CASE("where lambda = 0 already meets a tolerance, every solver that reached
   CHECK(time.ratios[1][1] == 2.0);
   CHECK(time.ratios[1][2] == 4.0);
 }
+
+TEST_CASE("a short measurement is taken again and keeps its least times, a long one is taken once",
+          "[profile]") {
+  // Runs of 3, 2, 4, 1 and 5 ms (the sweeps alike): the best of the kRepeats runs is 1 ms, and
+  // the tolerance reached at a different sweep in one run (a run that differs) keeps its own time.
+  const double times[] = {0.003, 0.002, 0.004, 0.001, 0.005};
+  int calls = 0;
+  const ProfileMeasurement m = best_of_runs([&] {
+    ProfileMeasurement r;
+    r.status = calls == 0 ? "solved" : "other";
+    r.time_s = times[calls];
+    r.reached[0] = {10, times[calls] / 2};
+    r.reached[1] = {calls == 3 ? 21 : 20, times[calls]};
+    ++calls;
+    return r;
+  });
+  CHECK(calls == kRepeats);
+  CHECK(m.status == "solved");
+  CHECK(m.time_s == 0.001);
+  CHECK(m.reached[0].time_s == 0.0005);
+  CHECK(m.reached[1].iterations == 20);
+  CHECK(m.reached[1].time_s == 0.002);
+  CHECK(m.reached[2].iterations == -1);
+  // A measurement of kRepeatBelow or more: once.
+  calls = 0;
+  const ProfileMeasurement once = best_of_runs([&] {
+    ProfileMeasurement r;
+    r.time_s = kRepeatBelow;
+    ++calls;
+    return r;
+  });
+  CHECK(calls == 1);
+  CHECK(once.time_s == kRepeatBelow);
+}
