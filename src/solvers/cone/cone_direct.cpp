@@ -573,8 +573,8 @@ Vec3 alart_curnier_map(const Vec3& r, const Vec3& u, double mu, double rho, Mat3
 }
 
 /// Problems of at most this many rows take the Newton steps below with dense matrices: there the
-/// sparse LU's analysis and the sparse product C A cost more than the arithmetic (Siconos'
-/// OneObject, 72 rows of a W of rank 6 with every entry stored: an LU 28 µs dense, 75 µs sparse).
+/// sparse LU's analysis and the sparse product C A cost more than the arithmetic (a 72×72 matrix
+/// with every entry stored, as Siconos' OneObject's W: an LU 28 µs dense, 75 µs by SparseLU).
 constexpr Eigen::Index kDenseRows = 128;
 
 /// Newton's matrix G = Dm + Cm A_eps of natural_map_newton (Dm and Cm block-diagonal: a 3×3 block
