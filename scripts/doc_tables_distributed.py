@@ -13,6 +13,12 @@ from doc_tables_common import (  # scripts/doc_tables_common.py
 TAO = "validation/results/distributed/tao.json"
 
 
+def _unit_free(run):
+    """The run's unit-free residual, the verdict's (docs/cones.md), as the JSON gave it."""
+    u = run.get("unit_free")
+    return "–" if u is None else sci(u)
+
+
 @generator("tao-measured", TAO)
 def _tao_measured(src):
     r = src.json(TAO)
@@ -21,10 +27,11 @@ def _tao_measured(src):
         res = run["residual"]
         rows.append((run["problem"], f"`{run['solver']}`", str(run["ranks"]), run["status"],
                      thousands(run["iterations"]), dur(run["wall_time_s"]),
-                     "–" if res is None else sci(res), sci(1e-9 * run["scale"]),
+                     "–" if res is None else sci(res), _unit_free(run),
                      run.get("reason", "–")))
     return table(("problem", "solver", "ranks", "status", "iterations", "wall time",
-                  "residual (N)", "solved at ≤ (N)", "TAO's reason"), rows, "lllllrrrl")
+                  "residual (N)", "unit-free (solved ≤ 1e-9)", "TAO's reason"), rows,
+                 "lllllrrrl")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -41,7 +48,7 @@ def _direct_cells(run):
         counts = (f"{d['interior_iterations']} + {d['crossover_steps']} steps, "
                   f"{d['factorizations']} factorizations, {d['low_rank_rows']} low-rank rows")
     memory = ", ".join(str(round(m)) for m in run.get("rank_memory_mb", [])) or "–"
-    return [run["status"], sci(run["residual_N"]), sci(run["residual_N"] / run["scale"]),
+    return [run["status"], sci(run["residual_N"]), _unit_free(run),
             dur(run["solve_s"]), dur(run["process_s"]), memory, counts]
 
 
@@ -57,7 +64,7 @@ def _direct_mpi(src):
         for run in f["tao"]:
             rows.append(["", f"`tao:{run['tao']['type']}`, `mpirun -n {run['ranks']}`, "
                              f"{r['tao_iterations']} iterations"] + _direct_cells(run))
-    return table(("folder", "solver", "status", "residual (N)", "relative", "solve",
+    return table(("folder", "solver", "status", "residual (N)", "unit-free", "solve",
                   "process", "memory per rank (MB)", "what it did"), rows, "llllrrrrl")
 
 
@@ -86,18 +93,18 @@ def _generate_pyramid(src):
         s = run["serial"]
         name = f"{thousands(s['rows'])} (base {run['base']})"
         rows.append([name, "one process", "solved" if s["exit"] == 0 else f"exit {s['exit']}",
-                     sci(s["residual_N"]), sci(s["residual_N"] / run["mpi"][0]["scale"]), "–",
+                     sci(s["residual_N"]), "–", "–",
                      f"{dur(s['solve_s'])} (+ {_assembly(s)})",
                      dur(s["process_s"]), str(round(s["peak_memory_mb"])), "–"])
         for m in run["mpi"]:
             d = m["direct"]
             rows.append(["", f"`mpirun -n {m['ranks']}`", m["status"], sci(m["residual_N"]),
-                         sci(m["residual_N"] / m["scale"]), dur(m["build_s"]),
+                         _unit_free(m), dur(m["build_s"]),
                          dur(m["solve_s"]), dur(m["process_s"]),
                          ", ".join(str(round(x)) for x in m["rank_memory_mb"]),
                          f"{d['interior_iterations']} + {d['crossover_steps']} steps, "
                          f"{d['factorizations']} factorizations"])
-    return table(("rows", "path", "status", "residual (N)", "relative", "build rows", "solve",
+    return table(("rows", "path", "status", "residual (N)", "unit-free", "build rows", "solve",
                   "process", "memory per rank (MB)", "what it did"), rows, "lllrrrrrll")
 
 
@@ -206,14 +213,14 @@ def _generate_measured(src):
     for run in need(r, "runs", where=GENERATE):
         tao = run["log_view"]["events"].get("TaoSolve", {})
         rows.append((thousands(run["rows"]), str(run["ranks"]), run["type"], run["status"],
-                     thousands(run["iterations"]), sci(run["residual"]),
+                     thousands(run["iterations"]), sci(run["residual"]), _unit_free(run),
                      dur(run["generate_s"]), dur(run["solve_s"]), dur(run["job_s"]),
                      _memory(run), thousands(tao.get("messages", 0)),
                      thousands(tao.get("reductions", 0)), num(run["load_average"])))
-    return table(("rows", "ranks", "type", "status", "iterations", "residual (N)",
+    return table(("rows", "ranks", "type", "status", "iterations", "residual (N)", "unit-free",
                   "build rows", "solve", "job", "peak memory per rank (MB)",
                   "messages in TaoSolve", "reductions in TaoSolve", "load"), rows,
-                 "rrllrrrrrlrrr")
+                 "rrllrrrrrrlrrr")
 
 
 @generator("generate-model", GENERATE)
@@ -274,8 +281,9 @@ def _generate_exact(src):
     d, g = e["direct"], e["generated"]
     return (f"{thousands(e['rows'])} rows: the direct path on the serial folder {d['status']} "
             f"with residual {sci(d['residual'])} N, `mpirun -n 2` tao:bqpip on the generated "
-            f"problem {g['status']} with {sci(g['residual'])} N (solved at ≤ "
-            f"{sci(1e-9 * d['scale'])} N, scale {num(d['scale'])}); their λ differ by at most "
+            f"problem {g['status']} with {sci(g['residual'])} N (unit-free residuals "
+            f"{sci(d['unit_free'])} and {sci(g['unit_free'])}, solved at ≤ 1e-9); their λ "
+            f"differ by at most "
             f"{sci(e['lambda_max_difference'])} N (largest |λ| {num(e['lambda_largest'])} N)")
 
 

@@ -71,6 +71,7 @@ def lcp(cbps, work, folder, solver, ranks, extra=()):
               shlex.join(["mpirun", "-n", str(ranks), "cbps"] + args[1:]),
               "exit": code, "process_s": seconds, "solve_s": j["wall_time_s"],
               "status": j["status"], "residual_N": j["residual"], "scale": j["scale"],
+              "unit_free": (j.get("unit_free") or {}).get("relative"),
               "message": j["message"], "load": os.getloadavg()[0]}
     for key in ("ranks", "direct", "rank_memory_mb", "tao"):
         if key in j:

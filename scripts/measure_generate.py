@@ -102,6 +102,7 @@ def main():
         j = json.loads(r.stdout)
         return {"rows": rows, "ranks": ranks, "type": tao, "status": j["status"],
                 "iterations": j["iterations"], "residual": j["residual"], "scale": j["scale"],
+                "unit_free": (j.get("unit_free") or {}).get("relative"),
                 "generate_s": j["generated"]["wall_time_s"], "solve_s": j["wall_time_s"],
                 "job_s": elapsed, "rank_memory_mb": j["rank_memory_mb"],
                 "reason": j["tao"]["reason"], "load_average": os.getloadavg()[0],
@@ -131,6 +132,7 @@ def main():
         j = json.loads(r.stdout)
         results["read"].append({
             "rows": n, "ranks": ranks, "status": j["status"], "residual": j["residual"],
+            "unit_free": (j.get("unit_free") or {}).get("relative"),
             "read_s": j["read_wall_time_s"], "solve_s": j["wall_time_s"], "job_s": elapsed,
             "rank_memory_mb": j["rank_memory_mb"],
             "command": "mpirun -n %d --oversubscribe cbps %s" % (ranks, " ".join(lcp))})
@@ -144,6 +146,7 @@ def main():
     results["exact"] = {
         "rows": n,
         "direct": {"status": d["status"], "residual": d["residual"], "scale": d["scale"],
+                   "unit_free": (d.get("unit_free") or {}).get("relative"),
                    "solve_s": d["wall_time_s"],
                    "command": "cbps " + " ".join(matrices) + "; cbps " + " ".join(direct)},
         "generated": g,

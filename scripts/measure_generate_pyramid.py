@@ -94,6 +94,7 @@ def generated(cbps, work, rows, ranks):
             "solve_s": j["wall_time_s"], "build_s": j["generated"]["wall_time_s"],
             "description": j["generated"]["description"], "status": j["status"],
             "residual_N": j["residual"], "scale": j["scale"], "direct": j["direct"],
+            "unit_free": (j.get("unit_free") or {}).get("relative"),
             "rank_memory_mb": j["rank_memory_mb"], "load": os.getloadavg()[0],
             "log_view": measure_generate.log_view(view, EVENTS) if ranks > 1 else None}
 

@@ -64,7 +64,8 @@ def main():
                 row = {"problem": name, "solver": solver, "ranks": ranks or 1,
                        "command": shown, "rows": best["rows"], "status": best["status"],
                        "iterations": best["iterations"], "wall_time_s": best["wall_time_s"],
-                       "residual": best["residual"], "scale": best["scale"]}
+                       "residual": best["residual"], "scale": best["scale"],
+                       "unit_free": (best.get("unit_free") or {}).get("relative")}
                 if "tao" in best:
                     row["reason"] = best["tao"]["reason"]
                 results["runs"].append(row)

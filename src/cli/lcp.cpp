@@ -77,9 +77,10 @@ constexpr long kMaxGatheredRows = 100000;
 /// What the distributed path adds to its LcpOutcome: it measures the residual itself and says
 /// more in the JSON object.
 struct OutcomeExtras {
-  /// The natural-map residual as the solver measured it (TAO: on its distributed vectors);
-  /// empty: the command measures it on lambda.
+  /// The natural-map residual and the unit-free residual as the solver measured them on rows
+  /// spread over ranks (TAO, direct under MPI); empty: the command measures them on lambda.
   std::optional<double> residual;
+  std::optional<UnitFreeResidual> unit_free;
   /// Fields added to the JSON object (TAO: ranks, tao).
   nlohmann::json fields = nlohmann::json::object();
 };
@@ -94,7 +95,7 @@ int report(const LcpOptions& o,
            double wall,
            OutputDir* dir,
            const OutcomeExtras& extras = {}) {
-  const LcpVerdict v = judge(p, r, extras.residual);
+  const LcpVerdict v = judge(p, r, extras.residual, extras.unit_free);
   nlohmann::json j = lcp_result_json(o.problem, p, solver, r, v, wall);
   j.update(extras.fields);
 
@@ -398,7 +399,7 @@ int report_ranks(const LcpOptions& o,
   return report(named, facts, o.solver, r, at.wall, dir, extras);
 }
 
-/// Rank 0's report of TAO's answer, through the same report() as every solver (the residual
+/// Rank 0's report of TAO's answer, through the same report() as every solver (the residuals
 /// and scale measured on the distributed vectors); the exit code.
 int report_tao(const LcpOptions& o,
                const distributed::MpiSession& session,
@@ -422,6 +423,7 @@ int report_tao(const LcpOptions& o,
               number_text(t.tao_residual) + " (gatol " + number_text(o.tolerance) + "), " + ranks;
   OutcomeExtras extras;
   extras.residual = t.residual;
+  extras.unit_free = t.unit_free;
   extras.fields["tao"] = {{"type", at.type},
                           {"reason", t.reason},
                           {"converged", t.converged},
@@ -452,6 +454,7 @@ int report_direct(const LcpOptions& o,
   r.time_limit = !d.solved && o.time_limit > 0.0 && at.wall >= o.time_limit;
   OutcomeExtras extras;
   extras.residual = d.residual;
+  extras.unit_free = d.unit_free;
   extras.fields["direct"] = {{"solved", d.solved},
                              {"interior_iterations", d.iterations},
                              {"crossover_steps", d.crossover},

@@ -23,6 +23,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/solvers/exact/interior_point.hpp"
 #include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "petsc_util.hpp"
 
 namespace cbps::distributed {
@@ -31,35 +32,6 @@ namespace {
 
 /// Rows changed against the last factorization that low-rank corrections take at most.
 constexpr long kMaxCorrections = 64;
-
-/// Sums, maxima and minima over the ranks (MPI_Allreduce); a NaN on any rank makes the maximum
-/// and the minimum NaN.
-class MpiReduction final : public RowReduction {
- public:
-  double sum(double x) const override {
-    double y = 0.0;
-    ++calls_;
-    MPI_Allreduce(&x, &y, 1, MPI_DOUBLE, MPI_SUM, PETSC_COMM_WORLD);
-    return y;
-  }
-  double max(double x) const override { return extreme(x, MPI_MAX); }
-  double min(double x) const override { return extreme(x, MPI_MIN); }
-  /// MPI_Allreduce calls so far (each of one or two doubles): not PETSc's, so not in its log.
-  long calls() const { return calls_; }
-
- private:
-  mutable long calls_ = 0;
-
-  double extreme(double x, MPI_Op op) const {
-    ++calls_;
-    const bool nan = std::isnan(x);
-    const double in[2] = {nan ? 1.0 : 0.0, nan ? 0.0 : (op == MPI_MAX ? x : -x)};
-    double out[2] = {0.0, 0.0};
-    MPI_Allreduce(in, out, 2, MPI_DOUBLE, MPI_MAX, PETSC_COMM_WORLD);
-    if (out[0] > 0.0) return std::numeric_limits<double>::quiet_NaN();
-    return op == MPI_MAX ? out[1] : -out[1];
-  }
-};
 
 /// The body space's work vectors: two laid out as λ's rows, two as the bodies' columns of J.
 struct Vectors {
@@ -412,6 +384,55 @@ FactorsGap factors_gap_across_ranks(const LocalSystem& local) {
   return FactorsGap{all.max(gap.difference), all.max(gap.size)};
 }
 
+namespace {
+
+/// A_kk = J_k Minv J_kᵀ (+ cfm) of this rank's rows into `diagonal`, from the rows of J Minv;
+/// returns max_i Σ_k |A_ik| bounded above by (|J Minv| |J|ᵀ 1)_i (+ cfm), for the rounding floor.
+/// Collective.
+double diagonal_and_row_sum(const LocalSystem& local, Mat J, Mat Minv, VecX& diagonal) {
+  const long columns = local.total_columns;
+  const long column_begin = 6 * local.first_body;
+  const long owned_columns = 6 * local.bodies;
+  diagonal = VecX::Zero(local.rows());
+  double row_sum = 0.0;
+  Mat JMinv = nullptr;
+  CBPS_PETSC_CHECK(MatMatMult(J, Minv, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &JMinv));
+  std::vector<Triplet> absolute_JMinv;
+  for (Eigen::Index k = 0; k < local.J.rows(); ++k) {
+    PetscInt count = 0;
+    const PetscInt* cols = nullptr;
+    const PetscScalar* values = nullptr;
+    const PetscInt row = static_cast<PetscInt>(local.first_row + k);
+    CBPS_PETSC_CHECK(MatGetRow(JMinv, row, &count, &cols, &values));
+    for (PetscInt e = 0; e < count; ++e) {
+      diagonal(k) += values[e] * local.J.coeff(k, cols[e]);
+      absolute_JMinv.emplace_back(int(k), int(cols[e]), std::abs(values[e]));
+    }
+    CBPS_PETSC_CHECK(MatRestoreRow(JMinv, row, &count, &cols, &values));
+    diagonal(k) += local.cfm;
+  }
+  MatDestroy(&JMinv);
+  SpMatRow rows_abs(local.J.rows(), columns);
+  rows_abs.setFromTriplets(absolute_JMinv.begin(), absolute_JMinv.end());
+  Mat absJMinv = matrix_from_rows(rows_abs, columns, column_begin, owned_columns);
+  Mat absJ = matrix_from_rows(absolute(local.J), columns, column_begin, owned_columns);
+  Vec ones = nullptr, body = nullptr, sums = nullptr;
+  CBPS_PETSC_CHECK(MatCreateVecs(absJ, &body, &ones));
+  CBPS_PETSC_CHECK(VecDuplicate(ones, &sums));
+  CBPS_PETSC_CHECK(VecSet(ones, 1.0));
+  CBPS_PETSC_CHECK(MatMultTranspose(absJ, ones, body));
+  CBPS_PETSC_CHECK(MatMult(absJMinv, body, sums));
+  PetscReal largest = 0.0;
+  CBPS_PETSC_CHECK(VecNorm(sums, NORM_INFINITY, &largest));
+  row_sum = static_cast<double>(largest) + local.cfm;
+  for (Vec* v : {&ones, &body, &sums}) VecDestroy(v);
+  MatDestroy(&absJ);
+  MatDestroy(&absJMinv);
+  return row_sum;
+}
+
+}  // namespace
+
 DirectResult solve_direct_local(const MpiSession& session,
                                 LocalSystem& local,
                                 const SolverOptions& options,
@@ -433,58 +454,29 @@ DirectResult solve_direct_local(const MpiSession& session,
     r.gathered.cmax = gather_rows(J, local.cmax);
   }
 
-  // A_kk = J_k Minv J_kᵀ (+ cfm) from the rows of J Minv; max_i Σ_k |A_ik| bounded above by
-  // (|J Minv| |J|ᵀ 1)_i (+ cfm), for the rounding floor; scale_of = max(1, ‖b‖∞, max A_kk).
-  VecX diagonal = VecX::Zero(local.rows());
-  double row_sum = 0.0;
-  {
-    Mat JMinv = nullptr;
-    CBPS_PETSC_CHECK(MatMatMult(J, Minv, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &JMinv));
-    std::vector<Triplet> absolute_JMinv;
-    for (Eigen::Index k = 0; k < local.J.rows(); ++k) {
-      PetscInt count = 0;
-      const PetscInt* cols = nullptr;
-      const PetscScalar* values = nullptr;
-      const PetscInt row = static_cast<PetscInt>(local.first_row + k);
-      CBPS_PETSC_CHECK(MatGetRow(JMinv, row, &count, &cols, &values));
-      for (PetscInt e = 0; e < count; ++e) {
-        diagonal(k) += values[e] * local.J.coeff(k, cols[e]);
-        absolute_JMinv.emplace_back(int(k), int(cols[e]), std::abs(values[e]));
-      }
-      CBPS_PETSC_CHECK(MatRestoreRow(JMinv, row, &count, &cols, &values));
-      diagonal(k) += local.cfm;
-    }
-    MatDestroy(&JMinv);
-    SpMatRow rows_abs(local.J.rows(), columns);
-    rows_abs.setFromTriplets(absolute_JMinv.begin(), absolute_JMinv.end());
-    Mat absJMinv = matrix_from_rows(rows_abs, columns, column_begin, owned_columns);
-    Mat absJ = matrix_from_rows(absolute(local.J), columns, column_begin, owned_columns);
-    Vec ones = nullptr, body = nullptr, sums = nullptr;
-    CBPS_PETSC_CHECK(MatCreateVecs(absJ, &body, &ones));
-    CBPS_PETSC_CHECK(VecDuplicate(ones, &sums));
-    CBPS_PETSC_CHECK(VecSet(ones, 1.0));
-    CBPS_PETSC_CHECK(MatMultTranspose(absJ, ones, body));
-    CBPS_PETSC_CHECK(MatMult(absJMinv, body, sums));
-    PetscReal largest = 0.0;
-    CBPS_PETSC_CHECK(VecNorm(sums, NORM_INFINITY, &largest));
-    row_sum = static_cast<double>(largest) + local.cfm;
-    for (Vec* v : {&ones, &body, &sums}) VecDestroy(v);
-    MatDestroy(&absJ);
-    MatDestroy(&absJMinv);
-  }
+  // A_kk, the rounding floor's row sum; scale_of = max(1, ‖b‖∞, max A_kk).
+  VecX diagonal;
+  const double row_sum = diagonal_and_row_sum(local, J, Minv, diagonal);
   const double b_norm = all.max(local.b.size() > 0 ? local.b.lpNorm<Eigen::Infinity>() : 0.0);
   const double largest_diagonal = all.max(diagonal.size() > 0 ? diagonal.maxCoeff() : 0.0);
   r.scale = std::max({1.0, b_norm, largest_diagonal});
   const InteriorRows rows{local.b, local.cmin, local.cmax, diagonal, r.scale, row_sum};
+  // The tolerance read in N and as a unit-free residual, as on one process (solvers/solver.cpp,
+  // UnitFreeTarget::both at λ = 0), from every rank's rows.
+  UnitFreeTarget target = unit_free_target_rows(local.b, diagonal, largest_diagonal);
+  target.rho_b = all.max(target.rho_b);
+  target.rho_max = all.max(target.rho_max);
+  SolverOptions aimed = options;
+  aimed.tolerance = target.both(options.tolerance, VecX());
 
   VecX lambda = VecX::Zero(local.rows());
   {
     DistributedBodySpace newton(local, J, Minv);
-    const InteriorOutcome interior = run_interior_point(rows, newton, all, options, lambda);
+    const InteriorOutcome interior = run_interior_point(rows, newton, all, aimed, lambda);
     r.iterations = interior.iterations;
     r.solved = interior.solved;
     if (!r.solved) {
-      const CrossoverOutcome x = bulk_crossover(rows, newton, all, options, interior.place, lambda);
+      const CrossoverOutcome x = bulk_crossover(rows, newton, all, aimed, interior.place, lambda);
       r.solved = x.solved;
       r.crossover = x.rounds;
       r.solves = x.steps;
@@ -495,6 +487,9 @@ DirectResult solve_direct_local(const MpiSession& session,
     newton.times_A(lambda, w);
     w -= local.b;
     r.residual = all.max(natural_map_residual(w, lambda, local.cmin, local.cmax));
+    const UnitFreeResidual mine =
+        unit_free_rows(w, lambda, local.b, local.cmin, local.cmax, diagonal, largest_diagonal);
+    r.unit_free = unit_free_of(all.max(mine.residual), all.max(mine.scale));
     r.reductions = all.calls();
     r.factorizations = newton.factorizations();
     r.updates = newton.updates();

@@ -21,6 +21,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/distributed/generate.hpp"
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "petsc_util.hpp"
 
 namespace cbps::distributed {
@@ -31,13 +32,17 @@ namespace {
 struct Objects {
   Mat A = nullptr;
   Vec b = nullptr, cmin = nullptr, cmax = nullptr, lambda = nullptr, w = nullptr, t = nullptr;
+  Vec diagonal = nullptr;         ///< A_kk, this rank's rows (the unit-free residual's steps)
+  double largest_diagonal = 0.0;  ///< max_k A_kk over every rank
+  double row_sum = 0.0;           ///< max_i Σ_k |A_ik| over every rank (the rounding floor's)
+  double b_norm = 0.0;            ///< ‖b‖∞
   Vec lambda_on_0 = nullptr;
   VecScatter to_0 = nullptr;
   Tao tao = nullptr;
   ~Objects() {
     TaoDestroy(&tao);
     VecScatterDestroy(&to_0);
-    for (Vec* v : {&b, &cmin, &cmax, &lambda, &w, &t, &lambda_on_0}) VecDestroy(v);
+    for (Vec* v : {&b, &cmin, &cmax, &lambda, &w, &t, &diagonal, &lambda_on_0}) VecDestroy(v);
     MatDestroy(&A);
   }
 };
@@ -45,7 +50,7 @@ struct Objects {
 /// What TAO's callbacks need: the problem's distributed objects and cbps's stopping test.
 struct Quadratic {
   Objects* o = nullptr;
-  double tolerance = 0.0;  ///< stop at this natural-map residual, N
+  double tolerance = 0.0;  ///< stop at this natural-map residual, N (aimed_tolerance)
   std::string stop;        ///< why cbps's test stopped TAO (empty: TAO's own test did)
 };
 
@@ -99,9 +104,75 @@ PetscErrorCode distributed_natural_map_residual(const Objects& o, Vec lambda, do
   PetscFunctionReturn(0);
 }
 
+/// The unit-free residual of lambda (system/unit_free.hpp) from this rank's rows of the
+/// distributed vectors, with w = A lambda − b as distributed_natural_map_residual leaves it in
+/// o.w; the same on every rank (its maxima over the ranks).
+UnitFreeResidual distributed_unit_free(const Objects& o, Vec lambda) {
+  PetscInt n = 0;
+  CBPS_PETSC_CHECK(VecGetLocalSize(o.w, &n));
+  const Vec vectors[] = {o.w, lambda, o.b, o.cmin, o.cmax, o.diagonal};
+  const PetscScalar* at[6] = {};
+  for (int i = 0; i < 6; ++i) CBPS_PETSC_CHECK(VecGetArrayRead(vectors[i], &at[i]));
+  using Rows = Eigen::Map<const VecX>;
+  const UnitFreeResidual mine = unit_free_rows(Rows(at[0], n),
+                                               Rows(at[1], n),
+                                               Rows(at[2], n),
+                                               Rows(at[3], n),
+                                               Rows(at[4], n),
+                                               Rows(at[5], n),
+                                               o.largest_diagonal);
+  for (int i = 0; i < 6; ++i) CBPS_PETSC_CHECK(VecRestoreArrayRead(vectors[i], &at[i]));
+  const MpiReduction all;
+  return unit_free_of(all.max(mine.residual), all.max(mine.scale));
+}
+
+/// A's diagonal into o.diagonal and its largest entry, A's largest row sum of |A_ik| and ‖b‖∞,
+/// then the tolerance `tolerance` read in N and as a unit-free residual, as the direct path reads
+/// it (UnitFreeTarget::both at λ = 0, system/unit_free.hpp): the natural-map residual (N) to stop
+/// at, the same on every rank.
+double aimed_tolerance(Objects& o, double tolerance) {
+  PetscInt first = 0, last = 0;
+  CBPS_PETSC_CHECK(MatGetOwnershipRange(o.A, &first, &last));
+  double row_sum = 0.0;
+  for (PetscInt i = first; i < last; ++i) {
+    PetscInt count = 0;
+    const PetscScalar* values = nullptr;
+    CBPS_PETSC_CHECK(MatGetRow(o.A, i, &count, nullptr, &values));
+    double sum = 0.0;
+    for (PetscInt k = 0; k < count; ++k) sum += std::abs(values[k]);
+    row_sum = std::max(row_sum, sum);
+    CBPS_PETSC_CHECK(MatRestoreRow(o.A, i, &count, nullptr, &values));
+  }
+  PetscReal b_norm = 0.0;
+  CBPS_PETSC_CHECK(VecNorm(o.b, NORM_INFINITY, &b_norm));
+  o.b_norm = static_cast<double>(b_norm);
+  CBPS_PETSC_CHECK(VecDuplicate(o.b, &o.diagonal));
+  CBPS_PETSC_CHECK(MatGetDiagonal(o.A, o.diagonal));
+  PetscReal largest = 0.0;
+  CBPS_PETSC_CHECK(VecMax(o.diagonal, nullptr, &largest));
+  o.largest_diagonal = static_cast<double>(largest);
+  PetscInt n = 0;
+  CBPS_PETSC_CHECK(VecGetLocalSize(o.b, &n));
+  const PetscScalar* b = nullptr;
+  const PetscScalar* diagonal = nullptr;
+  CBPS_PETSC_CHECK(VecGetArrayRead(o.b, &b));
+  CBPS_PETSC_CHECK(VecGetArrayRead(o.diagonal, &diagonal));
+  UnitFreeTarget target = unit_free_target_rows(
+      Eigen::Map<const VecX>(b, n), Eigen::Map<const VecX>(diagonal, n), o.largest_diagonal);
+  CBPS_PETSC_CHECK(VecRestoreArrayRead(o.b, &b));
+  CBPS_PETSC_CHECK(VecRestoreArrayRead(o.diagonal, &diagonal));
+  const MpiReduction all;
+  o.row_sum = all.max(row_sum);
+  target.rho_b = all.max(target.rho_b);
+  target.rho_max = all.max(target.rho_max);
+  return target.both(tolerance, VecX());
+}
+
 /// TAO's convergence test, then cbps's, after every iteration: TAO's own (gatol, the iteration
 /// cap, NaN), else stop when the natural-map residual is ≤ the tolerance, the test every cbps
-/// solver stops by (TAO_CONVERGED_USER).
+/// solver stops by, or, with a tolerance, ≤ its rounding floor (direct.hpp's residual_floor: 64 u
+/// (max_i Σ_k |A_ik| ‖λ‖∞ + ‖b‖∞), below which no iteration can bring it; the 1,000,000-link
+/// chain at 2 ranks ran on for 10 minutes under 8e-20 N) (TAO_CONVERGED_USER).
 PetscErrorCode convergence_test(Tao tao, void* context) {
   auto* q = static_cast<Quadratic*>(context);
   TaoConvergedReason reason = TAO_CONTINUE_ITERATING;
@@ -113,9 +184,17 @@ PetscErrorCode convergence_test(Tao tao, void* context) {
   if (reason != TAO_CONTINUE_ITERATING) PetscFunctionReturn(0);
   PetscCall(TaoGetSolution(tao, &lambda));
   PetscCall(distributed_natural_map_residual(*q->o, lambda, &residual));
+  PetscReal lambda_norm = 0.0;
+  PetscCall(VecNorm(lambda, NORM_INFINITY, &lambda_norm));
+  const double floor = residual_floor_of(q->o->row_sum, q->o->b_norm, lambda_norm);
   if (residual <= q->tolerance) {
-    q->stop = "natural-map residual " + number_text(residual) + " <= --tolerance " +
-              number_text(q->tolerance);
+    q->stop = "natural-map residual " + number_text(residual) + " <= " + number_text(q->tolerance) +
+              " N (--tolerance read in N and as a unit-free residual)";
+    PetscCall(TaoSetConvergedReason(tao, TAO_CONVERGED_USER));
+  } else if (q->tolerance > 0.0 && residual <= floor) {
+    q->stop = "natural-map residual " + number_text(residual) + " <= its rounding floor " +
+              number_text(floor) + " N (the tolerance read in N and as a unit-free residual, " +
+              number_text(q->tolerance) + " N, is below it)";
     PetscCall(TaoSetConvergedReason(tao, TAO_CONVERGED_USER));
   }
   PetscFunctionReturn(0);
@@ -220,7 +299,7 @@ TaoResult solve_objects(const MpiSession& session,
 
   Quadratic q;
   q.o = &o;
-  q.tolerance = options.tolerance;
+  q.tolerance = aimed_tolerance(o, options.tolerance);
   CBPS_PETSC_CHECK(TaoCreate(PETSC_COMM_WORLD, &o.tao));
   CBPS_PETSC_CHECK(TaoSetType(o.tao, options.type.c_str()));
   CBPS_PETSC_CHECK(TaoSetSolution(o.tao, o.lambda));
@@ -229,7 +308,7 @@ TaoResult solve_objects(const MpiSession& session,
   CBPS_PETSC_CHECK(TaoSetHessian(o.tao, o.A, o.A, hessian, &q));
   // Absolute tolerance only: TAO's relative tests would stop a problem whose f is large (or
   // whose first gradient is) long before the natural-map residual is small.
-  CBPS_PETSC_CHECK(TaoSetTolerances(o.tao, options.tolerance, 0.0, 0.0));
+  CBPS_PETSC_CHECK(TaoSetTolerances(o.tao, q.tolerance, 0.0, 0.0));
   CBPS_PETSC_CHECK(TaoSetConvergenceTest(o.tao, convergence_test, &q));
   CBPS_PETSC_CHECK(TaoSetMaximumIterations(o.tao, options.max_iterations));
   // --iterations is the cap; function evaluations (a line search takes several per iteration)
@@ -258,6 +337,7 @@ TaoResult solve_objects(const MpiSession& session,
   r.local_rows = static_cast<long>(end - begin);
   r.stop = q.stop.empty() ? std::string("TAO's own test") : q.stop;
   CBPS_PETSC_CHECK(distributed_natural_map_residual(o, o.lambda, &r.residual));
+  r.unit_free = distributed_unit_free(o, o.lambda);
 
   // lambda onto rank 0.
   CBPS_PETSC_CHECK(VecScatterCreateToZero(o.lambda, &o.to_0, &o.lambda_on_0));

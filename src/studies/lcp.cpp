@@ -129,7 +129,10 @@ LcpOutcome solve_stored(const SolverSpec& spec,
   return r;
 }
 
-LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> measured) {
+LcpVerdict judge(const LcpFacts& p,
+                 const LcpOutcome& r,
+                 std::optional<double> measured,
+                 std::optional<UnitFreeResidual> measured_unit_free) {
   // cbps's own check of the returned lambda (unit_free.hpp), independent of the solver's claim.
   LcpVerdict v;
   const bool sized = r.lambda.size() == p.rows;
@@ -139,14 +142,13 @@ LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> m
                    ? natural_map_residual(p.stored->problem(), r.lambda, p.stored->cfm)
                    : kInf;
   v.scale = p.stored != nullptr ? scale_of(p.stored->problem(), p.stored->cfm) : p.scale;
-  if (sized && p.stored != nullptr)
-    v.unit_free = unit_free_residual(p.stored->problem(), r.lambda, p.stored->cfm);
-  // A problem no process holds whole (TAO, the exact path under MPI) is still judged by the
-  // natural map over the data's scale (kDistributedSolvedTolerance): its unit-free residual is
-  // not yet formed across ranks.
-  v.solved = sized && (v.unit_free ? is_solved(*v.unit_free, r.lambda)
-                                   : r.lambda.allFinite() &&
-                                         v.residual <= kDistributedSolvedTolerance * v.scale);
+  // A problem no process holds whole (TAO, the exact path under MPI): its unit-free residual as
+  // the ranks formed it from their rows.
+  if (sized)
+    v.unit_free = p.stored != nullptr
+                      ? unit_free_residual(p.stored->problem(), r.lambda, p.stored->cfm)
+                      : measured_unit_free;
+  v.solved = sized && v.unit_free && is_solved(*v.unit_free, r.lambda);
   v.status = v.solved        ? "solved"
              : r.no_solution ? "no_solution"
              : r.time_limit  ? "time limit"

@@ -11,10 +11,6 @@
 
 namespace cbps {
 
-namespace {
-
-/// UnitFreeResidual from its two maxima (N): relative = residual / scale, 0 when both are 0, ∞
-/// when only the scale is, NaN when the residual is.
 UnitFreeResidual unit_free_of(double residual, double scale) {
   UnitFreeResidual u;
   u.residual = residual;
@@ -28,22 +24,23 @@ UnitFreeResidual unit_free_of(double residual, double scale) {
   return u;
 }
 
-}  // namespace
+double unit_free_step(double diagonal, double largest_diagonal) {
+  if (diagonal > 0.0) return 1.0 / diagonal;
+  return largest_diagonal > 0.0 ? 1.0 / largest_diagonal : 1.0;
+}
 
 VecX unit_free_steps(const BoxedProblem& problem, double cfm) {
   const Eigen::Index c = problem.rows();
   if (c == 0) return VecX();
   const VecX diagonal = diagonal_of_A(problem).array() + cfm;
   const double largest = diagonal.maxCoeff();
-  const double fallback = largest > 0.0 ? 1.0 / largest : 1.0;
   VecX rho(c);
-  for (Eigen::Index k = 0; k < c; ++k) rho(k) = diagonal(k) > 0.0 ? 1.0 / diagonal(k) : fallback;
+  for (Eigen::Index k = 0; k < c; ++k) rho(k) = unit_free_step(diagonal(k), largest);
   if (problem.cones != nullptr) {
     const ConeContacts& cones = *problem.cones;
     for (long i = 0; i < cones.contacts(); ++i) {
       const int n = cones.normal[std::size_t(i)];
-      const double top = diagonal.segment<3>(n).maxCoeff();
-      rho.segment<3>(n).setConstant(top > 0.0 ? 1.0 / top : fallback);
+      rho.segment<3>(n).setConstant(unit_free_step(diagonal.segment<3>(n).maxCoeff(), largest));
     }
   }
   return rho;
@@ -81,6 +78,27 @@ UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lam
                                (rho.array() * problem.b.array().abs()).maxCoeff()));
 }
 
+UnitFreeResidual unit_free_rows(const Eigen::Ref<const VecX>& w,
+                                const Eigen::Ref<const VecX>& lambda,
+                                const Eigen::Ref<const VecX>& b,
+                                const Eigen::Ref<const VecX>& cmin,
+                                const Eigen::Ref<const VecX>& cmax,
+                                const Eigen::Ref<const VecX>& diagonal,
+                                double largest_diagonal) {
+  double residual = 0.0;
+  double scale = 0.0;
+  for (Eigen::Index k = 0; k < w.size(); ++k) {
+    const double rho = unit_free_step(diagonal(k), largest_diagonal);
+    max_keep_nan(residual, natural_map_row(lambda(k), rho * w(k), cmin(k), cmax(k)));
+    scale = std::max({scale, std::abs(lambda(k)), rho * std::abs(b(k))});
+  }
+  UnitFreeResidual u;
+  u.residual = residual;
+  u.scale = scale;
+  u.relative = unit_free_of(residual, scale).relative;
+  return u;
+}
+
 double UnitFreeTarget::newtons(double relative, const VecX& lambda) const {
   const double l = lambda.size() > 0 ? lambda.lpNorm<Eigen::Infinity>() : 0.0;
   return relative * std::max(l, rho_b) / std::max(1.0, rho_max);
@@ -92,6 +110,19 @@ UnitFreeTarget unit_free_target(const BoxedProblem& problem, double cfm) {
   const VecX rho = unit_free_steps(problem, cfm);
   t.rho_b = (rho.array() * problem.b.array().abs()).maxCoeff();
   t.rho_max = rho.maxCoeff();
+  return t;
+}
+
+UnitFreeTarget unit_free_target_rows(const Eigen::Ref<const VecX>& b,
+                                     const Eigen::Ref<const VecX>& diagonal,
+                                     double largest_diagonal) {
+  UnitFreeTarget t;
+  t.rho_max = 0.0;
+  for (Eigen::Index k = 0; k < b.size(); ++k) {
+    const double rho = unit_free_step(diagonal(k), largest_diagonal);
+    t.rho_b = std::max(t.rho_b, rho * std::abs(b(k)));
+    t.rho_max = std::max(t.rho_max, rho);
+  }
   return t;
 }
 

@@ -9,8 +9,8 @@ MODE is one of
              island needs the crossover, the base-20 one moving rows on one rank alone, a 5-column stack of many islands, a chain of equality rows only,
              a stack with CFM), solves each by `cbps lcp --solver direct` without mpirun (the
              serial path) and under mpirun at 1 and 2 ranks: exit 0, solved, `ranks` R, the
-             residual the command reports equal to the one formed here from the folder's A, at
-             most 1e-9 * scale; the objective 1/2 l^T A l - b^T l the serial path's (to 1e-9 of
+             residual the command reports equal to the one formed here from the folder's A, its
+             unit-free residual at most 1e-9 and the ranks' equal to it; the objective 1/2 l^T A l - b^T l the serial path's (to 1e-9 of
              |f|) and w = A l - b the serial path's (w is the same at every solution of a convex
              QP: to 1e-6 * scale); --out written by rank 0
   bad-input  a folder without J, a Siconos file, a Minv block that is not positive definite:
@@ -38,7 +38,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts"))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from cbps_problem import natural_map_residual, read_mtx, scale_of  # noqa: E402
+from cbps_problem import SOLVED, natural_map_residual, read_mtx, scale_of  # noqa: E402
+from cbps_problem import unit_free_residual  # noqa: E402
 import test_tao as t  # noqa: E402
 
 PROBLEMS = {
@@ -52,7 +53,6 @@ PROBLEMS = {
 }
 RANKS = (1, 2)
 TIMEOUT_S = 120  # a hung rank fails the test instead of stalling the suite
-SOLVED = 1e-9    # kDistributedSolvedTolerance: under mpirun, residual <= 1e-9 * scale
 check, mpirun, failures = t.check, t.mpirun, t.failures  # tests/petsc/test_tao.py's
 
 
@@ -129,7 +129,11 @@ def mode_solve(cbps, root):
                                      + np.max(np.abs(b)))
             check(abs(residual - j["residual"]) <= floor,
                   f"{what}: reported residual {j['residual']} against {residual} formed here")
-            check(residual <= SOLVED * scale, f"{what}: residual {residual} > 1e-9 * {scale}")
+            relative = unit_free_residual(A, b, cmin, cmax, lam)
+            check(relative <= SOLVED, f"{what}: unit-free residual {relative} > 1e-9")
+            reported = j["unit_free"]["relative"] if j.get("unit_free") else None
+            check(reported is not None and abs(reported - relative) <= 1e-6 * relative + 1e-15,
+                  f"{what}: the ranks' unit-free residual {reported} vs {relative} formed here")
             f = 0.5 * lam @ (A @ lam) - b @ lam
             check(abs(f - f_s) <= 1e-9 * max(1.0, abs(f_s)),
                   f"{what}: objective {f} against the serial path's {f_s}")

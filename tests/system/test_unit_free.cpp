@@ -149,3 +149,50 @@ TEST_CASE("the direct path's target bounds the unit-free residual, and the verdi
   const VecX b = VecX::Ones(2), lo = VecX::Zero(2), hi = VecX::Constant(2, kInf);
   CHECK_FALSE(is_solved(unit_free_residual(BoxedProblem{A, b, lo, hi}, one), one));
 }
+
+TEST_CASE("the unit-free residual from rows held apart, as ranks hold them, is the whole problem's",
+          "[unit-free]") {
+  // A boxed problem with free, bounded and one-sided rows, a zero diagonal entry (the fallback
+  // step) and a lambda off its answer, cut into three parts of rows as MPI ranks hold them
+  // (distributed/tao.cpp, exact.cpp): the maxima of the parts' residuals and scales, put together
+  // by unit_free_of, are unit_free_residual of the whole problem; so is the direct path's target.
+  const int c = 9;
+  SpMat A = test::random_spd(c, 7);
+  A.coeffRef(4, 4) = 0.0;  // not positive: that row takes 1 / max A_kk
+  const VecX b = VecX::LinSpaced(c, -3.0, 5.0);
+  VecX cmin = VecX::Constant(c, -kInf), cmax = VecX::Constant(c, kInf);
+  cmin.segment(2, 4).setZero();
+  cmax(3) = 0.25;
+  const VecX lambda = VecX::LinSpaced(c, 0.5, -0.7);
+  const BoxedProblem whole{A, b, cmin, cmax};
+  const UnitFreeResidual expected = unit_free_residual(whole, lambda);
+  REQUIRE(expected.relative > 0.0);
+  const VecX w = A * lambda - b;
+  const VecX diagonal = A.diagonal();
+  const double largest = diagonal.maxCoeff();
+  double residual = 0.0, scale = 0.0;
+  UnitFreeTarget target;
+  target.rho_max = 0.0;
+  for (const auto& [first, n] : {std::pair{0, 3}, std::pair{3, 4}, std::pair{7, 2}}) {
+    const UnitFreeResidual part = unit_free_rows(w.segment(first, n),
+                                                 lambda.segment(first, n),
+                                                 b.segment(first, n),
+                                                 cmin.segment(first, n),
+                                                 cmax.segment(first, n),
+                                                 diagonal.segment(first, n),
+                                                 largest);
+    residual = std::max(residual, part.residual);
+    scale = std::max(scale, part.scale);
+    const UnitFreeTarget t =
+        unit_free_target_rows(b.segment(first, n), diagonal.segment(first, n), largest);
+    target.rho_b = std::max(target.rho_b, t.rho_b);
+    target.rho_max = std::max(target.rho_max, t.rho_max);
+  }
+  const UnitFreeResidual joined = unit_free_of(residual, scale);
+  CHECK(joined.residual == expected.residual);
+  CHECK(joined.scale == expected.scale);
+  CHECK(joined.relative == expected.relative);
+  const UnitFreeTarget serial = unit_free_target(whole);
+  CHECK(target.rho_b == serial.rho_b);
+  CHECK(target.rho_max == serial.rho_max);
+}

@@ -24,14 +24,20 @@
 #include "cbps/distributed/generate.hpp"
 #include "cbps/distributed/tao.hpp"
 #include "cbps/solvers/solver.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps::distributed {
 
 /// What the exact path under MPI returned.
 struct DirectResult {
-  VecX lambda;           ///< c, N: on rank 0 the whole answer, on the other ranks empty
-  bool solved = false;   ///< the natural-map residual met options.tolerance (or may_stop's floor)
+  VecX lambda;  ///< c, N: on rank 0 the whole answer, on the other ranks empty
+  /// the natural-map residual met options.tolerance read in N and as a unit-free residual
+  /// (UnitFreeTarget::both, as on one process), or may_stop's floor
+  bool solved = false;
   double residual = 0.;  ///< natural-map residual of 6.2 at lambda, N (the same on every rank)
+  /// The unit-free residual of lambda (system/unit_free.hpp) from every rank's rows, the
+  /// verdict's (the same on every rank).
+  UnitFreeResidual unit_free;
   double scale = 0.;   ///< max(1, ‖b‖∞, max A_kk) (scale_of: max |A_ij| = max A_kk, A ⪰ 0)
   int iterations = 0;  ///< interior-point iterations
   int crossover = 0;   ///< the crossover's proximal steps (0: the interior point sufficed)

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps::distributed {
 
@@ -122,6 +123,9 @@ struct TaoResult {
   /// The natural-map residual ‖lambda − clamp(lambda − w, cmin, cmax)‖∞ of 6.2, N, formed on the
   /// distributed vectors (PETSc's MatMult, VecPointwiseMax/Min, VecNorm); the same on every rank.
   double residual = 0.;
+  /// The unit-free residual of lambda (system/unit_free.hpp) from every rank's rows of the
+  /// distributed vectors, the verdict's; the same on every rank.
+  UnitFreeResidual unit_free;
   long local_rows = 0;  ///< rows of A owned by this rank
   /// solve_tao_local: scale_of's max(1, ‖b‖∞, max |A_ij|) on the distributed A and b.
   double scale = 0.;

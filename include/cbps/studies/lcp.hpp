@@ -77,8 +77,7 @@ struct LcpVerdict {
   /// scale_of, max(1, ‖b‖∞, max |A_ij|): reported beside the residual for its size, not the
   /// verdict's (that is unit_free's)
   double scale = 1.0;
-  /// is_solved(unit_free, lambda): relative ≤ kSolvedTolerance, lambda finite (distributed:
-  /// residual ≤ kDistributedSolvedTolerance · scale)
+  /// is_solved(unit_free, lambda): relative ≤ kSolvedTolerance, lambda finite
   bool solved = false;
   /// "solved", "no_solution" (Lemke's ray), "time limit" (not solved when --time-limit
   /// stopped the method) or "failed"
@@ -89,17 +88,18 @@ struct LcpVerdict {
   /// A problem with cones (an FCLIB file): lambda measured against the cone law
   /// (system/cone_problem.hpp); empty for a boxed problem.
   std::optional<ConeMeasures> cone;
-  /// The unit-free residual of lambda (system/unit_free.hpp), the verdict's, where this process
-  /// holds the problem; empty when lambda has the wrong size or no process holds it whole.
+  /// The unit-free residual of lambda (system/unit_free.hpp), the verdict's: measured here where
+  /// this process holds the problem, else as the ranks formed it from their rows; empty when
+  /// lambda has the wrong size.
   std::optional<UnitFreeResidual> unit_free;
 };
-/// The verdict of a problem no process holds whole (TAO, the exact path under MPI): the natural
-/// map's residual at most this times the data's scale (scale_of), until the unit-free residual
-/// is formed across ranks.
-inline constexpr double kDistributedSolvedTolerance = 1e-9;
-/// The verdict; `measured`: the residual as the solver measured it on vectors no process holds
-/// whole (TAO, direct under MPI), else measured here on lambda.
-LcpVerdict judge(const LcpFacts& p, const LcpOutcome& r, std::optional<double> measured = {});
+/// The verdict; `measured` and `measured_unit_free`: the natural-map and the unit-free residual
+/// as the solver measured them on vectors no process holds whole (TAO, direct under MPI), else
+/// measured here on lambda.
+LcpVerdict judge(const LcpFacts& p,
+                 const LcpOutcome& r,
+                 std::optional<double> measured = {},
+                 std::optional<UnitFreeResidual> measured_unit_free = {});
 
 /// result.json (docs/outputs.md) of `problem` solved by `solver` in `wall` s.
 nlohmann::json lcp_result_json(const std::string& problem,

@@ -21,9 +21,9 @@
 // This is the one verdict of cbps (docs/cones.md, "A residual that does not depend on units"):
 // an answer is solved when it is finite and its relative unit-free residual is at most
 // kSolvedTolerance. `cbps lcp`, `run --check`, `matrices`, the peers and Lemke's method judge by
-// it, and `cbps profile` measures its costs in it. Not yet: the paths no process holds whole
-// (TAO, the exact path under MPI: studies/lcp.hpp, kDistributedSolvedTolerance), which still
-// divide the natural map by the data's scale (issue 51).
+// it, and `cbps profile` measures its costs in it. The paths no process holds whole (TAO, the
+// exact path under MPI) form it from each rank's rows (unit_free_rows) and their maxima over the
+// ranks (unit_free_of).
 #pragma once
 
 #include <algorithm>
@@ -38,6 +38,26 @@ struct UnitFreeResidual {
   /// residual / S; 0 when both are 0, ∞ when only S is; NaN when a term is NaN
   double relative = 0.0;
 };
+
+/// UnitFreeResidual from its two maxima (N): relative = residual / scale, 0 when both are 0, ∞
+/// when only the scale is, NaN when the residual is.
+UnitFreeResidual unit_free_of(double residual, double scale);
+
+/// A row's step ρ_k (kg) from its diagonal entry A_kk (+ eps) and the largest of all rows':
+/// 1 / A_kk, or 1 / largest where A_kk is not positive (1 where no row's is).
+double unit_free_step(double diagonal, double largest_diagonal);
+
+/// The unit-free residual of some rows of a boxed problem without cones, as a rank under MPI
+/// holds them: w = (A + eps E) λ − b, b, cmin, cmax and `diagonal` (A_kk + eps) on those rows,
+/// `largest_diagonal` over all rows. Its `residual` and `scale` are the two maxima over these
+/// rows; unit_free_of(their maxima over every part) is unit_free_residual of the whole problem.
+UnitFreeResidual unit_free_rows(const Eigen::Ref<const VecX>& w,
+                                const Eigen::Ref<const VecX>& lambda,
+                                const Eigen::Ref<const VecX>& b,
+                                const Eigen::Ref<const VecX>& cmin,
+                                const Eigen::Ref<const VecX>& cmax,
+                                const Eigen::Ref<const VecX>& diagonal,
+                                double largest_diagonal);
 
 /// The relative residual above which an answer is not solved (of UnitFreeResidual::relative).
 inline constexpr double kSolvedTolerance = 1e-9;
@@ -70,6 +90,11 @@ struct UnitFreeTarget {
   }
 };
 UnitFreeTarget unit_free_target(const BoxedProblem& problem, double cfm = 0.0);
+/// The same from some rows of a boxed problem without cones (b and `diagonal`, A_kk + eps, on
+/// those rows; `largest_diagonal` over all): the maxima over every part are the whole problem's.
+UnitFreeTarget unit_free_target_rows(const Eigen::Ref<const VecX>& b,
+                                     const Eigen::Ref<const VecX>& diagonal,
+                                     double largest_diagonal);
 
 /// The verdict: lambda finite and u.relative ≤ kSolvedTolerance (NaN is not solved).
 bool is_solved(const UnitFreeResidual& u, const VecX& lambda);
