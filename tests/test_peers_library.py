@@ -85,6 +85,7 @@ PEERS = ("siconos:lemke", "siconos:pgs", "siconos:enum", "siconos:avi", "bullet:
 LCP_KEYS = ("problem", "rows", "cfm", "solver", "status", "iterations", "wall_time_s", "residual",
             "scale", "message", "space", "space_reason", "lambda")
 PEER_KEYS = ("status", "said_ok", "iterations", "convert_time_s", "solve_time_s", "disagrees")
+LCP_TIMEOUT_S = 30  # one `cbps lcp` of this script: under 2 s, sanitizers included
 SOLVED = 1e-9  # `cbps lcp`'s "solved": unit-free residual <= 1e-9 (docs/cones.md, outputs.md)
 U = 2.0 ** -53  # unit round-off
 PROFILE_SOLVERS = ("pgs", "direct", "siconos:lemke", "siconos:pgs", "bullet:dantzig", "bullet:pgs")
@@ -301,9 +302,13 @@ def agreement(p, peer_run, direct_run, check, where):
 
 
 def run_lcp(cbps, path, solver, *extra):
-    r = subprocess.run([cbps, "lcp", path, "--solver", solver, "--json", *extra],
-                       capture_output=True, text=True)
-    return r
+    command = [cbps, "lcp", path, "--solver", solver, "--json", *extra]
+    try:
+        return subprocess.run(command, capture_output=True, text=True, timeout=LCP_TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        # A hang is named (the command and where it was) instead of ending in CTest's timeout.
+        return subprocess.CompletedProcess(command, -1, "",
+                                           f"did not end in {LCP_TIMEOUT_S} s: {' '.join(command)}")
 
 
 def check_result_keys(j, solver, check, where):

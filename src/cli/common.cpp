@@ -392,7 +392,7 @@ void step_to(Simulation& sim, long steps, const std::string& command, bool quiet
 struct Heartbeat::State {
   std::mutex mutex;
   std::condition_variable wake;
-  bool done = false;
+  bool started = false, done = false;
   std::thread thread;
 };
 
@@ -403,23 +403,35 @@ Heartbeat::Heartbeat(std::string what, double time_limit, bool quiet) {
   s->thread = std::thread([s, what = std::move(what), time_limit] {
     const auto start = std::chrono::steady_clock::now();
     std::unique_lock<std::mutex> lock(s->mutex);
+    s->started = true;
+    s->wake.notify_all();
     while (!s->wake.wait_for(lock, std::chrono::seconds(2), [s] { return s->done; })) {
       const double elapsed =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      char tail[96];
-      if (time_limit > 0.0)
-        std::snprintf(tail,
-                      sizeof tail,
-                      ": running, %.1f s elapsed (time limit %g s)\n",
-                      elapsed,
-                      time_limit);
-      else
-        std::snprintf(tail, sizeof tail, ": running, %.1f s elapsed\n", elapsed);
-      const std::string line = what + tail;
+      // Formatted on the stack: a peer's fork() while this thread is inside malloc would leave
+      // the child's allocator locked (seen as a child hung forever under AddressSanitizer).
+      char line[512];
+      const int n =
+          time_limit > 0.0
+              ? std::snprintf(line,
+                              sizeof line,
+                              "%s: running, %.1f s elapsed (time limit %g s)\n",
+                              what.c_str(),
+                              elapsed,
+                              time_limit)
+              : std::snprintf(
+                    line, sizeof line, "%s: running, %.1f s elapsed\n", what.c_str(), elapsed);
       // A failed write of a progress line is not worth stopping for.
-      [[maybe_unused]] const ssize_t n = ::write(2, line.data(), line.size());
+      if (n > 0) {
+        [[maybe_unused]] const ssize_t written =
+            ::write(2, line, std::min(static_cast<std::size_t>(n), sizeof line - 1));
+      }
     }
   });
+  // The thread's own start (its stack, the sanitizers' bookkeeping) allocates: wait until it is
+  // parked in wait_for, so that no fork() of a peer's child meets it half-started.
+  std::unique_lock<std::mutex> lock(s->mutex);
+  s->wake.wait(lock, [s] { return s->started; });
 }
 
 Heartbeat::~Heartbeat() {

@@ -4,6 +4,7 @@
 #include <pthread.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -262,6 +263,8 @@ namespace {
 /// The write end of the pipe the signal handler writes the signal's number to, and the read
 /// end the cleanup thread waits on (install_interrupt_cleanup); -1 before.
 int interrupt_pipe[2] = {-1, -1};
+/// Set by the cleanup thread once it runs (its start, which allocates, is over).
+std::atomic<bool> cleanup_thread_started{false};
 /// The signal that interrupted the command, 0 while none did (set by the handler).
 volatile std::sig_atomic_t interrupt_signal = 0;
 
@@ -291,6 +294,7 @@ void remove_while_written(const fs::path& path) {
 /// removes every unfinished output (never a committed one: commit() holds the lock), says so,
 /// and ends the process with 128 + the signal.
 void cleanup_on_interrupt() {
+  cleanup_thread_started.store(true, std::memory_order_release);
   unsigned char number = 0;
   while (::read(interrupt_pipe[0], &number, 1) != 1) {
     if (errno != EINTR) return;  // the pipe is gone: nothing to wait for
@@ -315,6 +319,9 @@ void install_interrupt_cleanup() {
     throw std::runtime_error(std::string("cannot make the interrupt pipe: ") +
                              std::strerror(errno));
   std::thread(cleanup_on_interrupt).detach();
+  // A thread's start allocates (its stack, the sanitizers' bookkeeping): a peer's fork() during
+  // it would leave the child's allocator locked. Go on once the thread waits in read().
+  while (!cleanup_thread_started.load(std::memory_order_acquire)) std::this_thread::yield();
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
