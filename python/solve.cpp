@@ -16,6 +16,7 @@
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
@@ -450,7 +451,7 @@ void bind_solve(py::module_& m) {
       "methods",
       [] {
         std::vector<std::string> names;
-        for (Method method : kMethods) names.emplace_back(to_string(method));
+        for (const MethodEntry& e : method_entries()) names.emplace_back(e.name);
         return names;
       },
       "the names of every method solve() and Scene.solver take (besides 'lemke' for solve)");

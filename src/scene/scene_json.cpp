@@ -380,8 +380,7 @@ SolverSettings read_solver(const Node& node) {
   if (has(node, "contacts_first")) {
     const Node first = child(node, "contacts_first");
     solver.contacts_first = boolean(first);
-    if (solver.contacts_first && solver.method != Method::Pgs &&
-        solver.method != Method::MatrixFree)
+    if (solver.contacts_first && !method_entry(solver.method).contacts_first)
       fail(first,
            "applies to the methods pgs and matrix-free (method is " +
                in_quotes(std::string(to_string(solver.method))) + ")");

@@ -1,5 +1,5 @@
-// solve(): any method on the boxed problem, with constraint-force mixing and islands; the name
-// table of the methods.
+// solve(): any method on the boxed problem, with constraint-force mixing and islands, through
+// the one table of methods (methods.hpp); the questions solver.hpp asks of a method, read there.
 #include "cbps/solvers/solver.hpp"
 
 #include <algorithm>
@@ -8,26 +8,9 @@
 #include <stdexcept>
 
 #include "cbps/base/error.hpp"
-#include "cbps/solvers/compared/admm.hpp"
-#include "cbps/solvers/compared/apgd.hpp"
-#include "cbps/solvers/compared/nncg.hpp"
-#include "cbps/solvers/compared/pgs_block.hpp"
-#include "cbps/solvers/compared/pgs_nesterov.hpp"
-#include "cbps/solvers/compared/pgs_sm.hpp"
-#include "cbps/solvers/compared/rbgs.hpp"
-#include "cbps/solvers/compared/shock.hpp"
-#include "cbps/solvers/cone/cone_direct.hpp"
-#include "cbps/solvers/cone/nsgs.hpp"
-#include "cbps/solvers/exact/active_set.hpp"
-#include "cbps/solvers/exact/direct.hpp"
-#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "cbps/solvers/methods.hpp"
-#include "cbps/solvers/paper/pgs.hpp"
-#include "cbps/solvers/paper/pgs_matrix_free.hpp"
-#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/system/unit_free.hpp"
-#include "exact/newton_system.hpp"
 
 namespace cbps {
 
@@ -62,13 +45,38 @@ std::string method_names() {
   return names;
 }
 
+bool is_iterative(Method method) { return method_entry(method).iterative; }
+
+bool needs_jacobian(Method method) { return method_entry(method).needs_jacobian; }
+
+bool reads_A(Method method, bool cones) {
+  const MethodEntry& e = method_entry(method);
+  return cones ? e.reads_A_on_cones : e.reads_A;
+}
+
+bool needs_symmetric(Method method, bool cones) {
+  const MethodEntry& e = method_entry(method);
+  return cones ? e.symmetric_on_cones : e.symmetric;
+}
+
+bool is_siconos_fc3d(Method method) {
+  const MethodEntry& e = method_entry(method);
+  return e.library == Library::Siconos && e.laws == kCoulombLaw;
+}
+
+bool takes_cones(Method method) { return method_entry(method).laws != 0; }
+
+bool takes_cone_law(Method method, bool coulomb) {
+  return (method_entry(method).laws & (coulomb ? kCoulombLaw : kRelaxationLaw)) != 0;
+}
+
 bool relaxation_in_range(Method method, double omega) {
-  if (method == Method::Jacobi) return omega > 0.0 && omega <= 1.0;
+  if (method_entry(method).damping) return omega > 0.0 && omega <= 1.0;
   return omega > 0.0 && omega < 2.0;
 }
 
 const char* relaxation_range(Method method) {
-  return method == Method::Jacobi ? "(0, 1]" : "(0, 2)";
+  return method_entry(method).damping ? "(0, 1]" : "(0, 2)";
 }
 
 std::string to_string(RowOrder order) {
@@ -111,109 +119,9 @@ std::string to_string(Termination t) {
 
 namespace {
 
-/// Method::Lemke: the dense pivoting method of lemke.hpp on M = A, q = −b (the standard LCP when
-/// cmin = 0 and cmax = +inf, else the boxed one), verified on the problem itself: Direct when
-/// cbps's verdict holds (is_solved, system/unit_free.hpp). A ray termination whose
-/// last point passes that check is a solution, and is reported as one, with the ray named.
-SolverSummary solve_lemke_method(const BoxedProblem& problem,
-                                 VecX& lambda,
-                                 const SolverOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  const long c = problem.rows();
-  if (c > kMaxDenseLemkeRows)
-    throw InputError("lemke: the problem has " + std::to_string(c) +
-                     " rows; the dense Lemke solver takes at most " +
-                     std::to_string(kMaxDenseLemkeRows) + " (use pgs or direct)");
-  const MatX M = MatX(problem.A);
-  const VecX q = -problem.b;
-  const bool standard = (problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all();
-  const LcpResult r = standard
-                          ? solve_lemke(M, q, options.deadline)
-                          : solve_boxed_lemke(M, q, problem.cmin, problem.cmax, options.deadline);
-  lambda = r.z.size() == c ? r.z : VecX::Zero(c);
-  SolverSummary s;
-  s.iterations = r.pivots;
-  s.pivots = r.pivots;
-  s.residual = natural_map_residual(problem, lambda);
-  const UnitFreeResidual unit_free = unit_free_residual(problem, lambda);
-  const bool passes = is_solved(unit_free, lambda);
-  s.message = r.message;
-  if (passes) {
-    s.termination = Termination::Direct;
-    if (!r.solved()) {
-      std::ostringstream msg;
-      msg << "Lemke: solved: its last point has unit-free residual " << unit_free.relative
-          << " <= " << kSolvedTolerance << " (" << s.residual << " N)"
-          << ", although the pivoting ended "
-          << (r.status == LcpResult::Status::NoSolution ? "in a ray termination"
-                                                        : "without a verified basis")
-          << " after " << r.pivots << " pivots";
-      s.message = msg.str();
-    }
-  } else {
-    s.termination = !lambda.allFinite()                         ? Termination::NonFinite
-                    : r.status == LcpResult::Status::NoSolution ? Termination::NoSolution
-                                                                : Termination::NotConverged;
-  }
-  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return s;
-}
-
 /// One method on the whole problem, as it is (no CFM, no islands).
 SolverSummary solve_whole(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
-  switch (options.method) {
-    case Method::Pgs:
-      return solve_pgs(problem, lambda, options);
-    case Method::BlockPgs:
-      return solve_block_pgs(problem, lambda, options);
-    case Method::Sgs:
-      return solve_sgs(problem, lambda, options);
-    case Method::Jacobi:
-      return solve_jacobi(problem, lambda, options);
-    case Method::MatrixFree:
-      return solve_matrix_free(problem, lambda, options);
-    case Method::Direct: {
-      if (problem.cones != nullptr) return solve_cone_direct(problem, lambda, options);
-      // The tolerance read both as N and as a unit-free residual (UnitFreeTarget::both, at λ = 0:
-      // the force scale b alone calls for), the rounding floor still stopping it.
-      SolverOptions aimed = options;
-      aimed.tolerance = unit_free_target(problem).both(options.tolerance, VecX());
-      return solve_direct(problem, lambda, aimed);
-    }
-    case Method::ActiveSet:
-      return solve_active_set(problem, lambda, options);
-    case Method::PgsNesterov:
-      return solve_pgs_nesterov(problem, lambda, options, options.methods.pgs_nesterov);
-    case Method::Apgd:
-      return solve_apgd(problem, lambda, options, options.methods.apgd);
-    case Method::Nncg:
-      return solve_nncg(problem, lambda, options, options.methods.nncg);
-    case Method::PgsSm:
-      return solve_pgs_sm(problem, lambda, options, options.methods.pgs_sm);
-    case Method::Admm:
-      return solve_admm(problem, lambda, options, options.methods.admm);
-    case Method::Rbgs:
-      return solve_rbgs(problem, lambda, options);
-    case Method::Shock:
-      return solve_shock(problem, lambda, options, options.methods.shock);
-    case Method::Lemke:
-      return solve_lemke_method(problem, lambda, options);
-    case Method::Nsgs:
-      return solve_nsgs(problem, lambda, options);
-    case Method::SiconosLemke:
-    case Method::SiconosPgs:
-    case Method::SiconosEnum:
-    case Method::SiconosAvi:
-    case Method::SiconosFc3dNsgs:
-    case Method::SiconosFc3dNsnAc:
-    case Method::SiconosFc3dProx:
-    case Method::SiconosFc3dAdmm:
-    case Method::BulletDantzig:
-    case Method::BulletLemke:
-    case Method::BulletPgs:
-      return solve_peer(problem, lambda, options);
-  }
-  throw std::invalid_argument("solve: unknown method");
+  return method_entry(options.method).solve(problem, lambda, options);
 }
 
 /// An iterative method on each island of A apart, each to its own tolerance.
@@ -258,7 +166,8 @@ SolverSummary with_cfm_applied(
     const BoxedProblem& problem,
     const SolverOptions& options,
     const std::function<SolverSummary(const BoxedProblem&, const SolverOptions&)>& run) {
-  if (options.cfm == 0.0 || options.method == Method::MatrixFree) return run(problem, options);
+  if (options.cfm == 0.0 || method_entry(options.method).sweeps_factors)
+    return run(problem, options);
   // A left out: A + eps E stays J Minv Jᵀ + (cfm + eps) E, through J and Minv.
   const SpMat mixed = problem.A_formed() ? with_cfm(problem.A, options.cfm) : SpMat();
   BoxedProblem regularised = with_matrix(problem, problem.A_formed() ? mixed : problem.A);
@@ -281,7 +190,7 @@ SolverSummary solve_split(const BoxedProblem& problem, VecX& lambda, const Solve
   // The peers are handed the problem whole, as an engine hands it to them.
   // A problem with cones runs whole too (its contacts are numbered in the whole problem's rows).
   if (!options.split_islands || !is_iterative(options.method) || needs_jacobian(options.method) ||
-      is_peer(options.method) || problem.cones != nullptr) {
+      method_entry(options.method).library != Library::Cbps || problem.cones != nullptr) {
     return solve_whole(problem, lambda, options);
   }
   const auto islands = find_islands(problem.A);
@@ -324,7 +233,8 @@ SolverSummary solve(const BoxedProblem& problem, VecX& lambda, const SolverOptio
 namespace {
 
 SolverSummary solve_posed(const BoxedProblem& problem, VecX& lambda, const SolverOptions& options) {
-  if (options.cfm != 0.0 && options.method != Method::MatrixFree) {
+  const MethodEntry& method = method_entry(options.method);
+  if (options.cfm != 0.0 && !method.sweeps_factors) {
     // Every method with an explicit A solves A + eps E; the matrix-free sweep puts eps on its
     // own diagonal.
     return with_cfm_applied(problem, options, [&](const BoxedProblem& p, const SolverOptions& o) {
@@ -355,19 +265,19 @@ SolverSummary solve_posed(const BoxedProblem& problem, VecX& lambda, const Solve
              : std::string("Coulomb's law only; this problem's law is the convex relaxation "
                            "(ccp), which nsgs, direct, apgd, admm and pgs-nesterov solve")) +
         " (docs/cones.md)");
-  if (options.method == Method::MatrixFree && problem.has_factors()) {
+  if (method.sweeps_factors && problem.has_factors()) {
     // The matrix-free sweep solves the problem of J Minv Jᵀ + cfm E and never reads A: it must
     // be A's, or the residual it reports is not A's (issue 28: Minv doubled, "residual
     // tolerance reached" at 1e-10 N while A's residual was 3.6 N).
     const double mismatch = factors_mismatch(problem);
     if (!(mismatch <= kFactorsTolerance))
-      throw InputError(
-          "method 'matrix-free' sweeps J Minv J^T, never A, and they differ: |A x - "
-          "J Minv J^T x| is " +
-          number_text(mismatch) + " of |A| |x| on a test vector (at most " +
-          number_text(kFactorsTolerance) +
-          "); J, Minv and A are not one problem's. Pass matching ones, or solve A "
-          "with a method that reads it (pgs)");
+      throw InputError("method '" + std::string(method.name) +
+                       "' sweeps J Minv J^T, never A, and they differ: |A x - "
+                       "J Minv J^T x| is " +
+                       number_text(mismatch) + " of |A| |x| on a test vector (at most " +
+                       number_text(kFactorsTolerance) +
+                       "); J, Minv and A are not one problem's. Pass matching ones, or solve A "
+                       "with a method that reads it (pgs)");
   }
   // A's columns are its rows only when A is symmetric. The sweeps of 7.1.1 read A column by
   // column (SpMat is column-major), so for any other A they get Aᵀ (rows_of, sweep.hpp), formed

@@ -113,7 +113,7 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
       }
       continue;
     }
-    const bool sorts = spec.method == Method::Pgs || spec.method == Method::MatrixFree;
+    const bool sorts = method_entry(spec.method).contacts_first;
     if (key == "contacts_first") {
       if (!sorts) fail("contacts_first= applies to pgs, psor and matrix-free");
       if (!on_off(value, spec.contacts_first))
@@ -183,9 +183,7 @@ std::string solver_spec_help() {
     std::string line = "  " + std::string(n.name);
     line.resize(std::max<std::size_t>(16, line.size() + 1), ' ');  // a space after a long name
     help += line + std::string(n.what) + (n.order ? "; order=natural|reverse|random" : "") +
-            (n.method == Method::Pgs || n.method == Method::MatrixFree ? "; contacts_first=on|off"
-                                                                       : "") +
-            "\n";
+            (method_entry(n.method).contacts_first ? "; contacts_first=on|off" : "") + "\n";
   }
   return help;
 }

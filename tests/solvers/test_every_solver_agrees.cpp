@@ -1,7 +1,7 @@
 // Every solver agrees with the direct path (after MuJoCo's SolversEquivalent): each method of
-// kMethods solves the same real problems through solve(), and its v2 (unique even where lambda is
-// not, A singular, 6.2) and its natural-map residual are held to bounds derived from the tolerance
-// it was asked to stop at. Every bound is k · ε · scale with the source of k beside it.
+// all_methods() solves the same real problems through solve(), and its v2 (unique even where lambda
+// is not, A singular, 6.2) and its natural-map residual are held to bounds derived from the
+// tolerance it was asked to stop at. Every bound is k · ε · scale with the source of k beside it.
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
@@ -106,7 +107,7 @@ TEST_CASE(
       {"stack", {{"n", "3"}, {"mu", "0.5"}}, 10},
       {"v-corner", {}, 5},
   }));
-  const Method method = GENERATE(from_range(std::begin(kMethods), std::end(kMethods)));
+  const Method method = GENERATE(from_range(all_methods()));
   INFO(problem.name << " after " << problem.steps << " steps, solved by " << to_string(method));
   // The peers are judged by cbps's residual, not required to agree (test_peers.cpp: where one
   // solves, the direct path agrees with it to a bound from both residuals).

@@ -2,13 +2,14 @@
 // after_sweep (called after each iteration with its count and a λ in the box; false stops), the
 // residual and change tolerances, a warm start already within the tolerance taking no
 // iteration, describe, and NaN in b ending NonFinite instead of iterating on. One test for all
-// of kMethods that sweep, so a method added there is held to it at once.
+// of all_methods() that sweep, so a method added there is held to it at once.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <iterator>
 #include <limits>
 #include <vector>
 
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
@@ -26,9 +27,8 @@ namespace {
 /// keep their own contract (test_peers.cpp).
 std::vector<Method> iterative_methods() {
   std::vector<Method> methods;
-  std::copy_if(std::begin(kMethods), std::end(kMethods), std::back_inserter(methods), [](Method m) {
-    return is_iterative(m) && !is_peer(m);
-  });
+  for (const Method m : all_methods())
+    if (is_iterative(m) && !is_peer(m)) methods.push_back(m);
   return methods;
 }
 

@@ -1,7 +1,9 @@
-// The one table of methods: every name the command line, scene files and the Python module
-// accept (`--solver NAME[:OMEGA][:key=value]...`, a scene's "method" and "parameters"), the
-// method each selects, and each method's own parameters with their checks (MethodSettings,
-// method_settings.hpp). solver.hpp's to_string and method_from_string read it too.
+// The one table of methods: each method's entry (its name, what it is, what it takes, the
+// function that solves with it), every name the command line, scene files and the Python module
+// accept (`--solver NAME[:OMEGA][:key=value]...`, a scene's "method" and "parameters"), and each
+// method's own parameters with their checks (MethodSettings, method_settings.hpp). solve()
+// dispatches through it; solver.hpp's to_string, method_from_string and the trait questions
+// (is_iterative, needs_symmetric, takes_cones, ...) read it.
 #pragma once
 
 #include <span>
@@ -14,6 +16,51 @@
 
 namespace cbps {
 
+/// Whose code a method runs: cbps's own, or a peer library's (peers/peers.hpp).
+enum class Library { Cbps, Siconos, Bullet };
+
+/// The cone laws a method takes (system/cone_problem.hpp), as bits of MethodEntry::laws.
+inline constexpr unsigned kRelaxationLaw = 1;  ///< the convex relaxation (ConeLaw::Ccp)
+inline constexpr unsigned kCoulombLaw = 2;     ///< Coulomb's law (ConeLaw::Coulomb)
+
+/// One method: its own name, its traits and its solve function. The traits' meanings are the
+/// questions of solver.hpp that read them.
+struct MethodEntry {
+  Method method;
+  std::string_view name;        ///< its own name (to_string); aliases are apart (method_table)
+  bool omega = false;           ///< takes :OMEGA (relaxation_in_range)
+  bool damping = false;         ///< its OMEGA damps, in (0, 1] (else SOR's range, (0, 2))
+  bool order = false;           ///< takes order=
+  bool contacts_first = false;  ///< takes contacts_first= (SweepOrder, pgs.hpp)
+  bool iterative = true;        ///< runs to a sweep limit (is_iterative)
+  Library library = Library::Cbps;
+  bool needs_jacobian = false;  ///< reads J and Minv (needs_jacobian)
+  /// Sweeps J Minv Jᵀ itself, never A: CFM goes on its own diagonal, and solve() checks that
+  /// J Minv Jᵀ is A.
+  bool sweeps_factors = false;
+  /// Its sweep depends on nothing but lambda and the problem (no momentum, dual or loop of its
+  /// own): the Coulomb box may move the bounds between two sweeps (paper/coulomb.hpp).
+  bool sweeps_alone = false;
+  bool reads_A = true;              ///< reads A's entries on the boxed problem (reads_A)
+  bool reads_A_on_cones = true;     ///< ... on friction cones
+  bool symmetric = false;           ///< needs a symmetric A on the boxed problem (needs_symmetric)
+  bool symmetric_on_cones = false;  ///< ... on friction cones
+  unsigned laws = 0;                ///< the cone laws it takes (takes_cones, takes_cone_law)
+  long max_rows = 0;                ///< the most rows it takes (a dense copy of A), 0: any
+  /// The method on a whole problem as it is (no CFM, no islands: solve() does those).
+  SolverSummary (*solve)(const BoxedProblem& problem,
+                         VecX& lambda,
+                         const SolverOptions& options) = nullptr;
+  std::string_view what;  ///< one line for --help
+};
+
+/// Every method's entry, in the order --help lists them.
+std::span<const MethodEntry> method_entries();
+/// Every method, in that order.
+std::vector<Method> all_methods();
+/// The entry of a method.
+const MethodEntry& method_entry(Method method);
+
 /// A name the grammar accepts: the method it selects, what it takes, and one line for --help.
 /// A method's first name is its own (to_string); a later one is an alias (psor).
 struct MethodName {
@@ -24,7 +71,7 @@ struct MethodName {
   std::string_view what;
 };
 
-/// Every name, in the order --help lists them.
+/// Every name, in the order --help lists them: each method's own, an alias after its method.
 std::span<const MethodName> method_table();
 /// The entry of a name, or null.
 const MethodName* find_method_name(std::string_view name);

@@ -73,35 +73,6 @@ enum class Method {
   BulletPgs          ///< "bullet:pgs": Bullet's projected Gauss-Seidel on the dense A
 };
 
-/// Every method, in the order of the enum.
-inline constexpr Method kMethods[] = {Method::Pgs,
-                                      Method::BlockPgs,
-                                      Method::Sgs,
-                                      Method::Jacobi,
-                                      Method::MatrixFree,
-                                      Method::Direct,
-                                      Method::ActiveSet,
-                                      Method::PgsNesterov,
-                                      Method::Apgd,
-                                      Method::Nncg,
-                                      Method::PgsSm,
-                                      Method::Admm,
-                                      Method::Rbgs,
-                                      Method::Shock,
-                                      Method::Lemke,
-                                      Method::Nsgs,
-                                      Method::SiconosLemke,
-                                      Method::SiconosPgs,
-                                      Method::SiconosEnum,
-                                      Method::SiconosAvi,
-                                      Method::SiconosFc3dNsgs,
-                                      Method::SiconosFc3dNsnAc,
-                                      Method::SiconosFc3dProx,
-                                      Method::SiconosFc3dAdmm,
-                                      Method::BulletDantzig,
-                                      Method::BulletLemke,
-                                      Method::BulletPgs};
-
 std::string_view to_string(Method method);
 /// The method of a name; false (method untouched) for a name that is none.
 bool method_from_string(std::string_view name, Method& method);
@@ -109,23 +80,11 @@ bool method_from_string(std::string_view name, Method& method);
 Method method_of(std::string_view name);
 /// "pgs, block-pgs, sgs, jacobi, matrix-free, direct, active-set", for messages and help.
 std::string method_names();
+// The questions below read each method's entry in the one table (methods.hpp, MethodEntry).
+
 /// True for the methods that sweep (all but the exact paths and the pivoting methods, cbps's and
 /// the peers'): they run to a sweep limit.
-inline bool is_iterative(Method method) {
-  switch (method) {
-    case Method::Direct:
-    case Method::ActiveSet:
-    case Method::Lemke:
-    case Method::SiconosLemke:
-    case Method::SiconosEnum:
-    case Method::SiconosAvi:
-    case Method::BulletDantzig:
-    case Method::BulletLemke:
-      return false;
-    default:
-      return true;
-  }
-}
+bool is_iterative(Method method);
 /// The largest problem Method::Lemke takes: its dense tableau is c × 2c (for 3000 rows 144 MB,
 /// and a boxed problem doubles its rows); a larger one is an InputError.
 inline constexpr long kMaxDenseLemkeRows = 3000;
@@ -133,17 +92,13 @@ inline constexpr long kMaxDenseLemkeRows = 3000;
 /// (7.1.1 on J, Minv) and the shock order (layers from J's body blocks). They need a problem
 /// that carries J (a step's system, a `cbps matrices` folder; not a Siconos file) and run on the
 /// whole of it (an island's problem carries no J).
-inline bool needs_jacobian(Method method) {
-  return method == Method::MatrixFree || method == Method::Shock;
-}
+bool needs_jacobian(Method method);
 
 /// False for the methods that never read A's entries, so that a step solved by them need not
 /// form A (issue 32): matrix-free (J and Minv alone, 7.1.1) and direct on the boxed problem
 /// (body space; small islands get their A(F, F) formed by the path itself). solve() forms A
 /// (formed_A) for every other method when a problem comes without it.
-inline bool reads_A(Method method, bool cones) {
-  return !(method == Method::MatrixFree || (method == Method::Direct && !cones));
-}
+bool reads_A(Method method, bool cones);
 
 /// True for the methods whose derivation needs a symmetric A: they minimise the QP
 /// ½ λᵀAλ − bᵀλ of 6.2 over the box, whose optimality conditions are the boxed LCP only when
@@ -153,18 +108,11 @@ inline bool reads_A(Method method, bool cones) {
 /// (BoxedProblem::A_rows). matrix-free sweeps J Minv Jᵀ, which solve() checks against A.
 /// On friction cones (`cones`) direct takes any A: past the relaxation's interior point, which it
 /// runs on A's symmetric part, its stages solve the law itself on A (cone/cone_direct.hpp).
-inline bool needs_symmetric(Method method, bool cones = false) {
-  if (method == Method::Direct && cones) return false;
-  return method == Method::Direct || method == Method::ActiveSet || method == Method::Apgd ||
-         method == Method::Nncg || method == Method::PgsSm || method == Method::Admm;
-}
+bool needs_symmetric(Method method, bool cones = false);
 
 /// True for Siconos' fc3d solvers (peers/peers.hpp): they take only problems whose every row is
 /// in a contact under Coulomb's law.
-inline bool is_siconos_fc3d(Method method) {
-  return method == Method::SiconosFc3dNsgs || method == Method::SiconosFc3dNsnAc ||
-         method == Method::SiconosFc3dProx || method == Method::SiconosFc3dAdmm;
-}
+bool is_siconos_fc3d(Method method);
 
 /// True for the methods that solve a problem whose contacts live in friction cones
 /// (BoxedProblem::cones, system/cone_problem.hpp) under either law: nsgs and direct
@@ -172,18 +120,10 @@ inline bool is_siconos_fc3d(Method method) {
 /// pgs-nesterov the relaxation only (the QP over the cones they minimise, pgs-nesterov's
 /// momentum resting on nsgs's sweep descending it): takes_cone_law. solve() refuses the others
 /// on such a problem (InputError): they solve the boxed problem of 6.2.
-inline bool takes_cones(Method method) {
-  return method == Method::Nsgs || method == Method::Direct || is_siconos_fc3d(method) ||
-         method == Method::Apgd || method == Method::Admm || method == Method::PgsNesterov;
-}
+bool takes_cones(Method method);
 /// True when a method that takes cones takes them under `coulomb` (Coulomb's law) or the
 /// relaxation (coulomb false).
-inline bool takes_cone_law(Method method, bool coulomb) {
-  if (is_siconos_fc3d(method)) return coulomb;
-  if (method == Method::Apgd || method == Method::Admm || method == Method::PgsNesterov)
-    return !coulomb;
-  return takes_cones(method);
-}
+bool takes_cone_law(Method method, bool coulomb);
 /// The methods takes_cones names, for messages.
 inline constexpr const char* kConeMethodNames =
     "nsgs and direct (and siconos:fc3d-* for Coulomb's law, apgd, admm and pgs-nesterov for the "

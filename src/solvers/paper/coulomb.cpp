@@ -10,6 +10,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/methods.hpp"
 
 namespace cbps {
 
@@ -278,14 +279,12 @@ SolverSummary direct_fixed_point(const BoxedProblem& bounded,
   return total;
 }
 
-/// The methods whose sweep depends on nothing but lambda and the problem (the Gauss-Seidel and
-/// Jacobi sweeps of 7.1.1 and their block and matrix-free forms): bounds moved between two sweeps
+/// The methods whose sweep depends on nothing but lambda and the problem (their entry's
+/// sweeps_alone, methods.hpp: the Gauss-Seidel and Jacobi sweeps of 7.1.1 and their block and
+/// matrix-free forms): bounds moved between two sweeps
 /// of one solve are what a new solve from that lambda would see. The others carry state from
 /// sweep to sweep (momentum, a dual, a peer's own loop) and restart for every move.
-bool sweeps_alone(Method method) {
-  return method == Method::Pgs || method == Method::Sgs || method == Method::Jacobi ||
-         method == Method::BlockPgs || method == Method::MatrixFree;
-}
+bool sweeps_alone(Method method) { return method_entry(method).sweeps_alone; }
 
 /// The iterative methods: the bounds follow lambda before every sweep (bounded, cmin, cmax as
 /// for direct_fixed_point).

@@ -9,6 +9,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/system/cone_problem.hpp"
 #include "cbps/system/unit_free.hpp"
 
@@ -16,17 +17,12 @@ namespace cbps {
 
 namespace {
 
-bool is_siconos(Method m) {
-  return m == Method::SiconosLemke || m == Method::SiconosPgs || m == Method::SiconosEnum ||
-         m == Method::SiconosAvi || is_siconos_fc3d(m);
-}
-bool is_bullet(Method m) {
-  return m == Method::BulletDantzig || m == Method::BulletLemke || m == Method::BulletPgs;
-}
+bool is_siconos(Method m) { return method_entry(m).library == Library::Siconos; }
+bool is_bullet(Method m) { return method_entry(m).library == Library::Bullet; }
 
 }  // namespace
 
-bool is_peer(Method method) { return is_siconos(method) || is_bullet(method); }
+bool is_peer(Method method) { return method_entry(method).library != Library::Cbps; }
 
 bool peer_available(Method method) {
 #ifdef CBPS_HAVE_SICONOS
@@ -64,21 +60,7 @@ std::string to_string(PeerClass c) {
   return "?";
 }
 
-long peer_max_rows(Method method) {
-  switch (method) {
-    case Method::SiconosEnum:
-      return 20;  // 2^c complementarity cases (2^(2c) for a boxed row pair): 10^6 at 20 rows
-    case Method::BulletLemke:
-      return 1000;  // a dense inverse of A and a 2c x 4c tableau (64 MB at 1000 rows)
-    case Method::SiconosFc3dNsgs:
-    case Method::SiconosFc3dNsnAc:
-    case Method::SiconosFc3dProx:
-    case Method::SiconosFc3dAdmm:
-      return 6000;  // a dense W of 288 MB, no tableau: the 1,600-contact pyramid's 4,800 rows
-    default:
-      return 3000;  // a dense A: 72 MB at 3000 rows, as cbps's own dense Lemke (lemke.hpp)
-  }
-}
+long peer_max_rows(Method method) { return method_entry(method).max_rows; }
 
 std::string peer_refusal(Method method, const BoxedProblem& problem) {
   const std::string name(to_string(method));
