@@ -150,9 +150,8 @@ void write_siconos(const std::string& path,
 
 SiconosKind kind_of(const std::string& kind) { return parse_siconos_kind(kind, "kind"); }
 
-}  // namespace
-
-void bind_io(py::module_& m) {
+/// cbps.Problem: a stored boxed problem's matrices and vectors.
+void bind_problem(py::module_& m) {
   py::class_<StoredProblem>(m,
                             "Problem",
                             "A stored boxed problem (6.2): A (csr), b, cmin, cmax; J and Minv "
@@ -195,7 +194,10 @@ void bind_io(py::module_& m) {
         return "<cbps.Problem: " + std::to_string(p.rows()) + " rows" +
                (p.has_bodies() ? ", with J and Minv>" : ">");
       });
+}
 
+/// The readers: a problem folder or file, a Siconos file, Matrix Market files.
+void bind_readers(py::module_& m) {
   // The Siconos kind as text ("auto", "lcp", "relay"), as `cbps lcp --siconos`.
   m.def(
       "read_problem",
@@ -230,6 +232,10 @@ void bind_io(py::module_& m) {
       [](const std::string& path) { return to_numpy(read_matrix_market_vector(path)); },
       py::arg("path"),
       "an n x 1 array Matrix Market file as a 1-D array (inf and -inf allowed)");
+}
+
+/// The writers: Matrix Market files, a problem folder, a Siconos file.
+void bind_writers(py::module_& m) {
   m.def(
       "write_matrix_market",
       [](const std::string& path, const py::object& M, const std::string& comment, bool force) {
@@ -276,6 +282,14 @@ void bind_io(py::module_& m) {
         py::arg("force") = false,
         "writes a dense Siconos .dat file: an LCP (M = A, q = -b) when the bounds are 0 and "
         "inf (or not given), else a relay problem (finite bounds only)");
+}
+
+}  // namespace
+
+void bind_io(py::module_& m) {
+  bind_problem(m);
+  bind_readers(m);
+  bind_writers(m);
   m.def(
       "verify",
       [] {

@@ -72,13 +72,11 @@ py::dict body_dict(const Body& b) {
   return d;
 }
 
-void bind_scenes(py::module_& m) {
-  py::class_<Scene>(m,
-                    "Scene",
-                    "A scene: bodies, constraints, world and solver settings (scene.hpp). Made by "
-                    "cbps.scene(), cbps.load_scene() or cbps.parse_scene(); cbps.Simulation "
-                    "takes a copy.")
-      .def_readwrite("name", &Scene::name)
+namespace {
+
+/// A scene's name, parameters and its time and push settings (dt, duration, beta, push).
+void bind_scene_time(py::class_<Scene>& scene) {
+  scene.def_readwrite("name", &Scene::name)
       .def_property_readonly(
           "parameters",
           [](const Scene& s) {
@@ -125,7 +123,12 @@ void bind_scenes(py::module_& m) {
               throw InputError("push '" + push + "': expected original or improved (8.1)");
             }
           },
-          "the push factor's form: 'original' (5.2.3, 5.3) or 'improved' (8.1)")
+          "the push factor's form: 'original' (5.2.3, 5.3) or 'improved' (8.1)");
+}
+
+/// How a scene's steps advance (integrator, scheme, substeps) and its world (gravity, mu).
+void bind_scene_world(py::class_<Scene>& scene) {
+  scene
       .def_property(
           "integrator",
           [](const Scene& s) {
@@ -178,7 +181,12 @@ void bind_scenes(py::module_& m) {
           },
           "g, m/s^2 (y is up)")
       .def_property_readonly(
-          "mu", [](const Scene& s) { return s.world.mu; }, "friction coefficient (5.4)")
+          "mu", [](const Scene& s) { return s.world.mu; }, "friction coefficient (5.4)");
+}
+
+/// A scene's solver settings.
+void bind_scene_solver(py::class_<Scene>& scene) {
+  scene
       .def_property(
           "solver",
           [](const Scene& s) { return std::string(to_string(s.solver.method)); },
@@ -218,7 +226,12 @@ void bind_scenes(py::module_& m) {
             s.solver.seed =
                 unsigned_from_python(seed, "seed", 0, std::numeric_limits<std::uint64_t>::max());
           },
-          "seed of the random row order (order=random)")
+          "seed of the random row order (order=random)");
+}
+
+/// A scene's bodies, its JSON text and file, its repr.
+void bind_scene_bodies(py::class_<Scene>& scene) {
+  scene
       .def_property_readonly(
           "bodies",
           [](const Scene& s) {
@@ -249,7 +262,10 @@ void bind_scenes(py::module_& m) {
                std::to_string(s.distances.size()) + " distance constraints, dt " +
                number_text(s.world.dt) + " s>";
       });
+}
 
+/// The functions that list, make, read and parse scenes.
+void bind_scene_functions(py::module_& m) {
   m.def(
       "scenes",
       [] {
@@ -297,6 +313,22 @@ void bind_scenes(py::module_& m) {
         py::arg("text"),
         py::arg("source") = "<string>",
         "a scene from JSON text; `source` names it in errors");
+}
+
+}  // namespace
+
+void bind_scenes(py::module_& m) {
+  py::class_<Scene> scene(
+      m,
+      "Scene",
+      "A scene: bodies, constraints, world and solver settings (scene.hpp). Made by "
+      "cbps.scene(), cbps.load_scene() or cbps.parse_scene(); cbps.Simulation "
+      "takes a copy.");
+  bind_scene_time(scene);
+  bind_scene_world(scene);
+  bind_scene_solver(scene);
+  bind_scene_bodies(scene);
+  bind_scene_functions(m);
 }
 
 }  // namespace cbps::python

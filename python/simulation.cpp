@@ -300,15 +300,9 @@ py::dict PySimulation::run(const py::object& duration_in,
   return arrays.dict();
 }
 
-}  // namespace
-
-void bind_simulation(py::module_& m) {
-  py::class_<SystemRecord, std::shared_ptr<SystemRecord>>(
-      m,
-      "System",
-      "One step's system (6.1, 6.2.9): sparse matrices as scipy.sparse.csr_matrix, vectors as "
-      "numpy arrays, all copies. lam and v2 are the step's solution (None for a system from "
-      "Simulation.build_system()).")
+/// cbps.System's matrices and vectors (6.1, 6.2.9).
+void bind_system_matrices(py::class_<SystemRecord, std::shared_ptr<SystemRecord>>& system) {
+  system
       .def_property_readonly(
           "J", [](const SystemRecord& r) { return to_csr(r.sys.J); }, "c x 6n (6.1)")
       .def_property_readonly(
@@ -344,7 +338,12 @@ void bind_simulation(py::module_& m) {
           "cones",
           [](const SystemRecord& r) { return cones_dict(r.sys.cones); },
           "with friction=cone, the contacts in Coulomb's cone: {'law', 'normal_row', 'mu'} "
-          "(their rows' cmin and cmax are not used; docs/cones.md); None otherwise")
+          "(their rows' cmin and cmax are not used; docs/cones.md); None otherwise");
+}
+
+/// cbps.System's solution, row facts and step.
+void bind_system_solution(py::class_<SystemRecord, std::shared_ptr<SystemRecord>>& system) {
+  system
       .def_property_readonly(
           "lam",
           [](const SystemRecord& r) -> py::object {
@@ -399,6 +398,19 @@ void bind_simulation(py::module_& m) {
                count_text(r.sys.blocks(), "movable body", "movable bodies") +
                (r.lambda ? ", solved>" : ", not solved>");
       });
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  py::class_<SystemRecord, std::shared_ptr<SystemRecord>> system(
+      m,
+      "System",
+      "One step's system (6.1, 6.2.9): sparse matrices as scipy.sparse.csr_matrix, vectors as "
+      "numpy arrays, all copies. lam and v2 are the step's solution (None for a system from "
+      "Simulation.build_system()).");
+  bind_system_matrices(system);
+  bind_system_solution(system);
 
   py::class_<PySimulation>(
       m, "Simulation", "A simulation of a scene (a copy of it): step(), run(), system().")

@@ -282,6 +282,51 @@ py::tuple solve_lemke_py(const Inputs& in, bool record) {
   return py::make_tuple(to_numpy(r.z), s);
 }
 
+/// solve()'s numbers, read and checked.
+struct SolveNumbers {
+  int iterations = 0;
+  std::uint64_t seed = 0;
+  long long history_limit = 0;
+  double tolerance = 0.0, delta_tolerance = 0.0, cfm = 0.0;
+};
+
+/// Each number named with its range (InputError, never pybind11's TypeError).
+SolveNumbers read_numbers(const py::object& iterations,
+                          const py::object& seed,
+                          const py::object& history_limit,
+                          const py::object& tolerance,
+                          const py::object& delta_tolerance,
+                          const py::object& cfm) {
+  constexpr long long kMaxInt = std::numeric_limits<int>::max();  // 2**31 - 1
+  SolveNumbers n;
+  n.iterations = static_cast<int>(whole_from_python(iterations, "iterations", 1, kMaxInt));
+  n.seed = unsigned_from_python(seed, "seed", 0, std::numeric_limits<std::uint64_t>::max());
+  n.history_limit = whole_from_python(history_limit, "history_limit", 2, kMaxInt);
+  for (auto [name, in, value] : {std::tuple{"tolerance", &tolerance, &n.tolerance},
+                                 {"delta_tolerance", &delta_tolerance, &n.delta_tolerance},
+                                 {"cfm", &cfm, &n.cfm}}) {
+    *value = real_from_python(*in, name);
+    if (!(*value >= 0.0) || !std::isfinite(*value))
+      throw InputError(std::string(name) + " " + number_text(*value) +
+                       ": must be a finite number >= 0");
+  }
+  return n;
+}
+
+/// The spec as a scene's solver block takes it (its warm factors only matter between steps),
+/// with solve()'s numbers.
+SolverOptions options_of(const SolverSpec& spec, const SolveNumbers& n, bool split_islands) {
+  SolverSettings settings;
+  apply_solver_spec(spec, settings);
+  settings.iterations = n.iterations;
+  settings.tolerance = n.tolerance;
+  settings.delta_tolerance = n.delta_tolerance;
+  settings.cfm = n.cfm;
+  settings.seed = n.seed;
+  settings.split_islands = split_islands;
+  return settings.options();
+}
+
 py::tuple solve_py(const py::object& A,
                    const py::object& b,
                    const py::object& cmin,
@@ -301,22 +346,10 @@ py::tuple solve_py(const py::object& A,
                    const py::object& cones,
                    bool history,
                    const py::object& history_limit_in) {
-  // The numbers first, each named with its range (InputError, never pybind11's TypeError).
-  constexpr long long kMaxInt = std::numeric_limits<int>::max();  // 2**31 - 1
-  const auto iterations =
-      static_cast<int>(whole_from_python(iterations_in, "iterations", 1, kMaxInt));
-  const std::uint64_t seed =
-      unsigned_from_python(seed_in, "seed", 0, std::numeric_limits<std::uint64_t>::max());
-  const auto history_limit = whole_from_python(history_limit_in, "history_limit", 2, kMaxInt);
-  double tolerance = 0.0, delta_tolerance = 0.0, cfm = 0.0;
-  for (auto [name, in, value] : {std::tuple{"tolerance", &tolerance_in, &tolerance},
-                                 {"delta_tolerance", &delta_tolerance_in, &delta_tolerance},
-                                 {"cfm", &cfm_in, &cfm}}) {
-    *value = real_from_python(*in, name);
-    if (!(*value >= 0.0) || !std::isfinite(*value))
-      throw InputError(std::string(name) + " " + number_text(*value) +
-                       ": must be a finite number >= 0");
-  }
+  // The numbers first, then the spec, then the data.
+  const SolveNumbers n = read_numbers(
+      iterations_in, seed_in, history_limit_in, tolerance_in, delta_tolerance_in, cfm_in);
+  const double cfm = n.cfm;
   // The spec first: a bad method is reported before the data are read.
   const bool lemke = method == "lemke";
   const SolverSpec spec = lemke ? SolverSpec{} : parse_solver_spec(method, "method");
@@ -331,16 +364,7 @@ py::tuple solve_py(const py::object& A,
   }
   require_method_inputs(spec, in);
 
-  // The spec as a scene's solver block takes it (its warm factors only matter between steps).
-  SolverSettings settings;
-  apply_solver_spec(spec, settings);
-  settings.iterations = iterations;
-  settings.tolerance = tolerance;
-  settings.delta_tolerance = delta_tolerance;
-  settings.cfm = cfm;
-  settings.seed = seed;
-  settings.split_islands = split_islands;
-  SolverOptions options = settings.options();
+  SolverOptions options = options_of(spec, n, split_islands);
   // The per-sweep history (iterative methods on the whole problem: with split_islands each
   // island sweeps apart, so there is no whole iterate to measure).
   const bool per_sweep =
@@ -349,9 +373,9 @@ py::tuple solve_py(const py::object& A,
   const BoxedProblem problem = in.problem();
   const auto residual = [&](const VecX& l) { return natural_map_residual(problem, l, cfm); };
   History h;
-  h.limit = static_cast<std::size_t>(history_limit);
+  h.limit = static_cast<std::size_t>(n.history_limit);
   if (per_sweep) {
-    const auto expected = static_cast<std::size_t>(iterations) + 2;  // the guess and the sweeps
+    const auto expected = static_cast<std::size_t>(n.iterations) + 2;  // the guess and the sweeps
     const std::size_t capacity = std::min(h.limit + 1, expected);
     h.iteration.reserve(capacity);
     h.residual.reserve(capacity);
@@ -402,6 +426,75 @@ py::tuple solve_py(const py::object& A,
   return py::make_tuple(to_numpy(lambda), s);
 }
 
+/// The methods' names and the --solver grammar.
+void bind_methods(py::module_& m) {
+  m.def(
+      "methods",
+      [] {
+        std::vector<std::string> names;
+        for (const MethodEntry& e : method_entries()) names.emplace_back(e.name);
+        return names;
+      },
+      "the names of every method solve() and Scene.solver take (besides 'lemke' for solve)");
+  m.def(
+      "parse_solver_spec",
+      [](const std::string& text) {
+        const SolverSpec spec = parse_solver_spec(text, "spec");
+        py::dict d;
+        d["text"] = spec.text;
+        d["method"] = std::string(to_string(spec.method));
+        d["relaxation"] = spec.relaxation;
+        d["order"] = to_string(spec.order);
+        d["contacts_first"] = spec.contacts_first;
+        d["warm"] = spec.warm;
+        d["warm_friction"] =
+            spec.warm_friction ? py::object(py::float_(*spec.warm_friction)) : py::none();
+        py::dict parameters;
+        for (const auto& [key, value] : method_parameters(spec.method, spec.methods))
+          parameters[py::str(key)] = value;
+        d["parameters"] = parameters;
+        return d;
+      },
+      py::arg("text"),
+      "a --solver spec parsed as the command line parses it (InputError naming what is wrong)");
+  m.def("solver_spec_help",
+        &solver_spec_help,
+        "every name the --solver grammar accepts, one line each, as `--help` prints it");
+}
+
+/// The threads of the libraries under the exact path.
+void bind_threads(py::module_& m) {
+  // The libraries' threads under the exact path (cbps/solvers/threads.hpp): the command line's
+  // --threads, which the module leaves to the caller (the BLAS is numpy's too when it is the
+  // same library).
+  const auto report = [](const ThreadReport& r) {
+    py::dict d;
+    d["requested"] = r.requested;
+    d["blas"] = r.blas;
+    d["blas_kind"] = r.blas_kind;
+    d["blas_threads"] = r.blas_threads;
+    d["openmp_threads"] = r.openmp_threads;
+    return d;
+  };
+  m.def(
+      "set_threads",
+      [report](int threads) {
+        if (threads < 0) throw InputError("threads " + std::to_string(threads) + ": must be >= 0");
+        return report(set_threads(threads));
+      },
+      py::arg("threads"),
+      "the threads of the BLAS and OpenMP under the exact path (CHOLMOD), as the command line's "
+      "--threads N sets them (1: one thread, CHOLMOD's own parallel loops included; 0: the "
+      "libraries' defaults); for the whole process, numpy's BLAS too when it is the same "
+      "library. Returns what they run with now, as cbps.threads()");
+  m.def(
+      "threads",
+      [report]() { return report(thread_report()); },
+      "what the libraries under the exact path run with: requested, blas (the library's file), "
+      "blas_kind, blas_threads, openmp_threads (1 when OpenMP's regions are inactive, 0 without "
+      "OpenMP), as summary.json's threads");
+}
+
 }  // namespace
 
 void bind_solve(py::module_& m) {
@@ -447,67 +540,8 @@ void bind_solve(py::module_& m) {
       "InputError (iterations and history_limit whole, up to 2**31 - 1; seed whole >= 0; "
       "tolerance, delta_tolerance, cfm finite >= 0). Releases the GIL while solving; Ctrl-C "
       "stops the iterative methods within 0.1 s (KeyboardInterrupt).");
-  m.def(
-      "methods",
-      [] {
-        std::vector<std::string> names;
-        for (const MethodEntry& e : method_entries()) names.emplace_back(e.name);
-        return names;
-      },
-      "the names of every method solve() and Scene.solver take (besides 'lemke' for solve)");
-  m.def(
-      "parse_solver_spec",
-      [](const std::string& text) {
-        const SolverSpec spec = parse_solver_spec(text, "spec");
-        py::dict d;
-        d["text"] = spec.text;
-        d["method"] = std::string(to_string(spec.method));
-        d["relaxation"] = spec.relaxation;
-        d["order"] = to_string(spec.order);
-        d["contacts_first"] = spec.contacts_first;
-        d["warm"] = spec.warm;
-        d["warm_friction"] =
-            spec.warm_friction ? py::object(py::float_(*spec.warm_friction)) : py::none();
-        py::dict parameters;
-        for (const auto& [key, value] : method_parameters(spec.method, spec.methods))
-          parameters[py::str(key)] = value;
-        d["parameters"] = parameters;
-        return d;
-      },
-      py::arg("text"),
-      "a --solver spec parsed as the command line parses it (InputError naming what is wrong)");
-  m.def("solver_spec_help",
-        &solver_spec_help,
-        "every name the --solver grammar accepts, one line each, as `--help` prints it");
-  // The libraries' threads under the exact path (cbps/solvers/threads.hpp): the command line's
-  // --threads, which the module leaves to the caller (the BLAS is numpy's too when it is the
-  // same library).
-  const auto report = [](const ThreadReport& r) {
-    py::dict d;
-    d["requested"] = r.requested;
-    d["blas"] = r.blas;
-    d["blas_kind"] = r.blas_kind;
-    d["blas_threads"] = r.blas_threads;
-    d["openmp_threads"] = r.openmp_threads;
-    return d;
-  };
-  m.def(
-      "set_threads",
-      [report](int threads) {
-        if (threads < 0) throw InputError("threads " + std::to_string(threads) + ": must be >= 0");
-        return report(set_threads(threads));
-      },
-      py::arg("threads"),
-      "the threads of the BLAS and OpenMP under the exact path (CHOLMOD), as the command line's "
-      "--threads N sets them (1: one thread, CHOLMOD's own parallel loops included; 0: the "
-      "libraries' defaults); for the whole process, numpy's BLAS too when it is the same "
-      "library. Returns what they run with now, as cbps.threads()");
-  m.def(
-      "threads",
-      [report]() { return report(thread_report()); },
-      "what the libraries under the exact path run with: requested, blas (the library's file), "
-      "blas_kind, blas_threads, openmp_threads (1 when OpenMP's regions are inactive, 0 without "
-      "OpenMP), as summary.json's threads");
+  bind_methods(m);
+  bind_threads(m);
 }
 
 }  // namespace cbps::python
