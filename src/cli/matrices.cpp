@@ -16,11 +16,10 @@
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
-#include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
 #include "cbps/studies/explain.hpp"
-#include "cbps/system/unit_free.hpp"
+#include "cbps/studies/step_problem.hpp"
 #include "common.hpp"
 
 namespace cbps::cli {
@@ -64,9 +63,8 @@ void write_cones(const MatricesOptions& o,
   write_fclib(o.fclib, problem, info, &lambda, o.global ? FclibForm::Global : FclibForm::Local);
 }
 
-/// --fclib --cone LAW on a scene whose friction is a box: the step's A and b with its contacts
-/// posed in Coulomb's cone of the scene's mu (contacts_in_cones), solved by the exact path on
-/// cones; /solution only when that answer is verified (lcp's verdict, system/unit_free.hpp).
+/// --fclib --cone LAW on a scene whose friction is a box: the step's A and b posed on Coulomb's
+/// cone (pose_on_cones); /solution only where the exact path's answer is verified.
 void write_boxed_as_cones(const MatricesOptions& o,
                           const Scene& scene,
                           const System& sys,
@@ -74,47 +72,33 @@ void write_boxed_as_cones(const MatricesOptions& o,
                           ConeLaw law) {
   const std::string what =
       "--fclib " + o.fclib + ": " + scene.name + ", step " + std::to_string(o.at_step);
-  StoredProblem posed = boxed;
+  PosedOnCones posed;
   try {
-    posed.cones = contacts_in_cones(sys, scene.world.mu, law);
+    posed = pose_on_cones(sys, boxed, scene.world.mu, law);
   } catch (const InputError& e) {
     throw InputError(what + ": " + e.what());
   }
-  if (posed.cones.empty()) throw InputError(what + " has no contacts");
-  for (const int n : posed.cones.normal) {  // the cone replaces the box: the rows' own sets
-    posed.cmin(n) = 0.0;
-    posed.cmax(n) = kInf;
-    for (const int t : {n + 1, n + 2}) {
-      posed.cmin(t) = -kInf;
-      posed.cmax(t) = kInf;
-    }
-  }
-  SolverOptions exact;
-  exact.method = Method::Direct;
-  exact.tolerance = 0.0;
-  VecX lambda = VecX::Zero(posed.rows());
-  const SolverSummary s = solve(posed.problem(), lambda, exact);
-  const UnitFreeResidual unit_free = unit_free_residual(posed.problem(), lambda);
-  const bool verified = is_solved(unit_free, lambda);
+  const SolverSummary& s = posed.direct;
   const FclibInfo info{
       scene.name + ", step " + std::to_string(o.at_step) + ", posed on Coulomb's cone",
       "written by cbps matrices: the step solved the scene's box (friction=" +
           std::string(to_string(scene.world.friction)) +
           "); this file holds the same A and b with each contact in Coulomb's cone, mu = " +
           number_text(scene.world.mu) + ", law " + std::string(to_string(law)) + "; " +
-          (verified ? "/solution by the direct path (" + s.message + ")"
-                    : "no /solution: the direct path did not verify an answer (" + s.message + ")"),
+          (posed.verified
+               ? "/solution by the direct path (" + s.message + ")"
+               : "no /solution: the direct path did not verify an answer (" + s.message + ")"),
       o.global ? kFclibGlobalMathInfo : kFclibMathInfo};
   write_fclib(o.fclib,
-              posed,
+              posed.problem,
               info,
-              verified ? &lambda : nullptr,
+              posed.verified ? &posed.lambda : nullptr,
               o.global ? FclibForm::Global : FclibForm::Local);
-  if (!verified && !o.quiet)
+  if (!posed.verified && !o.quiet)
     std::fprintf(stderr,
                  "cbps matrices: %s: no /solution in the file (unit-free residual %s): %s\n",
                  o.fclib.c_str(),
-                 number_text(unit_free.relative).c_str(),
+                 number_text(posed.unit_free.relative).c_str(),
                  s.message.c_str());
 }
 
@@ -160,28 +144,19 @@ int matrices_command(const MatricesOptions& o) {
   Simulation sim(scene);
   step_to(sim, o.at_step, "matrices", o.quiet);
   const System sys = sim.build_system();
-  // lambda by the exact path (to its rounding floor), with the scene's cfm and, with Coulomb
-  // friction, iterated to the fixed point of the bounds, as the step itself would.
-  SolverSettings exact = scene.solver;
-  exact.method = Method::Direct;
-  exact.tolerance = 0.0;
-  VecX lambda = VecX::Zero(sys.rows());
-  const SolverSummary direct = sim.solve_system(sys, sys.b, lambda, exact);
-  const bool coulomb = sys.coulomb().any();
-  // With Coulomb friction the boxed problem written is the one whose bounds ±mu lambda_n come
-  // from lambda itself: lambda must solve it, by `cbps lcp`'s verdict (a singular resting
-  // contact may leave the direct path a little above its rounding floor, never above that).
-  if (coulomb &&
-      !is_solved(coulomb_unit_free(sys.problem(), sys.coulomb(), lambda, scene.solver.cfm), lambda))
-    throw ComputationError("matrices: " + scene.name + ", step " + std::to_string(o.at_step) +
-                           ": the Coulomb bounds did not reach a fixed point (" + direct.message +
-                           "), so no boxed problem is the step's; nothing written");
-  VecX cmin, cmax;  // the bounds lambda satisfies: Coulomb rows at ±mu lambda_n
-  coulomb_bounds(sys.problem(), sys.coulomb(), lambda, cmin, cmax);
-  // The boxed problem the step solved, written by the one writer of a problem folder.
-  StoredProblem problem = stored_problem(sys, scene.solver.cfm);
-  problem.cmin = cmin;
-  problem.cmax = cmax;
+  // lambda by the exact path, and the boxed problem it solves (with Coulomb friction, at the
+  // fixed point of the bounds), written by the one writer of a problem folder.
+  const std::string what = "matrices: " + scene.name + ", step " + std::to_string(o.at_step);
+  StepProblem step;
+  try {
+    step = solved_step_problem(sim, scene, sys, what);
+  } catch (const ComputationError& e) {
+    throw ComputationError(std::string(e.what()) + "; nothing written");
+  }
+  const StoredProblem& problem = step.problem;
+  const VecX& lambda = step.lambda;
+  const SolverSummary& direct = step.direct;
+  const bool coulomb = step.coulomb;
   ProblemNotes notes;
   if (coulomb)
     notes.bounds = "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)";

@@ -1,0 +1,49 @@
+// The problem a step solved, as `cbps matrices` writes it: the boxed problem with its lambda by
+// the exact path (with Coulomb friction, the bounds ±mu lambda_n at the fixed point the step
+// reaches), and the same A and b posed on Coulomb's cone for a file of the field (FCLIB) when
+// the scene's friction is a box.
+#pragma once
+
+#include <string>
+
+#include "cbps/io/stored_problem.hpp"
+#include "cbps/scene/scene.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/system/system.hpp"
+#include "cbps/system/unit_free.hpp"
+
+namespace cbps {
+
+/// A step's boxed problem and its exact answer.
+struct StepProblem {
+  StoredProblem problem;  ///< A = J Minv Jᵀ, b, the bounds lambda satisfies, the scene's cfm
+  VecX lambda;            ///< by the exact path, to its rounding floor (6.2)
+  SolverSummary direct;   ///< the exact path's summary
+  bool coulomb = false;   ///< rows with Coulomb's bounds ±mu lambda_n (5.4)
+};
+
+/// The problem `sys` (built by `sim` for `scene`) poses, solved by the exact path with the
+/// scene's solver settings (its cfm; with Coulomb friction iterated to the fixed point of the
+/// bounds, as the step itself would). ComputationError, naming `what`, when the Coulomb bounds
+/// reach no fixed point by `cbps lcp`'s verdict: then no boxed problem is the step's.
+StepProblem solved_step_problem(Simulation& sim,
+                                const Scene& scene,
+                                const System& sys,
+                                const std::string& what);
+
+/// A boxed problem with its contacts posed in Coulomb's cone instead of their boxes.
+struct PosedOnCones {
+  StoredProblem problem;  ///< the same A and b; each contact's rows in the cone of mu
+  VecX lambda;            ///< the exact path's answer on cones
+  SolverSummary direct;
+  UnitFreeResidual unit_free;  ///< of lambda (system/unit_free.hpp)
+  bool verified = false;       ///< lambda passes cbps's verdict (is_solved)
+};
+
+/// `boxed` (the step's problem of `sys`) with its contacts in Coulomb's cone of `mu` under
+/// `law` (contacts_in_cones: the cone replaces the box, the rows' own bounds lifted), solved by
+/// the exact path on cones from zero. InputError for a system without contacts.
+PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, double mu, ConeLaw law);
+
+}  // namespace cbps
