@@ -432,7 +432,7 @@ void bind_methods(py::module_& m) {
       "methods",
       [] {
         std::vector<std::string> names;
-        for (const MethodEntry& e : method_entries()) names.emplace_back(e.name);
+        for (const MethodEntry* e : method_entries()) names.emplace_back(e->name);
         return names;
       },
       "the names of every method solve() and Scene.solver take (besides 'lemke' for solve)");

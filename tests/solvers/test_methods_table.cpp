@@ -31,7 +31,8 @@ TEST_CASE("every method has one entry, a name of its own and a solve function",
   CHECK(all_methods().size() == static_cast<std::size_t>(last + 1));
   std::set<int> seen;
   std::set<std::string_view> names;
-  for (const MethodEntry& e : method_entries()) {
+  for (const MethodEntry* entry : method_entries()) {
+    const MethodEntry& e = *entry;
     INFO(e.name);
     CHECK(seen.insert(static_cast<int>(e.method)).second);
     CHECK(names.insert(e.name).second);
@@ -58,9 +59,14 @@ TEST_CASE("the questions of solver.hpp answer what the docs say of each method",
           "[solver][methods]") {
   using S = std::set<std::string>;
   // Not iterative: the exact paths and the pivoting methods, cbps's and the peers'.
-  CHECK(named([](Method m) { return !is_iterative(m); }) ==
-        S{"direct", "active-set", "lemke", "siconos:lemke", "siconos:enum", "siconos:avi",
-          "bullet:dantzig", "bullet:lemke"});
+  CHECK(named([](Method m) { return !is_iterative(m); }) == S{"direct",
+                                                              "active-set",
+                                                              "lemke",
+                                                              "siconos:lemke",
+                                                              "siconos:enum",
+                                                              "siconos:avi",
+                                                              "bullet:dantzig",
+                                                              "bullet:lemke"});
   CHECK(named([](Method m) { return needs_jacobian(m); }) == S{"matrix-free", "shock"});
   CHECK(named([](Method m) { return !reads_A(m, false); }) == S{"matrix-free", "direct"});
   CHECK(named([](Method m) { return !reads_A(m, true); }) == S{"matrix-free"});
@@ -72,8 +78,8 @@ TEST_CASE("the questions of solver.hpp answer what the docs say of each method",
   CHECK(named([](Method m) { return needs_symmetric(m, true); }) == qp_on_cones);
   // docs/cones.md: nsgs and direct under either law, Siconos' fc3d solvers Coulomb's only,
   // apgd, admm and pgs-nesterov the relaxation only.
-  const S fc3d{"siconos:fc3d-nsgs", "siconos:fc3d-nsn-ac", "siconos:fc3d-prox",
-               "siconos:fc3d-admm"};
+  const S fc3d{
+      "siconos:fc3d-nsgs", "siconos:fc3d-nsn-ac", "siconos:fc3d-prox", "siconos:fc3d-admm"};
   CHECK(named([](Method m) { return is_siconos_fc3d(m); }) == fc3d);
   S coulomb = fc3d;
   coulomb.insert({"nsgs", "direct"});

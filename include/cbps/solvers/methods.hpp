@@ -22,6 +22,7 @@ enum class Library { Cbps, Siconos, Bullet };
 /// The cone laws a method takes (system/cone_problem.hpp), as bits of MethodEntry::laws.
 inline constexpr unsigned kRelaxationLaw = 1;  ///< the convex relaxation (ConeLaw::Ccp)
 inline constexpr unsigned kCoulombLaw = 2;     ///< Coulomb's law (ConeLaw::Coulomb)
+inline constexpr unsigned kEitherLaw = kRelaxationLaw | kCoulombLaw;
 
 /// One method: its own name, its traits and its solve function. The traits' meanings are the
 /// questions of solver.hpp that read them.
@@ -54,8 +55,10 @@ struct MethodEntry {
   std::string_view what;  ///< one line for --help
 };
 
-/// Every method's entry, in the order --help lists them.
-std::span<const MethodEntry> method_entries();
+/// Every method's entry, in the order --help lists them. Each is written beside its code (the
+/// file that solves with it defines `const MethodEntry k<Method>Entry`); methods.cpp gathers
+/// them: a new method is its file pair, its entry there, one line in that list and a test.
+std::span<const MethodEntry* const> method_entries();
 /// Every method, in that order.
 std::vector<Method> all_methods();
 /// The entry of a method.

@@ -9,6 +9,7 @@
 
 #include "../sweep.hpp"
 #include "cbps/solvers/exact/cholmod_factor.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
@@ -98,5 +99,28 @@ SolverSummary solve_admm(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+SolverSummary admm_method(const BoxedProblem& p, VecX& lambda, const SolverOptions& o) {
+  return solve_admm(p, lambda, o, o.methods.admm);
+}
+
+}  // namespace
+
+extern const MethodEntry kAdmmEntry;
+constexpr MethodEntry kAdmmEntry{
+    .method = Method::Admm,
+    .name = "admm",
+    .symmetric = true,
+    .symmetric_on_cones = true,
+    .laws = kRelaxationLaw,
+    .solve = admm_method,
+    .what =
+        "ADMM with one factor of A + rho E (Boyd et al. 2011); rho=, alpha=, adapt=on|off, "
+        "rho_min=",
+};
 
 }  // namespace cbps

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
@@ -103,5 +104,28 @@ SolverSummary solve_apgd(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+SolverSummary apgd_method(const BoxedProblem& p, VecX& lambda, const SolverOptions& o) {
+  return solve_apgd(p, lambda, o, o.methods.apgd);
+}
+
+}  // namespace
+
+extern const MethodEntry kApgdEntry;
+constexpr MethodEntry kApgdEntry{
+    .method = Method::Apgd,
+    .name = "apgd",
+    .symmetric = true,
+    .symmetric_on_cones = true,
+    .laws = kRelaxationLaw,
+    .solve = apgd_method,
+    .what =
+        "accelerated projected gradient descent (Mazhar et al. 2015); grow=, shrink=, "
+        "restart=on|off",
+};
 
 }  // namespace cbps

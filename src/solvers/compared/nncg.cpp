@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -53,5 +54,27 @@ SolverSummary solve_nncg(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+SolverSummary nncg_method(const BoxedProblem& p, VecX& lambda, const SolverOptions& o) {
+  return solve_nncg(p, lambda, o, o.methods.nncg);
+}
+
+}  // namespace
+
+extern const MethodEntry kNncgEntry;
+constexpr MethodEntry kNncgEntry{
+    .method = Method::Nncg,
+    .name = "nncg",
+    .symmetric = true,
+    .symmetric_on_cones = true,
+    .solve = nncg_method,
+    .what =
+        "nonsmooth nonlinear conjugate gradient on PGS sweeps (Silcowitz, Niebe & Erleben "
+        "2010); restart_beta=",
+};
 
 }  // namespace cbps

@@ -8,6 +8,7 @@
 
 #include "../sweep.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -112,5 +113,16 @@ SolverSummary solve_block_pgs(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+extern const MethodEntry kBlockPgsEntry;
+constexpr MethodEntry kBlockPgsEntry{
+    .method = Method::BlockPgs,
+    .name = "block-pgs",
+    .sweeps_alone = true,
+    .solve = solve_block_pgs,
+    .what = "PGS with each contact manifold solved whole",
+};
 
 }  // namespace cbps

@@ -11,6 +11,7 @@
 
 #include "../sweep.hpp"
 #include "cbps/solvers/cone/nsgs.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/system/cone_problem.hpp"
 
@@ -82,5 +83,28 @@ SolverSummary solve_pgs_nesterov(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+SolverSummary pgs_nesterov_method(const BoxedProblem& p, VecX& lambda, const SolverOptions& o) {
+  return solve_pgs_nesterov(p, lambda, o, o.methods.pgs_nesterov);
+}
+
+}  // namespace
+
+extern const MethodEntry kPgsNesterovEntry;
+constexpr MethodEntry kPgsNesterovEntry{
+    .method = Method::PgsNesterov,
+    .name = "pgs-nesterov",
+    .omega = true,
+    .order = true,
+    .laws = kRelaxationLaw,
+    .solve = pgs_nesterov_method,
+    .what =
+        "PGS with Nesterov momentum and adaptive restart (O'Donoghue & Candes 2015); "
+        "restart=on|off",
+};
 
 }  // namespace cbps

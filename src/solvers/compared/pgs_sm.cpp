@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -197,5 +198,27 @@ SolverSummary solve_pgs_sm(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+SolverSummary pgs_sm_method(const BoxedProblem& p, VecX& lambda, const SolverOptions& o) {
+  return solve_pgs_sm(p, lambda, o, o.methods.pgs_sm);
+}
+
+}  // namespace
+
+extern const MethodEntry kPgsSmEntry;
+constexpr MethodEntry kPgsSmEntry{
+    .method = Method::PgsSm,
+    .name = "pgs-sm",
+    .symmetric = true,
+    .symmetric_on_cones = true,
+    .solve = pgs_sm_method,
+    .what =
+        "PGS with subspace minimization by CG (Silcowitz, Niebe & Erleben 2010); sweeps=, "
+        "cg=, cg_tolerance=",
+};
 
 }  // namespace cbps

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -53,5 +54,16 @@ SolverSummary solve_rbgs(const BoxedProblem& problem, VecX& lambda, const Solver
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+extern const MethodEntry kRbgsEntry;
+constexpr MethodEntry kRbgsEntry{
+    .method = Method::Rbgs,
+    .name = "rbgs",
+    .omega = true,
+    .solve = solve_rbgs,
+    .what = "red-black (graph-coloured) PGS, the parallel engines' order",
+};
 
 }  // namespace cbps

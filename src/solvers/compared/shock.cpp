@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -142,5 +143,27 @@ SolverSummary solve_shock(const BoxedProblem& problem,
   }
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+SolverSummary shock_method(const BoxedProblem& p, VecX& lambda, const SolverOptions& o) {
+  return solve_shock(p, lambda, o, o.methods.shock);
+}
+
+}  // namespace
+
+extern const MethodEntry kShockEntry;
+constexpr MethodEntry kShockEntry{
+    .method = Method::Shock,
+    .name = "shock",
+    .omega = true,
+    .needs_jacobian = true,
+    .solve = shock_method,
+    .what =
+        "PGS level by level from the ground up (Guendelman, Bridson & Fedkiw 2003); "
+        "level_sweeps=, direction=up|down",
+};
 
 }  // namespace cbps

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -127,5 +128,18 @@ SolverSummary solve_nsgs(const BoxedProblem& problem, VecX& lambda, const Solver
   const int local = std::max(1, options.methods.nsgs.local);
   return detail::iterate_sweeps(problem, lambda, options, [&](VecX& l) { return sweep(l, local); });
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+extern const MethodEntry kNsgsEntry;
+constexpr MethodEntry kNsgsEntry{
+    .method = Method::Nsgs,
+    .name = "nsgs",
+    .laws = kEitherLaw,
+    .solve = solve_nsgs,
+    .what =
+        "non-smooth Gauss-Seidel: 7.1.1 with each contact's rows projected onto its friction "
+        "cone (Jean & Moreau 1992); local=; PGS where no row is in a cone",
+};
 
 }  // namespace cbps

@@ -15,6 +15,7 @@
 #include "cbps/solvers/exact/cholmod_factor.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/islands.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 #include "newton_system.hpp"
 
@@ -489,5 +490,18 @@ SolverSummary finish_active_set(const BoxedProblem& problem,
   s.termination = island.solve(lambda) ? Termination::Direct : Termination::NotConverged;
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+extern const MethodEntry kActiveSetEntry;
+constexpr MethodEntry kActiveSetEntry{
+    .method = Method::ActiveSet,
+    .name = "active-set",
+    .iterative = false,
+    .symmetric = true,
+    .symmetric_on_cones = true,
+    .solve = solve_active_set,
+    .what = "the previous exact path, for comparison",
+};
 
 }  // namespace cbps

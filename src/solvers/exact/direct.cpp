@@ -12,9 +12,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cbps/solvers/cone/cone_direct.hpp"
 #include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/exact/interior_point.hpp"
 #include "cbps/solvers/islands.hpp"
+#include "cbps/solvers/methods.hpp"
+#include "cbps/system/unit_free.hpp"
 #include "newton_system.hpp"
 
 namespace cbps {
@@ -316,5 +319,36 @@ SolverSummary solve_direct(const BoxedProblem& problem,
     return solve_direct_coupled(rest, lambda_R, options);
   });
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+/// "direct": on friction cones their second-order-cone form (cone/cone_direct.hpp); on the boxed
+/// problem the exact path (exact/direct.hpp) aiming at the tolerance read both as N and as a
+/// unit-free residual (UnitFreeTarget::both, at λ = 0: the force scale b alone calls for), the
+/// rounding floor still stopping it.
+SolverSummary direct_method(const BoxedProblem& problem,
+                            VecX& lambda,
+                            const SolverOptions& options) {
+  if (problem.cones != nullptr) return solve_cone_direct(problem, lambda, options);
+  SolverOptions aimed = options;
+  aimed.tolerance = unit_free_target(problem).both(options.tolerance, VecX());
+  return solve_direct(problem, lambda, aimed);
+}
+
+}  // namespace
+
+extern const MethodEntry kDirectEntry;
+constexpr MethodEntry kDirectEntry{
+    .method = Method::Direct,
+    .name = "direct",
+    .iterative = false,
+    .reads_A = false,
+    .symmetric = true,
+    .laws = kEitherLaw,
+    .solve = direct_method,
+    .what = "the exact path: interior point, then active set",
+};
 
 }  // namespace cbps

@@ -28,12 +28,16 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include "cbps/base/error.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/system/boxed_problem.hpp"
+#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
@@ -362,5 +366,69 @@ std::string to_string(LcpResult::Status s) {
   }
   return "unknown";
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+namespace {
+
+/// "lemke": the dense pivoting method of lemke.hpp on M = A, q = −b (the standard LCP when
+/// cmin = 0 and cmax = +inf, else the boxed one), verified on the problem itself: Direct when
+/// cbps's verdict holds (is_solved, system/unit_free.hpp). A ray termination whose
+/// last point passes that check is a solution, and is reported as one, with the ray named.
+SolverSummary lemke_method(const BoxedProblem& problem,
+                           VecX& lambda,
+                           const SolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const long c = problem.rows();
+  if (c > kMaxDenseLemkeRows)
+    throw InputError("lemke: the problem has " + std::to_string(c) +
+                     " rows; the dense Lemke solver takes at most " +
+                     std::to_string(kMaxDenseLemkeRows) + " (use pgs or direct)");
+  const MatX M = MatX(problem.A);
+  const VecX q = -problem.b;
+  const bool standard = (problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all();
+  const LcpResult r = standard
+                          ? solve_lemke(M, q, options.deadline)
+                          : solve_boxed_lemke(M, q, problem.cmin, problem.cmax, options.deadline);
+  lambda = r.z.size() == c ? r.z : VecX::Zero(c);
+  SolverSummary s;
+  s.iterations = r.pivots;
+  s.pivots = r.pivots;
+  s.residual = natural_map_residual(problem, lambda);
+  const UnitFreeResidual unit_free = unit_free_residual(problem, lambda);
+  const bool passes = is_solved(unit_free, lambda);
+  s.message = r.message;
+  if (passes) {
+    s.termination = Termination::Direct;
+    if (!r.solved()) {
+      std::ostringstream msg;
+      msg << "Lemke: solved: its last point has unit-free residual " << unit_free.relative
+          << " <= " << kSolvedTolerance << " (" << s.residual << " N)"
+          << ", although the pivoting ended "
+          << (r.status == LcpResult::Status::NoSolution ? "in a ray termination"
+                                                        : "without a verified basis")
+          << " after " << r.pivots << " pivots";
+      s.message = msg.str();
+    }
+  } else {
+    s.termination = !lambda.allFinite()                         ? Termination::NonFinite
+                    : r.status == LcpResult::Status::NoSolution ? Termination::NoSolution
+                                                                : Termination::NotConverged;
+  }
+  s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
+
+}  // namespace
+
+extern const MethodEntry kLemkeEntry;
+constexpr MethodEntry kLemkeEntry{
+    .method = Method::Lemke,
+    .name = "lemke",
+    .iterative = false,
+    .max_rows = kMaxDenseLemkeRows,
+    .solve = lemke_method,
+    .what = "Lemke's complementary pivoting on the dense A: any square A, at most 3000 rows",
+};
 
 }  // namespace cbps

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 
 namespace cbps {
 
@@ -136,5 +137,39 @@ SolverSummary solve_jacobi(const BoxedProblem& problem,
     return jacobi_sweep(problem, l, options.relaxation, scratch);
   });
 }
+
+// This file's entries in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+extern const MethodEntry kPgsEntry;
+constexpr MethodEntry kPgsEntry{
+    .method = Method::Pgs,
+    .name = "pgs",
+    .order = true,
+    .contacts_first = true,
+    .sweeps_alone = true,
+    .solve = solve_pgs,
+    .what = "projected Gauss-Seidel, the paper's 7.1.1",
+};
+
+extern const MethodEntry kSgsEntry;
+constexpr MethodEntry kSgsEntry{
+    .method = Method::Sgs,
+    .name = "sgs",
+    .omega = true,
+    .sweeps_alone = true,
+    .solve = solve_sgs,
+    .what = "symmetric Gauss-Seidel, a forward and a backward sweep",
+};
+
+extern const MethodEntry kJacobiEntry;
+constexpr MethodEntry kJacobiEntry{
+    .method = Method::Jacobi,
+    .name = "jacobi",
+    .omega = true,
+    .damping = true,
+    .sweeps_alone = true,
+    .solve = solve_jacobi,
+    .what = "projected Jacobi; jacobi:OMEGA damps it, (0, 1]",
+};
 
 }  // namespace cbps

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "../sweep.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
 namespace cbps {
@@ -75,5 +76,22 @@ SolverSummary solve_matrix_free(const BoxedProblem& problem,
   if (options.describe) s.message.insert(0, "matrix-free: ");
   return s;
 }
+
+// This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
+
+extern const MethodEntry kMatrixFreeEntry;
+constexpr MethodEntry kMatrixFreeEntry{
+    .method = Method::MatrixFree,
+    .name = "matrix-free",
+    .order = true,
+    .contacts_first = true,
+    .needs_jacobian = true,
+    .sweeps_factors = true,
+    .sweeps_alone = true,
+    .reads_A = false,
+    .reads_A_on_cones = false,
+    .solve = solve_matrix_free,
+    .what = "7.1.1 on J and Minv, without A",
+};
 
 }  // namespace cbps
