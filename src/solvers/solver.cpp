@@ -10,7 +10,6 @@
 #include "cbps/base/error.hpp"
 #include "cbps/solvers/islands.hpp"
 #include "cbps/solvers/methods.hpp"
-#include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 

@@ -57,7 +57,8 @@ struct MethodEntry {
 
 /// Every method's entry, in the order --help lists them. Each is written beside its code (the
 /// file that solves with it defines `const MethodEntry k<Method>Entry`); methods.cpp gathers
-/// them: a new method is its file pair, its entry there, one line in that list and a test.
+/// them: a new method is its file pair with its entry, its enumerator (solver.hpp), its two
+/// lines in that list and a test.
 std::span<const MethodEntry* const> method_entries();
 /// Every method, in that order.
 std::vector<Method> all_methods();
