@@ -76,7 +76,7 @@ VecX unit_free_steps(const BoxedProblem& problem, double cfm = 0.0);
 /// (‖F_ρ‖ ≤ max(1, ρ) ‖F_1‖), a residual of at most
 ///   relative · max(‖λ‖∞, max_k ρ_k |b_k|) / max(1, max_k ρ_k)   (N)
 /// has a unit-free residual of at most `relative`.
-/// The direct path reads its tolerance τ both ways (solvers/solver.cpp, cone/cone_direct.cpp):
+/// The direct path reads its tolerance τ both ways (exact/direct.cpp, cone/cone_direct.cpp):
 /// it stops at min(τ, newtons(τ, λ)), where the natural map is at most τ N and the unit-free
 /// residual at most τ (down to its rounding floor), so that on problems of small forces its
 /// answer passes the verdict as well (Siconos' spheres-in-a-box: forces near 1e-8 N).
