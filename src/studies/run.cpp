@@ -173,7 +173,7 @@ void CrossCheck::start(Simulation& sim) {
   });
 }
 
-nlohmann::json CrossCheck::json() const {
+nlohmann::json CrossCheck::json(bool timing) const {
   nlohmann::json j = {{"max_velocity_difference", number_json(max_velocity_difference)},
                       {"max_pgs_residual", number_json(max_residual)},
                       {"max_direct_residual", number_json(max_direct_residual)},
@@ -182,8 +182,8 @@ nlohmann::json CrossCheck::json() const {
                       {"direct_unverified", direct_unverified},
                       {"steps_checked", steps_checked},
                       {"direct_routes", routes},
-                      {"direct_time_s", number_json(direct_time_s)},
                       {"direct_pivots", direct_pivots}};
+  if (timing) j["direct_time_s"] = number_json(direct_time_s);
   if (tolerance_ >= 0.0) {
     j["tolerance"] = tolerance_;
     j["steps_beyond_tolerance"] = steps_beyond;

@@ -95,3 +95,16 @@ TEST_CASE("contact scenes pass the --check cross-check against the direct path (
   }));
   check_cross_check(run, run.args == "bounce" ? 240 : 60);
 }
+
+TEST_CASE("--no-timing leaves the cross-check's time out, as every other wall time",
+          "[cli][check]") {
+  // scripts/compare_runs.sh compares summary.json byte for byte under --no-timing: a time left in
+  // it made two runs of the same physics differ.
+  const test::CliResult r = test::run_cli("run chain --check --no-timing --json --quiet --steps 5");
+  REQUIRE(r.code == 0);
+  const nlohmann::json summary = nlohmann::json::parse(r.out);
+  CHECK_FALSE(summary.contains("wall_time_s"));
+  const nlohmann::json& cross = summary.at("cross_check");
+  CHECK(cross.at("steps_checked").get<long>() == 5);
+  CHECK_FALSE(cross.contains("direct_time_s"));
+}

@@ -98,8 +98,9 @@ class CrossCheck : public StepObserver {
   long direct_pivots = 0;              ///< their crossover pivots, all steps
 
   double tolerance() const { return tolerance_; }
-  /// summary.json's "cross_check" (docs/outputs.md).
-  nlohmann::json json() const;
+  /// summary.json's "cross_check" (docs/outputs.md); its direct_time_s only with `timing` (a
+  /// wall time).
+  nlohmann::json json(bool timing) const;
 
  private:
   double tolerance_;
