@@ -96,7 +96,7 @@ TEST_CASE("contact scenes pass the --check cross-check against the direct path (
   check_cross_check(run, run.args == "bounce" ? 240 : 60);
 }
 
-TEST_CASE("--no-timing leaves the cross-check's time out, as every other wall time",
+TEST_CASE("a --check run under --no-timing leaves the check's time out, as every wall time",
           "[cli][check]") {
   // scripts/compare_runs.sh compares summary.json byte for byte under --no-timing: a time left in
   // it made two runs of the same physics differ.
