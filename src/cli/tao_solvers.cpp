@@ -5,8 +5,6 @@
 
 namespace cbps::cli {
 
-bool is_tao_solver(const std::string& text) { return text == "tao" || text.rfind("tao:", 0) == 0; }
-
 std::string without_petsc_message(const std::string& option_and_spec) {
   return option_and_spec +
          ": this cbps was built without PETSc; install PETSc (Debian: petsc-dev, or "

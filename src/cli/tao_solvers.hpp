@@ -13,8 +13,7 @@
 
 namespace cbps::cli {
 
-/// "tao:TYPE" (or "tao", "tao:...") asks for PETSc/TAO.
-bool is_tao_solver(const std::string& text);
+using distributed::is_tao_solver;
 
 /// The message of a build without PETSc for `OPTION SPEC` (e.g. "--solver tao:tron"), the same
 /// for `cbps lcp --solver` and the --solvers lists: how to get PETSc.

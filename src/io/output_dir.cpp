@@ -135,6 +135,14 @@ void set_command_line(int argc, char** argv) {
   }
 }
 
+void check_out_is_not_input(const std::string& out,
+                            const std::string& input,
+                            const std::string& option) {
+  std::error_code ec;
+  if (!out.empty() && !input.empty() && fs::exists(out, ec) && fs::equivalent(out, input, ec))
+    throw InputError(option + " " + out + ": is the problem itself; choose another folder");
+}
+
 std::vector<std::string> read_manifest(const std::string& folder) {
   const fs::path path = fs::path(folder) / kManifestName;
   std::error_code ec;

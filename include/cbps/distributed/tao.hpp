@@ -41,6 +41,10 @@ inline bool is_tao_type(std::string_view type) {
     if (type == t) return true;
   return false;
 }
+/// "tao:TYPE" (or "tao", "tao:...") asks for PETSc/TAO.
+inline bool is_tao_solver(std::string_view text) {
+  return text == "tao" || text.substr(0, 4) == "tao:";
+}
 /// kTaoTypes as "bqpip, gpcg, ..., bntr" for messages and --help.
 inline std::string tao_type_list() {
   std::string list;

@@ -43,6 +43,12 @@ class OutputDir {
 /// a cbps manifest; empty when the folder has none.
 std::vector<std::string> read_manifest(const std::string& folder);
 
+/// InputError when `out` (given as `option`) exists and is `input` itself (an output folder must
+/// not be the problem it was read from); nothing when either is empty.
+void check_out_is_not_input(const std::string& out,
+                            const std::string& input,
+                            const std::string& option);
+
 /// Records the command line for the manifests (main calls this first).
 void set_command_line(int argc, char** argv);
 
