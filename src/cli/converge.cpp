@@ -78,63 +78,6 @@ ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
   return convergence_system(o.scene.scene, o.at_step, sys, scene.solver.cfm, sim.last_lambda(sys));
 }
 
-/// tao:TYPE from lambda = 0 (TAO has no warm start here): every TAO iteration as a sweep, by
-/// the monitor of solve_tao, which also gives the natural-map residual on PETSc's vectors; the
-/// same stops as run_iterative (tolerance by solve_tao's own test, time limit and non-finite
-/// values by the monitor).
-ConvergenceRun run_tao(const ConvergenceSystem& s,
-                       const SolverSpec& spec,
-                       const ConvergeOptions& o,
-                       const TaoInProcess& tao) {
-  ConvergenceRun run;
-  run.spec = spec;
-  run.samples.push_back(measure(s, VecX::Zero(s.stored.rows()), 0, 0.0));
-  run.reach(0, 0.0, run.samples.back().residual);
-  VecX last_lambda;  // the last iteration's, when it was not recorded
-  int last_k = 0;
-  double last_time = 0.0, last_residual = run.samples.back().residual;
-  const distributed::TaoMonitor monitor = [&](const distributed::TaoIterate& at, const VecX& l) {
-    if (at.iteration <= last_k) return true;  // TAO's start (the guess row) or a repeat
-    run.reach(at.iteration, at.time_s, at.residual);
-    if (!std::isfinite(at.residual)) run.stopped = "non-finite values";
-    if (run.stopped.empty() && at.time_s >= o.time_limit) run.stopped = "time limit";
-    const bool record = recorded_sweep(at.iteration, o.record_every) || !run.stopped.empty() ||
-                        at.iteration >= o.iterations || at.residual <= o.tolerance;
-    if (record) {
-      ConvergenceSample m = measure(s, l, at.iteration, at.time_s);
-      m.residual = at.residual;  // the one TAO's stopping test saw
-      run.samples.push_back(m);
-    } else {
-      last_lambda = l;
-    }
-    last_k = at.iteration;
-    last_time = at.time_s;
-    last_residual = at.residual;
-    if (!o.quiet && at.iteration % 1000 == 0)
-      std::fprintf(stderr,
-                   "converge: %s: %d iterations, %.2f s, residual %.3g N\n",
-                   spec.text.c_str(),
-                   at.iteration,
-                   at.time_s,
-                   at.residual);
-    return run.stopped.empty();
-  };
-  // TAO is handed the matrix itself: A + eps E, the problem studied.
-  const SpMat A_solved = with_cfm(s.stored.A, s.stored.cfm);
-  const BoxedProblem solved{A_solved, s.stored.b, s.stored.cmin, s.stored.cmax};
-  const TaoRun r = tao.solve(solved, spec.tao, o.iterations, o.tolerance, monitor);
-  if (run.stopped.empty())
-    run.stopped = r.residual <= o.tolerance       ? "residual tolerance"
-                  : r.reason == "DIVERGED_MAXITS" ? "iteration limit"
-                                                  : "TAO " + r.reason;
-  if (run.samples.back().iteration != last_k) {  // TAO stopped on its own
-    ConvergenceSample m = measure(s, last_lambda, last_k, last_time);
-    m.residual = last_residual;
-    run.samples.push_back(m);
-  }
-  return run;
-}
-
 /// Runs the plot script on the CSV; true if it wrote its files.
 bool plot(const std::string& csv, const std::string& prefix, const std::string& title) {
   return run_python_script("scripts/plot_convergence.py", {csv, prefix, "--title", title});
@@ -244,10 +187,7 @@ int converge_command(const ConvergeOptions& o) {
   const ConvergenceLimits limits = limits_of(o);
   std::vector<ConvergenceRun> runs;
   for (const SolverSpec& spec : specs) {
-    runs.push_back(!spec.tao.empty()            ? run_tao(s, spec, o, tao)
-                   : is_peer(spec.method)       ? run_peer(s, spec, limits)
-                   : !is_iterative(spec.method) ? run_exact(s, spec, limits)
-                                                : run_iterative(s, spec, limits));
+    runs.push_back(run_spec(s, spec, limits, tao.converge()));
     if (!o.quiet) {
       const ConvergenceSample& last = runs.back().samples.back();
       std::fprintf(stderr,

@@ -34,41 +34,6 @@ struct ProfileOptions {
   bool plot = true;
 };
 
-/// tao:TYPE from lambda = 0: each TAO iteration as a sweep (the monitor of solve_tao, with the
-/// natural-map residual on PETSc's vectors), at most the budget's iterations, stopped by the
-/// monitor at the time limit or once the unit-free residual reaches 1e-10.
-ProfileMeasurement run_tao(const ProfileProblem& p,
-                           const SolverSpec& spec,
-                           const ProfileLimits& o,
-                           const TaoInProcess& tao) {
-  ProfileMeasurement m;
-  m.reach(0, 0.0, p.relative(VecX::Zero(p.stored.rows())));
-  // One process: the monitor's lambda is the whole answer.
-  const distributed::TaoMonitor monitor = [&](const distributed::TaoIterate& at,
-                                              const VecX& lambda) {
-    if (at.iteration == 0) return true;  // TAO's start
-    const double relative = p.relative(lambda);
-    m.reach(at.iteration, at.time_s, relative);
-    m.iterations = at.iteration;
-    m.time_s = at.time_s;
-    if (!std::isfinite(relative)) m.status = "non-finite";
-    if (m.reached[kProfileTolerancesCount - 1].iterations >= 0) m.status = "solved";
-    if (m.status.empty() && at.time_s >= o.time_limit) m.status = "time limit";
-    return m.status.empty();
-  };
-  // TAO is handed the matrix itself: A + eps E, the problem studied.
-  const SpMat A_solved = with_cfm(p.stored.A, p.stored.cfm);
-  const TaoRun r = tao.solve(BoxedProblem{A_solved, p.stored.b, p.stored.cmin, p.stored.cmax},
-                             spec.tao,
-                             o.budget_iterations,
-                             0.0,  // the monitor stops it: the unit-free residual is not TAO's
-                             monitor);
-  if (m.status.empty())
-    m.status = r.reason == "DIVERGED_MAXITS" ? "iteration budget" : "TAO " + r.reason;
-  finish_measurement(m, p, r.lambda);
-  return m;
-}
-
 int profile_command(const ProfileOptions& o) {
   const auto started = Clock::now();
   const ProfileLimits limits{o.budget_iterations, o.time_limit};
@@ -86,12 +51,8 @@ int profile_command(const ProfileOptions& o) {
   for (std::size_t p = 0; p < problems.size(); ++p) {
     runs.emplace_back();
     for (const SolverSpec& spec : specs) {
-      runs.back().push_back(best_of_runs([&] {
-        return !spec.tao.empty()           ? run_tao(problems[p], spec, limits, tao)
-               : is_peer(spec.method)      ? profile_peer(problems[p], spec, limits)
-               : is_iterative(spec.method) ? profile_iterative(problems[p], spec, limits)
-                                           : profile_exact(problems[p], spec, limits);
-      }));
+      runs.back().push_back(
+          best_of_runs([&] { return profile_spec(problems[p], spec, limits, tao.profile()); }));
       const ProfileMeasurement& m = runs.back().back();
       if (!o.quiet)
         std::fprintf(stderr,

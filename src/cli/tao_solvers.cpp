@@ -1,6 +1,10 @@
 // `tao:TYPE` in `cbps converge --solvers` and `cbps profile --solvers` (tao_solvers.hpp).
 #include "tao_solvers.hpp"
 
+#ifdef CBPS_HAVE_PETSC
+#include "cbps/distributed/tao_studies.hpp"
+#endif
+
 #include "cbps/base/error.hpp"
 
 namespace cbps::cli {
@@ -81,25 +85,18 @@ TaoInProcess::TaoInProcess(const std::vector<SolverSpec>& specs, const std::stri
                      std::to_string(session_->mpi.size()) + " ranks)");
 }
 
-TaoRun TaoInProcess::solve(const BoxedProblem& problem,
-                           const std::string& type,
-                           int max_iterations,
-                           double tolerance,
-                           const distributed::TaoMonitor& monitor) const {
-  if (!session_) throw std::logic_error("TaoInProcess::solve: no tao spec was given");
-  distributed::TaoOptions options;
-  options.type = type;
-  options.max_iterations = max_iterations;
-  options.tolerance = tolerance;
-  options.monitor = monitor;
-  const distributed::TaoResult t = distributed::solve_tao(session_->mpi, problem, options);
-  TaoRun r;
-  r.lambda = t.lambda;
-  r.iterations = t.iterations;
-  r.reason = t.reason;
-  r.residual = t.residual;
-  r.monitor_stopped = t.reason == "DIVERGED_USER";
-  return r;
+ConvergenceTao TaoInProcess::converge() const {
+  if (!session_) return {};
+  return [this](const ConvergenceSystem& s, const SolverSpec& spec, const ConvergenceLimits& l) {
+    return distributed::converge_tao(session_->mpi, s, spec, l);
+  };
+}
+
+ProfileTao TaoInProcess::profile() const {
+  if (!session_) return {};
+  return [this](const ProfileProblem& p, const SolverSpec& spec, const ProfileLimits& l) {
+    return distributed::profile_tao(session_->mpi, p, spec, l);
+  };
 }
 
 #else
@@ -108,13 +105,9 @@ struct TaoInProcess::Session {};
 
 TaoInProcess::TaoInProcess(const std::vector<SolverSpec>&, const std::string&) {}
 
-TaoRun TaoInProcess::solve(const BoxedProblem&,
-                           const std::string& type,
-                           int,
-                           double,
-                           const distributed::TaoMonitor&) const {
-  throw InputError(without_petsc_message("tao:" + type));
-}
+ConvergenceTao TaoInProcess::converge() const { return {}; }
+
+ProfileTao TaoInProcess::profile() const { return {}; }
 
 #endif
 

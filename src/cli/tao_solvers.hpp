@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "cbps/distributed/tao.hpp"
+#include "cbps/studies/convergence.hpp"
+#include "cbps/studies/profile.hpp"
 #include "cbps/studies/solver_spec.hpp"
 
 namespace cbps::cli {
@@ -37,15 +39,6 @@ std::vector<SolverSpec> parse_cli_solver_list(const std::string& text, const std
 /// the build has none.
 std::string tao_spec_help();
 
-/// What one TAO solve in this process returned.
-struct TaoRun {
-  VecX lambda;                   ///< c, N
-  int iterations = 0;            ///< TAO's iterations
-  std::string reason;            ///< TAO's converged reason, e.g. "CONVERGED_USER"
-  double residual = 0.0;         ///< natural-map residual at the end, N (on PETSc's vectors)
-  bool monitor_stopped = false;  ///< the monitor's false ended it (TAO_DIVERGED_USER)
-};
-
 /// PETSc and MPI for a whole command (converge, profile), made once before its first TAO solve:
 /// PetscInitialize when made, PetscFinalize when destroyed, however many solves run between. In
 /// a build without PETSc, or for a list without tao specs, it starts nothing.
@@ -59,14 +52,10 @@ class TaoInProcess {
   TaoInProcess(const TaoInProcess&) = delete;
   TaoInProcess& operator=(const TaoInProcess&) = delete;
 
-  /// solve_tao (distributed/tao.hpp) of `problem` (A symmetric, with its cfm already in it) by
-  /// TAO's `type` from lambda = 0, at most `max_iterations`, stopping at natural-map residual
-  /// `tolerance` (N); `monitor` sees every iteration with the whole lambda.
-  TaoRun solve(const BoxedProblem& problem,
-               const std::string& type,
-               int max_iterations,
-               double tolerance,
-               const distributed::TaoMonitor& monitor) const;
+  /// How run_spec and profile_spec run a tao:TYPE spec here (distributed/tao_studies.hpp);
+  /// empty without PETSc or a tao spec (parse_cli_solver_list refused any then).
+  ConvergenceTao converge() const;
+  ProfileTao profile() const;
 
  private:
   struct Session;

@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/direct.hpp"
+#include "cbps/solvers/peers/peers.hpp"
 #include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
@@ -197,6 +199,19 @@ ConvergenceRun run_peer(const ConvergenceSystem& s,
   run.peer_status = d.peer_status;
   run.convert_time_s = d.convert_time_s;
   return run;
+}
+
+ConvergenceRun run_spec(const ConvergenceSystem& s,
+                        const SolverSpec& spec,
+                        const ConvergenceLimits& limits,
+                        const ConvergenceTao& tao) {
+  if (!spec.tao.empty()) {
+    if (!tao) throw std::logic_error("run_spec: " + spec.text + " given, but no TAO runner");
+    return tao(s, spec, limits);
+  }
+  return is_peer(spec.method)         ? run_peer(s, spec, limits)
+         : !is_iterative(spec.method) ? run_exact(s, spec, limits)
+                                      : run_iterative(s, spec, limits);
 }
 
 std::string solved_by_guess_warning(const ConvergenceSystem& s,

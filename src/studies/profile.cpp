@@ -8,6 +8,7 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/json_numbers.hpp"
@@ -301,6 +302,19 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
              : summary.peer_said_ok ? "peer said ok; unit-free residual " + number_text(m.residual)
                                     : "peer said failed: " + summary.peer_status;
   return m;
+}
+
+ProfileMeasurement profile_spec(const ProfileProblem& p,
+                                const SolverSpec& spec,
+                                const ProfileLimits& limits,
+                                const ProfileTao& tao) {
+  if (!spec.tao.empty()) {
+    if (!tao) throw std::logic_error("profile_spec: " + spec.text + " given, but no TAO runner");
+    return tao(p, spec, limits);
+  }
+  return is_peer(spec.method)        ? profile_peer(p, spec, limits)
+         : is_iterative(spec.method) ? profile_iterative(p, spec, limits)
+                                     : profile_exact(p, spec, limits);
 }
 
 Profile make_profile(double tolerance,

@@ -142,6 +142,18 @@ ConvergenceRun run_peer(const ConvergenceSystem& s,
                         const SolverSpec& spec,
                         const ConvergenceLimits& limits);
 
+/// How a tao:TYPE spec runs: PETSc/TAO in this process (distributed/tao_studies.hpp), which only
+/// a build with PETSc has; empty where none may be given.
+using ConvergenceTao = std::function<ConvergenceRun(
+    const ConvergenceSystem&, const SolverSpec&, const ConvergenceLimits&)>;
+
+/// Any spec, as its kind runs: tao:TYPE by `tao`, a peer by run_peer, an exact method by
+/// run_exact, an iterative one by run_iterative.
+ConvergenceRun run_spec(const ConvergenceSystem& s,
+                        const SolverSpec& spec,
+                        const ConvergenceLimits& limits,
+                        const ConvergenceTao& tao = {});
+
 /// The specs whose own guess already solves the system (residual ≤ tolerance): they show no
 /// convergence. The message for it, empty when none.
 std::string solved_by_guess_warning(const ConvergenceSystem& s,

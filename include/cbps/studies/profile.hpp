@@ -140,6 +140,18 @@ ProfileMeasurement profile_peer(const ProfileProblem& p,
                                 const SolverSpec& spec,
                                 const ProfileLimits& o);
 
+/// How a tao:TYPE spec is measured: PETSc/TAO in this process (distributed/tao_studies.hpp),
+/// which only a build with PETSc has; empty where none may be given.
+using ProfileTao = std::function<ProfileMeasurement(
+    const ProfileProblem&, const SolverSpec&, const ProfileLimits&)>;
+
+/// Any spec, as its kind is measured: tao:TYPE by `tao`, a peer by profile_peer, an iterative
+/// method by profile_iterative, an exact one by profile_exact.
+ProfileMeasurement profile_spec(const ProfileProblem& p,
+                                const SolverSpec& spec,
+                                const ProfileLimits& limits,
+                                const ProfileTao& tao = {});
+
 /// One profile: a tolerance, a cost (time or sweeps) and the solvers it compares.
 struct Profile {
   double tolerance = 0.0;
