@@ -14,6 +14,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
+#include "cbps/scene/settings.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "convert.hpp"
 
@@ -86,102 +87,63 @@ void bind_scene_time(py::class_<Scene>& scene) {
           },
           "a built-in scene's parameters, name -> value text")
       .def_property(
-          "dt",
-          [](const Scene& s) { return s.world.dt; },
-          [](Scene& s, const py::object& dt) {
-            s.world.dt = positive(real_from_python(dt, "dt"), "dt", "time in s");
-          },
-          "time step, s")
-      .def_property(
           "duration",
           [](const Scene& s) { return s.duration; },
           [](Scene& s, const py::object& t) {
             s.duration = positive(real_from_python(t, "duration"), "duration", "time in s");
           },
-          "default simulated time of Simulation.run(), s")
-      .def_property(
-          "beta",
-          [](const Scene& s) { return s.world.beta; },
-          [](Scene& s, const py::object& beta_in) {
-            const double beta = real_from_python(beta_in, "beta");
-            if (!(beta >= 0.0 && beta <= 1.0))
-              throw InputError("beta " + number_text(beta) + ": must be in [0, 1] (5.2.3)");
-            s.world.beta = beta;
-          },
-          "Baumgarte push factor (5.2.3, 5.3), in [0, 1]")
-      .def_property(
-          "push",
-          [](const Scene& s) {
-            return s.world.push == PushMode::Improved ? "improved" : "original";
-          },
-          [](Scene& s, const std::string& push) {
-            if (push == "original") {
-              s.world.push = PushMode::Original;
-            } else if (push == "improved") {
-              s.world.push = PushMode::Improved;
-            } else {
-              throw InputError("push '" + push + "': expected original or improved (8.1)");
-            }
-          },
-          "the push factor's form: 'original' (5.2.3, 5.3) or 'improved' (8.1)");
+          "default simulated time of Simulation.run(), s");
 }
 
-/// How a scene's steps advance (integrator, scheme, substeps) and its world (gravity, mu).
+/// A world setting as Python gives it: a number, a whole number or one of its words.
+double setting_from_python(const WorldSetting& s, const py::handle& value) {
+  const std::string key(s.key);
+  if (s.type == SettingType::Word) {
+    if (!py::isinstance<py::str>(value))
+      throw InputError(key + " " + py::repr(value).cast<std::string>() + ": expected a string");
+    std::string why;
+    const std::string text = value.cast<std::string>();
+    const std::optional<double> index = setting_value(s, text, why);
+    if (!index) throw InputError(key + " '" + text + "': " + why);
+    return *index;
+  }
+  if (s.type == SettingType::Whole)
+    return static_cast<double>(whole_from_python(
+        value, key, static_cast<long long>(s.min), static_cast<long long>(s.max)));
+  return real_from_python(value, key);
+}
+
+/// The world's settings (settings.hpp), each a property of the scene file's key with the checks
+/// of the scene file and the command line, and gravity.
 void bind_scene_world(py::class_<Scene>& scene) {
-  scene
-      .def_property(
-          "integrator",
-          [](const Scene& s) {
-            return integrator_names().at(static_cast<std::size_t>(s.world.integrator));
-          },
-          [](Scene& s, const std::string& name) {
-            const std::optional<Integrator> integrator = integrator_named(name);
-            if (!integrator)
-              throw InputError("integrator '" + name +
-                               "': expected paper, gyroscopic or midpoint (docs/integrators.md)");
-            s.world.integrator = *integrator;
-          },
-          "how a step turns the bodies: 'paper' (3.2), 'gyroscopic' (Bullet's implicit "
-          "gyroscopic step) or 'midpoint' (keeps energy and L; docs/integrators.md)")
-      .def_property(
-          "scheme",
-          [](const Scene& s) {
-            return scheme_names().at(static_cast<std::size_t>(s.world.scheme.kind));
-          },
-          [](Scene& s, const std::string& name) {
-            const std::optional<Scheme> kind = scheme_named(name);
-            if (!kind)
-              throw InputError("scheme '" + name +
-                               "': expected paper, tgs, soft-step or xpbd (docs/schemes.md)");
-            SchemeSettings& scheme = s.world.scheme;
-            if (*kind != scheme.kind)
-              scheme.substeps = *kind == Scheme::Paper ? 1 : kSchemeSubsteps;
-            scheme.kind = *kind;
-          },
-          "how a step advances time: 'paper' (one solve a step), 'tgs', 'soft-step' or 'xpbd' "
-          "(substeps; docs/schemes.md). Naming another scheme sets substeps to its default (1 "
-          "for paper, 4 otherwise)")
-      .def_property(
-          "substeps",
-          [](const Scene& s) { return s.world.scheme.substeps; },
-          [](Scene& s, int substeps) {
-            if (substeps < 1)
-              throw InputError("substeps " + std::to_string(substeps) + ": must be >= 1");
-            if (s.world.scheme.kind == Scheme::Paper && substeps != 1)
-              throw InputError("substeps " + std::to_string(substeps) +
-                               ": needs scheme tgs, soft-step or xpbd (the scheme is paper)");
-            s.world.scheme.substeps = substeps;
-          },
-          "substeps N a step under tgs, soft-step and xpbd (each of dt/N)")
-      .def_property(
-          "gravity",
-          [](const Scene& s) { return to_numpy(s.world.gravity); },
-          [](Scene& s, const py::object& g) {
-            s.world.gravity = vector_from_python(g, "gravity", 3);
-          },
-          "g, m/s^2 (y is up)")
-      .def_property_readonly(
-          "mu", [](const Scene& s) { return s.world.mu; }, "friction coefficient (5.4)");
+  for (const WorldSetting& setting : world_settings()) {
+    const WorldSetting* s = &setting;
+    std::string doc(s->rule);
+    if (!s->unit.empty()) doc += ", " + std::string(s->unit);
+    if (s->applies != nullptr) doc = std::string(s->applies_text) + ": " + doc;
+    scene.def_property(
+        std::string(s->key).c_str(),
+        [s](const Scene& sc) -> py::object {
+          if (s->type == SettingType::Word) return py::str(setting_text(*s, sc.world));
+          if (s->type == SettingType::Whole)
+            return py::int_(static_cast<long long>(s->get(sc.world)));
+          return py::float_(s->get(sc.world));
+        },
+        [s](Scene& sc, const py::object& value) {
+          const double v = setting_from_python(*s, value);
+          const std::string why = set_world_setting(sc.world, *s, v);
+          if (why.empty()) return;
+          const std::string text =
+              s->type == SettingType::Word ? "'" + value.cast<std::string>() + "'" : number_text(v);
+          throw InputError(std::string(s->key) + " " + text + ": " + why);
+        },
+        doc.c_str());
+  }
+  scene.def_property(
+      "gravity",
+      [](const Scene& s) { return to_numpy(s.world.gravity); },
+      [](Scene& s, const py::object& g) { s.world.gravity = vector_from_python(g, "gravity", 3); },
+      "g, m/s^2 (y is up)");
 }
 
 /// A scene's solver settings.

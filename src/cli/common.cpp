@@ -28,6 +28,7 @@
 #include "cbps/io/output_file.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
+#include "cbps/scene/settings.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
@@ -45,95 +46,36 @@ void add_scene_options(CLI::App* cmd, SceneOptions& o, const std::string& what) 
 }
 
 void add_world_options(CLI::App* cmd, StepOptions& o) {
-  cmd->add_option("--dt", o.dt, "time step in s (fractions such as 1/240 accepted)");
   cmd->add_option("--cfm",
                   o.cfm,
                   "constraint-force mixing eps in kg^-1: solve (A + eps E) lambda = b; the "
                   "summary reports its effect eps max|lambda| (default: the scene's, 0)")
       ->check(non_negative());
-  cmd->add_option("--beta", o.beta, "Baumgarte push factor in [0, 1] (5.2.3)")
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--push",
-                  o.push,
-                  "push factor form: original (Baumgarte in the one system, 5.2.3, 5.3) | "
-                  "improved (velocity and position systems, 8.1); default: the scene's")
-      ->check(CLI::IsMember({"original", "improved"}));
-  cmd->add_option("--integrator",
-                  o.integrator,
-                  "how a step turns the bodies: paper (3.2, explicit turn) | gyroscopic "
-                  "(Bullet's implicit gyroscopic step) | midpoint (implicit midpoint, keeps "
-                  "energy and L); docs/integrators.md; default: the scene's (paper)")
-      ->check(CLI::IsMember(integrator_names()));
-  add_scheme_options(cmd, o);
+  for (const WorldSetting& s : world_settings()) {
+    if (!s.option) continue;
+    const std::string key(s.key);
+    std::string help(s.rule);
+    if (s.applies != nullptr) help = "under " + std::string(s.applies_text) + ": " + help;
+    help += " (" + (s.unit.empty() ? "" : std::string(s.unit) + "; ") +
+            (s.type == SettingType::Word ? "" : range_text(s) + "; ") + "default: the scene's)";
+    cmd->add_option_function<std::string>(
+           option_name(s), [&o, key](const std::string& value) { o.world[key] = value; }, help)
+        ->type_name(s.type == SettingType::Real    ? "FLOAT"
+                    : s.type == SettingType::Whole ? "INT"
+                                                   : "WORD");
+  }
 }
 
-void add_scheme_options(CLI::App* cmd, StepOptions& o) {
-  cmd->add_option("--scheme",
-                  o.scheme,
-                  "how a step advances time: paper (one solve a step) | tgs (temporal "
-                  "Gauss-Seidel: substeps) | soft-step (Box2D v3's soft step) | xpbd (linear "
-                  "XPBD); docs/schemes.md; default: the scene's (paper)")
-      ->check(CLI::IsMember(scheme_names()));
-  cmd->add_option("--substeps",
-                  o.substeps,
-                  "substeps N a step under tgs, soft-step, xpbd: each solves the paper's system "
-                  "with dt/N and --iterations sweeps (default: the scene's, else " +
-                      std::to_string(kSchemeSubsteps) + ")")
-      ->check(positive());
-  cmd->add_option("--contact-hertz",
-                  o.contact_hertz,
-                  "soft-step: contact stiffness in Hz, at most a quarter of the substep rate "
-                  "(default: the scene's, 30)")
-      ->check(non_negative());
-  cmd->add_option("--contact-damping-ratio",
-                  o.contact_damping_ratio,
-                  "soft-step: contact damping ratio (default: the scene's, 10)")
-      ->check(non_negative());
-  cmd->add_option("--joint-hertz",
-                  o.joint_hertz,
-                  "soft-step: distance rows' stiffness in Hz (default: the scene's, 60)")
-      ->check(non_negative());
-  cmd->add_option("--joint-damping-ratio",
-                  o.joint_damping_ratio,
-                  "soft-step: distance rows' damping ratio (default: the scene's, 2)")
-      ->check(non_negative());
-  cmd->add_option("--compliance",
-                  o.compliance,
-                  "xpbd: every row's compliance alpha in m/N, alpha/h^2 added to A's diagonal "
-                  "(default: the scene's, 0: rigid)")
-      ->check(non_negative());
-}
-
-void apply_scheme_options(Scene& scene, const StepOptions& o) {
-  SchemeSettings& s = scene.world.scheme;
-  if (const auto kind = scheme_named(o.scheme)) {
-    if (*kind != s.kind) s.substeps = *kind == Scheme::Paper ? 1 : kSchemeSubsteps;
-    s.kind = *kind;
+void apply_world_options(World& world, const StepOptions& o) {
+  for (const WorldSetting& s : world_settings()) {
+    const auto given = o.world.find(std::string(s.key));
+    if (given == o.world.end()) continue;
+    const std::string what = option_name(s) + " " + given->second;
+    std::string why;
+    const std::optional<double> value = setting_value(s, given->second, why);
+    if (value) why = set_world_setting(world, s, *value);
+    if (!why.empty()) throw InputError(what + ": " + why);
   }
-  if (o.substeps > 0) {
-    if (s.kind == Scheme::Paper && o.substeps != 1)
-      throw InputError("--substeps " + std::to_string(o.substeps) +
-                       ": needs --scheme tgs, soft-step or xpbd (the scheme is paper: one solve "
-                       "a step)");
-    s.substeps = o.substeps;
-  }
-  // An option of another scheme changes nothing: refused, never dropped silently.
-  const std::string scheme = scheme_names().at(static_cast<std::size_t>(s.kind));
-  for (const auto& [given, name] : {std::pair{o.contact_hertz, "--contact-hertz"},
-                                    {o.contact_damping_ratio, "--contact-damping-ratio"},
-                                    {o.joint_hertz, "--joint-hertz"},
-                                    {o.joint_damping_ratio, "--joint-damping-ratio"}})
-    if (given >= 0.0 && s.kind != Scheme::SoftStep)
-      throw InputError(std::string(name) + ": a setting of --scheme soft-step; the scheme is " +
-                       scheme + ", which has no soft rows");
-  if (o.compliance >= 0.0 && s.kind != Scheme::Xpbd)
-    throw InputError("--compliance: a setting of --scheme xpbd; the scheme is " + scheme +
-                     ", which adds no compliance");
-  if (o.contact_hertz >= 0.0) s.contact_hertz = o.contact_hertz;
-  if (o.contact_damping_ratio >= 0.0) s.contact_damping_ratio = o.contact_damping_ratio;
-  if (o.joint_hertz >= 0.0) s.joint_hertz = o.joint_hertz;
-  if (o.joint_damping_ratio >= 0.0) s.joint_damping_ratio = o.joint_damping_ratio;
-  if (o.compliance >= 0.0) s.compliance = o.compliance;
 }
 
 void add_seed_option(CLI::App* cmd, StepOptions& o) {
@@ -181,12 +123,7 @@ CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet, const std::string& what)
   return cmd->add_flag("--quiet", quiet, what);
 }
 
-bool world_options_given(const StepOptions& o) {
-  return !o.dt.empty() || o.cfm >= 0.0 || o.beta >= 0.0 || !o.push.empty() ||
-         !o.integrator.empty() || !o.scheme.empty() || o.substeps > 0 || o.contact_hertz >= 0.0 ||
-         o.contact_damping_ratio >= 0.0 || o.joint_hertz >= 0.0 || o.joint_damping_ratio >= 0.0 ||
-         o.compliance >= 0.0;
-}
+bool world_options_given(const StepOptions& o) { return !o.world.empty() || o.cfm >= 0.0; }
 
 std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params) {
   std::map<std::string, std::string> values;
@@ -240,18 +177,7 @@ Scene load_scene(const SceneOptions& o) {
 }
 
 void apply_step_options(Scene& scene, const StepOptions& o) {
-  if (!o.dt.empty()) {
-    double dt = 0.0;
-    if (!parse_number(o.dt, dt) || !(dt > 0.0)) {
-      throw InputError("--dt '" + o.dt + "': must be a positive finite time in s");
-    }
-    scene.world.dt = dt;
-  }
-  if (o.beta >= 0.0) scene.world.beta = o.beta;
-  if (o.push == "original") scene.world.push = PushMode::Original;
-  if (o.push == "improved") scene.world.push = PushMode::Improved;
-  if (const auto integrator = integrator_named(o.integrator)) scene.world.integrator = *integrator;
-  apply_scheme_options(scene, o);
+  apply_world_options(scene.world, o);
   if (!o.solver.empty()) {
     // InputError names what is wrong
     apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);

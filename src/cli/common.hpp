@@ -27,43 +27,34 @@ struct SceneOptions {
 
 /// The contract's common options of commands that step a scene; unset values keep the scene's.
 struct StepOptions {
-  std::string dt;
   long steps = -1;
   double duration = -1.0;
   std::string solver;
   int iterations = -1;
   double tolerance = -1.0;
-  double beta = -1.0;
-  std::string push;        ///< "original" | "improved"; empty keeps the scene's
-  std::string integrator;  ///< integrator_names(); empty keeps the scene's
-  std::string scheme;      ///< scheme_names(); empty keeps the scene's
-  int substeps = -1;       ///< --substeps; negative keeps the scene's (or the scheme's default)
-  double contact_hertz = -1.0;          ///< soft-step; negative keeps the scene's
-  double contact_damping_ratio = -1.0;  ///< soft-step; negative keeps the scene's
-  double joint_hertz = -1.0;            ///< soft-step; negative keeps the scene's
-  double joint_damping_ratio = -1.0;    ///< soft-step; negative keeps the scene's
-  double compliance = -1.0;             ///< xpbd, m/N; negative keeps the scene's
-  long long seed = -1;                  ///< --seed; negative keeps the scene's
-  double cfm = -1.0;                    ///< --cfm; negative keeps the scene's
+  /// --KEY VALUE of the world settings given (settings.hpp: dt, beta, push, integrator, scheme and
+  /// its settings), by key, as given; those not given keep the scene's.
+  std::map<std::string, std::string> world;
+  long long seed = -1;  ///< --seed; negative keeps the scene's
+  double cfm = -1.0;    ///< --cfm; negative keeps the scene's
 };
 
 void add_scene_options(
     CLI::App* cmd,
     SceneOptions& o,
     const std::string& what = "built-in scene name (see `cbps scenes`) or JSON scene file");
-/// --dt, --cfm, --beta, --push: the scene's world and constraint-force mixing.
+/// --cfm and the world settings that have an option (settings.hpp: --dt, --beta, --push,
+/// --integrator, --scheme, --substeps and the schemes' own).
 void add_world_options(CLI::App* cmd, StepOptions& o);
-/// --scheme, --substeps and the schemes' settings (docs/schemes.md); part of add_world_options.
-void add_scheme_options(CLI::App* cmd, StepOptions& o);
-/// The scheme options onto the scene's world; naming another scheme resets its substeps to that
-/// scheme's default. Throws InputError for --substeps > 1 under the paper's scheme.
-void apply_scheme_options(Scene& scene, const StepOptions& o);
+/// The world options given onto the scene's world, in the table's order (a scheme before its
+/// own settings), each checked as a scene file's /world/KEY is: InputError naming the option.
+void apply_world_options(World& world, const StepOptions& o);
 /// --seed of random row orders.
 void add_seed_option(CLI::App* cmd, StepOptions& o);
 /// --solver, --seed, --iterations, --tolerance and the world options; with run_length also
 /// --steps and --duration (commands that run a scene; explain and matrices take --step).
 void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
-/// Any of --dt, --cfm, --beta, --push given (they apply to scenes only).
+/// Any world option or --cfm given (they apply to scenes only).
 bool world_options_given(const StepOptions& o);
 /// --cone coulomb|ccp: the friction law of a stored problem's contacts in cones (docs/cones.md).
 void add_cone_option(CLI::App* cmd, std::string& cone);

@@ -23,6 +23,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
+#include "cbps/scene/settings.hpp"
 #include "cbps/solvers/methods.hpp"
 
 namespace cbps {
@@ -37,10 +38,7 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // allowed | |q| − 1 | in a
 constexpr double kUnitRounding = 4.0 * std::numeric_limits<double>::epsilon();
 constexpr double kSymmetryTolerance = 1e-12;  // allowed |I_ij − I_ji| / max |I_kl|
 const std::vector<std::string> kShapeTypes{"sphere", "box", "plane"};
-const std::vector<std::string> kPushModes{"original", "improved"};           // PushMode order
-const std::vector<std::string> kRowOrders{"natural", "reverse", "random"};   // RowOrder order
-const std::vector<std::string> kFrictionModels{"paper", "coulomb", "cone"};  // FrictionModel
-const std::vector<std::string> kConeLaws{"coulomb", "ccp"};                  // ConeLaw order
+const std::vector<std::string> kRowOrders{"natural", "reverse", "random"};  // RowOrder order
 const std::vector<std::string> kConstraintTypes{"distance"};
 
 std::string join(const std::vector<std::string>& words) {
@@ -188,16 +186,6 @@ Vec3 positive_vec3(const Node& node) {
 
 // ---- Scene parts ---------------------------------------------------------------------------
 
-/// A time step: a number, or a fraction "p/q" such as "1/240" (s, > 0).
-double time_step(const Node& node) {
-  if (!node.json.is_string()) return positive(node);
-  double value = 0.0;
-  if (!parse_number(node.json.get<std::string>(), value))
-    fail(node, "expected a number or a fraction such as \"1/240\"" + got(node));
-  if (!(value > 0.0)) fail(node, "must be > 0" + got(node));
-  return value;
-}
-
 /// A number in [0, 1].
 double unit_interval(const Node& node) {
   const double value = number(node);
@@ -214,82 +202,40 @@ std::size_t choice(const Node& node, const std::vector<std::string>& names, cons
        std::string("unknown ") + what + " " + in_quotes(name) + " (valid: " + join(names) + ")");
 }
 
-/// The scheme keys of /world (SchemeSettings, docs/schemes.md) into `s`.
-void read_scheme(const Node& node, SchemeSettings& s) {
-  if (has(node, "scheme"))
-    s.kind = static_cast<Scheme>(choice(child(node, "scheme"), scheme_names(), "scheme"));
-  s.substeps = s.kind == Scheme::Paper ? 1 : kSchemeSubsteps;
-  if (has(node, "substeps")) {
-    const Node substeps = child(node, "substeps");
-    s.substeps = integer(substeps, 1);
-    if (s.kind == Scheme::Paper && s.substeps != 1)
-      fail(substeps, "needs a scheme that substeps (tgs, soft-step, xpbd), not paper");
+/// One world setting's value as the file gives it (settings.hpp): a number (dt also a fraction
+/// "p/q" as a string), an integer, or one of its words.
+double setting_of_node(const Node& node, const WorldSetting& s) {
+  if (s.type == SettingType::Word) {
+    std::string why;
+    const std::optional<double> index = setting_value(s, text(node), why);
+    if (!index) fail(node, why);
+    return *index;
   }
-  if (has(node, "contact_hertz")) s.contact_hertz = nonnegative(child(node, "contact_hertz"));
-  if (has(node, "contact_damping_ratio"))
-    s.contact_damping_ratio = nonnegative(child(node, "contact_damping_ratio"));
-  if (has(node, "joint_hertz")) s.joint_hertz = nonnegative(child(node, "joint_hertz"));
-  if (has(node, "joint_damping_ratio"))
-    s.joint_damping_ratio = nonnegative(child(node, "joint_damping_ratio"));
-  if (has(node, "max_push_speed")) s.max_push_speed = nonnegative(child(node, "max_push_speed"));
-  if (has(node, "compliance")) s.compliance = nonnegative(child(node, "compliance"));
-  if (has(node, "speculative_distance"))
-    s.speculative_distance = nonnegative(child(node, "speculative_distance"));
+  if (s.type == SettingType::Whole) return integer(node, static_cast<int>(s.min));
+  if (s.key == "dt" && node.json.is_string()) {
+    double value = 0.0;
+    if (!parse_number(node.json.get<std::string>(), value))
+      fail(node, "expected a number or a fraction such as \"1/240\"" + got(node));
+    return value;
+  }
+  return number(node);
 }
 
+/// /world: gravity, then every world setting the file gives, in the table's order (settings.hpp:
+/// a scheme before its own settings), each checked as the command line checks it.
 World read_world(const Node& node) {
-  check_object(node,
-               {"gravity",
-                "dt",
-                "beta",
-                "push",
-                "integrator",
-                "scheme",
-                "substeps",
-                "contact_hertz",
-                "contact_damping_ratio",
-                "joint_hertz",
-                "joint_damping_ratio",
-                "max_push_speed",
-                "compliance",
-                "speculative_distance",
-                "mu",
-                "friction",
-                "cone",
-                "restitution",
-                "restitution_threshold",
-                "contact_margin",
-                "contact_persistence",
-                "divergence_speed",
-                "divergence_spin"});
-  World world;
+  std::vector<std::string> valid{"gravity"};
+  for (const WorldSetting& s : world_settings()) valid.emplace_back(s.key);
+  check_object(node, valid);
+  World world = scene_file_world();
   if (has(node, "gravity")) world.gravity = vec3(child(node, "gravity"));
-  if (has(node, "dt")) world.dt = time_step(child(node, "dt"));
-  if (has(node, "beta")) world.beta = unit_interval(child(node, "beta"));
-  if (has(node, "push"))
-    world.push = static_cast<PushMode>(choice(child(node, "push"), kPushModes, "push mode"));
-  if (has(node, "integrator"))
-    world.integrator = static_cast<Integrator>(
-        choice(child(node, "integrator"), integrator_names(), "integrator"));
-  read_scheme(node, world.scheme);
-  if (has(node, "mu")) world.mu = nonnegative(child(node, "mu"));
-  if (has(node, "friction"))
-    world.friction = static_cast<FrictionModel>(
-        choice(child(node, "friction"), kFrictionModels, "friction model"));
-  if (has(node, "cone"))
-    world.cone = static_cast<ConeLaw>(choice(child(node, "cone"), kConeLaws, "cone law"));
-  if (has(node, "restitution")) world.restitution = unit_interval(child(node, "restitution"));
-  if (has(node, "restitution_threshold"))
-    world.restitution_threshold = nonnegative(child(node, "restitution_threshold"));
-  world.contact_margin = has(node, "contact_margin") ? nonnegative(child(node, "contact_margin"))
-                                                     : kSceneContactMargin;
-  world.contact_persistence = has(node, "contact_persistence")
-                                  ? nonnegative(child(node, "contact_persistence"))
-                                  : kSceneContactPersistence;
-  if (has(node, "divergence_speed"))
-    world.divergence_speed = positive(child(node, "divergence_speed"));
-  if (has(node, "divergence_spin"))
-    world.divergence_spin = positive(child(node, "divergence_spin"));
+  for (const WorldSetting& s : world_settings()) {
+    const std::string key(s.key);
+    if (!has(node, key.c_str())) continue;
+    const Node value = child(node, key);
+    const std::string why = set_world_setting(world, s, setting_of_node(value, s));
+    if (!why.empty()) fail(value, why + (s.type == SettingType::Word ? "" : got(value)));
+  }
   return world;
 }
 
@@ -995,32 +941,17 @@ std::string scene_to_json(const Scene& scene) {
 
   Json world = Json::object();
   world["gravity"] = vec_json(scene.world.gravity);
-  world["dt"] = scene.world.dt;
-  world["beta"] = scene.world.beta;
-  world["push"] = kPushModes.at(static_cast<std::size_t>(scene.world.push));
-  world["integrator"] = integrator_names().at(static_cast<std::size_t>(scene.world.integrator));
-  const SchemeSettings& scheme = scene.world.scheme;
-  world["scheme"] = scheme_names().at(static_cast<std::size_t>(scheme.kind));
-  world["substeps"] = scheme.substeps;
-  if (scheme.kind == Scheme::SoftStep) {
-    world["contact_hertz"] = scheme.contact_hertz;
-    world["contact_damping_ratio"] = scheme.contact_damping_ratio;
-    world["joint_hertz"] = scheme.joint_hertz;
-    world["joint_damping_ratio"] = scheme.joint_damping_ratio;
-    world["max_push_speed"] = scheme.max_push_speed;
+  for (const WorldSetting& s : world_settings()) {
+    if (s.applies != nullptr && !s.applies(scene.world)) continue;  // means nothing here
+    const std::string key(s.key);
+    const double value = s.get(scene.world);
+    if (s.type == SettingType::Word)
+      world[key] = setting_text(s, scene.world);
+    else if (s.type == SettingType::Whole)
+      world[key] = static_cast<long long>(value);
+    else
+      world[key] = value;
   }
-  if (scheme.kind == Scheme::Xpbd) world["compliance"] = scheme.compliance;
-  if (scheme.kind != Scheme::Paper) world["speculative_distance"] = scheme.speculative_distance;
-  world["mu"] = scene.world.mu;
-  world["friction"] = kFrictionModels.at(static_cast<std::size_t>(scene.world.friction));
-  if (scene.world.friction == FrictionModel::Cone)
-    world["cone"] = kConeLaws.at(static_cast<std::size_t>(scene.world.cone));
-  world["restitution"] = scene.world.restitution;
-  world["restitution_threshold"] = scene.world.restitution_threshold;
-  world["contact_margin"] = scene.world.contact_margin;
-  world["contact_persistence"] = scene.world.contact_persistence;
-  world["divergence_speed"] = scene.world.divergence_speed;
-  world["divergence_spin"] = scene.world.divergence_spin;
   root["world"] = world;
 
   Json solver = Json::object();

@@ -157,7 +157,7 @@ def test_bad_simulation_use():
                                     ("push", "sideways", "push 'sideways'"),
                                     ("integrator", "verlet", "integrator 'verlet'"),
                                     ("scheme", "verlet", "scheme 'verlet'"),
-                                    ("substeps", 4, "needs scheme tgs"),
+                                    ("substeps", 4, "substeps 4: needs a scheme that substeps"),
                                     ("iterations", 0, "iterations 0"), ("cfm", -1.0, "cfm -1")]:
         with pytest.raises(cbps.InputError, match=match):
             setattr(scene, attribute, value)
@@ -253,10 +253,11 @@ def test_solve_takes_whole_numbers_in_any_form():
     ("seed", -1, f"seed -1: {WHOLE} 0 to 18446744073709551615"),
     ("seed", 2**64, f"seed 18446744073709551616: {WHOLE} 0 to"),
     ("dt", "1/240", "dt '1/240': not a number"),
-    ("dt", -0.01, "dt -0.01: must be a positive finite time in s"),
+    ("dt", -0.01, "dt -0.01: must be > 0"),
     ("duration", float("inf"), "duration inf: must be a positive finite time in s"),
     ("beta", None, "beta None: not a number"),
-    ("beta", float("nan"), r"beta nan: must be in \[0, 1\]"),
+    ("beta", float("nan"), "beta nan: not a finite number"),
+    ("beta", 1.5, r"beta 1.5: must be in \[0, 1\]"),
     ("tolerance", 10**400, "tolerance \\(an integer of 1329 bits\\): too large"),
     ("cfm", "0.1", "cfm '0.1': not a number"),
 ])

@@ -1,0 +1,128 @@
+// The table of world settings (scene/settings.hpp): every setting read, written and checked from
+// its one entry; the docs' table, the fuzz dictionary and --help made from it.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "cbps/base/error.hpp"
+#include "cbps/scene/scene_json.hpp"
+#include "cbps/scene/settings.hpp"
+
+using namespace cbps;
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// A world where `s` applies (its scheme or law chosen), so that it may be set.
+World world_where_it_applies(const WorldSetting& s) {
+  World world = scene_file_world();
+  for (const std::string scheme : {"soft-step", "xpbd"})
+    if (s.applies_text.substr(0, 7) == "scheme " && s.applies_text.substr(7) == scheme) {
+      std::string why;
+      set_world_setting(world,
+                        *find_world_setting("scheme"),
+                        *setting_value(*find_world_setting("scheme"), scheme, why));
+    }
+  if (s.key == "speculative_distance" || s.key == "substeps") world.scheme.kind = Scheme::Tgs;
+  if (s.key == "cone") world.friction = FrictionModel::Cone;
+  return world;
+}
+
+}  // namespace
+
+TEST_CASE("docs/scene-format.md holds the world settings' rows as the table makes them",
+          "[settings]") {
+  const std::string page = read_text(std::string(CBPS_SOURCE_DIR) + "/docs/scene-format.md");
+  const std::string rows = world_settings_markdown();
+  INFO("the rows docs/scene-format.md should hold, after /world/gravity:\n" << rows);
+  CHECK(page.find(rows) != std::string::npos);
+}
+
+TEST_CASE("every world setting is in the fuzz dictionary of scene files", "[settings]") {
+  const std::string dict = read_text(std::string(CBPS_SOURCE_DIR) + "/fuzz/scene_json.dict");
+  for (const WorldSetting& s : world_settings()) {
+    CAPTURE(s.key);
+    std::string entry = R"("\")";
+    entry.append(s.key).append(R"(\"")");
+    CHECK(dict.find(entry) != std::string::npos);
+  }
+}
+
+TEST_CASE("every world setting reads back from a scene file as written, and its range is held",
+          "[settings]") {
+  for (const WorldSetting& s : world_settings()) {
+    CAPTURE(s.key);
+    // A value that is not the default and lies in the range: the last word, or the minimum
+    // plus 0.375 (an exact binary fraction), within the maximum.
+    World world = world_where_it_applies(s);
+    const double value = s.type == SettingType::Word    ? static_cast<double>(s.words().size() - 1)
+                         : s.type == SettingType::Whole ? s.min + 2.0
+                                                        : std::min(s.min + 0.375, s.max);
+    REQUIRE(set_world_setting(world, s, value).empty());
+    Scene scene;
+    scene.world = world;
+    const Scene back = parse_scene(scene_to_json(scene), "settings.json");
+    CHECK(s.get(back.world) == value);
+    // Below the range (or a word past the last) is refused with the key named.
+    if (s.type == SettingType::Word) {
+      CHECK_FALSE(set_world_setting(world, s, static_cast<double>(s.words().size())).empty());
+    } else {
+      CHECK_FALSE(set_world_setting(world, s, s.min - 1.0).empty());
+      std::string file = scene_to_json(scene);
+      std::string key = "\"";
+      key.append(s.key).append("\": ");
+      const auto at = file.find(key);
+      REQUIRE(at != std::string::npos);
+      const auto end = file.find_first_of(",\n}", at + key.size());
+      file.replace(at + key.size(), end - at - key.size(), "-1");
+      CHECK_THROWS_WITH(parse_scene(file, "settings.json"),
+                        Catch::Contains("settings.json: /world/" + std::string(s.key) + ": "));
+    }
+  }
+}
+
+TEST_CASE("a setting of one scheme or law is refused under another, and not written",
+          "[settings]") {
+  const std::string file = R"({"world": {"scheme": "tgs", "contact_hertz": 20}, "bodies": []})";
+  CHECK_THROWS_WITH(parse_scene(file, "s.json"),
+                    "s.json: /world/contact_hertz: a setting of scheme soft-step; the world has "
+                    "scheme tgs (got 20)");
+  CHECK_THROWS_WITH(
+      parse_scene(R"({"world": {"friction": "coulomb", "cone": "ccp"}, "bodies": []})", "s.json"),
+      Catch::Contains("/world/cone: a setting of friction cone; the world has friction coulomb"));
+  Scene scene;  // the paper's scheme: the soft step's stiffness means nothing and is left out
+  scene.world.scheme.contact_hertz = 20.0;
+  CHECK(scene_to_json(scene).find("contact_hertz") == std::string::npos);
+}
+
+TEST_CASE("naming another scheme gives it its substeps, and more than one under paper is refused",
+          "[settings]") {
+  World world;
+  const WorldSetting& scheme = *find_world_setting("scheme");
+  const WorldSetting& substeps = *find_world_setting("substeps");
+  std::string why;
+  CHECK(set_world_setting(world, substeps, 3.0) ==
+        "needs a scheme that substeps (tgs, soft-step, xpbd), not paper");
+  REQUIRE(set_world_setting(world, scheme, *setting_value(scheme, "tgs", why)).empty());
+  CHECK(world.scheme.substeps == kSchemeSubsteps);
+  REQUIRE(set_world_setting(world, substeps, 3.0).empty());
+  REQUIRE(set_world_setting(world, scheme, *setting_value(scheme, "tgs", why)).empty());
+  CHECK(world.scheme.substeps == 3);  // the same scheme named again keeps them
+  REQUIRE(set_world_setting(world, scheme, *setting_value(scheme, "paper", why)).empty());
+  CHECK(world.scheme.substeps == 1);
+  CHECK_FALSE(setting_value(scheme, "verlet", why));
+  CHECK(why == "unknown scheme \"verlet\" (valid: paper, tgs, soft-step, xpbd)");
+  CHECK(set_world_setting(world, *find_world_setting("substeps"), 1.5) == "expected an integer");
+}
+
+TEST_CASE("an option's name is its key with dashes", "[settings]") {
+  CHECK(option_name(*find_world_setting("contact_damping_ratio")) == "--contact-damping-ratio");
+  CHECK(find_world_setting("no_such_setting") == nullptr);
+}
