@@ -9,7 +9,6 @@
 // cone instead, which the step did not solve: the file's info says so, and its /solution is the
 // cone answer of the exact path where that is verified (docs/cones.md).
 #include <cstdio>
-#include <memory>
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/fclib_file.hpp"
@@ -18,7 +17,6 @@
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/step/simulation.hpp"
-#include "cbps/studies/explain.hpp"
 #include "cbps/studies/step_problem.hpp"
 #include "common.hpp"
 
@@ -27,13 +25,6 @@ namespace cbps::cli {
 namespace {
 
 /// /fclib_local/info/math_info of every file cbps matrices writes, and /fclib_global/info's.
-constexpr const char* kFclibMathInfo =
-    "u = W r + q with W = A = J Minv J^T (1/kg) and q = -b (m/s^2) of the step (6.2.9); r in N";
-constexpr const char* kFclibGlobalMathInfo =
-    "M v = H r + G l + f, u = H^T v + w with M = Minv^-1 (kg, kg m^2), H = J^T of the contact "
-    "rows, G = J^T of the free rows, f = 0, w = -b (m/s^2) of the step (6.2.9): v = Minv J^T "
-    "lambda (m/s^2), u = A r - b; r in N";
-
 struct MatricesOptions {
   SceneOptions scene;
   StepOptions step;
@@ -44,80 +35,6 @@ struct MatricesOptions {
   bool global = false;  ///< --global: --fclib's file holds FCLIB's global problem (M, H, G)
   bool quiet = false;
 };
-
-/// --fclib on a scene with contacts in cones: the problem the step solved, with its answer.
-void write_cones(const MatricesOptions& o,
-                 const Scene& scene,
-                 const System& sys,
-                 const StoredProblem& problem,
-                 const VecX& lambda,
-                 const SolverSummary& direct) {
-  if (sys.cones.empty())
-    throw InputError("--fclib " + o.fclib + ": " + scene.name + ", step " +
-                     std::to_string(o.at_step) + " has no contacts in friction cones");
-  const FclibInfo info{scene.name + ", step " + std::to_string(o.at_step),
-                       "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
-                           std::string(to_string(sys.cones.law)) +
-                           "; /solution by the direct path (" + direct.message + ")",
-                       o.global ? kFclibGlobalMathInfo : kFclibMathInfo};
-  write_fclib(o.fclib, problem, info, &lambda, o.global ? FclibForm::Global : FclibForm::Local);
-}
-
-/// --fclib --cone LAW on a scene whose friction is a box: the step's A and b posed on Coulomb's
-/// cone (pose_on_cones); /solution only where the exact path's answer is verified.
-void write_boxed_as_cones(const MatricesOptions& o,
-                          const Scene& scene,
-                          const System& sys,
-                          const StoredProblem& boxed,
-                          ConeLaw law) {
-  const std::string what =
-      "--fclib " + o.fclib + ": " + scene.name + ", step " + std::to_string(o.at_step);
-  PosedOnCones posed;
-  try {
-    posed = pose_on_cones(sys, boxed, scene.world.mu, law);
-  } catch (const InputError& e) {
-    throw InputError(what + ": " + e.what());
-  }
-  const SolverSummary& s = posed.direct;
-  const FclibInfo info{
-      scene.name + ", step " + std::to_string(o.at_step) + ", posed on Coulomb's cone",
-      "written by cbps matrices: the step solved the scene's box (friction=" +
-          std::string(to_string(scene.world.friction)) +
-          "); this file holds the same A and b with each contact in Coulomb's cone, mu = " +
-          number_text(scene.world.mu) + ", law " + std::string(to_string(law)) + "; " +
-          (posed.verified
-               ? "/solution by the direct path (" + s.message + ")"
-               : "no /solution: the direct path did not verify an answer (" + s.message + ")"),
-      o.global ? kFclibGlobalMathInfo : kFclibMathInfo};
-  write_fclib(o.fclib,
-              posed.problem,
-              info,
-              posed.verified ? &posed.lambda : nullptr,
-              o.global ? FclibForm::Global : FclibForm::Local);
-  if (!posed.verified && !o.quiet)
-    std::fprintf(stderr,
-                 "cbps matrices: %s: no /solution in the file (unit-free residual %s): %s\n",
-                 o.fclib.c_str(),
-                 number_text(posed.unit_free.relative).c_str(),
-                 s.message.c_str());
-}
-
-/// Under a substepping scheme (docs/schemes.md): its softness into softness.mtx and, in
-/// labels.json, which substep the folder holds and what the scheme changed.
-void write_scheme(OutputDir& dir, const Scene& scene, const System& sys, nlohmann::json& labels) {
-  const SchemeSettings& scheme = scene.world.scheme;
-  if (scheme.kind == Scheme::Paper) return;
-  if (sys.softness.size() > 0)
-    write_matrix_market(dir.file("softness.mtx"),
-                        sys.softness,
-                        "softness: the step scheme's diagonal, kg^-1 (docs/schemes.md); the "
-                        "system carrying the push solves (A + diag(softness)) lambda = b");
-  labels["scheme"] = {{"name", scheme_names().at(static_cast<std::size_t>(scheme.kind))},
-                      {"substeps", scheme.substeps},
-                      {"h", sys.dt},
-                      {"note", scheme_note(scheme)},
-                      {"softness", sys.softness.size() > 0 ? "softness.mtx" : "none"}};
-}
 
 int matrices_command(const MatricesOptions& o) {
   Scene scene = load_scene(o.scene);
@@ -153,49 +70,37 @@ int matrices_command(const MatricesOptions& o) {
   } catch (const ComputationError& e) {
     throw ComputationError(std::string(e.what()) + "; nothing written");
   }
-  const StoredProblem& problem = step.problem;
-  const VecX& lambda = step.lambda;
-  const SolverSummary& direct = step.direct;
-  const bool coulomb = step.coulomb;
   ProblemNotes notes;
-  if (coulomb)
+  if (step.coulomb)
     notes.bounds = "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)";
   write_problem(
-      problem, [&](const std::string& name, const auto& write) { write(dir.file(name)); }, notes);
+      step.problem,
+      [&](const std::string& name, const auto& write) { write(dir.file(name)); },
+      notes);
   if (!o.fclib.empty()) {
-    if (cone_scene)
-      write_cones(o, scene, sys, problem, lambda, direct);
-    else
-      write_boxed_as_cones(o, scene, sys, problem, law);
+    PosedOnCones posed;
+    try {
+      posed = write_step_fclib(o.fclib, scene, sys, step, o.at_step, law, o.global);
+    } catch (const InputError& e) {
+      throw InputError("--fclib " + o.fclib + ": " + e.what());
+    }
+    if (!posed.verified && !o.quiet)
+      std::fprintf(stderr,
+                   "cbps matrices: %s: no /solution in the file (unit-free residual %s): %s\n",
+                   o.fclib.c_str(),
+                   number_text(posed.unit_free.relative).c_str(),
+                   posed.direct.message.c_str());
   }
   write_matrix_market(dir.file("upsilon.mtx"), sys.upsilon, "upsilon: bias, m/s (5.1.2)");
-  write_matrix_market(
-      dir.file("lambda.mtx"), lambda, "lambda: direct solution, N (" + direct.message + ")");
-  nlohmann::json labels;
-  labels["scene"] = scene.name;
-  labels["step"] = o.at_step;
-  labels["rows"] = sys.labels;
-  labels["columns"] = column_labels(scene, sys);
-  write_scheme(dir, scene, sys, labels);  // softness.mtx and what the scheme changed
-  labels["system"] = sys.push == PushMode::Improved
-                         ? "velocity system of the improved push (8.1): b without the push terms"
-                         : "the one system of the original push (5.2.3, 6.2.9)";
-  labels["cfm"] = scene.solver.cfm;
-  if (coulomb) {
-    nlohmann::json rows = nlohmann::json::array();
-    for (int k = 0; k < sys.rows(); ++k) {
-      const int n = sys.normal_row[static_cast<std::size_t>(k)];
-      if (n >= 0) rows.push_back({{"row", k}, {"normal_row", n}, {"mu", sys.mu(k)}});
-    }
-    labels["coulomb"] = {
-        {"note",
-         "Coulomb friction (5.4): the bounds of these rows are -mu lambda_n and +mu lambda_n "
-         "with lambda_n the lambda of their normal row at the fixed point the step converged "
-         "to; lambda.mtx solves the boxed problem with the bounds written here."},
-        {"rows", rows},
-        {"solve", direct.message}};
-  }
-  write_text(dir.file("labels.json"), labels.dump(2) + "\n");
+  write_matrix_market(dir.file("lambda.mtx"),
+                      step.lambda,
+                      "lambda: direct solution, N (" + step.direct.message + ")");
+  if (sys.softness.size() > 0)
+    write_matrix_market(dir.file("softness.mtx"),
+                        sys.softness,
+                        "softness: the step scheme's diagonal, kg^-1 (docs/schemes.md); the "
+                        "system carrying the push solves (A + diag(softness)) lambda = b");
+  write_text(dir.file("labels.json"), step_labels(scene, sys, step, o.at_step).dump(2) + "\n");
   dir.commit();
   if (o.quiet) return 0;
   std::printf("%s, step %ld: %s, %s; wrote %s%s%s\n",

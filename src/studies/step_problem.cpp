@@ -2,7 +2,9 @@
 #include "cbps/studies/step_problem.hpp"
 
 #include "cbps/base/error.hpp"
+#include "cbps/io/fclib_file.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
+#include "cbps/studies/explain.hpp"
 
 namespace cbps {
 
@@ -52,6 +54,94 @@ PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, double
   out.unit_free = unit_free_residual(out.problem.problem(), out.lambda);
   out.verified = is_solved(out.unit_free, out.lambda);
   return out;
+}
+
+nlohmann::json step_labels(const Scene& scene,
+                           const System& sys,
+                           const StepProblem& step,
+                           long at_step) {
+  nlohmann::json labels;
+  labels["scene"] = scene.name;
+  labels["step"] = at_step;
+  labels["rows"] = sys.labels;
+  labels["columns"] = column_labels(scene, sys);
+  const SchemeSettings& scheme = scene.world.scheme;
+  if (scheme.kind != Scheme::Paper)
+    labels["scheme"] = {{"name", scheme_names().at(static_cast<std::size_t>(scheme.kind))},
+                        {"substeps", scheme.substeps},
+                        {"h", sys.dt},
+                        {"note", scheme_note(scheme)},
+                        {"softness", sys.softness.size() > 0 ? "softness.mtx" : "none"}};
+  labels["system"] = sys.push == PushMode::Improved
+                         ? "velocity system of the improved push (8.1): b without the push terms"
+                         : "the one system of the original push (5.2.3, 6.2.9)";
+  labels["cfm"] = scene.solver.cfm;
+  if (!step.coulomb) return labels;
+  nlohmann::json rows = nlohmann::json::array();
+  for (int k = 0; k < sys.rows(); ++k) {
+    const int n = sys.normal_row[static_cast<std::size_t>(k)];
+    if (n >= 0) rows.push_back({{"row", k}, {"normal_row", n}, {"mu", sys.mu(k)}});
+  }
+  labels["coulomb"] = {
+      {"note",
+       "Coulomb friction (5.4): the bounds of these rows are -mu lambda_n and +mu lambda_n "
+       "with lambda_n the lambda of their normal row at the fixed point the step converged "
+       "to; lambda.mtx solves the boxed problem with the bounds written here."},
+      {"rows", rows},
+      {"solve", step.direct.message}};
+  return labels;
+}
+
+namespace {
+
+constexpr const char* kFclibMathInfo =
+    "u = W r + q with W = A = J Minv J^T (1/kg) and q = -b (m/s^2) of the step (6.2.9); r in N";
+constexpr const char* kFclibGlobalMathInfo =
+    "M v = H r + G l + f, u = H^T v + w with M = Minv^-1 (kg, kg m^2), H = J^T of the contact "
+    "rows, G = J^T of the free rows, f = 0, w = -b (m/s^2) of the step (6.2.9): v = Minv J^T "
+    "lambda (m/s^2), u = A r - b; r in N";
+
+}  // namespace
+
+PosedOnCones write_step_fclib(const std::string& path,
+                              const Scene& scene,
+                              const System& sys,
+                              const StepProblem& step,
+                              long at_step,
+                              ConeLaw law,
+                              bool global) {
+  const char* math = global ? kFclibGlobalMathInfo : kFclibMathInfo;
+  const FclibForm form = global ? FclibForm::Global : FclibForm::Local;
+  const std::string title = scene.name + ", step " + std::to_string(at_step);
+  if (scene.world.friction == FrictionModel::Cone) {
+    // The problem the step solved, with its answer.
+    if (sys.cones.empty()) throw InputError(title + " has no contacts in friction cones");
+    const FclibInfo info{title,
+                         "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
+                             std::string(to_string(sys.cones.law)) +
+                             "; /solution by the direct path (" + step.direct.message + ")",
+                         math};
+    write_fclib(path, step.problem, info, &step.lambda, form);
+    return PosedOnCones{step.problem, step.lambda, step.direct, {}, true};
+  }
+  PosedOnCones posed;
+  try {
+    posed = pose_on_cones(sys, step.problem, scene.world.mu, law);
+  } catch (const InputError& e) {
+    throw InputError(title + ": " + e.what());
+  }
+  const FclibInfo info{
+      title + ", posed on Coulomb's cone",
+      "written by cbps matrices: the step solved the scene's box (friction=" +
+          std::string(to_string(scene.world.friction)) +
+          "); this file holds the same A and b with each contact in Coulomb's cone, mu = " +
+          number_text(scene.world.mu) + ", law " + std::string(to_string(law)) + "; " +
+          (posed.verified ? "/solution by the direct path (" + posed.direct.message + ")"
+                          : "no /solution: the direct path did not verify an answer (" +
+                                posed.direct.message + ")"),
+      math};
+  write_fclib(path, posed.problem, info, posed.verified ? &posed.lambda : nullptr, form);
+  return posed;
 }
 
 }  // namespace cbps

@@ -4,6 +4,7 @@
 // the scene's friction is a box.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "cbps/io/stored_problem.hpp"
@@ -32,6 +33,15 @@ StepProblem solved_step_problem(Simulation& sim,
                                 const System& sys,
                                 const std::string& what);
 
+/// labels.json of a `cbps matrices` folder (docs/outputs.md): the scene and step, each row's and
+/// column's label, the system's form (the push), its cfm, under a substepping scheme which
+/// substep it is and what the scheme changed (softness.mtx when it softens rows), and with
+/// Coulomb friction each friction row's normal row and mu at the fixed point `step` reached.
+nlohmann::json step_labels(const Scene& scene,
+                           const System& sys,
+                           const StepProblem& step,
+                           long at_step);
+
 /// A boxed problem with its contacts posed in Coulomb's cone instead of their boxes.
 struct PosedOnCones {
   StoredProblem problem;  ///< the same A and b; each contact's rows in the cone of mu
@@ -45,5 +55,19 @@ struct PosedOnCones {
 /// `law` (contacts_in_cones: the cone replaces the box, the rows' own bounds lifted), solved by
 /// the exact path on cones from zero. InputError for a system without contacts.
 PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, double mu, ConeLaw law);
+
+/// The step's problem as an FCLIB file at `path` (FCLIB's local problem; with `global` its global
+/// one, M, H, G): on a scene with contacts in cones the problem the step solved, with its answer
+/// as /solution; on a scene whose friction is a box the same A and b posed on Coulomb's cone
+/// under `law` (pose_on_cones), with /solution only where the exact path verified its answer.
+/// Returns what was written (verified false: no /solution). InputError naming the scene and
+/// step `at_step` where the step has no contacts to put in cones.
+PosedOnCones write_step_fclib(const std::string& path,
+                              const Scene& scene,
+                              const System& sys,
+                              const StepProblem& step,
+                              long at_step,
+                              ConeLaw law,
+                              bool global);
 
 }  // namespace cbps
