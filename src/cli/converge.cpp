@@ -71,7 +71,7 @@ ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
   // them): the scene's own if it does, else the exact path (docs/cones.md).
   if (scene.world.friction == FrictionModel::Cone && scene.world.mu > 0.0 &&
       !takes_cone_law(scene.solver.method, scene.world.cone == ConeLaw::Coulomb))
-    scene.solver.method = Method::Direct;
+    scene.solver.method = kExactMethod;
   Simulation sim(scene);
   step_to(sim, o.at_step, "converge", o.quiet);
   const System sys = sim.build_system();  // with A, whatever the scene's method reads

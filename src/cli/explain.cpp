@@ -244,7 +244,7 @@ void write_page(const Scene& scene,
     bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
   std::optional<Method> method;
   if (!solver_given && !shown.cones.empty() && is_iterative(scene.solver.method))
-    method = Method::Direct;
+    method = kExactMethod;
   TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies, method);
   step.command = invocation_text();
   write_output_file(html, "--html " + html, teaching_page_html(step));

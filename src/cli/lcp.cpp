@@ -15,18 +15,15 @@
 #include <optional>
 
 #include "cbps/base/error.hpp"
-#include "cbps/base/numbers.hpp"
 #include "cbps/distributed/lcp_job.hpp"
 #include "cbps/distributed/tao.hpp"
 #include "cbps/io/fclib_file.hpp"
 #include "cbps/io/matrix_market.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/io/stored_problem.hpp"
-#include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/solver_spec.hpp"
-#include "cbps/system/system.hpp"
 #include "common.hpp"
 #include "tao_solvers.hpp"
 
@@ -143,7 +140,7 @@ bool launched_by_mpirun() {
 /// --solver direct under an MPI launcher (launched_by_mpirun) or on a generated problem: the
 /// exact path under MPI.
 bool is_distributed_direct(const LcpOptions& o) {
-  return o.solver == "direct" && (launched_by_mpirun() || !o.generate.empty());
+  return o.solver == to_string(kExactMethod) && (launched_by_mpirun() || !o.generate.empty());
 }
 
 /// `--solver tao:TYPE`, `--solver direct` under mpirun or `--generate SCENE` on every rank of the
@@ -197,10 +194,10 @@ int lcp_command(const LcpOptions& o) {
   // problem on cones (whatever its A) and for a Siconos file too large for dense Lemke; Lemke
   // for the other Siconos files.
   const bool cones = !p.cones.empty();
-  const char* fallback = cones                                         ? "direct"
-                         : !p.folder && p.rows() <= kMaxDenseLemkeRows ? "lemke"
-                                                                       : "direct";
-  const SolverSpec spec = given ? *given : parse_solver_spec(fallback, "--solver");
+  const Method fallback =
+      !cones && !p.folder && p.rows() <= kMaxDenseLemkeRows ? Method::Lemke : kExactMethod;
+  const SolverSpec spec =
+      given ? *given : parse_solver_spec(std::string(to_string(fallback)), "--solver");
   check_applicable(spec, p, o.problem);
   std::unique_ptr<OutputDir> dir;
   if (!o.out.empty()) dir = std::make_unique<OutputDir>(o.out);

@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "cbps/base/error.hpp"
+#include "cbps/distributed/tao.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "common.hpp"
 
@@ -32,8 +34,8 @@ bool runs_distributed(const CLI::App& app) {
   if (lcp == nullptr || !lcp->parsed()) return false;
   const CLI::Option* solver = lcp->get_option("--solver");
   const std::string name = solver->count() > 0 ? solver->as<std::string>() : std::string();
-  const bool tao = name == "tao" || name.rfind("tao:", 0) == 0;  // as lcp reads it
-  return tao || name == "direct" || lcp->get_option("--generate")->count() > 0;
+  return cbps::distributed::is_tao_solver(name) || name == cbps::to_string(cbps::kExactMethod) ||
+         lcp->get_option("--generate")->count() > 0;
 }
 
 int run(int argc, char** argv) {

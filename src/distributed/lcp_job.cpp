@@ -79,7 +79,7 @@ long check_distributed_options(const LcpJob& o, const std::string& type) {
     throw InputError("--generate " + o.generate +
                      ": unknown; the generators are chain (solved by tao:TYPE) and pyramid "
                      "(solved by direct)");
-  if (o.generate == "pyramid" && o.solver != "direct")
+  if (o.generate == "pyramid" && !o.direct)
     throw InputError("--generate pyramid: --solver " + (o.solver.empty() ? "(none)" : o.solver) +
                      ": a generated pyramid is solved by the exact path, --solver direct (each "
                      "rank builds its rows of J and Minv; A, which TAO needs, is never formed)");
@@ -372,7 +372,7 @@ int run_lcp_job(const LcpJob& o, const Reporter& report) {
   at.rows = local->total_rows;
   if (o.direct) {
     SolverOptions options;
-    options.method = Method::Direct;
+    options.method = kExactMethod;
     options.tolerance = o.tolerance;
     const auto start = std::chrono::steady_clock::now();
     if (o.time_limit > 0.0) {  // the ranks stop together: each test of it is a reduction

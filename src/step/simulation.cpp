@@ -323,7 +323,7 @@ bool Simulation::forms_A(Eigen::Index rows) const {
   const bool cones = settings.friction == FrictionModel::Cone && settings.mu > 0.0;  // 5.4
   const SolverSettings& solver = scene_.solver;
   return observer_ != nullptr || reads_A(solver.method, cones) ||
-         (solver.method == Method::Direct && rows < solver.options().direct.interior_from_rows);
+         (solver.method == kExactMethod && rows < solver.options().direct.interior_from_rows);
 }
 
 int Simulation::continued_rows(const System& sys) const {

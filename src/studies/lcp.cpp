@@ -31,7 +31,7 @@ void explain_space(const SolverSpec& spec,
                                         "with definite 6 x 6 blocks or A is not J Minv J^T" +
                                             moved
                                       : "row: " + p.without_jacobian;
-  } else if (spec.method == Method::Direct) {
+  } else if (spec.method == kExactMethod) {
     r.space_reason = "none: " + std::to_string(p.rows()) +
                      " rows, fewer than 500 or no bounded row: the active-set path on A "
                      "itself (" +
@@ -75,7 +75,8 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
     throw InputError(what + ": " + path +
                      ": contacts_first needs each row's kind, which only a `cbps matrices` "
                      "folder's labels.json gives; drop it or use `cbps converge SCENE`");
-  if (spec.method == Method::Direct || spec.method == Method::ActiveSet) require_symmetric(p, what);
+  // The exact paths on the boxed problem solve the QP of 6.2 (on cones direct takes any A).
+  if (!is_iterative(spec.method) && needs_symmetric(spec.method)) require_symmetric(p, what);
   if (spec.method == Method::Lemke && p.rows() > kMaxDenseLemkeRows)
     throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
                      " rows; the dense Lemke solver takes at most " +

@@ -127,7 +127,7 @@ RunTotals run_steps(Simulation& sim, long steps, const std::vector<StepObserver*
 
 void CrossCheck::start(Simulation& sim) {
   SolverSettings direct = sim.scene().solver;
-  direct.method = Method::Direct;
+  direct.method = kExactMethod;
   direct.tolerance = 0.0;  // the reference: to the direct path's rounding floor
   const double cfm = sim.scene().solver.cfm;
   const int interior_from_rows = direct.options().direct.interior_from_rows;

@@ -14,7 +14,7 @@ StepProblem solved_step_problem(Simulation& sim,
                                 const std::string& what) {
   StepProblem out;
   SolverSettings exact = scene.solver;
-  exact.method = Method::Direct;
+  exact.method = kExactMethod;
   exact.tolerance = 0.0;
   out.lambda = VecX::Zero(sys.rows());
   out.direct = sim.solve_system(sys, sys.b, out.lambda, exact);
@@ -47,7 +47,7 @@ PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, double
     }
   }
   SolverOptions exact;
-  exact.method = Method::Direct;
+  exact.method = kExactMethod;
   exact.tolerance = 0.0;
   out.lambda = VecX::Zero(out.problem.rows());
   out.direct = solve(out.problem.problem(), out.lambda, exact);

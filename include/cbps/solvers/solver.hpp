@@ -74,6 +74,11 @@ enum class Method {
 };
 
 std::string_view to_string(Method method);
+
+/// The exact path (exact/direct.hpp) in its role: the answer every study, check and exported
+/// step is judged against or solved with, and the method of `cbps lcp` under mpirun. The
+/// studies and commands name the role, not the method.
+inline constexpr Method kExactMethod = Method::Direct;
 /// The method of a name; false (method untouched) for a name that is none.
 bool method_from_string(std::string_view name, Method& method);
 /// The method of a name known to be one (code, tests); std::invalid_argument otherwise.
