@@ -223,6 +223,7 @@ inline VecX solve_exact(const Constructed& p,
   VecX lambda = VecX::Zero(p.b.size());
   SolverOptions options;
   options.method = method;
+  options.tolerance = 0.0;  // to the rounding floor
   const SolverSummary s = solve(BoxedProblem{p.A, p.b, p.lo, p.hi}, lambda, options);
   if (summary != nullptr) *summary = s;
   return lambda;

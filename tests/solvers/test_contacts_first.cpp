@@ -81,6 +81,7 @@ TEST_CASE(
   options.order = order;
   options.contacts_first = true;
   options.seed = 11;
+  options.split_islands = false;  // sweep for sweep: the whole problem, one rng
 
   // One sweep of solve_pgs is one pgs_sweep in the grouped order (the same rng draws).
   std::mt19937_64 rng(options.seed);
@@ -114,6 +115,7 @@ TEST_CASE(
   // To a tolerance, through solve() with islands: w and v2 are the direct path's.
   SolverOptions direct;
   direct.method = Method::Direct;
+  direct.tolerance = 0.0;  // to the rounding floor
   VecX reference = VecX::Zero(sys.rows());
   REQUIRE(solve(problem, reference, direct).termination == Termination::Direct);
   for (const Method method : {Method::Pgs, Method::MatrixFree}) {

@@ -62,6 +62,7 @@ double objective(const SpMat& A, const VecX& b, const VecX& x) {
 SolverOptions interior() {
   SolverOptions options;
   options.method = Method::Direct;
+  options.tolerance = 0.0;  // to the rounding floor
   options.direct.interior_from_rows = 0;
   return options;
 }

@@ -151,6 +151,7 @@ TEST_CASE(
                                        reference.lpNorm<Eigen::Infinity>()
                                  : 0.0;
   double residual_bound = rounding;
+  options.tolerance = 0.0;  // the exact paths: to their rounding floor
   if (is_iterative(method)) {
     options.tolerance = std::max(kSweepTolerance * kEps * scale, kBlockFloor * block_floor);
     residual_bound = options.tolerance + rounding;

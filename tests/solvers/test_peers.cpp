@@ -65,6 +65,7 @@ SolverOptions peer_options(Method method, int iterations = 20000) {
   SolverOptions o;
   o.method = method;
   o.max_iterations = iterations;
+  o.tolerance = 0.0;  // every sweep; a pivoting peer keeps its own default tolerance
   return o;
 }
 

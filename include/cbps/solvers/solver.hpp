@@ -157,10 +157,10 @@ struct SolverOptions {
   /// Stop when the natural-map residual ≤ this, N, for every method; 0: iterative methods run
   /// every sweep, the direct path stops at its rounding floor (direct.hpp); below that floor
   /// it stops there once its steps no longer reduce the residual (may_stop).
-  double tolerance = 0.0;
+  double tolerance = 1e-10;
   double delta_tolerance = 0.0;  ///< stop when max |Δlambda| in a sweep ≤ this (N); 0 = never
   double relaxation = 1.0;       ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
-  bool split_islands = false;    ///< iterative methods: solve independent blocks of A apart
+  bool split_islands = true;     ///< iterative methods: solve independent blocks of A apart
   bool describe = true;          ///< write SolverSummary::message (off for each island)
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, matrix-free)
   /// pgs and matrix-free: every sweep visits the distance rows, then all contact normal rows,
