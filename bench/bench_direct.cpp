@@ -46,7 +46,7 @@ double median(std::vector<double> v) {
 /// pattern (the same state bench_system uses).
 cbps::System chain_system(long n) {
   cbps::Scene scene = cbps::make_builtin_scene("chain", {{"n", std::to_string(n)}});
-  scene.solver.iterations = 10;
+  scene.solver.max_iterations = 10;
   scene.solver.tolerance = 0.0;
   cbps::Simulation sim(scene);
   for (int s = 0; s < 5; ++s) sim.step();

@@ -100,7 +100,7 @@ struct Case {
 /// the system of the state it reaches.
 cbps::System stepped_system(cbps::Scene scene, int steps, const std::string& name) {
   scene.solver.method = cbps::Method::Pgs;
-  scene.solver.iterations = 50;
+  scene.solver.max_iterations = 50;
   cbps::Simulation sim(scene);
   const auto start = Clock::now();
   for (int s = 1; s <= steps; ++s) {
@@ -121,7 +121,7 @@ cbps::System stepped_system(cbps::Scene scene, int steps, const std::string& nam
 /// pattern: bench_direct's chain_system.
 cbps::System chain_system(long n) {
   cbps::Scene scene = cbps::make_builtin_scene("chain", {{"n", std::to_string(n)}});
-  scene.solver.iterations = 10;
+  scene.solver.max_iterations = 10;
   scene.solver.tolerance = 0.0;
   cbps::Simulation sim(scene);
   for (int s = 0; s < 5; ++s) sim.step();

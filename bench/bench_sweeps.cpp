@@ -117,7 +117,7 @@ const Problem& problem(SceneKind kind, long size) {
     p = std::make_unique<Problem>();
     if (kind == SceneKind::Chain) {
       cbps::Scene scene = cbps::make_builtin_scene("chain", {{"n", std::to_string(size)}});
-      scene.solver.iterations = 10;
+      scene.solver.max_iterations = 10;
       scene.solver.tolerance = 0.0;
       p->sim = std::make_unique<cbps::Simulation>(scene);
       for (int s = 0; s < 5; ++s) p->sim->step();

@@ -36,7 +36,7 @@ cbps::Simulation& chain(long n) {
   std::unique_ptr<cbps::Simulation>& sim = cache[n];
   if (!sim) {
     cbps::Scene scene = cbps::make_builtin_scene("chain", {{"n", std::to_string(n)}});
-    scene.solver.iterations = 10;
+    scene.solver.max_iterations = 10;
     scene.solver.tolerance = 0.0;
     sim = std::make_unique<cbps::Simulation>(scene);
     for (int s = 0; s < 5; ++s) sim->step();

@@ -161,9 +161,9 @@ void bind_scene_solver(py::class_<Scene>& scene) {
           "relaxation", [](const Scene& s) { return s.solver.relaxation; }, "omega")
       .def_property(
           "iterations",
-          [](const Scene& s) { return s.solver.iterations; },
+          [](const Scene& s) { return s.solver.max_iterations; },
           [](Scene& s, const py::object& n) {
-            s.solver.iterations = static_cast<int>(
+            s.solver.max_iterations = static_cast<int>(
                 whole_from_python(n, "iterations", 1, std::numeric_limits<int>::max()));
           },
           "max solver sweeps per step")

@@ -318,7 +318,7 @@ SolveNumbers read_numbers(const py::object& iterations,
 SolverOptions options_of(const SolverSpec& spec, const SolveNumbers& n, bool split_islands) {
   SolverSettings settings;
   apply_solver_spec(spec, settings);
-  settings.iterations = n.iterations;
+  settings.max_iterations = n.iterations;
   settings.tolerance = n.tolerance;
   settings.delta_tolerance = n.delta_tolerance;
   settings.cfm = n.cfm;

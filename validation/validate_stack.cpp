@@ -138,7 +138,7 @@ Run run_stack(const Config& c, int sweeps, int seed) {
   cbps::Scene scene = cbps::make_builtin_scene("stack", {{"n", "10"}});
   scene.world.contact_persistence = c.on.persistence ? cbps::kSceneContactPersistence : 0.0;
   cbps::apply_solver_spec(cbps::parse_solver_spec(r.spec), scene.solver);
-  scene.solver.iterations = sweeps;
+  scene.solver.max_iterations = sweeps;
   scene.solver.seed = static_cast<std::uint64_t>(seed);
   const long steps = std::lround(scene.duration / scene.world.dt);
   cbps::Simulation sim(std::move(scene));

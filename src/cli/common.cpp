@@ -183,7 +183,7 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
     apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);
   }
   if (o.seed >= 0) scene.solver.seed = static_cast<std::uint64_t>(o.seed);
-  if (o.iterations > 0) scene.solver.iterations = o.iterations;
+  if (o.iterations > 0) scene.solver.max_iterations = o.iterations;
   if (o.tolerance >= 0.0) scene.solver.tolerance = o.tolerance;
   if (o.cfm >= 0.0) scene.solver.cfm = o.cfm;
 }

@@ -65,17 +65,7 @@ RowSettings World::rows() const {
 
 SolverOptions SolverSettings::options() const {
   SolverOptions o;
-  o.method = method;
-  o.max_iterations = iterations;
-  o.tolerance = tolerance;
-  o.delta_tolerance = delta_tolerance;
-  o.relaxation = relaxation;
-  o.split_islands = split_islands;
-  o.order = order;
-  o.contacts_first = contacts_first;
-  o.seed = seed;
-  o.cfm = cfm;
-  o.methods = methods;
+  static_cast<SolveSettings&>(o) = *this;
   return o;
 }
 

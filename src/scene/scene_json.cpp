@@ -297,7 +297,7 @@ SolverSettings read_solver(const Node& node) {
     if (!method_from_string(name, solver.method))
       fail(method, "unknown method " + in_quotes(name) + " (valid: " + method_names() + ")");
   }
-  if (has(node, "iterations")) solver.iterations = integer(child(node, "iterations"), 1);
+  if (has(node, "iterations")) solver.max_iterations = integer(child(node, "iterations"), 1);
   if (has(node, "tolerance")) solver.tolerance = nonnegative(child(node, "tolerance"));
   if (has(node, "delta_tolerance"))
     solver.delta_tolerance = nonnegative(child(node, "delta_tolerance"));
@@ -956,7 +956,7 @@ std::string scene_to_json(const Scene& scene) {
 
   Json solver = Json::object();
   solver["method"] = std::string(to_string(scene.solver.method));
-  solver["iterations"] = scene.solver.iterations;
+  solver["iterations"] = scene.solver.max_iterations;
   solver["tolerance"] = scene.solver.tolerance;
   solver["delta_tolerance"] = scene.solver.delta_tolerance;
   solver["relaxation"] = scene.solver.relaxation;

@@ -268,7 +268,7 @@ nlohmann::json run_summary_json(const Scene& scene,
   summary["duration"] = number_json(t.time);
   summary["solver"] = {
       {"method", std::string(to_string(solver.method))},
-      {"iterations", solver.iterations},
+      {"iterations", solver.max_iterations},
       {"tolerance", solver.tolerance},
       {"warm_start", solver.warm > 0.0 || solver.warm_factor(RowKind::Friction) > 0.0},
       {"warm", solver.warm},

@@ -160,7 +160,7 @@ void apply_solver_spec(const SolverSpec& spec, SolverSettings& settings) {
 SolverOptions solver_options(const SolverSpec& spec, int max_iterations, double tolerance) {
   SolverSettings settings;
   apply_solver_spec(spec, settings);
-  settings.iterations = max_iterations;
+  settings.max_iterations = max_iterations;
   settings.tolerance = tolerance;
   return settings.options();
 }

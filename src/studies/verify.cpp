@@ -212,7 +212,7 @@ Check check_dimensional_analysis() {
   const double T = 0.5;
   Scene base = small_chain(5);
   base.solver.tolerance = 0.0;  // a fixed number of sweeps in both units
-  base.solver.iterations = 30;
+  base.solver.max_iterations = 30;
   Simulation a(base);
   Simulation b(rescale_units(base, L, M, T));
   // Each quantity is compared relative to its natural size in the base units (the chain's

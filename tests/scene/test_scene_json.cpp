@@ -30,7 +30,7 @@ Scene mixed_scene() {
   scene.world.dt = 1.0 / 300.0;
   scene.world.beta = 0.15;
   scene.solver.method = Method::MatrixFree;
-  scene.solver.iterations = 37;
+  scene.solver.max_iterations = 37;
   scene.solver.tolerance = 1e-9;
   scene.solver.delta_tolerance = 1e-12;
   scene.solver.relaxation = 0.7;
@@ -103,7 +103,7 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.contact_margin == want.world.contact_margin);
   CHECK(got.world.contact_persistence == want.world.contact_persistence);
   CHECK(got.solver.method == want.solver.method);
-  CHECK(got.solver.iterations == want.solver.iterations);
+  CHECK(got.solver.max_iterations == want.solver.max_iterations);
   CHECK(got.solver.tolerance == want.solver.tolerance);
   CHECK(got.solver.delta_tolerance == want.solver.delta_tolerance);
   CHECK(got.solver.relaxation == want.solver.relaxation);

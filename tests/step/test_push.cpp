@@ -34,7 +34,7 @@ TEST_CASE(
   const std::string method = GENERATE(as<std::string>{}, "block-pgs", "direct");
   CAPTURE(method);
   Scene scene = contact_scene("stack", {{"n", "10"}, {"dt", "1/60"}, {"push", "improved"}}, method);
-  scene.solver.iterations = 20;
+  scene.solver.max_iterations = 20;
   Simulation sim(scene);
   REQUIRE(sim.bodies().size() == 11);
   const Vec3 top0 = sim.bodies().back().x;

@@ -44,7 +44,7 @@ Scene sphere_on_plane() {
 
 TEST_CASE("tgs with one substep is the paper's step, bit for bit", "[scheme][tgs]") {
   Scene paper = contact_scene("stack", {{"n", "4"}, {"dt", "1/60"}}, "pgs");
-  paper.solver.iterations = 10;
+  paper.solver.max_iterations = 10;
   Scene tgs = paper;
   tgs.world.scheme.kind = Scheme::Tgs;
   tgs.world.scheme.substeps = 1;
@@ -62,7 +62,7 @@ TEST_CASE("tgs with N substeps is the paper's step at dt/N where nothing collide
   // A chain has no contacts: found once a step or every substep makes no difference, so tgs's
   // N substeps of dt/N are N paper steps of dt/N exactly.
   Scene paper = contact_scene("chain", {{"n", "5"}, {"dt", "1/240"}}, "pgs");
-  paper.solver.iterations = 5;
+  paper.solver.max_iterations = 5;
   Scene tgs = paper;
   tgs.world.dt = 4.0 * paper.world.dt;  // h = dt/4 exactly the paper's dt
   tgs.world.scheme.kind = Scheme::Tgs;
@@ -107,7 +107,7 @@ TEST_CASE("soft-step: a sphere on a plane rests at its soft contact's depth g / 
   scene.world.scheme.kind = Scheme::SoftStep;
   const int substeps = GENERATE(2, 4, 8);
   scene.world.scheme.substeps = substeps;
-  scene.solver.iterations = 1;
+  scene.solver.max_iterations = 1;
   CAPTURE(substeps);
   const double hertz = 2.0 * std::min(30.0, 0.25 * substeps / scene.world.dt);
   const double omega = 2.0 * std::numbers::pi * hertz;
@@ -132,7 +132,7 @@ TEST_CASE("xpbd: a ball on a row of compliance alpha hangs alpha m g below its r
   scene.world.scheme.substeps = 4;
   const double alpha = 1e-3, m = 2.0, length = 0.5;  // m/N, kg, m
   scene.world.scheme.compliance = alpha;
-  scene.solver.iterations = 1;
+  scene.solver.max_iterations = 1;
   scene.bodies.push_back(sphere_body("ball", 0.05, m, Vec3(0.0, -length, 0.0)));
   DistanceConstraint link;
   link.name = "link";

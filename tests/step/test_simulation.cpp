@@ -66,7 +66,7 @@ TEST_CASE("warm starting from last step's lambda by row id saves sweeps on a han
     scene.bodies[k].x = Vec3(0.0, -0.1 * static_cast<double>(k + 1), 0.0);
   }
   scene.solver.tolerance = 1e-8;
-  scene.solver.iterations = 100000;
+  scene.solver.max_iterations = 100000;
   Scene cold_scene = scene;
   cold_scene.solver.warm = 0.0;
   Simulation warm(scene);

@@ -50,7 +50,7 @@ TEST_CASE("the warm start is F times last step's lambda, G on friction rows, exa
   const std::string& name = named.first;
   CAPTURE(name);
   Scene scene = contact_scene(name, named.second);
-  scene.solver.iterations = 5;
+  scene.solver.max_iterations = 5;
   scene.solver.warm = 0.85;
   scene.solver.warm_friction = 0.25;
   Simulation sim(scene);
@@ -110,7 +110,7 @@ TEST_CASE("the default warm start is the paper's, bit for bit: last step's lambd
                                         {"pgs:warm=off", true}}));
   CAPTURE(c.spec);
   Scene scene = contact_scene("stack", {{"n", "4"}, {"mu", "0.5"}});
-  scene.solver.iterations = 10;
+  scene.solver.max_iterations = 10;
   if (!c.spec.empty()) apply_solver_spec(parse_solver_spec(c.spec), scene.solver);
   Simulation sim(scene);
   LambdaById last;

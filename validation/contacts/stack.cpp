@@ -37,7 +37,7 @@ Stack run_stack(const std::string& method, const std::string& push) {
   r.method = method;
   r.push = push;
   cbps::Scene scene = builtin("stack", {{"n", "10"}, {"dt", "1/60"}, {"push", push}}, method);
-  scene.solver.iterations = 20;
+  scene.solver.max_iterations = 20;
   const long steps = step_count(scene);
   cbps::Simulation sim(std::move(scene));
   const Vec3 top0 = sim.bodies().back().x;

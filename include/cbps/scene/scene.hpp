@@ -108,14 +108,10 @@ struct World {
   }
 };
 
-/// A scene's solver, as scene files and `--solver` give it: what SolverOptions a step solves
-/// with (options()), and whether it starts from last step's lambda.
-struct SolverSettings {
-  Method method = Method::Pgs;
-  int iterations = 100;          ///< max sweeps per step
-  double tolerance = 1e-10;      ///< natural-map residual to stop at, N (0 = run all sweeps)
-  double delta_tolerance = 0.0;  ///< max |Δlambda| to stop at, N (0 = off)
-  double relaxation = 1.0;       ///< omega (Jacobi damping)
+/// A scene's solver, as scene files and `--solver` give it: the settings of every solve a step
+/// makes (SolveSettings, solver.hpp, with its defaults) and whether it starts from last step's
+/// lambda.
+struct SolverSettings : SolveSettings {
   /// Warm-start factor F (7): a step starts each row from F times its lambda of the last step
   /// (matched by row id, Row::id), 0 for a new row. 1: the paper's guess, last step's lambda;
   /// 0: a cold start from lambda = 0. In [0, 1].
@@ -124,15 +120,6 @@ struct SolverSettings {
   /// sequential-impulse solver, for one, keeps 0.85 of the contact impulses and none of the
   /// friction ones.
   std::optional<double> warm_friction;
-  bool split_islands = true;           ///< solve independent islands of A apart (PGS, Jacobi)
-  RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel row order (pgs, matrix-free)
-  bool contacts_first = false;         ///< pgs, matrix-free: contact rows before friction rows
-  std::uint64_t seed = 0;              ///< RowOrder::Random's seed (--seed)
-  /// Constraint-force mixing (ODE's CFM): eps added to A's diagonal, (A + eps E) lambda = b, so
-  /// that redundant or degenerate rows get a unique, bounded lambda. kg⁻¹. The answer then
-  /// misses A lambda = b by eps lambda (m/s²); `cbps run` reports that. 0: off.
-  double cfm = 0.0;
-  MethodSettings methods;  ///< the parameters of the methods that have their own
 
   /// The options of one solve with these settings; the seed is `seed` as it is (a simulation
   /// adds its step count, so that random orders differ from step to step).

@@ -149,9 +149,12 @@ enum class RowOrder {
 };
 std::string to_string(RowOrder order);
 
-/// Everything a solve is told, for every method. Fields a method has no use for are ignored
-/// by it (the row order by Jacobi, the direct settings by PGS).
-struct SolverOptions {
+/// What a solve is asked, declared once with one set of defaults: a scene's solver block is
+/// these (SolverSettings, scene.hpp, adds the warm start) and so is every solve's options
+/// (SolverOptions adds what one solve needs at run time), so a library solve() and a scene's
+/// step stop and split alike. Fields a method has no use for are ignored by it (the row order by
+/// Jacobi, the sweeps by the exact paths).
+struct SolveSettings {
   Method method = Method::Pgs;
   int max_iterations = 100;  ///< sweeps (iterative methods)
   /// Stop when the natural-map residual ≤ this, N, for every method; 0: iterative methods run
@@ -161,7 +164,6 @@ struct SolverOptions {
   double delta_tolerance = 0.0;  ///< stop when max |Δlambda| in a sweep ≤ this (N); 0 = never
   double relaxation = 1.0;       ///< Jacobi damping / SOR factor omega (1 = the paper's 7.1.1)
   bool split_islands = true;     ///< iterative methods: solve independent blocks of A apart
-  bool describe = true;          ///< write SolverSummary::message (off for each island)
   RowOrder order = RowOrder::Natural;  ///< Gauss-Seidel forms (pgs, matrix-free)
   /// pgs and matrix-free: every sweep visits the distance rows, then all contact normal rows,
   /// then all friction rows, each group in `order` (SweepOrder, pgs.hpp); needs the problem's
@@ -172,6 +174,13 @@ struct SolverOptions {
   /// Constraint-force mixing eps, kg⁻¹: every method solves the boxed problem of A + eps E
   /// (with_cfm) instead of A; A itself stays J Minv Jᵀ. Residuals are those of A + eps E. 0: off.
   double cfm = 0.0;
+  /// The parameters of the methods that have their own (method_settings.hpp).
+  MethodSettings methods;
+};
+
+/// Everything one solve is told: the settings, and what the solve needs at run time.
+struct SolverOptions : SolveSettings {
+  bool describe = true;  ///< write SolverSummary::message (off for each island)
   /// Block PGS: delta / max_j A_jj of the block, added to the diagonal of each block of
   /// several rows before it is solved (see block_pgs_sweep).
   double block_regularization = 1e-7;
@@ -197,8 +206,6 @@ struct SolverOptions {
   /// spent in sweeps so far (the call itself is not timed); false ends the solve
   /// (Termination::Stopped). `cbps converge` records its samples here.
   std::function<bool(int, const VecX&, double)> after_sweep;
-  /// The parameters of the methods that have their own (method_settings.hpp).
-  MethodSettings methods;
   /// Wall-clock bound on one solve, s; 0: none. The sweeping methods stop after the sweep that
   /// passes it (Termination::TimeLimit, their lambda the last sweep's); the exact paths
   /// (interior point, crossover, active set, Lemke's pivots, the cone stages, the Coulomb fixed
