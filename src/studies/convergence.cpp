@@ -58,6 +58,7 @@ SolverSummary solve_reference(ConvergenceSystem& s) {
   // would factor A + D in row space, 100× slower on the base-20 pyramid (0.2 s against 22 s).
   SolverOptions options;
   options.method = kExactMethod;
+  options.tolerance = 0.0;  // the reference: to the direct path's rounding floor
   options.cfm = s.stored.cfm;
   const SolverSummary d = solve(s.problem(), s.lambda_star, options);
   s.lambda_unique = cholesky_rcond(with_cfm(s.stored.A, s.stored.cfm)) >= kDefiniteRcond;
