@@ -45,8 +45,8 @@ struct ConvergeOptions {
   std::string cone;            ///< --cone: an FCLIB file's law
   long at_step = 0;
   int iterations = 100000;
-  int record_every = kRecordLog;  ///< --record-every: K, or log (kRecordLog)
-  double tolerance = 1e-10;
+  int record_every = kRecordLog;                 ///< --record-every: K, or log (kRecordLog)
+  double tolerance = SolveSettings{}.tolerance;  ///< N, the one default (solver.hpp)
   double time_limit = 10.0;
   std::string out;
   bool json = false;

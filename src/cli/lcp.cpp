@@ -37,8 +37,8 @@ struct LcpOptions {
   std::string problem;
   std::string solver;
   int iterations = 10000;
-  double tolerance = 1e-10;
-  double time_limit = 0.0;  ///< --time-limit, s; 0: none
+  double tolerance = SolveSettings{}.tolerance;  ///< N, the one default (solver.hpp)
+  double time_limit = 0.0;                       ///< --time-limit, s; 0: none
   bool json = false;
   bool quiet = false;  ///< --quiet: no line every 2 s of a long solve
   std::string out;

@@ -17,6 +17,7 @@
 
 #include "cbps/io/output_dir.hpp"
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/studies/lcp.hpp"
 #include "cbps/system/unit_free.hpp"
 
@@ -32,12 +33,12 @@ struct LcpJob {
   std::string solver;   ///< --solver: "tao:TYPE", or "direct" (the exact path under MPI)
   bool direct = false;  ///< the exact path under MPI (else TAO)
   int iterations = 10000;
-  double tolerance = 1e-10;  ///< N (TAO: its gatol)
-  double time_limit = 0.0;   ///< s, 0: none (the exact path only)
-  std::string generate;      ///< "chain", "pyramid" or empty
-  std::string rows;          ///< --rows N as given (1e6 accepted)
-  std::string write_system;  ///< --write-system DIR, or empty
-  std::string out;           ///< --out DIR, or empty
+  double tolerance = SolveSettings{}.tolerance;  ///< N (TAO: its gatol)
+  double time_limit = 0.0;                       ///< s, 0: none (the exact path only)
+  std::string generate;                          ///< "chain", "pyramid" or empty
+  std::string rows;                              ///< --rows N as given (1e6 accepted)
+  std::string write_system;                      ///< --write-system DIR, or empty
+  std::string out;                               ///< --out DIR, or empty
   /// PROBLEM read whole on every rank (a Siconos file: small and dense), with the command's
   /// --siconos and --cone applied.
   std::function<StoredProblem()> read_whole;

@@ -102,9 +102,9 @@ struct ConvergenceLimits {
   /// Which sweeps convergence.csv keeps (recorded_sweep): every K-th, or 0 (kRecordLog): every
   /// sweep to 100, then 100 a decade.
   int record_every = 1;
-  double tolerance = 1e-10;  ///< stop at this residual, N
-  double time_limit = 10.0;  ///< max sweep time per spec, s
-  std::uint64_t seed = 0;    ///< of random row orders
+  double tolerance = SolveSettings{}.tolerance;  ///< stop at this residual, N
+  double time_limit = 10.0;                      ///< max sweep time per spec, s
+  std::uint64_t seed = 0;                        ///< of random row orders
   /// Called every 1000 sweeps with (spec, sweeps, time s, residual N); may be empty.
   std::function<void(const SolverSpec&, int, double, double)> progress;
 };
