@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <functional>
@@ -307,9 +308,26 @@ int report_direct(const LcpJob& o,
   return report_ranks(o, session, local, at, d.scale, extras, dir, report);
 }
 
+/// Every rank's exit code, told by rank `teller`, once it has said what it has to say: its
+/// failure, as main says one ("cbps: MESSAGE"), and whatever it printed, flushed while every
+/// rank's MPI is still up. The others wait for it (one broadcast from it), so no rank's exit
+/// lets mpiexec end the job before the teller's words are out (a rank that returned at once
+/// while the teller still unwound to main was seen to cut its message off under load).
+int told_by(const MpiSession& session, int teller, const std::exception_ptr& failure, int code) {
+  if (session.rank() == teller && failure) {
+    try {
+      std::rethrow_exception(failure);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "cbps: %s\n", e.what());
+    }
+  }
+  std::fflush(stdout);
+  std::fflush(stderr);
+  return session.broadcast(code, teller);
+}
+
 /// `report()` (rank 0's report, returning its exit code) run on rank 0 alone; every rank returns
-/// that code. An exception on rank 0 is rethrown there (main reports it, exit 2 or 1) once every
-/// rank has the code, so none waits for rank 0.
+/// that code. A failure on rank 0 is said there (told_by: exit 2 or 1).
 int reported_by_rank_0(const MpiSession& session, const std::function<int()>& report) {
   int code = 1;
   std::exception_ptr failure;
@@ -321,9 +339,7 @@ int reported_by_rank_0(const MpiSession& session, const std::function<int()>& re
       code = exit_code_of(failure);
     }
   }
-  code = session.broadcast(code);
-  if (failure) std::rethrow_exception(failure);
-  return code;
+  return told_by(session, 0, failure, code);
 }
 
 }  // namespace
@@ -350,11 +366,8 @@ int run_lcp_job(const LcpJob& o, const Reporter& report) {
     failure = std::current_exception();
   }
   const int first = session.first_failing_rank(failure != nullptr);
-  if (first < session.size()) {
-    const int code = session.broadcast(failure ? exit_code_of(failure) : 0, first);
-    if (session.rank() == first) std::rethrow_exception(failure);  // main reports it
-    return code;
-  }
+  if (first < session.size())
+    return told_by(session, first, failure, failure ? exit_code_of(failure) : 0);
 
   // A folder's A must be its J Minv Jᵀ (read_problem checks the same on one process): every
   // rank measures its rows, and all see the same gap, so all refuse together, rank 0 saying so.
@@ -362,8 +375,7 @@ int run_lcp_job(const LcpJob& o, const Reporter& report) {
     try {
       check_factors_agree(o.problem, factors_gap_across_ranks(*local));
     } catch (const InputError&) {
-      if (session.rank() == 0) throw;
-      return 2;
+      return told_by(session, 0, std::current_exception(), 2);
     }
   }
 
