@@ -319,6 +319,7 @@ TEST_CASE("cbps run --scheme substeps each step as named, from the command line 
   // Substeps need a scheme that substeps; an unknown scheme is refused.
   const auto paper = run_cli("run stack --steps 1 --substeps 4");
   CHECK(paper.code == 2);
-  CHECK(paper.err.find("--substeps 4: needs a scheme that substeps (tgs, soft-step, xpbd)") != std::string::npos);
+  CHECK(paper.err.find("--substeps 4: needs a scheme that substeps (tgs, soft-step, xpbd)") !=
+        std::string::npos);
   CHECK(run_cli("run stack --steps 1 --scheme verlet").code == 2);
 }
