@@ -202,8 +202,8 @@ std::size_t choice(const Node& node, const std::vector<std::string>& names, cons
        std::string("unknown ") + what + " " + in_quotes(name) + " (valid: " + join(names) + ")");
 }
 
-/// One world setting's value as the file gives it (settings.hpp): a number (dt also a fraction
-/// "p/q" as a string), an integer, or one of its words.
+/// One world setting's value as the file gives it (settings.hpp): a number (or, where the entry
+/// says so, a fraction "p/q" as a string), an integer, or one of its words.
 double setting_of_node(const Node& node, const WorldSetting& s) {
   if (s.type == SettingType::Word) {
     std::string why;
@@ -212,7 +212,7 @@ double setting_of_node(const Node& node, const WorldSetting& s) {
     return *index;
   }
   if (s.type == SettingType::Whole) return integer(node, static_cast<int>(s.min));
-  if (s.key == "dt" && node.json.is_string()) {
+  if (s.fraction && node.json.is_string()) {
     double value = 0.0;
     if (!parse_number(node.json.get<std::string>(), value))
       fail(node, "expected a number or a fraction such as \"1/240\"" + got(node));

@@ -42,7 +42,7 @@ void set_scheme(World& w, double index) {
 
 // clang-format off
 const WorldSetting kWorldSettings[] = {
-    {.key = "dt", .unit = "s", .above_min = true, .option = true, .default_text = "`1/240`",
+    {.key = "dt", .unit = "s", .above_min = true, .fraction = true, .option = true, .default_text = "`1/240`",
      .rule = "time step; a fraction \"p/q\" such as \"1/240\" is p / q",
      .get = [](const World& w) { return w.dt; },
      .set = [](World& w, double v) { w.dt = v; }},
@@ -256,7 +256,7 @@ std::string world_settings_markdown() {
     std::string type = s.type == SettingType::Word    ? "string"
                        : s.type == SettingType::Whole ? "integer " + range_text(s)
                                                       : "number " + range_text(s);
-    if (s.key == "dt") type += ", or a string `\"p/q\"`";
+    if (s.fraction) type += ", or a string `\"p/q\"`";
     const std::string value = setting_text(s, defaults);
     const std::string fallback = s.type == SettingType::Word ? "`\"" + value + "\"`" : value;
     std::string rule(s.rule);

@@ -29,6 +29,7 @@ struct WorldSetting {
   double min = 0.0;
   double max = std::numeric_limits<double>::infinity();
   bool above_min = false;
+  bool fraction = false;  ///< Real: a scene file may also give it as a fraction "p/q" (dt)
   /// Word: its words in enum order, and what they name in messages ("push mode").
   const std::vector<std::string>& (*words)() = nullptr;
   std::string_view noun{};
