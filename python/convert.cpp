@@ -125,10 +125,10 @@ py::object to_csr(const SpMatRow& M) {
 
 py::object to_csr(const SpMat& M) { return to_csr(SpMatRow(M)); }
 
-py::object cones_dict(const ConeContacts& cones) {
+py::object cones_dict(const FrictionContacts& cones) {
   if (cones.empty()) return py::none();
   py::dict d;
-  d["law"] = std::string(to_string(cones.law));
+  d["law"] = std::string(cone_law_name(cones.law));
   d["normal_row"] = cones.normal;
   d["mu"] = to_numpy(cones.mu);
   return d;

@@ -30,7 +30,7 @@ py::object to_csr(const SpMat& M);
 /// The contacts in Coulomb's cone (docs/cones.md) as a dict {"law": "coulomb"|"ccp",
 /// "normal_row": [k, ...] (rows k, k + 1, k + 2: normal, t1, t2), "mu": numpy array}, or None
 /// for a problem without them (the paper's boxes).
-py::object cones_dict(const ConeContacts& cones);
+py::object cones_dict(const FrictionContacts& cones);
 
 /// A Python matrix (scipy.sparse of any format, or anything numpy.asarray takes: a 2-D array or
 /// nested lists) as a sparse matrix; `what` names it in errors (InputError "<what>: <why>"),

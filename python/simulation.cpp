@@ -336,7 +336,9 @@ void bind_system_matrices(py::class_<SystemRecord, std::shared_ptr<SystemRecord>
           "c, N (5.1); Coulomb friction rows at +mu lambda_n of lam")
       .def_property_readonly(
           "cones",
-          [](const SystemRecord& r) { return cones_dict(r.sys.cones); },
+          [](const SystemRecord& r) {
+            return cones_dict(r.sys.cones() != nullptr ? *r.sys.cones() : FrictionContacts{});
+          },
           "with friction=cone, the contacts in Coulomb's cone: {'law', 'normal_row', 'mu'} "
           "(their rows' cmin and cmax are not used; docs/cones.md); None otherwise");
 }

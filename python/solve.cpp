@@ -100,13 +100,13 @@ RowKind kind_of(const std::string& name, long k) {
 }
 
 /// cones= of solve(): {'law', 'normal_row', 'mu'} (System.cones' form), checked against c rows.
-ConeContacts cones_from_python(const py::object& cones, long c) {
+FrictionContacts cones_from_python(const py::object& cones, long c) {
   if (!py::isinstance<py::dict>(cones))
     throw InputError("cones: expected a dict {'law', 'normal_row', 'mu'} (System.cones)");
   const py::dict d = cones.cast<py::dict>();
   for (const char* key : {"law", "normal_row", "mu"})
     if (!d.contains(key)) throw InputError(std::string("cones: has no '") + key + "'");
-  ConeContacts out;
+  FrictionContacts out;
   if (!py::isinstance<py::str>(d["law"]) ||
       !cone_law_from_string(d["law"].cast<std::string>(), out.law))
     throw InputError("cones: 'law' must be 'coulomb' or 'ccp'");
@@ -129,7 +129,7 @@ struct Inputs {
   VecX lambda;      ///< the guess
   std::vector<int> blocks;
   std::vector<RowKind> kinds;
-  ConeContacts cones;  ///< contacts in Coulomb's cone (cones=), none for the boxed problem
+  FrictionContacts cones;  ///< contacts in Coulomb's cone (cones=), none for the boxed problem
   BoxedProblem problem() const {
     BoxedProblem bp = p.J.rows() > 0 ? BoxedProblem{p.A, p.b, p.cmin, p.cmax, &p.J, &p.Minv}
                                      : BoxedProblem{p.A, p.b, p.cmin, p.cmax};

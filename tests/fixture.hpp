@@ -89,8 +89,8 @@ inline Scene contact_scene(const std::string& name,
 
 /// Every contact of a step's system in a cone: its normal row and the two friction rows after
 /// it, with coefficient mu (the cone tests' problems from the built-in scenes).
-inline ConeContacts cones_of(const System& sys, double mu, ConeLaw law) {
-  ConeContacts cones;
+inline FrictionContacts cones_of(const System& sys, double mu, FrictionLaw law) {
+  FrictionContacts cones;
   cones.law = law;
   for (long k = 0; k + 2 < static_cast<long>(sys.kind.size()); ++k) {
     const auto at = [&](long i) { return sys.kind[static_cast<std::size_t>(i)]; };

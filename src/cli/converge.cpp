@@ -63,14 +63,14 @@ bool is_problem(const std::string& path) {
 ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
-  if (scene.world.friction == FrictionModel::Coulomb && scene.world.mu > 0.0)
+  if (scene.world.friction == FrictionLaw::CoulombBox && scene.world.mu > 0.0)
     throw InputError(o.scene.scene +
                      ": Coulomb friction bounds move with lambda, so the system is not one boxed "
                      "problem; study it with friction=paper");
   // The steps before the one studied need a method that solves cones (the boxed methods refuse
   // them): the scene's own if it does, else the exact path (docs/cones.md).
-  if (scene.world.friction == FrictionModel::Cone && scene.world.mu > 0.0 &&
-      !takes_cone_law(scene.solver.method, scene.world.cone == ConeLaw::Coulomb))
+  if (is_cone(scene.world.friction) && scene.world.mu > 0.0 &&
+      !takes_cone_law(scene.solver.method, scene.world.friction))
     scene.solver.method = kExactMethod;
   Simulation sim(scene);
   step_to(sim, o.at_step, "converge", o.quiet);

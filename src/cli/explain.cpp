@@ -164,8 +164,9 @@ void print_solution_table(const Explained& e) {
         "it met them)\n",
         num(x.summary.residual).c_str());
   if (e.coulomb) std::printf("  (%s)\n", kCoulombNote);
-  if (!e.sys.cones.empty())
-    std::printf("  (%s; law %s)\n", kConeNote, std::string(to_string(e.sys.cones.law)).c_str());
+  if (e.sys.cones() != nullptr)
+    std::printf(
+        "  (%s; law %s)\n", kConeNote, std::string(cone_law_name(e.sys.contacts.law)).c_str());
 }
 
 void print_text(const Explained& e) {
@@ -243,7 +244,7 @@ void write_page(const Scene& scene,
   for (int body : shown.body_of_block)
     bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
   std::optional<Method> method;
-  if (!solver_given && !shown.cones.empty() && is_iterative(scene.solver.method))
+  if (!solver_given && shown.cones() != nullptr && is_iterative(scene.solver.method))
     method = kExactMethod;
   TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies, method);
   step.command = invocation_text();

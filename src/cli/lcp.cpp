@@ -98,7 +98,7 @@ int report(const LcpOptions& o,
       std::printf(
           "cone law %s, %ld contacts: Signorini gap %s, cone violation %s N, dissipation gap "
           "%s, FCLIB merit %s, Siconos error %s\n",
-          std::string(to_string(p.stored->cones.law)).c_str(),
+          std::string(cone_law_name(p.stored->cones.law)).c_str(),
           p.stored->cones.contacts(),
           number_text(v.cone->signorini).c_str(),
           number_text(v.cone->violation).c_str(),

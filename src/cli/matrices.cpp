@@ -41,20 +41,20 @@ int matrices_command(const MatricesOptions& o) {
   apply_step_options(scene, o.step);
   // Everything --fclib and --cone ask is checked before any work. --fclib never replaces a
   // file: cbps cannot tell an FCLIB file it wrote from a user's.
-  const bool cone_scene = scene.world.friction == FrictionModel::Cone;
-  ConeLaw law = scene.world.cone;
+  const bool cone_scene = is_cone(scene.world.friction);
+  FrictionLaw law = cone_scene ? scene.world.friction : FrictionLaw::CoulombCone;
   if (!o.fclib.empty()) {
     check_output_file(o.fclib, "--fclib " + o.fclib, false, "remove it or name another file");
     if (!o.cone.empty() && !cone_law_from_string(o.cone, law))
       throw InputError("--cone " + o.cone + ": unknown; use coulomb or ccp");
     if (!cone_scene && o.cone.empty())
       throw InputError("--fclib " + o.fclib + ": " + scene.name + " has its friction in a box " +
-                       "(friction=" + std::string(to_string(scene.world.friction)) +
+                       "(friction=" + std::string(friction_name(scene.world.friction)) +
                        "); --cone coulomb|ccp poses the step's A and b on Coulomb's cone for " +
                        "the file, or run the scene with friction=cone (docs/cones.md)");
-    if (cone_scene && law != scene.world.cone)
+    if (cone_scene && law != scene.world.friction)
       throw InputError("--cone " + o.cone + ": " + scene.name + " solves its cones under " +
-                       std::string(to_string(scene.world.cone)) +
+                       std::string(cone_law_name(scene.world.friction)) +
                        "; the scene's law is set by --param cone=LAW (coulomb or ccp)");
   }
   OutputDir dir(o.out);

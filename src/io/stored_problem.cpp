@@ -127,7 +127,7 @@ void read_cones(const std::string& dir, StoredProblem& p) {
 }
 
 /// cones.json of read_cones.
-void write_cones(const std::string& path, const ConeContacts& cones) {
+void write_cones(const std::string& path, const FrictionContacts& cones) {
   nlohmann::json contacts = nlohmann::json::array();
   for (long i = 0; i < cones.contacts(); ++i)
     contacts.push_back(
@@ -137,7 +137,7 @@ void write_cones(const std::string& path, const ConeContacts& cones) {
        "Coulomb's cone |lambda_t| <= mu lambda_n per contact (docs/cones.md): rows normal_row, "
        "normal_row + 1, normal_row + 2 (normal, t1, t2); cmin and cmax of these rows are not "
        "used"},
-      {"law", std::string(to_string(cones.law))},
+      {"law", std::string(cone_law_name(cones.law))},
       {"contacts", contacts}};
   write_text(path, out.dump(2) + "\n");
 }
@@ -267,7 +267,7 @@ StoredProblem stored_problem(const System& sys, double cfm) {
   p.cfm = cfm;
   p.kinds = sys.kind;
   p.blocks = sys.manifold;
-  p.cones = sys.cones;
+  if (sys.cones() != nullptr) p.cones = *sys.cones();
   return p;
 }
 

@@ -28,20 +28,20 @@ void build_rows(const std::vector<Body>& bodies,
       contact.depth = point.depth;
       contact.manifold = static_cast<int>(index);
       const int normal = static_cast<int>(rows.size());
-      if (s.friction == FrictionModel::Cone && s.mu > 0.0) contact.cone_mu = s.mu;
       rows.push_back(std::move(contact));
       if (s.mu <= 0.0) continue;  // no friction rows at mu = 0
+      rows.back().mu = s.mu;
+      rows.back().law = s.friction;
       int k = 1;
       for (const Vec3& t : {t1, t2}) {
         Row friction = friction_row(manifold, point, k++, t, bound, bodies);  // (5.4)
         friction.manifold = static_cast<int>(index);
-        if (s.friction == FrictionModel::Coulomb) {
-          friction.normal_row = normal;
-          friction.mu = s.mu;
+        friction.normal_row = normal;
+        if (s.friction == FrictionLaw::CoulombBox) {
           friction.cmin = 0.0;  // the bounds ±mu lambda_normal are set by the solve
           friction.cmax = 0.0;
         }
-        if (s.friction == FrictionModel::Cone) {  // the cone bounds them, not a box
+        if (is_cone(s.friction)) {  // the cone bounds them, not a box
           friction.cmin = -kInf;
           friction.cmax = kInf;
         }

@@ -9,12 +9,6 @@
 
 namespace cbps {
 
-std::string_view to_string(FrictionModel model) {
-  return model == FrictionModel::Coulomb ? "coulomb"
-         : model == FrictionModel::Cone  ? "cone"
-                                         : "paper";
-}
-
 void tangent_basis(const Vec3& n, Vec3& t1, Vec3& t2) {
   // The components of a unit n cannot all reach 0.6 in magnitude (3 · 0.36 > 1).
   Eigen::Index axis = 0;

@@ -16,18 +16,18 @@ const std::vector<std::string>& push_names() {
   return names;
 }
 const std::vector<std::string>& friction_names() {
-  static const std::vector<std::string> names{"paper", "coulomb", "cone"};  // FrictionModel
+  static const std::vector<std::string> names{"paper", "coulomb", "cone"};  // friction_name
   return names;
 }
 const std::vector<std::string>& cone_law_names() {
-  static const std::vector<std::string> names{"coulomb", "ccp"};  // ConeLaw order
+  static const std::vector<std::string> names{"coulomb", "ccp"};  // cone_law_name
   return names;
 }
 
 bool under_soft_step(const World& w) { return w.scheme.kind == Scheme::SoftStep; }
 bool under_xpbd(const World& w) { return w.scheme.kind == Scheme::Xpbd; }
 bool under_substeps(const World& w) { return w.scheme.kind != Scheme::Paper; }
-bool under_cones(const World& w) { return w.friction == FrictionModel::Cone; }
+bool under_cones(const World& w) { return is_cone(w.friction); }
 
 template <typename E>
 E word(double index) {
@@ -122,14 +122,22 @@ const WorldSetting kWorldSettings[] = {
              "of the same point) or `cone` (Coulomb's cone, norm(lambda_t) <= mu lambda_n per "
              "contact point, no box on the friction rows; solved by `nsgs` and `direct`, "
              "docs/cones.md)",
-     .get = [](const World& w) { return double(w.friction); },
-     .set = [](World& w, double v) { w.friction = word<FrictionModel>(v); }},
+     // The law's box or cone: `cone` keeps a cone's law (the `cone` key's), else Coulomb's.
+     .get = [](const World& w) { return is_cone(w.friction) ? 2.0 : double(w.friction); },
+     .set =
+         [](World& w, double v) {
+           if (v < 2.0 || !is_cone(w.friction))
+             w.friction = v < 2.0 ? word<FrictionLaw>(v) : FrictionLaw::CoulombCone;
+         }},
     {.key = "cone", .type = SettingType::Word, .words = cone_law_names, .noun = "cone law",
      .applies = under_cones, .applies_text = "friction cone",
      .rule = "the cone's law: `coulomb` (Coulomb's law with De Saxce's term, FCLIB's) or `ccp` "
              "(the convex relaxation)",
-     .get = [](const World& w) { return double(w.cone); },
-     .set = [](World& w, double v) { w.cone = word<ConeLaw>(v); }},
+     .get = [](const World& w) { return w.friction == FrictionLaw::Relaxation ? 1.0 : 0.0; },
+     .set =
+         [](World& w, double v) {
+           w.friction = v == 1.0 ? FrictionLaw::Relaxation : FrictionLaw::CoulombCone;
+         }},
     {.key = "restitution", .max = 1.0,
      .rule = "epsilon (8.2.1)",
      .get = [](const World& w) { return w.restitution; },
@@ -233,7 +241,7 @@ std::string set_world_setting(World& world, const WorldSetting& s, double value)
   if (s.applies != nullptr && !s.applies(world))
     return "a setting of " + std::string(s.applies_text) + "; the world has " +
            (s.applies == under_cones
-                ? "friction " + friction_names().at(static_cast<std::size_t>(world.friction))
+                ? "friction " + std::string(friction_name(world.friction))
                 : "scheme " + scheme_names().at(static_cast<std::size_t>(world.scheme.kind)));
   if (s.key == "substeps" && world.scheme.kind == Scheme::Paper && value != 1.0)
     return "needs a scheme that substeps (tgs, soft-step, xpbd), not paper";

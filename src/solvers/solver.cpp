@@ -65,8 +65,9 @@ bool is_siconos_fc3d(Method method) {
 
 bool takes_cones(Method method) { return method_entry(method).laws != 0; }
 
-bool takes_cone_law(Method method, bool coulomb) {
-  return (method_entry(method).laws & (coulomb ? kCoulombLaw : kRelaxationLaw)) != 0;
+bool takes_cone_law(Method method, FrictionLaw law) {
+  return (method_entry(method).laws &
+          (law == FrictionLaw::CoulombCone ? kCoulombLaw : kRelaxationLaw)) != 0;
 }
 
 bool relaxation_in_range(Method method, double omega) {
@@ -253,11 +254,10 @@ SolverSummary solve_posed(const BoxedProblem& problem, VecX& lambda, const Solve
                      "cones (" +
                      std::to_string(problem.cones->contacts()) + " contacts), which " +
                      kConeMethodNames + " solve (docs/cones.md)");
-  if (problem.cones != nullptr &&
-      !takes_cone_law(options.method, problem.cones->law == ConeLaw::Coulomb))
+  if (problem.cones != nullptr && !takes_cone_law(options.method, problem.cones->law))
     throw InputError(
         "method '" + std::string(to_string(options.method)) + "' on cones solves " +
-        (problem.cones->law == ConeLaw::Coulomb
+        (problem.cones->law == FrictionLaw::CoulombCone
              ? std::string("the convex relaxation (ccp), the QP over the cones it minimises; this "
                            "problem's law is Coulomb's, which nsgs, direct and siconos:fc3d-* "
                            "solve")

@@ -178,7 +178,6 @@ void Simulation::substep_system(const std::vector<Manifold>& manifolds,
   {
     const StageTimer timer(assembly_s);
     assemble_system(scene_.bodies, rows, w.gravity, h, scheme_push(w), sys, form_A);
-    sys.cones.law = w.cone;
     start_velocities(sys);
     if (scheme_softens(w)) soften(sys, scheme_softness(w, rows, sys));
   }
@@ -286,7 +285,6 @@ System Simulation::build_system() const {
     return sys;
   }
   System sys = assemble_system(scene_.bodies, build_rows(), w.gravity, w.dt, w.push);
-  sys.cones.law = w.cone;
   start_velocities(sys);
   return sys;
 }
@@ -299,7 +297,6 @@ const System& Simulation::assemble(StageTimes* times) {
     const StageTimer timer(assembly_s);
     A_formed_ = forms_A(static_cast<Eigen::Index>(rows_.size()));
     assemble_system(scene_.bodies, rows_, w.gravity, w.dt, w.push, sys_, A_formed_);
-    sys_.cones.law = w.cone;
     start_velocities(sys_);
   }
   if (times != nullptr) times->assembly = assembly_s;
@@ -320,7 +317,7 @@ void Simulation::start_velocities(System& sys) const {
 
 bool Simulation::forms_A(Eigen::Index rows) const {
   const RowSettings settings = scene_.world.rows();
-  const bool cones = settings.friction == FrictionModel::Cone && settings.mu > 0.0;  // 5.4
+  const bool cones = is_cone(settings.friction) && settings.mu > 0.0;  // 5.4
   const SolverSettings& solver = scene_.solver;
   return observer_ != nullptr || reads_A(solver.method, cones) ||
          (solver.method == kExactMethod && rows < solver.options().direct.interior_from_rows);

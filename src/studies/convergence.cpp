@@ -65,7 +65,7 @@ SolverSummary solve_reference(ConvergenceSystem& s) {
   // On cones λ* is unique for the relaxation with A definite (a strictly convex QP), and only if
   // the direct path verified it; Coulomb's law may have several answers even then.
   if (!s.stored.cones.empty())
-    s.lambda_unique = s.lambda_unique && s.stored.cones.law == ConeLaw::Ccp &&
+    s.lambda_unique = s.lambda_unique && s.stored.cones.law == FrictionLaw::Relaxation &&
                       d.termination == Termination::Direct;
   if (s.has_bodies()) s.v2_star = s.v2(s.lambda_star);
   return d;
@@ -248,7 +248,7 @@ nlohmann::json convergence_summary(const ConvergenceSystem& s,
   summary["lambda_unique"] = s.lambda_unique;
   summary["cone"] = s.stored.cones.empty()
                         ? nlohmann::json(nullptr)
-                        : nlohmann::json{{"law", to_string(s.stored.cones.law)},
+                        : nlohmann::json{{"law", cone_law_name(s.stored.cones.law)},
                                          {"contacts", s.stored.cones.contacts()}};
   summary["reference"] = {{"residual", reference.residual},
                           {"termination", to_string(reference.termination)}};

@@ -162,15 +162,15 @@ nlohmann::json explain_json(const Explained& e) {
     out["cmin"]["note"] = kCoulombNote;
     out["cmax"]["note"] = kCoulombNote;
   }
-  if (!sys.cones.empty()) {
+  if (sys.cones() != nullptr) {
     nlohmann::json contacts = nlohmann::json::array();
-    for (long i = 0; i < sys.cones.contacts(); ++i) {
-      const int n = sys.cones.normal[static_cast<std::size_t>(i)];
+    for (long i = 0; i < sys.contacts.contacts(); ++i) {
+      const int n = sys.contacts.normal[static_cast<std::size_t>(i)];
       contacts.push_back({{"normal_row", n},
-                          {"mu", sys.cones.mu(i)},
+                          {"mu", sys.contacts.mu(i)},
                           {"status", x.status[static_cast<std::size_t>(n)].where}});
     }
-    out["cones"] = {{"law", std::string(to_string(sys.cones.law))},
+    out["cones"] = {{"law", std::string(cone_law_name(sys.contacts.law))},
                     {"note", kConeNote},
                     {"contacts", contacts}};
     out["cmin"]["note"] = kConeNote;

@@ -56,14 +56,14 @@ LcpFacts lcp_facts(const StoredProblem& p) {
 
 void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std::string& path) {
   const std::string what = "--solver " + spec.text;
-  if (!p.cones.empty() && !takes_cone_law(spec.method, p.cones.law == ConeLaw::Coulomb))
-    throw InputError(what + ": " + path + ": its " + std::to_string(p.cones.contacts()) +
-                     " contacts live in friction cones (" + std::string(to_string(p.cones.law)) +
-                     "); " + std::string(to_string(spec.method)) +
-                     (takes_cones(spec.method) ? " does not solve that law"
-                                               : " solves the boxed problem of 6.2") +
-                     ". Use --solver nsgs or direct (cones: " + kConeMethodNames +
-                     "; docs/cones.md)");
+  if (!p.cones.empty() && !takes_cone_law(spec.method, p.cones.law))
+    throw InputError(
+        what + ": " + path + ": its " + std::to_string(p.cones.contacts()) +
+        " contacts live in friction cones (" + std::string(cone_law_name(p.cones.law)) + "); " +
+        std::string(to_string(spec.method)) +
+        (takes_cones(spec.method) ? " does not solve that law"
+                                  : " solves the boxed problem of 6.2") +
+        ". Use --solver nsgs or direct (cones: " + kConeMethodNames + "; docs/cones.md)");
   if (needs_jacobian(spec.method) && !p.has_jacobian())
     throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
                      std::string(to_string(spec.method)) +
@@ -203,7 +203,7 @@ nlohmann::json lcp_result_json(const std::string& problem,
   }
   if (v.cone) {
     const ConeMeasures& c = *v.cone;
-    j["cone"] = {{"law", std::string(to_string(p.stored->cones.law))},
+    j["cone"] = {{"law", std::string(cone_law_name(p.stored->cones.law))},
                  {"contacts", p.stored->cones.contacts()},
                  {"natural_map", number_json(c.natural_map)},
                  {"signorini", number_json(c.signorini)},

@@ -45,10 +45,10 @@ std::string not_applicable(const SolverSpec& spec, const ProfileProblem& p) {
     return "not applicable: no J and Minv (a Siconos file)";
   if (spec.contacts_first && p.stored.kinds.empty())
     return "not applicable: no row kinds (contacts_first needs labels.json)";
-  if (!p.stored.cones.empty() &&
-      !takes_cone_law(spec.method, p.stored.cones.law == ConeLaw::Coulomb))
+  if (!p.stored.cones.empty() && !takes_cone_law(spec.method, p.stored.cones.law))
     return std::string("not applicable: contacts in friction cones under ") +
-           std::string(to_string(p.stored.cones.law)) + " (" + kConeMethodNames + " solve them)";
+           std::string(cone_law_name(p.stored.cones.law)) + " (" + kConeMethodNames +
+           " solve them)";
   if (spec.method == Method::Lemke && p.stored.rows() > kMaxDenseLemkeRows)
     return "not applicable: more than " + std::to_string(kMaxDenseLemkeRows) +
            " rows (dense Lemke)";

@@ -291,12 +291,12 @@ nlohmann::json run_summary_json(const Scene& scene,
   summary["integrator"] = integrator_names().at(static_cast<std::size_t>(scene.world.integrator));
   summary["scheme"] = scheme_summary(scene.world);
   summary["contacts"] = {{"mu", scene.world.mu},
-                         {"friction", std::string(to_string(scene.world.friction))},
+                         {"friction", std::string(friction_name(scene.world.friction))},
                          {"restitution", scene.world.restitution},
                          {"persistence", scene.world.contact_persistence},
                          {"max_points", t.max_contacts}};
-  if (scene.world.friction == FrictionModel::Cone)
-    summary["contacts"]["cone"] = std::string(to_string(scene.world.cone));
+  if (is_cone(scene.world.friction))
+    summary["contacts"]["cone"] = std::string(cone_law_name(scene.world.friction));
   summary["max_penetration"] = number_json(t.max_penetration);
   summary["steps_with_rows"] = t.steps_with_rows;
   summary["steps_method_failed"] = t.steps_failed;

@@ -33,10 +33,10 @@ StepProblem solved_step_problem(Simulation& sim,
   return out;
 }
 
-PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, double mu, ConeLaw law) {
+PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, FrictionLaw law) {
   PosedOnCones out;
   out.problem = boxed;
-  out.problem.cones = contacts_in_cones(sys, mu, law);
+  out.problem.cones = contacts_in_cones(sys, law);
   if (out.problem.cones.empty()) throw InputError("it has no contacts");
   for (const int n : out.problem.cones.normal) {  // the cone replaces the box: the rows' own sets
     out.problem.cmin(n) = 0.0;
@@ -78,9 +78,10 @@ nlohmann::json step_labels(const Scene& scene,
   labels["cfm"] = scene.solver.cfm;
   if (!step.coulomb) return labels;
   nlohmann::json rows = nlohmann::json::array();
-  for (int k = 0; k < sys.rows(); ++k) {
-    const int n = sys.normal_row[static_cast<std::size_t>(k)];
-    if (n >= 0) rows.push_back({{"row", k}, {"normal_row", n}, {"mu", sys.mu(k)}});
+  for (long i = 0; i < sys.contacts.contacts(); ++i) {
+    const int n = sys.contacts.normal[static_cast<std::size_t>(i)];
+    for (const int k : {n + 1, n + 2})  // its friction rows
+      rows.push_back({{"row", k}, {"normal_row", n}, {"mu", sys.contacts.mu(i)}});
   }
   labels["coulomb"] = {
       {"note",
@@ -108,17 +109,18 @@ PosedOnCones write_step_fclib(const std::string& path,
                               const System& sys,
                               const StepProblem& step,
                               long at_step,
-                              ConeLaw law,
+                              FrictionLaw law,
                               bool global) {
   const char* math = global ? kFclibGlobalMathInfo : kFclibMathInfo;
   const FclibForm form = global ? FclibForm::Global : FclibForm::Local;
   const std::string title = scene.name + ", step " + std::to_string(at_step);
-  if (scene.world.friction == FrictionModel::Cone) {
+  // The law the step solved: its contacts', or the scene's where it has none.
+  if (is_cone(sys.contacts.empty() ? scene.world.friction : sys.contacts.law)) {
     // The problem the step solved, with its answer.
-    if (sys.cones.empty()) throw InputError(title + " has no contacts in friction cones");
+    if (sys.cones() == nullptr) throw InputError(title + " has no contacts in friction cones");
     const FclibInfo info{title,
                          "written by cbps matrices: the step's contacts in Coulomb's cone, law " +
-                             std::string(to_string(sys.cones.law)) +
+                             std::string(cone_law_name(sys.contacts.law)) +
                              "; /solution by the direct path (" + step.direct.message + ")",
                          math};
     write_fclib(path, step.problem, info, &step.lambda, form);
@@ -126,16 +128,16 @@ PosedOnCones write_step_fclib(const std::string& path,
   }
   PosedOnCones posed;
   try {
-    posed = pose_on_cones(sys, step.problem, scene.world.mu, law);
+    posed = pose_on_cones(sys, step.problem, law);
   } catch (const InputError& e) {
     throw InputError(title + ": " + e.what());
   }
   const FclibInfo info{
       title + ", posed on Coulomb's cone",
       "written by cbps matrices: the step solved the scene's box (friction=" +
-          std::string(to_string(scene.world.friction)) +
+          std::string(friction_name(sys.contacts.law)) +
           "); this file holds the same A and b with each contact in Coulomb's cone, mu = " +
-          number_text(scene.world.mu) + ", law " + std::string(to_string(law)) + "; " +
+          mu_text(posed.problem.cones) + ", law " + std::string(cone_law_name(law)) + "; " +
           (posed.verified ? "/solution by the direct path (" + posed.direct.message + ")"
                           : "no /solution: the direct path did not verify an answer (" +
                                 posed.direct.message + ")"),

@@ -35,7 +35,7 @@ RowStatus row_status(double lambda, double cmin, double cmax, double w, double t
   return s;
 }
 
-RowStatus cone_status(const Vec3& r, const Vec3& u, double mu, ConeLaw law, double tol) {
+RowStatus cone_status(const Vec3& r, const Vec3& u, double mu, FrictionLaw law, double tol) {
   RowStatus s;
   const double t = std::hypot(r(1), r(2));  // ‖r_t‖
   s.where = r.norm() <= tol       ? "cone: separated"
@@ -73,7 +73,7 @@ void record_sweeps(const Simulation& sim,
   SolverOptions options = sim.step_options(settings);
   options.split_islands = false;  // one residual of the whole system per sweep
   options.describe = false;
-  if (!sys.cones.empty())
+  if (sys.cones() != nullptr)
     options.method = Method::Nsgs;  // the sweep that solves cones (docs/cones.md)
   else if (!is_iterative(options.method))
     options.method = Method::Pgs;
@@ -135,10 +135,11 @@ TeachingSystem teaching_system(const Simulation& sim,
     const double tol = tolerance + settings.cfm * std::abs(out.lambda(k));
     out.status.push_back(row_status(out.lambda(k), out.cmin(k), out.cmax(k), out.w(k), tol));
   }
-  for (long i = 0; i < sys.cones.contacts(); ++i) {  // a contact's rows share its status
-    const int n = sys.cones.normal[static_cast<std::size_t>(i)];
+  const FrictionContacts* cones = sys.cones();
+  for (long i = 0; cones != nullptr && i < cones->contacts(); ++i) {  // one status a contact
+    const int n = cones->normal[static_cast<std::size_t>(i)];
     const RowStatus s = cone_status(
-        out.lambda.segment<3>(n), out.w.segment<3>(n), sys.cones.mu(i), sys.cones.law, tolerance);
+        out.lambda.segment<3>(n), out.w.segment<3>(n), cones->mu(i), cones->law, tolerance);
     for (int k = n; k < n + 3; ++k) out.status[static_cast<std::size_t>(k)] = s;
   }
   out.v2 = compute_v2(sys, out.lambda);  // (12.3.1)

@@ -856,13 +856,14 @@ void Page::solution(const TeachingSystem& t, const std::string& id) {
     note(
         "Coulomb friction rows: their bounds are ∓μ λ<sub>n</sub> at the fixed point λ "
         "satisfies (5.4).");
-  if (!sys_.cones.empty())
+  if (sys_.cones() != nullptr)
     note(
         "Coulomb's cone (docs/cones.md): each contact's rows (normal, t1, t2) live in "
         "K<sub>μ</sub> = {‖λ<sub>t</sub>‖ ≤ μ λ<sub>n</sub>}, not in boxes, under the " +
-        std::string(sys_.cones.law == ConeLaw::Coulomb ? "Coulomb law (De Saxcé's û = u + μ "
-                                                         "‖u<sub>t</sub>‖ e<sub>n</sub>)"
-                                                       : "convex relaxation (CCP)") +
+        std::string(sys_.contacts.law == FrictionLaw::CoulombCone
+                        ? "Coulomb law (De Saxcé's û = u + μ "
+                          "‖u<sub>t</sub>‖ e<sub>n</sub>)"
+                        : "convex relaxation (CCP)") +
         ": cmin and cmax of those rows are not used; a contact is separated (λ = 0), sticking "
         "(λ inside the cone, û = 0) or sliding (λ on its surface, opposing u<sub>t</sub>), "
         "and meets its law when ‖λ − P<sub>K</sub>(λ − û)‖ is within the tolerance.");
@@ -884,11 +885,11 @@ void Page::solution_stats(const TeachingSystem& t, const std::string& id) {
   stat("at cmin", std::to_string(at_min));
   stat("at cmax", std::to_string(at_max));
   if (fixed > 0) stat("at cmin = cmax", std::to_string(fixed));
-  if (!sys_.cones.empty()) {
+  if (sys_.cones() != nullptr) {
     for (const char* state : {"separated", "sticking", "sliding"}) {
       long contacts = 0;
-      for (long i = 0; i < sys_.cones.contacts(); ++i)
-        if (t.status[static_cast<std::size_t>(sys_.cones.normal[static_cast<std::size_t>(i)])]
+      for (long i = 0; i < sys_.contacts.contacts(); ++i)
+        if (t.status[static_cast<std::size_t>(sys_.contacts.normal[static_cast<std::size_t>(i)])]
                 .where == std::string("cone: ") + state)
           ++contacts;
       stat(std::string("contacts ") + state + " (cone)", std::to_string(contacts));

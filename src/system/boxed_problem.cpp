@@ -11,10 +11,6 @@
 
 namespace cbps {
 
-bool CoulombRows::any() const {
-  return std::any_of(normal_row.begin(), normal_row.end(), [](int n) { return n >= 0; });
-}
-
 double clamp(double x, double lo, double hi) { return std::min(std::max(x, lo), hi); }
 
 double natural_map_residual(const VecX& w, const VecX& lambda, const VecX& cmin, const VecX& cmax) {

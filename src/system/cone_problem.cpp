@@ -11,27 +11,20 @@
 
 namespace cbps {
 
-std::string_view to_string(ConeLaw law) { return law == ConeLaw::Coulomb ? "coulomb" : "ccp"; }
-
-bool cone_law_from_string(std::string_view name, ConeLaw& law) {
-  if (name == "coulomb") {
-    law = ConeLaw::Coulomb;
-  } else if (name == "ccp") {
-    law = ConeLaw::Ccp;
-  } else {
-    return false;
-  }
-  return true;
-}
-
-std::vector<char> ConeContacts::rows_in_cones(Eigen::Index rows) const {
+std::vector<char> FrictionContacts::rows_in_cones(Eigen::Index rows) const {
   std::vector<char> in(static_cast<std::size_t>(rows), 0);
   for (const int n : normal)
     for (int k = n; k < n + 3; ++k) in[static_cast<std::size_t>(k)] = 1;
   return in;
 }
 
-std::string cone_contacts_error(const ConeContacts& cones, long rows) {
+std::string mu_text(const FrictionContacts& contacts) {
+  if (contacts.empty()) return "none";
+  const double lo = contacts.mu.minCoeff(), hi = contacts.mu.maxCoeff();
+  return lo == hi ? number_text(lo) : number_text(lo) + " to " + number_text(hi);
+}
+
+std::string cone_contacts_error(const FrictionContacts& cones, long rows) {
   if (cones.mu.size() != cones.contacts())
     return std::to_string(cones.contacts()) + " normal rows but " +
            std::to_string(cones.mu.size()) + " mu";
@@ -54,63 +47,7 @@ std::string cone_contacts_error(const ConeContacts& cones, long rows) {
   return {};
 }
 
-void project_onto_cone(double mu, Vec3& r) {
-  const double t = std::hypot(r(1), r(2));  // ‖r_t‖
-  if (t <= mu * r(0)) return;               // in K_mu
-  if (mu * t <= -r(0)) {                    // in the polar cone −K*_mu: the apex is nearest
-    r.setZero();
-    return;
-  }
-  // The nearest point of the surface ‖r_t‖ = mu r_n, in the plane of e_n and r_t.
-  const double n = (mu * t + r(0)) / (mu * mu + 1.0);
-  r(1) *= mu * n / t;
-  r(2) *= mu * n / t;
-  r(0) = n;
-}
-
-Mat3 cone_projection_jacobian(double mu, const Vec3& x) {
-  Mat3 D = Mat3::Zero();
-  if (mu == 0.0) {  // the ray: P(x) = (max(x_n, 0), 0, 0)
-    D(0, 0) = x(0) > 0.0 ? 1.0 : 0.0;
-    return D;
-  }
-  const double t = std::hypot(x(1), x(2));  // ‖x_t‖, the cases of project_onto_cone
-  if (t <= mu * x(0)) return Mat3::Identity();
-  if (mu * t <= -x(0)) return D;
-  const Eigen::Vector2d d(x(1) / t, x(2) / t);
-  const double k = 1.0 / (1.0 + mu * mu);
-  const double a = (x(0) + mu * t) * k;
-  D(0, 0) = k;
-  D.block<1, 2>(0, 1) = mu * k * d.transpose();
-  D.block<2, 1>(1, 0) = mu * k * d;
-  D.block<2, 2>(1, 1) = mu * mu * k * d * d.transpose() +
-                        (mu * a / t) * (Eigen::Matrix2d::Identity() - d * d.transpose());
-  return D;
-}
-
-Vec3 law_velocity(const Vec3& u, double mu, ConeLaw law) {
-  Vec3 u_hat = u;
-  if (law == ConeLaw::Coulomb) u_hat(0) += mu * std::hypot(u(1), u(2));  // De Saxcé
-  return u_hat;
-}
-
-Mat3 law_velocity_jacobian(const Vec3& u, double mu, ConeLaw law) {
-  Mat3 G = Mat3::Identity();
-  const double t = std::hypot(u(1), u(2));
-  if (law == ConeLaw::Coulomb && t > 0.0) {
-    G(0, 1) = mu * u(1) / t;
-    G(0, 2) = mu * u(2) / t;
-  }
-  return G;
-}
-
-Vec3 cone_natural_map(const Vec3& r, const Vec3& u, double mu, ConeLaw law) {
-  Vec3 projected = r - law_velocity(u, mu, law);
-  project_onto_cone(mu, projected);
-  return r - projected;
-}
-
-ConeMeasures cone_measures(const ConeContacts& cones,
+ConeMeasures cone_measures(const FrictionContacts& cones,
                            const VecX& lambda,
                            const VecX& w,
                            const VecX& b) {
@@ -126,7 +63,7 @@ ConeMeasures cone_measures(const ConeContacts& cones,
     max_keep_nan(m.violation, std::max({r_t - mu * r(0), -r(0), 0.0}));
     max_keep_nan(m.dissipation,
                  std::max(0.0, r(1) * u(1) + r(2) * u(2) + mu * std::max(r(0), 0.0) * u_t));
-    merit_squares += cone_natural_map(r, u, mu, ConeLaw::Coulomb).squaredNorm();
+    merit_squares += cone_natural_map(r, u, mu, FrictionLaw::CoulombCone).squaredNorm();
     q_squares += b.segment<3>(n).squaredNorm();
     r_squares += r.squaredNorm();
     u_squares += u.squaredNorm();
@@ -144,7 +81,7 @@ double natural_map_residual(const VecX& w,
                             const VecX& lambda,
                             const VecX& cmin,
                             const VecX& cmax,
-                            const ConeContacts& cones) {
+                            const FrictionContacts& cones) {
   const std::vector<char> in_cone = cones.rows_in_cones(lambda.size());
   double r = 0.0;
   for (Eigen::Index k = 0; k < lambda.size(); ++k) {
@@ -160,7 +97,7 @@ double natural_map_residual(const VecX& w,
   return r;
 }
 
-void project_onto_set(const VecX& cmin, const VecX& cmax, const ConeContacts* cones, VecX& x) {
+void project_onto_set(const VecX& cmin, const VecX& cmax, const FrictionContacts* cones, VecX& x) {
   if (cones == nullptr) {
     for (Eigen::Index k = 0; k < x.size(); ++k) x(k) = clamp(x(k), cmin(k), cmax(k));
     return;

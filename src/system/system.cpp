@@ -300,9 +300,7 @@ void assemble_system(const std::vector<Body>& bodies,
   sys.kind.resize(rows.size());
   sys.upsilon.resize(c);
   sys.upsilon_push.resize(c);
-  sys.normal_row.resize(rows.size());
   sys.manifold.resize(rows.size());
-  sys.mu.resize(c);
   sys.cmin.resize(c);
   sys.cmax.resize(c);
   for (Eigen::Index k = 0; k < c; ++k) {
@@ -314,20 +312,23 @@ void assemble_system(const std::vector<Body>& bodies,
     sys.upsilon(k) =
         push == PushMode::Original ? with_push(row.upsilon, row.upsilon_push) : row.upsilon;
     sys.upsilon_push(k) = row.upsilon_push;
-    sys.normal_row[static_cast<std::size_t>(k)] = row.normal_row;
     sys.manifold[static_cast<std::size_t>(k)] = row.manifold;
-    sys.mu(k) = row.mu;
     sys.cmin(k) = row.cmin;
     sys.cmax(k) = row.cmax;
   }
-  sys.cones.normal.clear();
-  std::vector<double> cone_mu;
+  // The contacts and their law, as the rows carry them (Row::mu, Row::law).
+  sys.contacts.normal.clear();
+  sys.contacts.law = FrictionLaw::PaperBox;
+  std::vector<double> mu;
   for (std::size_t k = 0; k < rows.size(); ++k) {
-    if (rows[k].cone_mu < 0.0) continue;
-    sys.cones.normal.push_back(static_cast<int>(k));
-    cone_mu.push_back(rows[k].cone_mu);
+    if (rows[k].mu < 0.0) continue;
+    if (!mu.empty() && rows[k].law != sys.contacts.law)
+      throw std::logic_error("assemble_system: the contacts' rows carry more than one law");
+    sys.contacts.normal.push_back(static_cast<int>(k));
+    sys.contacts.law = rows[k].law;
+    mu.push_back(rows[k].mu);
   }
-  sys.cones.mu = Eigen::Map<const VecX>(cone_mu.data(), Eigen::Index(cone_mu.size()));
+  sys.contacts.mu = Eigen::Map<const VecX>(mu.data(), Eigen::Index(mu.size()));
   assemble_J(rows, sys.block_of_body, sys.blocks(), sys.J);
   assemble_Minv(bodies, sys.body_of_block, sys.Minv);
   sys.v1 = stack_velocities(bodies, sys.body_of_block);
@@ -356,27 +357,22 @@ void soften(System& sys, const VecX& softness) {
   sys.A_soft = sys.A + E;
 }
 
-ConeContacts contacts_in_cones(const System& sys, double mu, ConeLaw law) {
-  if (!std::isfinite(mu) || mu <= 0.0)
-    throw InputError("contacts in cones need a friction coefficient mu > 0 (got " +
-                     number_text(mu) + ")");
-  ConeContacts cones;
-  cones.law = law;
-  std::vector<double> coefficient;
-  const auto friction_of = [&](int k, int row) {
-    const auto r = static_cast<std::size_t>(row);
-    return row < sys.rows() && sys.kind[r] == RowKind::Friction &&
-           sys.manifold[r] == sys.manifold[static_cast<std::size_t>(k)];
-  };
+FrictionContacts contacts_in_cones(const System& sys, FrictionLaw law) {
+  if (!is_cone(law)) throw std::logic_error("contacts_in_cones: not a cone law");
+  std::size_t next = 0;  // the next contact of sys.contacts
   for (int k = 0; k < sys.rows(); ++k) {
     if (sys.kind[static_cast<std::size_t>(k)] != RowKind::Contact) continue;
-    if (!friction_of(k, k + 1) || !friction_of(k, k + 2))
-      throw InputError("row " + std::to_string(k) + " (" + sys.labels[std::size_t(k)] +
-                       ") is a contact without two friction rows after it; a cone needs both");
-    cones.normal.push_back(k);
-    coefficient.push_back(mu);
+    if (next < sys.contacts.normal.size() && sys.contacts.normal[next] == k) {
+      ++next;
+      continue;
+    }
+    throw InputError(
+        "row " + std::to_string(k) + " (" + sys.labels[std::size_t(k)] +
+        ") is a contact without two friction rows after it (mu = 0 makes none); a cone needs "
+        "both");
   }
-  cones.mu = Eigen::Map<const VecX>(coefficient.data(), Eigen::Index(coefficient.size()));
+  FrictionContacts cones = sys.contacts;
+  cones.law = law;
   return cones;
 }
 

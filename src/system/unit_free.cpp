@@ -37,7 +37,7 @@ VecX unit_free_steps(const BoxedProblem& problem, double cfm) {
   VecX rho(c);
   for (Eigen::Index k = 0; k < c; ++k) rho(k) = unit_free_step(diagonal(k), largest);
   if (problem.cones != nullptr) {
-    const ConeContacts& cones = *problem.cones;
+    const FrictionContacts& cones = *problem.cones;
     for (long i = 0; i < cones.contacts(); ++i) {
       const int n = cones.normal[std::size_t(i)];
       rho.segment<3>(n).setConstant(unit_free_step(diagonal.segment<3>(n).maxCoeff(), largest));
@@ -58,7 +58,7 @@ UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lam
   const VecX rho = unit_free_steps(problem, cfm);
   std::vector<char> in_cone(std::size_t(c), 0);
   if (problem.cones != nullptr) {
-    const ConeContacts& cones = *problem.cones;
+    const FrictionContacts& cones = *problem.cones;
     for (long i = 0; i < cones.contacts(); ++i) {
       const int n = cones.normal[std::size_t(i)];
       const Vec3 r = lambda.segment<3>(n);

@@ -71,7 +71,7 @@ TEST_CASE("matrices writes a cone step's problem (cones.json, --fclib) and lcp s
     REQUIRE(made.code == 0);
     const StoredProblem p = read_problem(m.string());
     REQUIRE(p.cones.contacts() == 4);
-    CHECK(p.cones.law == ConeLaw::Coulomb);
+    CHECK(p.cones.law == FrictionLaw::CoulombCone);
     CHECK(p.cones.mu.isConstant(kMu));
     const VecX lambda = read_matrix_market_vector((m / "lambda.mtx").string());
     const Sums s = sums_of(p, lambda);

@@ -90,7 +90,7 @@ TEST_CASE("an FCLIB collection problem reads the same in cbps and in FCLIB's own
     CHECK(p.cones.normal[static_cast<std::size_t>(i)] == 3 * i);
     CHECK(p.cones.mu(i) == theirs->mu[i]);
   }
-  CHECK(p.cones.law == ConeLaw::Coulomb);
+  CHECK(p.cones.law == FrictionLaw::CoulombCone);
   // Through read_problem too (by the HDF5 signature, whatever the name).
   CHECK(read_problem(kBoxesStack).cones.contacts() == 48);
   REQUIRE(stored_solution.size() == 144);

@@ -105,12 +105,12 @@ TEST_CASE("a folder's cones.json gives back the contacts in cones, and a bad one
           "[stored_problem][cones]") {
   const auto dir = scratch_dir("stored_problem_cones");
   const System sys = system_of("stack", {{"n", "2"}, {"friction", "cone"}, {"cone", "ccp"}}, 0);
-  REQUIRE(sys.cones.contacts() > 0);
+  REQUIRE(sys.contacts.contacts() > 0);
   write_folder(stored_problem(sys, 0.0), dir / "step");
   const StoredProblem read = read_problem((dir / "step").string());
-  CHECK(read.cones.normal == sys.cones.normal);
-  CHECK(read.cones.mu == sys.cones.mu);
-  CHECK(read.cones.law == ConeLaw::Ccp);
+  CHECK(read.cones.normal == sys.contacts.normal);
+  CHECK(read.cones.mu == sys.contacts.mu);
+  CHECK(read.cones.law == FrictionLaw::Relaxation);
   CHECK(read.problem().cones != nullptr);
 
   // Each wrong cones.json is an InputError naming the file, the JSON path and what is wrong.

@@ -128,3 +128,83 @@ TEST_CASE("the friction tangents turn continuously with the normal (5.4)", "[con
     CHECK((n.cross(t1) - t2).norm() < 1e-15);  // right-handed (n, t1, t2)
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The friction law as one value (rows/friction_law.hpp): the scene's, on the rows, in the system.
+
+TEST_CASE("a contact's friction law is one value from the scene through the rows to the system",
+          "[contact][eq5.4][cones]") {
+  struct Case {
+    const char* friction;
+    const char* cone;
+    FrictionLaw law;
+  };
+  for (const Case& c : {Case{"paper", "coulomb", FrictionLaw::PaperBox},
+                        Case{"coulomb", "coulomb", FrictionLaw::CoulombBox},
+                        Case{"cone", "coulomb", FrictionLaw::CoulombCone},
+                        Case{"cone", "ccp", FrictionLaw::Relaxation}}) {
+    CAPTURE(c.friction, c.cone);
+    // Two boxes stacked on the ground, mu = 0.5: two pairs of four points each.
+    const Scene scene = contact_scene(
+        "stack", {{"n", "2"}, {"mu", "0.5"}, {"friction", c.friction}, {"cone", c.cone}});
+    CHECK(scene.world.friction == c.law);
+    CHECK(friction_name(c.law) == std::string(c.friction));
+    CHECK(cone_law_name(c.law) == std::string(is_cone(c.law) ? c.cone : ""));
+    const System sys = Simulation(scene).build_system();
+    // Every contact row is one contact, its two friction rows right after it, of the scene's mu
+    // and law.
+    REQUIRE(sys.contacts.contacts() == 8);
+    CHECK(sys.contacts.law == c.law);
+    long contact_rows = 0;
+    for (const RowKind kind : sys.kind) contact_rows += kind == RowKind::Contact ? 1 : 0;
+    CHECK(contact_rows == 8);
+    for (long i = 0; i < 8; ++i) {
+      const auto n = static_cast<std::size_t>(sys.contacts.normal[std::size_t(i)]);
+      CHECK(sys.kind[n] == RowKind::Contact);
+      CHECK(sys.kind[n + 1] == RowKind::Friction);
+      CHECK(sys.kind[n + 2] == RowKind::Friction);
+      CHECK(sys.contacts.mu(i) == 0.5);
+      // The box lives in the friction rows' bounds (the paper's: mu m g / 4 for the top box's
+      // pair, 1 kg and 9.81 m/s²; Coulomb's: 0 until the solve sets them); a cone has none.
+      const double bound = sys.cmax(Eigen::Index(n + 1));
+      if (c.law == FrictionLaw::PaperBox) CHECK(bound > 0.0);
+      if (c.law == FrictionLaw::CoulombBox) CHECK(bound == 0.0);
+      if (is_cone(c.law)) CHECK(bound == kInf);
+    }
+    // The solvers see the law as it is: the problem's cones, or Coulomb's box.
+    CHECK((sys.cones() != nullptr) == is_cone(c.law));
+    CHECK((sys.problem().cones != nullptr) == is_cone(c.law));
+    CHECK(sys.coulomb().any() == (c.law == FrictionLaw::CoulombBox));
+    // Posed on a cone, the contacts keep their mu.
+    const FrictionContacts posed = contacts_in_cones(sys, FrictionLaw::Relaxation);
+    CHECK(posed.normal == sys.contacts.normal);
+    CHECK(posed.mu == sys.contacts.mu);
+    CHECK(posed.law == FrictionLaw::Relaxation);
+  }
+  SECTION("mu = 0: no friction rows, no contacts with a law, and none to put in a cone") {
+    const System sys =
+        Simulation(contact_scene("stack", {{"n", "2"}, {"mu", "0"}, {"friction", "cone"}}))
+            .build_system();
+    CHECK(sys.rows() == 8);
+    CHECK(sys.contacts.empty());
+    CHECK(sys.cones() == nullptr);
+    CHECK_THROWS_WITH(contacts_in_cones(sys, FrictionLaw::CoulombCone),
+                      Catch::Contains("is a contact without two friction rows after it"));
+  }
+}
+
+TEST_CASE(
+    "the cone laws' names read back and Coulomb's box bound is mu times lambda_n's positive part",
+    "[contact][eq5.4][cones]") {
+  FrictionLaw law = FrictionLaw::PaperBox;
+  CHECK(cone_law_from_string("ccp", law));
+  CHECK(law == FrictionLaw::Relaxation);
+  CHECK(cone_law_from_string("coulomb", law));
+  CHECK(law == FrictionLaw::CoulombCone);
+  CHECK_FALSE(cone_law_from_string("elliptic", law));
+  CHECK(law == FrictionLaw::CoulombCone);  // untouched
+  CHECK_FALSE(is_cone(FrictionLaw::PaperBox));
+  CHECK_FALSE(is_cone(FrictionLaw::CoulombBox));
+  CHECK(coulomb_bound(0.5, 10.0) == 5.0);  // N
+  CHECK(coulomb_bound(0.5, -3.0) == 0.0);  // a pulling normal force bounds nothing
+}

@@ -97,7 +97,6 @@ void check_same(const Scene& got, const Scene& want) {
   CHECK(got.world.scheme.speculative_distance == want.world.scheme.speculative_distance);
   CHECK(got.world.mu == want.world.mu);
   CHECK(got.world.friction == want.world.friction);
-  CHECK(got.world.cone == want.world.cone);
   CHECK(got.world.restitution == want.world.restitution);
   CHECK(got.world.restitution_threshold == want.world.restitution_threshold);
   CHECK(got.world.contact_margin == want.world.contact_margin);
@@ -162,7 +161,7 @@ Scene contact_scene() {
   scene.world.scheme.max_push_speed = 2.5;
   scene.world.scheme.speculative_distance = 0.0125;
   scene.world.mu = 0.35;
-  scene.world.friction = FrictionModel::Coulomb;
+  scene.world.friction = FrictionLaw::CoulombBox;
   scene.world.restitution = 0.45;
   scene.world.restitution_threshold = 1.0 / 30.0;
   scene.world.contact_margin = 0.004;
@@ -244,8 +243,7 @@ TEST_CASE("planes, collides and the contact settings (4, 5.4, 8.1, 8.2) round-tr
   // Coulomb's cone and its law (docs/cones.md): "cone" is written only with friction "cone".
   CHECK(count(text, "\"cone\"") == 0);
   Scene cone = scene;
-  cone.world.friction = FrictionModel::Cone;
-  cone.world.cone = ConeLaw::Ccp;
+  cone.world.friction = FrictionLaw::Relaxation;
   const std::string cone_text = scene_to_json(cone);
   CHECK(count(cone_text, "\"cone\": \"ccp\"") == 1);
   check_same(parse_scene(cone_text, "cone.json"), cone);
@@ -272,7 +270,7 @@ TEST_CASE("a plane, a box, contact settings and collides = false read to the val
   CHECK(scene.world.scheme.substeps == kSchemeSubsteps);  // named without substeps: 4
   CHECK(scene.world.scheme.compliance == 1e-6);
   CHECK(scene.world.mu == 0.5);
-  CHECK(scene.world.friction == FrictionModel::Coulomb);
+  CHECK(scene.world.friction == FrictionLaw::CoulombBox);
   CHECK(scene.world.restitution == 0.25);
   CHECK(scene.world.restitution_threshold == 0.2);
   CHECK(scene.world.contact_margin == 0.01);
@@ -302,7 +300,7 @@ TEST_CASE("contact settings default to push original, mu 0, paper friction, no b
   CHECK(scene.world.push == PushMode::Original);
   CHECK(scene.world.integrator == Integrator::Paper);
   CHECK(scene.world.mu == 0.0);
-  CHECK(scene.world.friction == FrictionModel::Paper);
+  CHECK(scene.world.friction == FrictionLaw::PaperBox);
   CHECK(scene.world.restitution == 0.0);
   CHECK(scene.world.restitution_threshold == 0.1);
   CHECK(scene.world.contact_margin == 0.0);

@@ -31,7 +31,7 @@ World world_where_it_applies(const WorldSetting& s) {
                         *setting_value(*find_world_setting("scheme"), scheme, why));
     }
   if (s.key == "speculative_distance" || s.key == "substeps") world.scheme.kind = Scheme::Tgs;
-  if (s.key == "cone") world.friction = FrictionModel::Cone;
+  if (s.key == "cone") world.friction = FrictionLaw::CoulombCone;
   return world;
 }
 

@@ -29,12 +29,12 @@ SolverOptions direct_options(double tolerance) {
 
 /// One contact, W = I: its answers by hand (for W = I the CCP's answer is P_K(b), the nearest
 /// point of the cone to b; Coulomb's slides with u_n = 0 and r_t = −mu r_n u_t / ‖u_t‖).
-void check_one_contact(const Vec3& b3, ConeLaw law, const Vec3& expected) {
+void check_one_contact(const Vec3& b3, FrictionLaw law, const Vec3& expected) {
   const SpMat A = Mat3::Identity().sparseView();
   const VecX b = b3;
   const VecX cmin = (VecX(3) << 0.0, -kInf, -kInf).finished();
   const VecX cmax = VecX::Constant(3, kInf);
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.normal = {0};
   cones.mu = VecX::Constant(1, 0.5);
   cones.law = law;
@@ -51,15 +51,15 @@ void check_one_contact(const Vec3& b3, ConeLaw law, const Vec3& expected) {
 
 TEST_CASE("direct on cones finds one contact's answers worked out by hand", "[cone-direct]") {
   // Separating (b_n < 0): r = 0 under both laws.
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp})
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation})
     check_one_contact(Vec3(-1.0, 0.3, 0.2), law, Vec3::Zero());
   // Sticking (b inside K): r = b, u = 0.
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp})
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation})
     check_one_contact(Vec3(1.0, 0.3, -0.2), law, Vec3(1.0, 0.3, -0.2));
   // Sliding, b = (1, 2, 0), mu = 0.5. Coulomb: u_n = r_n − 1 = 0, and u_t = r_t − 2 < 0, so
   // r_t = +mu r_n = 0.5. CCP: P_K(b) = ((1 + 0.5·2)/1.25)(1, 0.5, 0) = (1.6, 0.8, 0).
-  check_one_contact(Vec3(1.0, 2.0, 0.0), ConeLaw::Coulomb, Vec3(1.0, 0.5, 0.0));
-  check_one_contact(Vec3(1.0, 2.0, 0.0), ConeLaw::Ccp, Vec3(1.6, 0.8, 0.0));
+  check_one_contact(Vec3(1.0, 2.0, 0.0), FrictionLaw::CoulombCone, Vec3(1.0, 0.5, 0.0));
+  check_one_contact(Vec3(1.0, 2.0, 0.0), FrictionLaw::Relaxation, Vec3(1.6, 0.8, 0.0));
 }
 
 TEST_CASE("nsgs and direct on a sliding box: Coulomb's friction is mu times the normal force",
@@ -76,7 +76,7 @@ TEST_CASE("nsgs and direct on a sliding box: Coulomb's friction is mu times the 
     o.max_iterations = 20000;
     const Termination reached =
         method == Method::Direct ? Termination::Direct : Termination::ResidualTolerance;
-    ConeContacts cones = cones_of(sys, mu, ConeLaw::Coulomb);
+    FrictionContacts cones = cones_of(sys, mu, FrictionLaw::CoulombCone);
     REQUIRE(cones.contacts() == 4);
     BoxedProblem problem = sys.problem();
     problem.cones = &cones;
@@ -100,7 +100,7 @@ TEST_CASE("nsgs and direct on a sliding box: Coulomb's friction is mu times the 
     CHECK(normal > 0.0);
     CHECK(friction_t.norm() == Approx(mu * normal).epsilon(1e-9));
 
-    cones.law = ConeLaw::Ccp;
+    cones.law = FrictionLaw::Relaxation;
     VecX relaxed;
     const SolverSummary r = solve(problem, relaxed, o);
     INFO(r.message);
@@ -122,7 +122,7 @@ TEST_CASE("direct solves the relaxation on pyramids whose W is singular", "[cone
   // (system/cone_problem.hpp, checked against FCLIB's merit in tests/io/test_fclib_file.cpp).
   for (const int base : {3, 5}) {
     const System sys = system_of("pyramid", {{"base", std::to_string(base)}}, 50);
-    const ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Ccp);
+    const FrictionContacts cones = cones_of(sys, 0.5, FrictionLaw::Relaxation);
     REQUIRE(cones.contacts() > 0);
     BoxedProblem problem = sys.problem();
     problem.cones = &cones;
@@ -151,8 +151,8 @@ TEST_CASE("direct on cones beside free, boxed and fixed rows agrees with nsgs", 
     VecX b(c);
     for (int i = 0; i < c; ++i) b(i) = u(rng) + (i % 3 == 0 && i < 15 ? 0.5 : 0.0);
     VecX cmin = VecX::Constant(c, -kInf), cmax = VecX::Constant(c, kInf);
-    ConeContacts cones;
-    cones.law = ConeLaw::Ccp;
+    FrictionContacts cones;
+    cones.law = FrictionLaw::Relaxation;
     cones.mu.resize(5);
     for (int i = 0; i < 5; ++i) {
       cones.normal.push_back(3 * i);
@@ -180,7 +180,7 @@ TEST_CASE("direct on cones beside free, boxed and fixed rows agrees with nsgs", 
 
     // Coulomb's law on the same problem: whatever it reaches, it says Direct only when the
     // residual is within the tolerance (never an answer it has not verified).
-    cones.law = ConeLaw::Coulomb;
+    cones.law = FrictionLaw::CoulombCone;
     VecX coulomb;
     const SolverSummary k = solve(problem, coulomb, direct_options(1e-10));
     INFO(k.message);
@@ -197,12 +197,12 @@ TEST_CASE("direct on cones: a frictionless contact (mu = 0) and a non-finite b",
   VecX b = Vec3(1.0, 2.0, 0.5);
   const VecX cmin = (VecX(3) << 0.0, -kInf, -kInf).finished();
   const VecX cmax = VecX::Constant(3, kInf);
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.normal = {0};
   cones.mu = VecX::Zero(1);
   BoxedProblem problem{A, b, cmin, cmax};
   problem.cones = &cones;
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
     cones.law = law;
     VecX lambda;
     const SolverSummary s = solve(problem, lambda, direct_options(1e-12));
@@ -224,7 +224,7 @@ TEST_CASE("apgd, admm, pgs-nesterov on the relaxation's cones: the QP's A lambda
   // Tasora et al. run on these cones, and PGS with momentum on nsgs's sweep, must reach direct's
   // w = A λ − b, whatever λ they pick on a singular A. Coulomb's law is no QP: all refuse it.
   const System sys = system_of("pyramid", {{"base", "3"}}, 50);
-  ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Ccp);
+  FrictionContacts cones = cones_of(sys, 0.5, FrictionLaw::Relaxation);
   BoxedProblem problem = sys.problem();
   problem.cones = &cones;
   VecX exact;
@@ -243,7 +243,7 @@ TEST_CASE("apgd, admm, pgs-nesterov on the relaxation's cones: the QP's A lambda
     CHECK(m.violation <= 1e-12);  // every iterate is projected onto the cones
     CHECK((sys.A * lambda - sys.b - w_exact).lpNorm<Eigen::Infinity>() <= 1e-6);
   }
-  cones.law = ConeLaw::Coulomb;
+  cones.law = FrictionLaw::CoulombCone;
   for (const Method method : {Method::Apgd, Method::Admm, Method::PgsNesterov}) {
     SolverOptions o = direct_options(1e-9);
     o.method = method;
@@ -262,7 +262,7 @@ TEST_CASE("direct on Coulomb's cones finishes a pile settling under the paper's 
   // natural map and its measures, both defined apart from the solver.
   for (const int base : {3, 5}) {
     const System sys = system_of("pyramid", {{"base", std::to_string(base)}, {"mu", "0.5"}}, 3);
-    const ConeContacts cones = contacts_in_cones(sys, 0.5, ConeLaw::Coulomb);
+    const FrictionContacts cones = contacts_in_cones(sys, FrictionLaw::CoulombCone);
     BoxedProblem problem = sys.problem();
     problem.cones = &cones;
     VecX lambda;
@@ -290,7 +290,7 @@ TEST_CASE("direct on cones factors in body space where J and Minv are known, as 
   };
   for (const Case c : {Case{50, "body"}, Case{3, "row"}}) {
     const System sys = system_of("pyramid", {{"base", "5"}, {"mu", "0.5"}}, c.step);
-    const ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Ccp);
+    const FrictionContacts cones = cones_of(sys, 0.5, FrictionLaw::Relaxation);
     BoxedProblem body = sys.problem();
     REQUIRE(body.has_factors());
     body.cones = &cones;
@@ -326,11 +326,11 @@ TEST_CASE("direct solves Siconos' problems whose W is not symmetric, under both 
        {"Rover4396.dat", "OneObject-i1028-138.hdf5.dat", "Capsules-i125-1213.hdf5"}) {
     StoredProblem p = read_problem((test::kFc3dDir / name).string());
     REQUIRE(max_asymmetry(p.A) > symmetry_tolerance(p.A));
-    for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+    for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
       p.cones.law = law;
       VecX lambda;
       const SolverSummary s = solve(p.problem(), lambda, direct_options(1e-10));
-      INFO(name << ", " << to_string(law) << ": " << s.message);
+      INFO(name << ", " << cone_law_name(law) << ": " << s.message);
       CHECK(s.termination == Termination::Direct);
       const VecX w = p.A * lambda - p.b;
       CHECK(natural_map_residual(w, lambda, p.cmin, p.cmax, p.cones) <=
@@ -370,7 +370,7 @@ TEST_CASE(
     Simulation sim(scene);
     for (int step = 0; step < 50; ++step) sim.step();
     const System sys = sim.build_system();
-    const ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Coulomb);
+    const FrictionContacts cones = cones_of(sys, 0.5, FrictionLaw::CoulombCone);
     BoxedProblem problem = sys.problem();
     problem.cones = &cones;
     REQUIRE(problem.rows() > 500);

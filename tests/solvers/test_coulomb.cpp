@@ -25,19 +25,21 @@ TEST_CASE(
   Simulation sim(contact_scene("slide", {{"friction", "coulomb"}}, "direct"));
   const System sys = sim.build_system();
   REQUIRE(sys.rows() == 12);
-  for (int k = 0; k < sys.rows(); ++k) {
-    CAPTURE(k, sys.labels[std::size_t(k)]);
-    const int n = sys.normal_row[std::size_t(k)];
-    if (k % 3 == 0) {
-      CHECK(n == -1);  // a contact row
-      continue;
-    }
-    REQUIRE(n == k - k % 3);  // the contact row of the same point, just before its tangents
+  // Four contacts, each its contact row followed by its two friction rows, under Coulomb's box.
+  CHECK(sys.contacts.law == FrictionLaw::CoulombBox);
+  REQUIRE(sys.contacts.contacts() == 4);
+  REQUIRE(sys.coulomb().any());
+  for (int i = 0; i < 4; ++i) {
+    const int n = sys.contacts.normal[std::size_t(i)];
+    CAPTURE(i, n, sys.labels[std::size_t(n)]);
+    CHECK(n == 3 * i);
     CHECK(sys.labels[std::size_t(n)].rfind("contact ", 0) == 0);
-    // "friction ground-box #f t1" belongs to "contact ground-box #f".
-    const std::string& label = sys.labels[std::size_t(k)];
-    CHECK(label.substr(9, label.size() - 12) == sys.labels[std::size_t(n)].substr(8));
-    CHECK(sys.mu(k) == mu);
+    CHECK(sys.contacts.mu(i) == mu);
+    for (const int k : {n + 1, n + 2}) {
+      // "friction ground-box #f t1" belongs to "contact ground-box #f".
+      const std::string& label = sys.labels[std::size_t(k)];
+      CHECK(label.substr(9, label.size() - 12) == sys.labels[std::size_t(n)].substr(8));
+    }
   }
   VecX lambda = VecX::Zero(sys.rows());
   const SolverSummary s = sim.solve_system(sys, lambda);

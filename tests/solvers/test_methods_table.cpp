@@ -83,8 +83,8 @@ TEST_CASE("the questions of solver.hpp answer what the docs say of each method",
   CHECK(named([](Method m) { return is_siconos_fc3d(m); }) == fc3d);
   S coulomb = fc3d;
   coulomb.insert({"nsgs", "direct"});
-  CHECK(named([](Method m) { return takes_cone_law(m, true); }) == coulomb);
-  CHECK(named([](Method m) { return takes_cone_law(m, false); }) ==
+  CHECK(named([](Method m) { return takes_cone_law(m, FrictionLaw::CoulombCone); }) == coulomb);
+  CHECK(named([](Method m) { return takes_cone_law(m, FrictionLaw::Relaxation); }) ==
         S{"nsgs", "direct", "apgd", "admm", "pgs-nesterov"});
   CHECK(named([](Method m) { return takes_cones(m); }).size() == 9);
   CHECK(named([](Method m) { return is_peer(m); }).size() == 11);

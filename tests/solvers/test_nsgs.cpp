@@ -51,12 +51,12 @@ TEST_CASE("nsgs finds one contact's answers worked out by hand", "[nsgs]") {
   const VecX b = W * stick;
   const VecX cmin = (VecX(3) << 0.0, -kInf, -kInf).finished();
   const VecX cmax = VecX::Constant(3, kInf);
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.normal = {0};
   cones.mu = VecX::Constant(1, 0.5);
   BoxedProblem problem{A, b, cmin, cmax};
   problem.cones = &cones;
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
     cones.law = law;
     VecX lambda;
     const SolverSummary s = solve(problem, lambda, nsgs_options(1000, 1e-14));
@@ -67,7 +67,7 @@ TEST_CASE("nsgs finds one contact's answers worked out by hand", "[nsgs]") {
 
 TEST_CASE("the boxed methods refuse a problem with cones, naming nsgs", "[nsgs]") {
   const System sys = system_of("stack", {{"n", "2"}}, 3);
-  const ConeContacts cones = cones_of(sys, 0.5, ConeLaw::Coulomb);
+  const FrictionContacts cones = cones_of(sys, 0.5, FrictionLaw::CoulombCone);
   REQUIRE(cones.contacts() > 0);
   BoxedProblem problem = sys.problem();
   problem.cones = &cones;

@@ -283,7 +283,7 @@ TEST_CASE("Siconos' fc3d solvers on a sliding box: Coulomb's law, judged by cbps
   // must return, and whatever they return is judged by the same residual.
   const double mu = 0.3;
   const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
-  const ConeContacts cones = test::cones_of(sys, mu, ConeLaw::Coulomb);
+  const FrictionContacts cones = test::cones_of(sys, mu, FrictionLaw::CoulombCone);
   REQUIRE(cones.contacts() * 3 == sys.rows());  // every row a contact's
   BoxedProblem problem = sys.problem();
   problem.cones = &cones;
@@ -328,7 +328,7 @@ TEST_CASE("Siconos' fc3d solvers on a sliding box: Coulomb's law, judged by cbps
 TEST_CASE("Siconos' fc3d solvers take only Coulomb's cones, every row a contact's",
           "[peers][siconos][cones]") {
   const System sys = system_of("slide", {{"mu", "0.3"}}, 2);
-  ConeContacts cones = test::cones_of(sys, 0.3, ConeLaw::Ccp);
+  FrictionContacts cones = test::cones_of(sys, 0.3, FrictionLaw::Relaxation);
   BoxedProblem problem = sys.problem();
   VecX lambda;
   const auto refused = [&](Method m, const BoxedProblem& p, const std::string& why) {
@@ -341,7 +341,7 @@ TEST_CASE("Siconos' fc3d solvers take only Coulomb's cones, every row a contact'
   problem.cones = &cones;
   refused(Method::SiconosFc3dNsgs, problem, "convex relaxation (ccp)");
   // The same contacts beside a row no contact owns (a free row of its own).
-  cones.law = ConeLaw::Coulomb;
+  cones.law = FrictionLaw::CoulombCone;
   const long c = sys.rows();
   SpMat A(c + 1, c + 1);
   std::vector<Triplet> t;

@@ -117,13 +117,13 @@ TEST_CASE("direct on cones stops at the time limit", "[time-limit][cone-direct]"
   // 60 contacts in Coulomb's cones (mu 0.5) on a random W.
   const RandomProblem r(180, 11);
   VecX cmin = VecX::Constant(180, -kInf), cmax = VecX::Constant(180, kInf);
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.mu = VecX::Constant(60, 0.5);
   for (int i = 0; i < 60; ++i) {
     cones.normal.push_back(3 * i);
     cmin(3 * i) = 0.0;
   }
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
     cones.law = law;
     BoxedProblem p{r.A, r.b, cmin, cmax};
     p.symmetric = true;

@@ -43,31 +43,31 @@ TEST_CASE("project_onto_cone is Moreau's decomposition: x = P_K x + P_polar x, o
 TEST_CASE("the natural map vanishes at one contact's answers, worked out by hand", "[cone]") {
   // One contact with W = I: u = r + q, mu = 0.5.
   const double mu = 0.5;
-  const auto map = [&](const Vec3& r, const Vec3& q, ConeLaw law) {
+  const auto map = [&](const Vec3& r, const Vec3& q, FrictionLaw law) {
     return cone_natural_map(r, r + q, mu, law).norm();
   };
   SECTION("sticking: u = 0, r = −q inside the cone (both laws)") {
     const Vec3 q(-1.0, 0.1, 0.0), r(1.0, -0.1, 0.0);
-    CHECK(map(r, q, ConeLaw::Coulomb) <= 1e-15);
-    CHECK(map(r, q, ConeLaw::Ccp) <= 1e-15);
+    CHECK(map(r, q, FrictionLaw::CoulombCone) <= 1e-15);
+    CHECK(map(r, q, FrictionLaw::Relaxation) <= 1e-15);
   }
   SECTION("separating: r = 0, u = q in the dual cone") {
     const Vec3 q(1.0, 0.3, 0.0);
-    CHECK(map(Vec3::Zero(), q, ConeLaw::Coulomb) == 0.0);
-    CHECK(map(Vec3::Zero(), q, ConeLaw::Ccp) == 0.0);
+    CHECK(map(Vec3::Zero(), q, FrictionLaw::CoulombCone) == 0.0);
+    CHECK(map(Vec3::Zero(), q, FrictionLaw::Relaxation) == 0.0);
   }
   SECTION("sliding: Coulomb keeps contact, the relaxation lifts off") {
     const Vec3 q(-1.0, 2.0, 0.0);
     // Coulomb: u_n = 0 so r_n = 1, r_t = −mu r_n along −u_t: r = (1, −0.5, 0), u = (0, 1.5, 0).
     const Vec3 coulomb(1.0, -0.5, 0.0);
-    CHECK(map(coulomb, q, ConeLaw::Coulomb) <= 1e-15);
-    CHECK(map(coulomb, q, ConeLaw::Ccp) > 0.1);
+    CHECK(map(coulomb, q, FrictionLaw::CoulombCone) <= 1e-15);
+    CHECK(map(coulomb, q, FrictionLaw::Relaxation) > 0.1);
     // CCP: min ½‖r‖² + qᵀr over K is P_K(−q) = (1.6, −0.8, 0): u = (0.6, 1.2, 0), u_n = mu ‖u_t‖.
     const Vec3 ccp(1.6, -0.8, 0.0);
-    CHECK(map(ccp, q, ConeLaw::Ccp) <= 1e-15);
-    CHECK(map(ccp, q, ConeLaw::Coulomb) > 0.1);
+    CHECK(map(ccp, q, FrictionLaw::Relaxation) <= 1e-15);
+    CHECK(map(ccp, q, FrictionLaw::CoulombCone) > 0.1);
 
-    ConeContacts cones;
+    FrictionContacts cones;
     cones.normal = {0};
     cones.mu = VecX::Constant(1, mu);
     const VecX b = -q;  // w = A λ − b with A = I
@@ -75,7 +75,7 @@ TEST_CASE("the natural map vanishes at one contact's answers, worked out by hand
     CHECK(c.signorini <= 1e-15);  // Coulomb: r_n u_n = 1 · 0
     CHECK(c.violation == 0.0);
     CHECK(c.dissipation <= 1e-15);  // r_t · u_t = −0.75 = −mu r_n ‖u_t‖
-    cones.law = ConeLaw::Ccp;
+    cones.law = FrictionLaw::Relaxation;
     const ConeMeasures r = cone_measures(cones, ccp, ccp + q, b);
     CHECK(r.natural_map <= 1e-15);
     CHECK(r.signorini == Approx(1.6 * 0.6));  // the relaxation's gap: lifted while sliding
@@ -92,7 +92,7 @@ TEST_CASE("a problem's residual takes the cone law at its contacts and the box e
   const VecX b = (VecX(4) << 1.0, -2.0, 0.0, 2.0).finished();  // q = −b = (−1, 2, 0), row 3 −2
   const VecX cmin = (VecX(4) << 0.0, -kInf, -kInf, 0.0).finished();
   const VecX cmax = (VecX(4) << kInf, kInf, kInf, 1.0).finished();
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.normal = {0};
   cones.mu = VecX::Constant(1, 0.5);
   BoxedProblem problem{A, b, cmin, cmax};
@@ -111,7 +111,7 @@ TEST_CASE("Siconos' error of one contact, by hand from Siconos 4.4's definition"
   // q = −b = (−4, −8, 0), mu = 0.5, r = 0: u = q, û = (−4 + 0.5·8, −8, 0) = (0, −8, 0),
   // P_K((0, 8, 0)) = (4/1.25)(1, 0.5, 0) = (3.2, 1.6, 0), sum of squares 12.8; the divisor
   // max(sqrt 80, 0, sqrt 80): error sqrt(12.8 / 80) = 0.4.
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.normal = {0};
   cones.mu = VecX::Constant(1, 0.5);
   const VecX b = (VecX(3) << 4.0, 8.0, 0.0).finished();

@@ -28,7 +28,7 @@ Scaled in_units(const StoredProblem& p, const VecX& lambda, double force, double
           lambda / force};
 }
 
-double relative(const Scaled& s, const ConeContacts* cones) {
+double relative(const Scaled& s, const FrictionContacts* cones) {
   BoxedProblem q{s.A, s.b, s.cmin, s.cmax};
   q.cones = cones;
   return unit_free_residual(q, s.lambda).relative;
@@ -57,7 +57,7 @@ TEST_CASE("the unit-free residual of a row and of a contact, by hand", "[unit-fr
   const SpMat W = (Mat3::Identity() * 4.0).sparseView();
   const VecX bc = (VecX(3) << 4.0, 8.0, 0.0).finished();
   const VecX cminc = (VecX(3) << 0.0, -kInf, -kInf).finished(), cmaxc = VecX::Constant(3, kInf);
-  ConeContacts cones;
+  FrictionContacts cones;
   cones.normal = {0};
   cones.mu = VecX::Constant(1, 0.5);
   BoxedProblem contact{W, bc, cminc, cmaxc};
@@ -75,16 +75,16 @@ TEST_CASE("the unit-free residual does not change with the units of force and ve
   const StoredProblem relay =
       read_problem((test::kSiconosDir / "relay" / "relay_4x4.dat").string());
   StoredProblem rover = read_problem((test::kFc3dDir / "Rover4396.dat").string());
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
     rover.cones.law = law;
     for (const StoredProblem* p : {&relay, static_cast<const StoredProblem*>(&rover)}) {
       VecX lambda(p->rows());
       for (Eigen::Index k = 0; k < lambda.size(); ++k) lambda(k) = 0.3 + std::sin(1.0 + k);
       if (!p->cones.empty())
         for (const int n : p->cones.normal) lambda(n) = 1.0 + std::abs(lambda(n));
-      const ConeContacts* cones = p->cones.empty() ? nullptr : &p->cones;
+      const FrictionContacts* cones = p->cones.empty() ? nullptr : &p->cones;
       const double base = relative(in_units(*p, lambda, 1.0, 1.0), cones);
-      INFO("rows " << p->rows() << ", law " << to_string(law) << ", relative " << base);
+      INFO("rows " << p->rows() << ", law " << cone_law_name(law) << ", relative " << base);
       REQUIRE(base > 1e-3);
       for (const auto& [force, velocity] :
            {std::pair{1e3, 1.0}, {1e-4, 1.0}, {1.0, 1e-2}, {1.0, 1e5}, {1e2, 1e-3}}) {
@@ -111,10 +111,10 @@ TEST_CASE("the direct path's target bounds the unit-free residual, and the verdi
   StoredProblem rover = read_problem((test::kFc3dDir / "Rover4396.dat").string());
   const StoredProblem relay =
       read_problem((test::kSiconosDir / "relay" / "relay_4x4.dat").string());
-  for (const ConeLaw law : {ConeLaw::Coulomb, ConeLaw::Ccp}) {
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
     rover.cones.law = law;
     for (const StoredProblem* p : {&relay, static_cast<const StoredProblem*>(&rover)}) {
-      const ConeContacts* cones = p->cones.empty() ? nullptr : &p->cones;
+      const FrictionContacts* cones = p->cones.empty() ? nullptr : &p->cones;
       for (const double force : {1e-6, 1.0, 1e6}) {
         for (const double size : {1e-9, 1e-3, 1.0}) {
           VecX lambda(p->rows());

@@ -44,7 +44,7 @@ struct StoredProblem {
   std::vector<int> blocks;
   /// The contacts whose rows live in Coulomb's cone (an FCLIB file, a step with friction=cone);
   /// empty for the paper's boxed problem.
-  ConeContacts cones;
+  FrictionContacts cones;
   bool fclib = false;  ///< read from an FCLIB file (io/fclib_file.hpp)
   long rows() const { return static_cast<long>(b.size()); }
   /// J and Minv are here (A = J Minv Jᵀ, 6.2.9): body space for the direct path.

@@ -1,24 +1,13 @@
 // Friction rows (paper 5.4): the tangent basis, the rows, and the paper's bound.
 #pragma once
 
-#include <string_view>
 #include <vector>
 
 #include "cbps/collision/collision.hpp"
+#include "cbps/rows/friction_law.hpp"
 #include "cbps/rows/row.hpp"
 
 namespace cbps {
-
-/// How friction rows are bounded (5.4).
-enum class FrictionModel {
-  Paper,    ///< ±mu m |g·n|, m the pair's movable mass divided over its contact points (5.4)
-  Coulomb,  ///< ±mu lambda_normal of the same point (ODE, Bullet, Box2D): bounds follow lambda
-  /// Coulomb's cone ‖λ_t‖ ≤ mu λ_n per contact point (docs/cones.md): no box on the friction
-  /// rows; the contact's three rows live in the cone (System::cones)
-  Cone
-};
-/// "paper", "coulomb" or "cone": the name scenes and summaries use.
-std::string_view to_string(FrictionModel model);
 
 /// Two unit tangents t1, t2 with (n, t1, t2) right-handed and orthonormal (5.4). Deterministic
 /// and continuous in n: t1 is n × e normalised, for e the first world axis of x, y, z with

@@ -7,6 +7,7 @@
 
 #include "cbps/base/row_kind.hpp"
 #include "cbps/body/body.hpp"
+#include "cbps/rows/friction_law.hpp"
 
 namespace cbps {
 
@@ -38,14 +39,17 @@ struct Row {
   double depth = 0.0;
   double cmin = -kInf;  ///< lower bound on lambda (5.1), N
   double cmax = kInf;   ///< upper bound on lambda (5.1), N
-  int normal_row = -1;  ///< Coulomb friction (5.4): index of the contact row bounding it
-  double mu = 0.0;  ///< and its coefficient: cmin = −mu lambda_normal, cmax = mu lambda_normal
+  /// A friction row (5.4): the index of its contact's row (the contact's normal), −1 for every
+  /// other row.
+  int normal_row = -1;
   /// The contact manifold (4) whose contact or friction row this is, −1 for other rows. Block
   /// PGS solves the rows of one manifold together.
   int manifold = -1;
-  /// A contact row whose two friction rows follow it in Coulomb's cone (FrictionModel::Cone):
-  /// the cone's mu; −1 for every other row.
-  double cone_mu = -1.0;
+  /// A contact row whose two friction rows follow it: its contact's friction coefficient and
+  /// law (5.4, rows/friction_law.hpp); mu −1 for every other row (a contact without friction
+  /// rows, at mu = 0, included).
+  double mu = -1.0;
+  FrictionLaw law = FrictionLaw::PaperBox;
 };
 
 /// upsilon + upsilon_push, m/s: the bias of a system with the push in it (the one system of

@@ -75,8 +75,8 @@ struct World {
   Integrator integrator = Integrator::Paper;  ///< how a step turns the bodies (body.hpp)
   SchemeSettings scheme;                      ///< how a step advances time (docs/schemes.md)
   double mu = 0.0;                            ///< friction coefficient (5.4); 0: no friction rows
-  FrictionModel friction = FrictionModel::Paper;
-  ConeLaw cone = ConeLaw::Coulomb;     ///< the cone's law with FrictionModel::Cone (docs/cones.md)
+  /// Every contact's friction law (5.4, rows/friction_law.hpp; scene keys `friction` and `cone`)
+  FrictionLaw friction = FrictionLaw::PaperBox;
   double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
   double restitution_threshold = 0.1;  ///< approach speed below which no bounce (8.2), m/s
   /// Contacts kept up to this separation (4), m. 0 here for scenes built in code (the stress
@@ -103,9 +103,7 @@ struct World {
   }
   /// The method a scene of this world solves with when none is named: the paper's PGS (7.1.1),
   /// on friction cones its cone form nsgs (docs/cones.md).
-  Method default_method() const {
-    return friction == FrictionModel::Cone ? Method::Nsgs : Method::Pgs;
-  }
+  Method default_method() const { return is_cone(friction) ? Method::Nsgs : Method::Pgs; }
 };
 
 /// A scene's solver, as scene files and `--solver` give it: the settings of every solve a step

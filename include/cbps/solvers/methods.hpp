@@ -19,9 +19,9 @@ namespace cbps {
 /// Whose code a method runs: cbps's own, or a peer library's (peers/peers.hpp).
 enum class Library { Cbps, Siconos, Bullet };
 
-/// The cone laws a method takes (system/cone_problem.hpp), as bits of MethodEntry::laws.
-inline constexpr unsigned kRelaxationLaw = 1;  ///< the convex relaxation (ConeLaw::Ccp)
-inline constexpr unsigned kCoulombLaw = 2;     ///< Coulomb's law (ConeLaw::Coulomb)
+/// The cone laws a method takes (rows/friction_law.hpp), as bits of MethodEntry::laws.
+inline constexpr unsigned kRelaxationLaw = 1;  ///< the convex relaxation (FrictionLaw::Relaxation)
+inline constexpr unsigned kCoulombLaw = 2;     ///< Coulomb's law (FrictionLaw::CoulombCone)
 inline constexpr unsigned kEitherLaw = kRelaxationLaw | kCoulombLaw;
 
 /// One method: its own name, its traits and its solve function. The traits' meanings are the

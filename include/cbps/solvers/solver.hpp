@@ -126,9 +126,9 @@ bool is_siconos_fc3d(Method method);
 /// momentum resting on nsgs's sweep descending it): takes_cone_law. solve() refuses the others
 /// on such a problem (InputError): they solve the boxed problem of 6.2.
 bool takes_cones(Method method);
-/// True when a method that takes cones takes them under `coulomb` (Coulomb's law) or the
-/// relaxation (coulomb false).
-bool takes_cone_law(Method method, bool coulomb);
+/// True when a method that takes cones takes them under `law` (a cone law: CoulombCone or
+/// Relaxation).
+bool takes_cone_law(Method method, FrictionLaw law);
 /// The methods takes_cones names, for messages.
 inline constexpr const char* kConeMethodNames =
     "nsgs and direct (and siconos:fc3d-* for Coulomb's law, apgd, admm and pgs-nesterov for the "

@@ -51,10 +51,11 @@ struct PosedOnCones {
   bool verified = false;       ///< lambda passes cbps's verdict (is_solved)
 };
 
-/// `boxed` (the step's problem of `sys`) with its contacts in Coulomb's cone of `mu` under
-/// `law` (contacts_in_cones: the cone replaces the box, the rows' own bounds lifted), solved by
-/// the exact path on cones from zero. InputError for a system without contacts.
-PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, double mu, ConeLaw law);
+/// `boxed` (the step's problem of `sys`) with its contacts in Coulomb's cone under `law`, each of
+/// the mu its rows were built with (contacts_in_cones: the cone replaces the box, the rows' own
+/// bounds lifted), solved by the exact path on cones from zero. InputError for a system without
+/// contacts.
+PosedOnCones pose_on_cones(const System& sys, const StoredProblem& boxed, FrictionLaw law);
 
 /// The step's problem as an FCLIB file at `path` (FCLIB's local problem; with `global` its global
 /// one, M, H, G): on a scene with contacts in cones the problem the step solved, with its answer
@@ -67,7 +68,7 @@ PosedOnCones write_step_fclib(const std::string& path,
                               const System& sys,
                               const StepProblem& step,
                               long at_step,
-                              ConeLaw law,
+                              FrictionLaw law,
                               bool global);
 
 }  // namespace cbps

@@ -35,7 +35,7 @@ struct RowStatus {
 RowStatus row_status(double lambda, double cmin, double cmax, double w, double tol);
 /// The status of a contact in Coulomb's cone of coefficient mu under `law`, r its lambda (N) and
 /// u its rows of w (m/s²): satisfied when its natural map ‖r − P_K(r − û)‖₂ ≤ tol (N).
-RowStatus cone_status(const Vec3& r, const Vec3& u, double mu, ConeLaw law, double tol);
+RowStatus cone_status(const Vec3& r, const Vec3& u, double mu, FrictionLaw law, double tol);
 
 /// One solved system of the step: the one system of the original push (5.2.3, 5.3), or the
 /// velocity or position system of the improved push (8.1).

@@ -54,7 +54,7 @@ struct BoxedProblem {
   /// The contacts whose rows live in Coulomb's cone instead of their boxes (cone_problem.hpp),
   /// or null (the paper's boxed problem). Only the methods that take cones (takes_cones,
   /// solver.hpp) solve such a problem; its residual is the cone law's natural map there.
-  const ConeContacts* cones = nullptr;
+  const FrictionContacts* cones = nullptr;
 
   Eigen::Index rows() const { return b.size(); }
   bool has_factors() const { return J != nullptr && Minv != nullptr; }
@@ -65,15 +65,14 @@ struct BoxedProblem {
   bool A_formed() const { return A.rows() == rows() && A.cols() == rows(); }
 };
 
-/// Which rows are Coulomb friction rows (5.4 with bounds ±mu lambda_n): normal_row[k] is the
-/// contact row bounding row k (−1 for every other row) and mu[k] its coefficient. Their bounds
-/// move with lambda, so a problem with such rows is a fixed point of boxed problems
+/// The contacts under Coulomb's box (FrictionLaw::CoulombBox, 5.4), or none (null): each
+/// contact's two friction rows are bounded by ±coulomb_bound(mu, lambda_n) of its normal row.
+/// Their bounds move with lambda, so such a problem is a fixed point of boxed problems
 /// (solvers/paper/coulomb.hpp); the bounds in the BoxedProblem are then only the other rows'.
 struct CoulombRows {
-  const std::vector<int>& normal_row;
-  const VecX& mu;
-  /// True when some row is a Coulomb friction row.
-  bool any() const;
+  const FrictionContacts* contacts = nullptr;
+  /// True when some contact is under Coulomb's box.
+  bool any() const { return contacts != nullptr && !contacts->empty(); }
 };
 
 /// How symmetric A must be to count as symmetric (the QP of 6.2 and the exact paths need it; a

@@ -46,12 +46,11 @@ struct System {
   VecX b;                              ///< c, upsilon/dt − J (v1/dt + Minv fext) (6.2.9)
   VecX upsilon_push;                   ///< c, each row's push term alone (Row::upsilon_push), m/s
   PushMode push = PushMode::Original;  ///< the push factor's form upsilon was made for (8, 8.1)
-  std::vector<int> normal_row;  ///< c, Coulomb friction: the contact row bounding it, else −1
-  VecX mu;                      ///< c, Coulomb friction coefficient of the row, else 0
-  std::vector<int> manifold;    ///< c, the row's contact manifold (4), else −1 (block PGS)
-  /// The contacts whose rows live in Coulomb's cone (friction=cone; docs/cones.md), their law
-  /// set by the simulation from the scene (World::cone); empty otherwise.
-  ConeContacts cones;
+  std::vector<int> manifold;           ///< c, the row's contact manifold (4), else −1 (block PGS)
+  /// Every contact with friction rows (a contact row and its two friction rows after it, 5.4),
+  /// its mu and the law the rows carry (Row::mu, Row::law): empty at mu = 0 and without
+  /// contacts.
+  FrictionContacts contacts;
   /// c, kg⁻¹: what a step scheme adds to A's diagonal (docs/schemes.md), kept apart from A: the
   /// soft step's soft rows (Catto's gamma), XPBD's compliance over h². The system that carries
   /// the push solves (A + diag(softness)) lambda = b (push_problem). Empty: the paper's rigid rows.
@@ -79,7 +78,7 @@ struct System {
   BoxedProblem rigid_problem(const VecX& rhs) const {
     BoxedProblem p{A, rhs, cmin, cmax, &J, &Minv, &manifold, &kind};
     p.symmetric = true;  // A = J Minv Jᵀ (6.2.9)
-    if (!cones.empty()) p.cones = &cones;
+    p.cones = cones();
     return p;
   }
   /// (A + diag(softness)) lambda = rhs: A_soft alone (no J and Minv: the methods that work
@@ -87,20 +86,26 @@ struct System {
   BoxedProblem soft_problem(const VecX& rhs) const {
     BoxedProblem p{A_soft, rhs, cmin, cmax, nullptr, nullptr, &manifold, &kind};
     p.symmetric = true;  // A + a diagonal
-    if (!cones.empty()) p.cones = &cones;
+    p.cones = cones();
     return p;
   }
-  /// The Coulomb friction rows (5.4), whose bounds ±mu lambda_n the solve sets.
-  CoulombRows coulomb() const { return CoulombRows{normal_row, mu}; }
+  /// The contacts when their law is a cone (is_cone; docs/cones.md), else null: the problem's
+  /// cones (BoxedProblem::cones).
+  const FrictionContacts* cones() const {
+    return is_cone(contacts.law) && !contacts.empty() ? &contacts : nullptr;
+  }
+  /// The contacts when their law is Coulomb's box, whose friction bounds ±mu lambda_n the solve
+  /// sets (5.4); else none.
+  CoulombRows coulomb() const {
+    return {contacts.law == FrictionLaw::CoulombBox && !contacts.empty() ? &contacts : nullptr};
+  }
 };
 
 /// The contacts of a system whose friction is a box (the paper's or Coulomb's, 5.4), posed in
-/// Coulomb's cone of coefficient mu under `law`: each contact row followed by its two friction
-/// rows (same manifold; FCLIB's order normal, t1, t2); distance rows stay as they are. The same
-/// J, Minv, A and b: only the set lambda lives in changes (docs/cones.md). Throws InputError
-/// naming the first contact row without its two friction rows (mu = 0 makes none), and when mu
-/// is not finite and > 0.
-ConeContacts contacts_in_cones(const System& sys, double mu, ConeLaw law);
+/// Coulomb's cone under `law` (a cone law), each with the mu its rows were built with: the same
+/// J, Minv, A and b, only the set lambda lives in changes (docs/cones.md). Throws InputError
+/// naming the first contact row without its two friction rows (mu = 0 makes none).
+FrictionContacts contacts_in_cones(const System& sys, FrictionLaw law);
 
 /// Gives `sys` (A formed) a scheme's softness, kg⁻¹ per row (System::softness), and forms
 /// A_soft = A + diag(softness). An all-zero softness is dropped (the rigid system).

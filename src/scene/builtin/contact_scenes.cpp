@@ -19,10 +19,11 @@ void read_contact_world(const ParameterValues& p, Scene& scene) {
   scene.world.beta = p.number("beta", 0.0, 1.0);
   scene.world.mu = p.number("mu", 0.0, kInf);
   const std::string friction = p.word("friction", "paper|coulomb|cone");
-  scene.world.friction = friction == "coulomb" ? FrictionModel::Coulomb
-                         : friction == "cone"  ? FrictionModel::Cone
-                                               : FrictionModel::Paper;
-  cone_law_from_string(p.word("cone", "coulomb|ccp"), scene.world.cone);
+  FrictionLaw cone = FrictionLaw::CoulombCone;
+  cone_law_from_string(p.word("cone", "coulomb|ccp"), cone);
+  scene.world.friction = friction == "coulomb" ? FrictionLaw::CoulombBox
+                         : friction == "cone"  ? cone
+                                               : FrictionLaw::PaperBox;
   scene.solver.method = scene.world.default_method();
   scene.world.restitution = p.number("restitution", 0.0, 1.0);
   scene.world.push =

@@ -142,8 +142,8 @@ struct Setup {
   VecX b, cmin, cmax;
   std::vector<char> fixed;  ///< rows held at fixed_value (cmin = cmax, a mu = 0 contact's t1, t2)
   VecX fixed_value;
-  ConeContacts law;             ///< the problem's contacts and law
-  ConeContacts ccp;             ///< the same contacts under the convex relaxation
+  FrictionContacts law;         ///< the problem's contacts and law
+  FrictionContacts ccp;         ///< the same contacts under the convex relaxation
   std::vector<int> contact_at;  ///< row → contact owning it as its normal, −1 otherwise
   std::vector<char> in_cone;
   std::vector<Constraint> constraints;
@@ -184,7 +184,7 @@ Setup make_setup(const BoxedProblem& p) {
   S.cmax = p.cmax * x_scale;
   S.law = *p.cones;
   S.ccp = *p.cones;
-  S.ccp.law = ConeLaw::Ccp;
+  S.ccp.law = FrictionLaw::Relaxation;
   S.in_cone = S.law.rows_in_cones(c);
   S.contact_at.assign(std::size_t(c), -1);
   S.fixed.assign(std::size_t(c), 0);
@@ -235,7 +235,7 @@ Setup make_setup(const BoxedProblem& p) {
 /// The law's natural-map residual (cone_problem.hpp) of the problem with right side b at x, all
 /// scaled, in units of x: the problem's own residual (N) at λ = (bn / md) x times md / bn. (The
 /// natural map of the scaled problem itself would weigh w by md against λ.)
-double residual(const Setup& S, const ConeContacts& cones, const VecX& b, const VecX& x) {
+double residual(const Setup& S, const FrictionContacts& cones, const VecX& b, const VecX& x) {
   const double alpha = S.bn / S.md;
   const VecX w = S.bn * (S.A * x - b);
   return natural_map_residual(w, alpha * x, alpha * S.cmin, alpha * S.cmax, cones) / alpha;
@@ -659,7 +659,7 @@ class NewtonMatrix {
 /// the pattern never changes. With `alart_curnier` (Coulomb's law only), each contact's rows hold
 /// alart_curnier_map instead.
 VecX natural_map_newton(const Setup& S,
-                        const ConeContacts& cones,
+                        const FrictionContacts& cones,
                         const SpMat& A_eps,
                         const VecX& b_eps,
                         const VecX& v,
@@ -729,7 +729,7 @@ VecX natural_map_newton(const Setup& S,
 /// steps are on Alart–Curnier's function instead of the natural map. x becomes the best point
 /// found.
 void proximal_newton(const Setup& S,
-                     const ConeContacts& cones,
+                     const FrictionContacts& cones,
                      const VecX& b,
                      double target,
                      int max_outer,
@@ -910,7 +910,7 @@ void sweeps_then_newton(const BoxedProblem& problem,
       sweeps.tolerance = target_of(x) * alpha;  // N
       counts.sweeps += solve_nsgs(problem, lambda, sweeps).iterations;
       VecX y = lambda / alpha;
-      if (S.law.law == ConeLaw::Coulomb)
+      if (S.law.law == FrictionLaw::CoulombCone)
         alart_curnier_steps(S, target_of(y), y, counts);
       else
         proximal_newton(S, S.ccp, S.b, target_of(y), kMaxOuter, y, counts);
@@ -941,7 +941,7 @@ void quick_start(const BoxedProblem& problem,
   const double alpha = S.bn / S.md;  // λ = alpha x
   x = lambda / alpha;
   // The relaxation's interior point is cheap and exact; Coulomb's stages are the costly ones.
-  if (S.law.law != ConeLaw::Coulomb) return;
+  if (S.law.law != FrictionLaw::CoulombCone) return;
   SolverOptions sweeps = options;
   sweeps.method = Method::Nsgs;
   sweeps.after_sweep = nullptr;
@@ -990,9 +990,10 @@ VecX run_stages(const Setup& S,
                 const std::optional<VecX>& relaxed = std::nullopt) {
   VecX x = relaxed ? *relaxed : interior(S, S.b, proximal, target_of, counts);
   VecX refreshed;
-  bool finished = S.law.law == ConeLaw::Coulomb && residual(S, S.law, S.b, x) <= target_of(x);
+  bool finished =
+      S.law.law == FrictionLaw::CoulombCone && residual(S, S.law, S.b, x) <= target_of(x);
   double refreshed_r = std::numeric_limits<double>::infinity();
-  if (S.law.law == ConeLaw::Coulomb && !finished) {
+  if (S.law.law == FrictionLaw::CoulombCone && !finished) {
     const int before = counts.interior;
     refreshed = interior(S, S.b, proximal, target_of, counts, true);
     refreshed_r = residual(S, S.law, S.b, refreshed);
@@ -1002,7 +1003,7 @@ VecX run_stages(const Setup& S,
   }
   if (finished) {
     // Coulomb's law met by the relaxation's or the refreshed interior point: nothing more to do
-  } else if (S.law.law == ConeLaw::Ccp) {
+  } else if (S.law.law == FrictionLaw::Relaxation) {
     proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
   } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
     const double x_r = residual(S, S.law, S.b, x);
@@ -1045,9 +1046,9 @@ std::string cone_direct_message(const Setup& S,
                                 double floor) {
   std::ostringstream msg;
   msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
-      << to_string(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
+      << cone_law_name(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
       << " interior iterations";
-  if (S.law.law == ConeLaw::Coulomb)
+  if (S.law.law == FrictionLaw::CoulombCone)
     msg << " (" << counts.desaxce << " with De Saxce's term refreshed), " << counts.alart_curnier
         << " Alart-Curnier steps, " << counts.rounds << " fixed-point rounds";
   if (counts.sweeps > 0) msg << ", " << counts.sweeps << " NSGS sweeps";
@@ -1066,7 +1067,7 @@ std::string cone_direct_message(const Setup& S,
       << "tolerance)";
   if (!reached && counts.factorizations >= counts.budget)
     msg << "; stopped at its budget of " << counts.budget << " factorizations";
-  if (!reached && S.law.law == ConeLaw::Coulomb)
+  if (!reached && S.law.law == FrictionLaw::CoulombCone)
     msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
            "point with De Saxce's term refreshed, the fixed point on s = mu |u_t| and the "
            "semismooth Newton steps on Coulomb's own map each stopped short of it, and on a "
@@ -1146,7 +1147,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   const bool cold = (lambda.array() == 0.0).all();
   if (cold && c > kQuickFirstRows) relaxed = interior(S, S.b, proximal, target_of, counts);
   VecX x;
-  if (relaxed && (met(*relaxed) || S.law.law != ConeLaw::Coulomb)) {
+  if (relaxed && (met(*relaxed) || S.law.law != FrictionLaw::CoulombCone)) {
     x = *relaxed;
   } else {
     quick_start(problem, S, options, target_of, met, lambda, x, counts);

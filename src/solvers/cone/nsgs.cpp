@@ -33,7 +33,7 @@ NsgsSetup setup(const BoxedProblem& problem) {
   std::vector<int> contact_at(static_cast<std::size_t>(c), -1);
   std::vector<char> in_cone(static_cast<std::size_t>(c), 0);
   if (problem.cones != nullptr) {
-    const ConeContacts& cones = *problem.cones;
+    const FrictionContacts& cones = *problem.cones;
     in_cone = cones.rows_in_cones(c);
     for (long i = 0; i < cones.contacts(); ++i) {
       const int n = cones.normal[static_cast<std::size_t>(i)];
@@ -76,7 +76,7 @@ Vec3 contact_w(const SpMat& A_rows, const VecX& b, const VecX& lambda, int n) {
 /// Contact i's local steps r ← P_K(r − rho û(W r + p)), at most `local`; returns max |Δr|.
 double contact_step(
     const BoxedProblem& problem, const NsgsSetup& s, int i, int local, VecX& lambda) {
-  const ConeContacts& cones = *problem.cones;
+  const FrictionContacts& cones = *problem.cones;
   const int n = cones.normal[static_cast<std::size_t>(i)];
   const double rho = s.rho[static_cast<std::size_t>(i)];
   if (rho == 0.0) return 0.0;

@@ -20,15 +20,35 @@ namespace {
 /// rows keep theirs. Returns the largest change of a bound, N.
 double move_bounds(const CoulombRows& coulomb, const VecX& lambda, VecX& cmin, VecX& cmax) {
   double change = 0.0;
-  for (Eigen::Index k = 0; k < cmin.size(); ++k) {
-    const int n = coulomb.normal_row[static_cast<std::size_t>(k)];
-    if (n < 0) continue;
-    const double bound = coulomb.mu(k) * std::max(0.0, lambda(n));
-    change = std::max(change, std::abs(bound - cmax(k)));
-    cmin(k) = -bound;
-    cmax(k) = bound;
+  if (!coulomb.any()) return change;
+  const FrictionContacts& contacts = *coulomb.contacts;
+  for (long i = 0; i < contacts.contacts(); ++i) {
+    const int n = contacts.normal[static_cast<std::size_t>(i)];
+    const double bound = coulomb_bound(contacts.mu(i), lambda(n));
+    for (const int k : {n + 1, n + 2}) {  // its friction rows t1, t2
+      change = std::max(change, std::abs(bound - cmax(k)));
+      cmin(k) = -bound;
+      cmax(k) = bound;
+    }
   }
   return change;
+}
+
+/// Row k's contact row under Coulomb's box, −1 for the other rows; and its coefficient.
+void coulomb_rows(const CoulombRows& coulomb,
+                  Eigen::Index rows,
+                  std::vector<int>& normal,
+                  VecX& mu) {
+  normal.assign(static_cast<std::size_t>(rows), -1);
+  mu = VecX::Zero(rows);
+  if (!coulomb.any()) return;
+  for (long i = 0; i < coulomb.contacts->contacts(); ++i) {
+    const int n = coulomb.contacts->normal[static_cast<std::size_t>(i)];
+    for (const int k : {n + 1, n + 2}) {
+      normal[static_cast<std::size_t>(k)] = n;
+      mu(k) = coulomb.contacts->mu(i);
+    }
+  }
 }
 
 /// Newton's steps on the Coulomb box's own natural map, its bounds taken at λ (5.4):
@@ -64,6 +84,9 @@ double coulomb_box_newton(const BoxedProblem& bounded,
                           VecX& lambda) {
   const SpMat A = formed_A(bounded);
   const Eigen::Index c = bounded.rows();
+  std::vector<int> normal_of;  // row k's contact row, −1 for a row with fixed bounds
+  VecX mu_of;
+  coulomb_rows(coulomb, c, normal_of, mu_of);
   VecX rho(c);
   for (Eigen::Index k = 0; k < c; ++k) {
     const double a = A.coeff(k, k);
@@ -82,7 +105,7 @@ double coulomb_box_newton(const BoxedProblem& bounded,
       const double y = clamp(z, lo(k), hi(k));
       F(k) = x(k) - y;
       if (!record) continue;
-      const bool moving = coulomb.normal_row[static_cast<std::size_t>(k)] >= 0;
+      const bool moving = normal_of[static_cast<std::size_t>(k)] >= 0;
       int& at = kind[static_cast<std::size_t>(k)];
       at = z > lo(k) && z < hi(k) ? 0 : !moving ? 1 : z >= hi(k) ? 2 : -2;
     }
@@ -110,9 +133,8 @@ double coulomb_box_newton(const BoxedProblem& bounded,
       const int at = kind[static_cast<std::size_t>(k)];
       if (at == 0) continue;
       t.emplace_back(int(k), int(k), 1.0);
-      const int n = coulomb.normal_row[static_cast<std::size_t>(k)];
-      if (n >= 0 && lambda(n) > 0.0)
-        t.emplace_back(int(k), n, at > 0 ? -coulomb.mu(k) : coulomb.mu(k));
+      const int n = normal_of[static_cast<std::size_t>(k)];
+      if (n >= 0 && lambda(n) > 0.0) t.emplace_back(int(k), n, at > 0 ? -mu_of(k) : mu_of(k));
     }
     SpMat G(c, c);
     G.setFromTriplets(t.begin(), t.end());

@@ -86,7 +86,7 @@ std::string peer_refusal(Method method, const BoxedProblem& problem) {
              ": Siconos' fc3d solvers take a problem whose contacts live in Coulomb's cone (an "
              "FCLIB file, a scene with friction=cone); this one is the boxed problem of 6.2 "
              "(siconos:lemke, siconos:pgs, siconos:enum and siconos:avi solve it)";
-    if (problem.cones->law != ConeLaw::Coulomb)
+    if (problem.cones->law != FrictionLaw::CoulombCone)
       return name + ": Siconos' fc3d solvers solve Coulomb's law (De Saxce's form); this " +
              "problem's law is the convex relaxation (ccp), which nsgs and direct solve";
     const std::vector<char> in_cone = problem.cones->rows_in_cones(c);
