@@ -1,7 +1,8 @@
 // cbps.solve for Python: the boxed problem of 6.2 (find lambda in [cmin, cmax] with
 // w = A lambda − b ≥ 0 at cmin, ≤ 0 at cmax, = 0 between) on any (A, b, cmin, cmax) from Python,
 // by every method `cbps converge` knows, named by the --solver grammar (parse_solver_spec:
-// "pgs", "psor:1.3", "apgd:restart=off", ...), and Lemke's method as `cbps lcp --solver lemke`.
+// the paper's method by its name, "psor:1.3", "apgd:restart=off", ...), and Lemke's method as
+// `cbps lcp --solver lemke`.
 // The solve runs without the GIL; the history of the iterative methods is the natural-map
 // residual after every sweep and the sweeps' time, recorded outside the solver's clock as
 // `cbps converge` records it.
@@ -505,7 +506,7 @@ void bind_solve(py::module_& m) {
       py::arg("b"),
       py::arg("cmin"),
       py::arg("cmax"),
-      py::arg("method") = "pgs",
+      py::arg("method") = std::string(to_string(kPaperMethod)),
       py::kw_only(),
       py::arg("lam0") = py::none(),
       py::arg("iterations") = 10000,

@@ -27,7 +27,7 @@ bool method_from_string(std::string_view name, Method& method) {
 }
 
 Method method_of(std::string_view name) {
-  Method method = Method::Pgs;
+  Method method = kPaperMethod;
   if (!method_from_string(name, method))
     throw std::invalid_argument("unknown method '" + std::string(name) +
                                 "' (valid: " + method_names() + ")");
@@ -64,6 +64,10 @@ bool is_siconos_fc3d(Method method) {
 }
 
 bool takes_cones(Method method) { return method_entry(method).laws != 0; }
+
+long most_rows(Method method) { return method_entry(method).max_rows; }
+
+bool counts_pivots(Method method) { return method_entry(method).pivots; }
 
 bool takes_cone_law(Method method, FrictionLaw law) {
   return (method_entry(method).laws &

@@ -5,7 +5,6 @@
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
 #include "cbps/io/json_numbers.hpp"
-#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 
@@ -77,10 +76,10 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
                      "folder's labels.json gives; drop it or use `cbps converge SCENE`");
   // The exact paths on the boxed problem solve the QP of 6.2 (on cones direct takes any A).
   if (!is_iterative(spec.method) && needs_symmetric(spec.method)) require_symmetric(p, what);
-  if (spec.method == Method::Lemke && p.rows() > kMaxDenseLemkeRows)
-    throw InputError(what + ": the problem has " + std::to_string(p.rows()) +
-                     " rows; the dense Lemke solver takes at most " +
-                     std::to_string(kMaxDenseLemkeRows) + " (use --solver pgs or direct)");
+  if (const long most = most_rows(spec.method); most > 0 && p.rows() > most)
+    throw InputError(what + ": the problem has " + std::to_string(p.rows()) + " rows; " +
+                     std::string(to_string(spec.method)) + " takes at most " +
+                     std::to_string(most) + " (a dense copy of A; use --solver pgs or direct)");
   if (is_peer(spec.method)) {
     const std::string refusal = peer_refusal(spec.method, p.problem());
     if (!refusal.empty()) throw InputError(what + ": " + path + ": " + refusal);
@@ -116,7 +115,7 @@ LcpOutcome solve_stored(const SolverSpec& spec,
   r.iterations = s.iterations;
   r.no_solution = s.termination == Termination::NoSolution;
   r.time_limit = s.termination == Termination::TimeLimit;
-  r.pivots = spec.method == Method::Lemke;
+  r.pivots = counts_pivots(spec.method);
   r.message = s.message;
   explain_space(spec, p, s, r);
   if (is_peer(spec.method)) {

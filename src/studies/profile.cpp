@@ -49,9 +49,8 @@ std::string not_applicable(const SolverSpec& spec, const ProfileProblem& p) {
     return std::string("not applicable: contacts in friction cones under ") +
            std::string(cone_law_name(p.stored.cones.law)) + " (" + kConeMethodNames +
            " solve them)";
-  if (spec.method == Method::Lemke && p.stored.rows() > kMaxDenseLemkeRows)
-    return "not applicable: more than " + std::to_string(kMaxDenseLemkeRows) +
-           " rows (dense Lemke)";
+  if (const long most = most_rows(spec.method); most > 0 && p.stored.rows() > most)
+    return "not applicable: more than " + std::to_string(most) + " rows (a dense copy of A)";
   if (is_peer(spec.method)) {
     const std::string refusal = peer_refusal(spec.method, p.problem());
     if (!refusal.empty()) return "not applicable: " + refusal;

@@ -74,9 +74,9 @@ void record_sweeps(const Simulation& sim,
   options.split_islands = false;  // one residual of the whole system per sweep
   options.describe = false;
   if (sys.cones() != nullptr)
-    options.method = Method::Nsgs;  // the sweep that solves cones (docs/cones.md)
+    options.method = kConeSweepMethod;  // the sweep that solves cones (docs/cones.md)
   else if (!is_iterative(options.method))
-    options.method = Method::Pgs;
+    options.method = kPaperMethod;
   out.sweep_method = std::string(to_string(options.method));
   out.sweep_residuals.push_back(coulomb_residual(problem, sys.coulomb(), guess, settings.cfm));
   options.after_sweep = [&](int, const VecX& lambda, double) {

@@ -974,7 +974,8 @@ void Page::residual_per_sweep(const TeachingSystem& t, const std::string& id) {
        (t.sweep_method != s_.method
             ? std::string(": the system above is solved by ") + html_escape(s_.method) +
                   ", which does not sweep, so " + html_escape(t.sweep_method) +
-                  (t.sweep_method == "pgs" ? std::string(" (7.1.1)") : std::string()) +
+                  (t.sweep_method == to_string(kPaperMethod) ? std::string(" (7.1.1)")
+                                                             : std::string()) +
                   " is shown beside it"
             : std::string()) +
        ". The residual of the answer shown is the one in the statistics above.");

@@ -124,7 +124,7 @@ Check check_velocity_constraint() {
   scene.bodies.back().p = Vec3(0.0, 0.3, 0.1);  // something to correct
   Simulation sim(scene);
   const System sys = sim.build_system();
-  for (const Method method : {kExactMethod, Method::Pgs}) {
+  for (const Method method : {kExactMethod, kPaperMethod}) {
     VecX lambda = VecX::Zero(sys.rows());
     SolverOptions options;
     options.method = method;

@@ -103,7 +103,7 @@ struct World {
   }
   /// The method a scene of this world solves with when none is named: the paper's PGS (7.1.1),
   /// on friction cones its cone form nsgs (docs/cones.md).
-  Method default_method() const { return is_cone(friction) ? Method::Nsgs : Method::Pgs; }
+  Method default_method() const { return is_cone(friction) ? kConeSweepMethod : kPaperMethod; }
 };
 
 /// A scene's solver, as scene files and `--solver` give it: the settings of every solve a step

@@ -48,6 +48,7 @@ struct MethodEntry {
   bool symmetric_on_cones = false;  ///< ... on friction cones
   unsigned laws = 0;                ///< the cone laws it takes (takes_cones, takes_cone_law)
   long max_rows = 0;                ///< the most rows it takes (a dense copy of A), 0: any
+  bool pivots = false;              ///< its iterations are pivots (counts_pivots)
   /// The method on a whole problem as it is (no CFM, no islands: solve() does those).
   SolverSummary (*solve)(const BoxedProblem& problem,
                          VecX& lambda,

@@ -79,6 +79,13 @@ std::string_view to_string(Method method);
 /// step is judged against or solved with, and the method of `cbps lcp` under mpirun. The
 /// studies and commands name the role, not the method.
 inline constexpr Method kExactMethod = Method::Direct;
+/// The paper's method (7.1.1, projected Gauss-Seidel) in its role: what a scene, a library
+/// solve and the solver grammar run when nothing else is named, the sweep a teaching page shows
+/// beside a method that does not sweep, and the sweep the studies hold beside the exact path.
+inline constexpr Method kPaperMethod = Method::Pgs;
+/// The paper's sweep on friction cones (nsgs, docs/cones.md) in its role: a cone scene's default,
+/// the sweep a teaching page shows on cones, the exact path's sweeps on cones.
+inline constexpr Method kConeSweepMethod = Method::Nsgs;
 /// The method of a name; false (method untouched) for a name that is none.
 bool method_from_string(std::string_view name, Method& method);
 /// The method of a name known to be one (code, tests); std::invalid_argument otherwise.
@@ -126,6 +133,10 @@ bool is_siconos_fc3d(Method method);
 /// momentum resting on nsgs's sweep descending it): takes_cone_law. solve() refuses the others
 /// on such a problem (InputError): they solve the boxed problem of 6.2.
 bool takes_cones(Method method);
+/// The most rows a method takes (a dense copy of A), 0 for any.
+long most_rows(Method method);
+/// True for a pivoting method of cbps, whose iterations are its pivots (lemke).
+bool counts_pivots(Method method);
 /// True when a method that takes cones takes them under `law` (a cone law: CoulombCone or
 /// Relaxation).
 bool takes_cone_law(Method method, FrictionLaw law);

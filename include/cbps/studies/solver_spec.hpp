@@ -35,7 +35,7 @@ namespace cbps {
 /// solver_spec_help() lists them all for --help.
 struct SolverSpec {
   std::string text;                     ///< as given
-  Method method = Method::Pgs;          ///< psor is Method::Pgs with its relaxation
+  Method method = kPaperMethod;         ///< psor is the paper's method with its relaxation
   double relaxation = 1.0;              ///< omega
   RowOrder order = RowOrder::Natural;   ///< Gauss-Seidel forms
   bool contacts_first = false;          ///< pgs, psor, matrix-free

@@ -56,7 +56,7 @@ struct TeachingSystem {
   /// Natural-map residual (N) after each sweep of `sweep_method` from the step's guess on the
   /// whole system (islands not split; Coulomb bounds at each iterate), index 0 = the guess.
   std::vector<double> sweep_residuals;
-  std::string sweep_method;  ///< the scene's method if it sweeps, else "pgs" (7.1.1)
+  std::string sweep_method;  ///< the scene's method if it sweeps, else the paper's (7.1.1)
 };
 
 /// One system of the current step of `sim` solved as the step solves it (the same guess,

@@ -891,7 +891,7 @@ void sweeps_then_newton(const BoxedProblem& problem,
                         Counts& counts) {
   const double alpha = S.bn / S.md;  // λ = alpha x
   SolverOptions sweeps = options;
-  sweeps.method = Method::Nsgs;
+  sweeps.method = kConeSweepMethod;
   sweeps.max_iterations = kSweepsPerRound;
   sweeps.after_sweep = nullptr;
   counts.budget = counts.factorizations + kSweepFactorizations;
@@ -943,7 +943,7 @@ void quick_start(const BoxedProblem& problem,
   // The relaxation's interior point is cheap and exact; Coulomb's stages are the costly ones.
   if (S.law.law != FrictionLaw::CoulombCone) return;
   SolverOptions sweeps = options;
-  sweeps.method = Method::Nsgs;
+  sweeps.method = kConeSweepMethod;
   sweeps.after_sweep = nullptr;
   VecX swept = lambda;
   double best_r = std::numeric_limits<double>::infinity();

@@ -427,6 +427,7 @@ constexpr MethodEntry kLemkeEntry{
     .name = "lemke",
     .iterative = false,
     .max_rows = kMaxDenseLemkeRows,
+    .pivots = true,
     .solve = lemke_method,
     .what = "Lemke's complementary pivoting on the dense A: any square A, at most 3000 rows",
 };

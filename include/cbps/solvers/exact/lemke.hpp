@@ -22,7 +22,7 @@
 namespace cbps {
 
 /// The pivoting's own check of its basis: the LCP residual relative to lcp_scale(M, q) above
-/// which a basis is not reported Solved. (Method::Lemke then judges the answer by cbps's one
+/// which a basis is not reported Solved. (The method then judges the answer by cbps's one
 /// verdict, system/unit_free.hpp.)
 inline constexpr double kLcpSolvedTolerance = 1e-9;
 
