@@ -1,5 +1,5 @@
-// Coulomb's cone beside the box: its projection, its laws and the residual's cone part
-// (system/cone_problem.hpp).
+// A problem's contacts beside the box: their checks, the projection onto the problem's set,
+// the law's measures and the residual's cone part (system/cone_problem.hpp).
 #include "cbps/system/cone_problem.hpp"
 
 #include <algorithm>
