@@ -874,11 +874,16 @@ Json body_json(const Body& body) {
   rebuilt.shape = body.shape;
   rebuilt.is_static = body.is_static;
   const bool write_mass = !plane && (!body.is_static || body.m != 1.0);
+  bool solid = true;  // the reader can rebuild the solid's inertia from the mass
   if (write_mass) {
     out["mass"] = body.m;
-    set_mass(rebuilt, body.m);
+    // The reader rebuilds the solid's inertia from the mass only where its inverse is finite
+    // (a tiny shape's I can underflow to 0); otherwise "inertia" is written below.
+    solid = finite_inverse(body.shape.inertia(body.m), rebuilt.I_body_inv);
+    if (solid) set_mass(rebuilt, body.m);
   }
-  if (!plane && (rebuilt.I_body != body.I_body || rebuilt.I_body_inv != body.I_body_inv)) {
+  if (!plane &&
+      (!solid || rebuilt.I_body != body.I_body || rebuilt.I_body_inv != body.I_body_inv)) {
     const Mat3& I = body.I_body;
     if (I(0, 1) == 0.0 && I(0, 2) == 0.0 && I(1, 2) == 0.0 && I(1, 0) == 0.0 && I(2, 0) == 0.0 &&
         I(2, 1) == 0.0) {

@@ -228,6 +228,26 @@ TEST_CASE("scene_to_json then parse_scene gives back every field bit for bit", "
   CHECK(scene_to_json(back) == text);
 }
 
+TEST_CASE("a shape too small for its own inertia keeps the inertia given and round-trips",
+          "[scene_json]") {
+  // r = 1e-320 m: the solid sphere's I = 0.4 m r² underflows to 0 and has no inverse, so the
+  // reader needs the "inertia" given, and the writer must write it (found by fuzz_scene_json).
+  const Scene scene = parse_scene(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1e-320},
+                                    "mass": 2, "inertia": [2, 3, 4]}]})",
+                                  "tiny.json");
+  REQUIRE(scene.bodies.size() == 1);
+  CHECK(scene.bodies[0].I_body_inv(2, 2) == 0.25);
+  const std::string text = scene_to_json(scene);
+  INFO(text);
+  CHECK(count(text, "\"inertia\"") == 1);
+  check_same(parse_scene(text, "written.json"), scene);
+  // Without the inertia the same body is refused: its solid's inverse is not finite.
+  CHECK_THROWS_AS(parse_scene(R"({"bodies": [{"shape": {"type": "sphere", "radius": 1e-320},
+                                   "mass": 2}]})",
+                              "tiny.json"),
+                  InputError);
+}
+
 TEST_CASE("planes, collides and the contact settings (4, 5.4, 8.1, 8.2) round-trip bit for bit",
           "[scene_json]") {
   const Scene scene = contact_scene();
