@@ -20,6 +20,7 @@
 #include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/threads.hpp"
+#include "cbps/studies/check.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "cbps/system/unit_free.hpp"
 #include "convert.hpp"
@@ -463,6 +464,35 @@ void bind_methods(py::module_& m) {
         "every name the --solver grammar accepts, one line each, as `--help` prints it");
 }
 
+/// cbps.check: a given lambda judged as `cbps check` judges it (studies/check.hpp).
+py::object check_py(const py::object& A,
+                    const py::object& b,
+                    const py::object& cmin,
+                    const py::object& cmax,
+                    const py::object& lam,
+                    const py::object& cones,
+                    const py::object& J,
+                    const py::object& Minv,
+                    double cfm,
+                    int worst,
+                    bool exact) {
+  if (!std::isfinite(cfm) || cfm < 0.0) throw InputError("cfm: must be finite and >= 0");
+  if (worst < 0) throw InputError("worst: must be >= 0");
+  Inputs in = read_inputs(A, b, cmin, cmax, py::none(), J, Minv, py::none(), py::none(), cones);
+  in.p.cones = in.cones;
+  in.p.cfm = cfm;
+  const VecX lambda = vector_from_python(lam, "lam", in.p.rows());
+  CheckSettings settings;
+  settings.worst = worst;
+  settings.exact = exact;
+  CheckReport report;
+  {
+    py::gil_scoped_release release;
+    report = check_lambda(in.p, lambda, settings);
+  }
+  return py::module_::import("json").attr("loads")(check_json("python", report).dump());
+}
+
 /// The threads of the libraries under the exact path.
 void bind_threads(py::module_& m) {
   // The libraries' threads under the exact path (cbps/solvers/threads.hpp): the command line's
@@ -499,6 +529,26 @@ void bind_threads(py::module_& m) {
 }  // namespace
 
 void bind_solve(py::module_& m) {
+  m.def("check",
+        &check_py,
+        py::arg("A"),
+        py::arg("b"),
+        py::arg("cmin"),
+        py::arg("cmax"),
+        py::arg("lam"),
+        py::kw_only(),
+        py::arg("cones") = py::none(),
+        py::arg("J") = py::none(),
+        py::arg("Minv") = py::none(),
+        py::arg("cfm") = 0.0,
+        py::arg("worst") = 10,
+        py::arg("exact") = true,
+        "judges lam against the problem w = A lam - b, cmin <= lam <= cmax (cones as for solve; "
+        "J and Minv give the distance of J^T lam from the exact answer's) as `cbps check` does, "
+        "and returns its JSON report as a dict (docs/outputs.md, cbps check): solved, unit_free "
+        "{relative, residual, scale}, natural_map, cone, statuses, worst (the largest terms), "
+        "exact (the distance from direct's answer, unless exact=False). InputError for a lam "
+        "of the wrong length or not finite");
   m.def(
       "solve",
       &solve_py,

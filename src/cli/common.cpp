@@ -26,6 +26,7 @@
 #include "cbps/base/numbers.hpp"
 #include "cbps/io/fclib_file.hpp"
 #include "cbps/io/output_file.hpp"
+#include "cbps/io/siconos.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/scene/settings.hpp"
@@ -153,6 +154,31 @@ void apply_cone_option(StoredProblem& p, const std::string& cone, const std::str
                      "FCLIB file");
   if (!cone_law_from_string(cone, p.cones.law))
     throw InputError("--cone " + cone + ": unknown; use coulomb or ccp");
+}
+
+void add_problem_options(CLI::App* cmd, std::string& siconos, std::string& cone) {
+  cmd->add_option("--siconos",
+                  siconos,
+                  "what a .dat file holds: auto (from its contents: a frictional-contact dump "
+                  "begins d nc storage, an LCP n 0 n n; then n^2 + n numbers an LCP, n^2 + 3n a "
+                  "relay problem), lcp, relay or fc3d (Siconos' frictional-contact dump, local "
+                  "or global, docs/cones.md) (default auto)");
+  add_cone_option(cmd, cone);
+}
+
+StoredProblem read_problem_option(const std::string& path,
+                                  const std::string& siconos,
+                                  const std::string& cone) {
+  const SiconosKind kind = parse_siconos_kind(siconos, "--siconos");
+  std::error_code ec;
+  if (kind != SiconosKind::Auto && (fs::is_directory(path, ec) || is_hdf5_file(path)))
+    throw InputError("--siconos " + siconos + ": says what a Siconos .dat file holds; " + path +
+                     " is " +
+                     (fs::is_directory(path, ec) ? "a cbps matrices folder" : "an HDF5 (FCLIB) file") +
+                     ", whose kind its files say");
+  StoredProblem p = read_problem(path, kind);
+  apply_cone_option(p, cone, path);
+  return p;
 }
 
 Scene load_scene(const SceneOptions& o) {

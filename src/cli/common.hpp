@@ -61,6 +61,13 @@ void add_cone_option(CLI::App* cmd, std::string& cone);
 /// --cone's law on p's contacts (nothing when cone is empty); InputError naming `path` when p
 /// has no contacts in cones or the law is unknown.
 void apply_cone_option(StoredProblem& p, const std::string& cone, const std::string& path);
+/// --siconos KIND (what a .dat file holds) and --cone LAW: how a stored problem is read.
+void add_problem_options(CLI::App* cmd, std::string& siconos, std::string& cone);
+/// A stored problem (a `cbps matrices` folder, a Siconos file, an FCLIB file) read whole, with
+/// those two options (`cbps lcp`, `cbps check`).
+StoredProblem read_problem_option(const std::string& path,
+                                  const std::string& siconos,
+                                  const std::string& cone);
 
 /// --json: print `what` as JSON on stdout instead of the text.
 CLI::Option* add_json_flag(CLI::App* cmd, bool& json, const std::string& what);
@@ -140,6 +147,7 @@ void register_stress(CLI::App& app, Action& run);
 void register_explain(CLI::App& app, Action& run);
 void register_matrices(CLI::App& app, Action& run);
 void register_lcp(CLI::App& app, Action& run);
+void register_check(CLI::App& app, Action& run);
 void register_verify(CLI::App& app, Action& run);
 void register_converge(CLI::App& app, Action& run);
 void register_profile(CLI::App& app, Action& run);

@@ -114,20 +114,6 @@ int report(const LcpOptions& o,
   return v.solved ? 0 : 1;
 }
 
-/// PROBLEM read whole, with --cone's law for its contacts in friction cones.
-StoredProblem read_lcp_problem(const LcpOptions& o) {
-  const SiconosKind kind = parse_siconos_kind(o.siconos, "--siconos");
-  std::error_code ec;
-  if (kind != SiconosKind::Auto && (fs::is_directory(o.problem, ec) || is_hdf5_file(o.problem)))
-    throw InputError(
-        "--siconos " + o.siconos + ": says what a Siconos .dat file holds; " + o.problem + " is " +
-        (fs::is_directory(o.problem, ec) ? "a cbps matrices folder" : "an HDF5 (FCLIB) file") +
-        ", whose kind its files say");
-  StoredProblem p = read_problem(o.problem, kind);
-  apply_cone_option(p, o.cone, o.problem);
-  return p;
-}
-
 /// True when an MPI launcher started this process (mpirun, mpiexec: Open MPI's
 /// OMPI_COMM_WORLD_SIZE or MPICH's PMI_SIZE, as main.cpp's mpi_job reads them): then `--solver
 /// direct` is the exact path under MPI, at any number of ranks.
@@ -160,7 +146,7 @@ int lcp_distributed(const LcpOptions& o) {
   job.rows = o.rows;
   job.write_system = o.write_system;
   job.out = o.out;
-  job.read_whole = [&o] { return read_lcp_problem(o); };
+  job.read_whole = [&o] { return read_problem_option(o.problem, o.siconos, o.cone); };
   return distributed::run_lcp_job(job, [&o](const distributed::LcpJobReport& r) {
     LcpOptions named = o;
     named.problem = r.problem;
@@ -186,7 +172,7 @@ int lcp_command(const LcpOptions& o) {
   std::optional<SolverSpec> given;
   if (!o.solver.empty()) given = parse_cli_solver_spec(o.solver, "--solver");
   check_out_is_not_input(o.out, o.problem, "--out");
-  StoredProblem p = read_lcp_problem(o);
+  StoredProblem p = read_problem_option(o.problem, o.siconos, o.cone);
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does every
   // solver here (options.cfm, applied by solve()); the residual is that problem's.
 
@@ -269,13 +255,7 @@ void register_lcp(CLI::App& app, Action& run) {
                   "child process killed at it; the status is then \"time limit\" (exit 1) "
                   "unless the answer reached is solved")
       ->check(non_negative());
-  cmd->add_option("--siconos",
-                  o->siconos,
-                  "what a .dat file holds: auto (from its contents: a frictional-contact dump "
-                  "begins d nc storage, an LCP n 0 n n; then n^2 + n numbers an LCP, n^2 + 3n a "
-                  "relay problem), lcp, relay or fc3d (Siconos' frictional-contact dump, local "
-                  "or global, docs/cones.md) (default auto)");
-  add_cone_option(cmd, o->cone);
+  add_problem_options(cmd, o->siconos, o->cone);
   cmd->add_option("--generate",
                   o->generate,
                   "instead of PROBLEM, build the problem per rank, no rank holding all of it "

@@ -51,6 +51,7 @@ int run(int argc, char** argv) {
       "  cbps explain chain --param n=2\n"
       "  cbps matrices chain --step 10 --out out/m\n"
       "  cbps lcp out/m --solver pgs\n"
+      "  cbps check out/m --lambda my_lambda.txt\n"
       "  cbps verify\n"
       "  cbps converge chain --param n=100 --param mass_ratio=100 --step 100 --out out/conv\n"
       "  cbps profile out/library --solvers pgs,apgd,direct --out out/profile\n"
@@ -63,6 +64,7 @@ int run(int argc, char** argv) {
   cbps::cli::register_explain(app, action);
   cbps::cli::register_matrices(app, action);
   cbps::cli::register_lcp(app, action);
+  cbps::cli::register_check(app, action);
   cbps::cli::register_verify(app, action);
   cbps::cli::register_converge(app, action);
   cbps::cli::register_profile(app, action);

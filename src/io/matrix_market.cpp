@@ -322,6 +322,44 @@ VecX read_matrix_market_vector(const std::string& path) {
   return parse_matrix_market_vector(in, path);
 }
 
+VecX parse_vector_text(std::istream& in, const std::string& source) {
+  std::string first;
+  const std::streampos start = in.tellg();
+  std::getline(in, first);
+  in.clear();
+  in.seekg(start);
+  VecX v;
+  if (first.rfind("%%MatrixMarket", 0) == 0) {
+    v = parse_matrix_market_vector(in, source);
+    for (Eigen::Index k = 0; k < v.size(); ++k)
+      if (!std::isfinite(v(k)))
+        throw InputError(source + ": entry " + std::to_string(k + 1) + " is not finite");
+    return v;
+  }
+  std::vector<double> values;
+  std::string text;
+  for (long line = 1; std::getline(in, text); ++line) {
+    std::istringstream words(text);
+    std::vector<std::string> tokens;
+    for (std::string token; words >> token;) tokens.push_back(token);
+    if (tokens.empty() || tokens[0][0] == '#' || tokens[0][0] == '%') continue;
+    const std::string where = source + ": line " + std::to_string(line) + ": ";
+    double value = 0.0;
+    if (tokens.size() != 1 || !parse_token(tokens[0], value))
+      throw InputError(where + "expected one number, found '" + text + "'");
+    if (!std::isfinite(value)) throw InputError(where + "'" + tokens[0] + "' is not finite");
+    if (values.size() >= static_cast<std::size_t>(kMaxMatrixMarketSize))
+      throw InputError(where + "more than " + std::to_string(kMaxMatrixMarketSize) + " numbers");
+    values.push_back(value);
+  }
+  return Eigen::Map<const VecX>(values.data(), static_cast<Eigen::Index>(values.size()));
+}
+
+VecX read_vector_file(const std::string& path) {
+  std::ifstream in = open_for_reading(path);
+  return parse_vector_text(in, path);
+}
+
 std::pair<long, long> read_matrix_market_size(const std::string& path) {
   std::ifstream in = open_for_reading(path);
   LineReader r(in, path);

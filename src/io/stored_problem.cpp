@@ -78,7 +78,8 @@ void read_row_labels(const std::string& dir, StoredProblem& p) {
     const nlohmann::json& label = labels["rows"][k];
     if (!label.is_string())
       throw InputError(file + ": /rows/" + std::to_string(k) + ": not a text label");
-    std::istringstream words(label.get<std::string>());
+    p.labels.push_back(label.get<std::string>());
+    std::istringstream words(p.labels.back());
     std::string kind, pair;
     words >> kind >> pair;
     if (kind != to_string(RowKind::Contact) && kind != to_string(RowKind::Friction)) {

@@ -46,16 +46,12 @@ VecX unit_free_steps(const BoxedProblem& problem, double cfm) {
   return rho;
 }
 
-UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lambda, double cfm) {
-  UnitFreeResidual u;
+UnitFreeTerms unit_free_terms(const BoxedProblem& problem, const VecX& lambda, double cfm) {
+  UnitFreeTerms t;
   const Eigen::Index c = problem.rows();
-  if (lambda.size() != c) {
-    u.relative = kInf;  // no answer to this problem
-    return u;
-  }
-  if (c == 0) return u;
-  const VecX w = times_A(problem, lambda) + cfm * lambda - problem.b;  // (A + eps E) λ − b (6.2)
-  const VecX rho = unit_free_steps(problem, cfm);
+  t.w = times_A(problem, lambda) + cfm * lambda - problem.b;  // (A + eps E) λ − b (6.2)
+  t.rho = unit_free_steps(problem, cfm);
+  t.term = VecX::Zero(c);
   std::vector<char> in_cone(std::size_t(c), 0);
   if (problem.cones != nullptr) {
     const FrictionContacts& cones = *problem.cones;
@@ -63,19 +59,30 @@ UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lam
       const int n = cones.normal[std::size_t(i)];
       const Vec3 r = lambda.segment<3>(n);
       // ρ F(r; u) for the map of u scaled by ρ: the law's û is positively homogeneous in u.
-      max_keep_nan(u.residual,
-                   cone_natural_map(r, rho(n) * w.segment<3>(n), cones.mu(i), cones.law).norm());
+      t.term(n) = cone_natural_map(r, t.rho(n) * t.w.segment<3>(n), cones.mu(i), cones.law).norm();
       in_cone[std::size_t(n)] = in_cone[std::size_t(n + 1)] = in_cone[std::size_t(n + 2)] = 1;
     }
   }
   for (Eigen::Index k = 0; k < c; ++k) {
     if (in_cone[std::size_t(k)]) continue;
-    max_keep_nan(u.residual,
-                 natural_map_row(lambda(k), rho(k) * w(k), problem.cmin(k), problem.cmax(k)));
+    t.term(k) = natural_map_row(lambda(k), t.rho(k) * t.w(k), problem.cmin(k), problem.cmax(k));
   }
-  return unit_free_of(u.residual,
-                      std::max(lambda.lpNorm<Eigen::Infinity>(),
-                               (rho.array() * problem.b.array().abs()).maxCoeff()));
+  if (c > 0)
+    t.scale = std::max(lambda.lpNorm<Eigen::Infinity>(),
+                       (t.rho.array() * problem.b.array().abs()).maxCoeff());
+  return t;
+}
+
+UnitFreeResidual unit_free_residual(const BoxedProblem& problem, const VecX& lambda, double cfm) {
+  UnitFreeResidual u;
+  if (lambda.size() != problem.rows()) {
+    u.relative = kInf;  // no answer to this problem
+    return u;
+  }
+  if (problem.rows() == 0) return u;
+  const UnitFreeTerms t = unit_free_terms(problem, lambda, cfm);
+  for (Eigen::Index k = 0; k < t.term.size(); ++k) max_keep_nan(u.residual, t.term(k));
+  return unit_free_of(u.residual, t.scale);
 }
 
 UnitFreeResidual unit_free_rows(const Eigen::Ref<const VecX>& w,

@@ -33,6 +33,13 @@ SpMat read_matrix_market_sparse(const std::string& path);
 /// are read as ±∞. Throws InputError "<path>: line L: <why>" as read_matrix_market_sparse.
 VecX read_matrix_market_vector(const std::string& path);
 
+/// A vector from a file that is either a Matrix Market array (read_matrix_market_vector: a
+/// first line "%%MatrixMarket") or plain text, one number a line (blank lines and lines starting
+/// with '#' or '%' skipped). Every entry must be finite (a given lambda, w). Throws InputError
+/// "<path>: line L: <why>" as read_matrix_market_vector, and on an entry that is not finite.
+VecX read_vector_file(const std::string& path);
+VecX parse_vector_text(std::istream& in, const std::string& source);
+
 /// read_matrix_market_sparse from a stream; `source` names it in errors ("<source>: line L: ").
 SpMat parse_matrix_market_sparse(std::istream& in, const std::string& source);
 

@@ -38,6 +38,8 @@ struct StoredProblem {
   /// #F t1", anything else a distance row; docs/outputs.md); empty without labels.json (a
   /// Siconos file, a folder written without one): then no sweep can put contacts first.
   std::vector<RowKind> kinds;
+  /// Each row's label from labels.json ("contact A-B #F", ...); empty without one.
+  std::vector<std::string> labels;
   /// Each row's contact manifold for block PGS: the contact and friction rows of one body pair
   /// A-B in a run of rows form one, as System::manifold groups a step's rows; −1 for a row
   /// alone (every row without labels.json).

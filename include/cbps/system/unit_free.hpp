@@ -67,6 +67,17 @@ UnitFreeResidual unit_free_residual(const BoxedProblem& problem,
                                     const VecX& lambda,
                                     double cfm = 0.0);
 
+/// The terms of the unit-free residual of lambda (of the problem's size), one per row: a row no
+/// contact owns |F_k|, a contact's ‖F_α‖₂ on its normal row and 0 on its two friction rows (a
+/// contact is one term); unit_free_residual is their largest over `scale`.
+struct UnitFreeTerms {
+  VecX term;           ///< c, N
+  VecX w;              ///< (A + eps E) λ − b (6.2), c, in b's units
+  VecX rho;            ///< each row's step ρ_k, kg (unit_free_steps)
+  double scale = 0.0;  ///< S = max(‖λ‖∞, max_k ρ_k |b_k|), N
+};
+UnitFreeTerms unit_free_terms(const BoxedProblem& problem, const VecX& lambda, double cfm = 0.0);
+
 /// Each row's step ρ_k (kg): 1 / A_kk (+ eps), a contact's rows 1 / max A_kk of its rows, 1 /
 /// max_k A_kk where A_kk is not positive (1 where none is).
 VecX unit_free_steps(const BoxedProblem& problem, double cfm = 0.0);
