@@ -3,7 +3,8 @@
 // (parse_matrix_market_vector), and what reads whole is read again by rows in two halves
 // (parse_matrix_market_*_rows), which must give the whole's rows. Each either returns or throws
 // cbps::InputError; any other exception, a crash, a sanitizer report, a NaN in what was read or
-// a half that differs is a finding.
+// a half that differs is a finding. Each input is also read as a lambda file
+// (parse_vector_text), which must give finite entries or throw InputError.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -79,6 +80,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
                   (part.array() == v.segment(keep.first, part.size()).array()).all(),
               "a half read by rows differs from the whole's entries");
     }
+  }
+  // The same text as a given lambda (`cbps check --lambda`): Matrix Market or one number a line,
+  // every entry finite.
+  try {
+    std::istringstream in(text);
+    require(cbps::parse_vector_text(in, "fuzz.txt").allFinite(),
+            "an entry of a lambda file read that is not finite");
+  } catch (const cbps::InputError&) {
   }
   return 0;
 }

@@ -40,7 +40,7 @@ void register_check(CLI::App& app, Action& run) {
   add_json_flag(cmd, o->json, "the report");
   cmd->callback([&run, o] {
     run = [o] {
-      const StoredProblem p = read_problem_option(o->problem, o->siconos, o->cone);
+      const StoredProblem p = read_problem(o->problem, o->siconos, o->cone);
       const CheckReport r = check_lambda(p, read_vector_file(o->lambda), o->settings);
       if (o->json)
         std::printf("%s\n", check_json(o->problem, r).dump(2).c_str());

@@ -26,7 +26,6 @@
 #include "cbps/base/numbers.hpp"
 #include "cbps/io/fclib_file.hpp"
 #include "cbps/io/output_file.hpp"
-#include "cbps/io/siconos.hpp"
 #include "cbps/scene/builtin.hpp"
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/scene/settings.hpp"
@@ -146,16 +145,6 @@ void add_cone_option(CLI::App* cmd, std::string& cone) {
                   "(default coulomb; docs/cones.md)");
 }
 
-void apply_cone_option(StoredProblem& p, const std::string& cone, const std::string& path) {
-  if (cone.empty()) return;
-  if (p.cones.empty())
-    throw InputError("--cone " + cone + ": " + path +
-                     " has no contacts in friction cones (a boxed problem); --cone is for an "
-                     "FCLIB file");
-  if (!cone_law_from_string(cone, p.cones.law))
-    throw InputError("--cone " + cone + ": unknown; use coulomb or ccp");
-}
-
 void add_problem_options(CLI::App* cmd, std::string& siconos, std::string& cone) {
   cmd->add_option("--siconos",
                   siconos,
@@ -164,21 +153,6 @@ void add_problem_options(CLI::App* cmd, std::string& siconos, std::string& cone)
                   "relay problem), lcp, relay or fc3d (Siconos' frictional-contact dump, local "
                   "or global, docs/cones.md) (default auto)");
   add_cone_option(cmd, cone);
-}
-
-StoredProblem read_problem_option(const std::string& path,
-                                  const std::string& siconos,
-                                  const std::string& cone) {
-  const SiconosKind kind = parse_siconos_kind(siconos, "--siconos");
-  std::error_code ec;
-  if (kind != SiconosKind::Auto && (fs::is_directory(path, ec) || is_hdf5_file(path)))
-    throw InputError("--siconos " + siconos + ": says what a Siconos .dat file holds; " + path +
-                     " is " +
-                     (fs::is_directory(path, ec) ? "a cbps matrices folder" : "an HDF5 (FCLIB) file") +
-                     ", whose kind its files say");
-  StoredProblem p = read_problem(path, kind);
-  apply_cone_option(p, cone, path);
-  return p;
 }
 
 Scene load_scene(const SceneOptions& o) {

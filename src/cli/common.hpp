@@ -58,16 +58,9 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);
 bool world_options_given(const StepOptions& o);
 /// --cone coulomb|ccp: the friction law of a stored problem's contacts in cones (docs/cones.md).
 void add_cone_option(CLI::App* cmd, std::string& cone);
-/// --cone's law on p's contacts (nothing when cone is empty); InputError naming `path` when p
-/// has no contacts in cones or the law is unknown.
-void apply_cone_option(StoredProblem& p, const std::string& cone, const std::string& path);
-/// --siconos KIND (what a .dat file holds) and --cone LAW: how a stored problem is read.
+/// --siconos KIND (what a .dat file holds) and --cone LAW: how a stored problem is read
+/// (io/stored_problem.hpp's read_problem with their words).
 void add_problem_options(CLI::App* cmd, std::string& siconos, std::string& cone);
-/// A stored problem (a `cbps matrices` folder, a Siconos file, an FCLIB file) read whole, with
-/// those two options (`cbps lcp`, `cbps check`).
-StoredProblem read_problem_option(const std::string& path,
-                                  const std::string& siconos,
-                                  const std::string& cone);
 
 /// --json: print `what` as JSON on stdout instead of the text.
 CLI::Option* add_json_flag(CLI::App* cmd, bool& json, const std::string& what);

@@ -170,7 +170,7 @@ int converge_command(const ConvergeOptions& o) {
         "scenes, not to the problem " +
         o.scene.scene + " (its cfm.txt gives its cfm)");
   ConvergenceSystem s = problem ? convergence_system(o.scene.scene) : system_of_scene(o);
-  apply_cone_option(s.stored, o.cone, o.scene.scene);
+  set_cone_law(s.stored, o.cone, o.scene.scene);
   if (!o.solvers_given)
     specs = parse_cli_solver_list(s.stored.cones.empty() ? kDefaultSolvers : kDefaultConeSolvers,
                                   "--solvers");

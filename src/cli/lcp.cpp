@@ -73,39 +73,7 @@ int report(const LcpOptions& o,
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
-    std::printf("%s: %ld rows (%s)\n", o.problem.c_str(), p.rows, p.kind.c_str());
-    if (p.cfm > 0.0)
-      std::printf("cfm %s kg^-1 (cfm.txt): solving the boxed problem of A + eps E\n",
-                  number_text(p.cfm).c_str());
-    std::printf("%s: %s, %d %s, %s s\n",
-                solver.c_str(),
-                v.status.c_str(),
-                r.iterations,
-                r.pivots ? "pivots" : "iterations",
-                number_text(wall).c_str());
-    if (v.unit_free)
-      std::printf("unit-free residual %s (%s N over the force scale %s N; solved at <= %s)\n",
-                  number_text(v.unit_free->relative).c_str(),
-                  number_text(v.unit_free->residual).c_str(),
-                  number_text(v.unit_free->scale).c_str(),
-                  number_text(kSolvedTolerance).c_str());
-    std::printf("residual %s (natural map, infinity norm; data scale %s)\n",
-                number_text(v.residual).c_str(),
-                number_text(v.scale).c_str());
-    std::printf("%s\n", r.message.c_str());
-    if (!v.peer_disagrees.empty()) std::printf("%s\n", v.peer_disagrees.c_str());
-    if (v.cone)
-      std::printf(
-          "cone law %s, %ld contacts: Signorini gap %s, cone violation %s N, dissipation gap "
-          "%s, FCLIB merit %s, Siconos error %s\n",
-          std::string(cone_law_name(p.stored->cones.law)).c_str(),
-          p.stored->cones.contacts(),
-          number_text(v.cone->signorini).c_str(),
-          number_text(v.cone->violation).c_str(),
-          number_text(v.cone->dissipation).c_str(),
-          number_text(v.cone->fclib_merit).c_str(),
-          number_text(v.cone->siconos_error).c_str());
-    if (!r.space_reason.empty()) std::printf("space %s\n", r.space_reason.c_str());
+    std::printf("%s", lcp_text(o.problem, p, solver, r, v, wall).c_str());
     if (v.solved && !o.out.empty()) std::printf("wrote %s\n", o.out.c_str());
   }
   if (!v.solved && !o.out.empty())
@@ -146,7 +114,7 @@ int lcp_distributed(const LcpOptions& o) {
   job.rows = o.rows;
   job.write_system = o.write_system;
   job.out = o.out;
-  job.read_whole = [&o] { return read_problem_option(o.problem, o.siconos, o.cone); };
+  job.read_whole = [&o] { return read_problem(o.problem, o.siconos, o.cone); };
   return distributed::run_lcp_job(job, [&o](const distributed::LcpJobReport& r) {
     LcpOptions named = o;
     named.problem = r.problem;
@@ -172,7 +140,7 @@ int lcp_command(const LcpOptions& o) {
   std::optional<SolverSpec> given;
   if (!o.solver.empty()) given = parse_cli_solver_spec(o.solver, "--solver");
   check_out_is_not_input(o.out, o.problem, "--out");
-  StoredProblem p = read_problem_option(o.problem, o.siconos, o.cone);
+  StoredProblem p = read_problem(o.problem, o.siconos, o.cone);
   // A folder with cfm.txt: the step solved the boxed problem of A + eps E, and so does every
   // solver here (options.cfm, applied by solve()); the residual is that problem's.
 

@@ -2,7 +2,6 @@
 #include "cbps/studies/verify.hpp"
 
 #include <cstdio>
-#include <iostream>
 #include <memory>
 
 #include "common.hpp"
@@ -16,29 +15,9 @@ void register_verify(CLI::App& app, Action& run) {
   cmd->callback([&run, json] {
     run = [json] {
       const std::vector<Check> checks = run_derivation_checks();
-      bool all = true;
-      nlohmann::json out = nlohmann::json::array();
-      if (!*json)
-        std::printf("%-14s %-10s %-10s %-5s %s\n", "equation", "error", "tolerance", "", "check");
-      for (const Check& c : checks) {
-        all = all && c.pass();
-        if (*json) {
-          out.push_back({{"equation", c.equation},
-                         {"what", c.what},
-                         {"error", c.error},
-                         {"tolerance", c.tolerance},
-                         {"pass", c.pass()}});
-        } else {
-          std::printf("%-14s %-10.3g %-10.3g %-5s %s\n",
-                      c.equation.c_str(),
-                      c.error,
-                      c.tolerance,
-                      c.pass() ? "pass" : "FAIL",
-                      c.what.c_str());
-        }
-      }
-      if (*json) std::cout << out.dump(2) << "\n";
-      return all ? 0 : 1;
+      std::printf(
+          "%s", *json ? (checks_json(checks).dump(2) + "\n").c_str() : checks_text(checks).c_str());
+      return all_pass(checks) ? 0 : 1;
     };
   });
 }

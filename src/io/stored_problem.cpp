@@ -311,6 +311,31 @@ double read_cfm(const std::string& dir) {
   return cfm;
 }
 
+StoredProblem read_problem(const std::string& path,
+                           const std::string& siconos,
+                           const std::string& cone) {
+  const SiconosKind kind = parse_siconos_kind(siconos, "--siconos");
+  std::error_code ec;
+  if (kind != SiconosKind::Auto && (fs::is_directory(path, ec) || is_hdf5_file(path)))
+    throw InputError(
+        "--siconos " + siconos + ": says what a Siconos .dat file holds; " + path + " is " +
+        (fs::is_directory(path, ec) ? "a cbps matrices folder" : "an HDF5 (FCLIB) file") +
+        ", whose kind its files say");
+  StoredProblem p = read_problem(path, kind);
+  set_cone_law(p, cone, path);
+  return p;
+}
+
+void set_cone_law(StoredProblem& p, const std::string& cone, const std::string& path) {
+  if (cone.empty()) return;
+  if (p.cones.empty())
+    throw InputError("--cone " + cone + ": " + path +
+                     " has no contacts in friction cones (a boxed problem); --cone is for an "
+                     "FCLIB file");
+  if (!cone_law_from_string(cone, p.cones.law))
+    throw InputError("--cone " + cone + ": unknown; use coulomb or ccp");
+}
+
 StoredProblem read_problem(const std::string& path, SiconosKind kind) {
   std::error_code ec;
   if (!fs::is_directory(path, ec)) {

@@ -88,7 +88,7 @@ CheckReport check_lambda(const StoredProblem& p, const VecX& lambda, const Check
   CheckReport r;
   r.rows = p.rows();
   r.contacts = p.cones.contacts();
-  if (!p.cones.empty()) r.law = std::string(cone_law_name(p.cones.law));
+  r.law = p.cones.law;
   const BoxedProblem problem = p.problem();
   const UnitFreeTerms terms = unit_free_terms(problem, lambda, p.cfm);
   r.unit_free = unit_free_residual(problem, lambda, p.cfm);
@@ -102,21 +102,27 @@ CheckReport check_lambda(const StoredProblem& p, const VecX& lambda, const Check
   std::vector<char> in_cone(std::size_t(p.rows()), 0);
   for (long i = 0; i < p.cones.contacts(); ++i) {
     const int n = p.cones.normal[std::size_t(i)];
-    CheckedTerm t{n, i, label_of(p, n), "", terms.term(n), lambda.segment<3>(n),
-                  terms.w.segment<3>(n)};
+    CheckedTerm t{
+        n, i, label_of(p, n), "", terms.term(n), lambda.segment<3>(n), terms.w.segment<3>(n)};
     t.status = contact_status(lambda.segment<3>(n), p.cones.mu(i), delta);
     all.push_back(t);
     in_cone[std::size_t(n)] = in_cone[std::size_t(n + 1)] = in_cone[std::size_t(n + 2)] = 1;
   }
   for (long k = 0; k < p.rows(); ++k) {
     if (in_cone[std::size_t(k)]) continue;
-    all.push_back({k, -1, label_of(p, k),
-                   row_status(lambda(k), p.cmin(k), p.cmax(k), delta), terms.term(k),
-                   lambda.segment<1>(k), terms.w.segment<1>(k)});
+    all.push_back({k,
+                   -1,
+                   label_of(p, k),
+                   row_status(lambda(k), p.cmin(k), p.cmax(k), delta),
+                   terms.term(k),
+                   lambda.segment<1>(k),
+                   terms.w.segment<1>(k)});
   }
   for (const CheckedTerm& t : all) ++r.statuses[t.status];
   const std::size_t worst = std::min(all.size(), std::size_t(std::max(0, s.worst)));
-  std::partial_sort(all.begin(), all.begin() + long(worst), all.end(),
+  std::partial_sort(all.begin(),
+                    all.begin() + long(worst),
+                    all.end(),
                     [](const CheckedTerm& a, const CheckedTerm& b) {
                       return a.residual > b.residual || (a.residual == b.residual && a.row < b.row);
                     });
@@ -131,7 +137,7 @@ nlohmann::json check_json(const std::string& problem, const CheckReport& r) {
   j["problem"] = problem;
   j["rows"] = r.rows;
   j["contacts"] = r.contacts;
-  j["law"] = r.law.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.law);
+  j["law"] = r.contacts > 0 ? nlohmann::json(cone_law_name(r.law)) : nlohmann::json(nullptr);
   j["solved"] = r.solved;
   j["tolerance"] = kSolvedTolerance;
   j["unit_free"] = {{"relative", r.unit_free.relative},
@@ -149,14 +155,15 @@ nlohmann::json check_json(const std::string& problem, const CheckReport& r) {
   j["statuses"] = r.statuses;
   j["worst"] = nlohmann::json::array();
   for (const CheckedTerm& t : r.worst)
-    j["worst"].push_back({{"row", t.row},
-                          {"contact", t.contact < 0 ? nlohmann::json(nullptr) : nlohmann::json(t.contact)},
-                          {"label", t.label},
-                          {"status", t.status},
-                          {"residual", t.residual},
-                          {"relative", unit_free_of(t.residual, r.unit_free.scale).relative},
-                          {"lambda", vec(t.lambda)},
-                          {"w", vec(t.w)}});
+    j["worst"].push_back(
+        {{"row", t.row},
+         {"contact", t.contact < 0 ? nlohmann::json(nullptr) : nlohmann::json(t.contact)},
+         {"label", t.label},
+         {"status", t.status},
+         {"residual", t.residual},
+         {"relative", unit_free_of(t.residual, r.unit_free.scale).relative},
+         {"lambda", vec(t.lambda)},
+         {"w", vec(t.w)}});
   j["exact"] = nullptr;
   if (r.exact) {
     const ExactDistance& e = *r.exact;
@@ -181,18 +188,12 @@ nlohmann::json check_json(const std::string& problem, const CheckReport& r) {
 std::string check_text(const std::string& problem, const CheckReport& r) {
   std::ostringstream out;
   out << problem << ": " << r.rows << " rows";
-  if (r.contacts > 0) out << ", " << r.contacts << " contacts in cones (" << r.law << ")";
+  if (r.contacts > 0)
+    out << ", " << r.contacts << " contacts in cones (" << cone_law_name(r.law) << ")";
   out << "\n"
-      << (r.solved ? "solved" : "not solved") << ": unit-free residual "
-      << number_text(r.unit_free.relative) << " (" << number_text(r.unit_free.residual)
-      << " N over the force scale " << number_text(r.unit_free.scale) << " N; solved at <= "
-      << number_text(kSolvedTolerance) << ")\n"
+      << (r.solved ? "solved" : "not solved") << ": " << unit_free_text(r.unit_free) << "\n"
       << "natural map " << number_text(r.natural_map) << " N (unit step, infinity norm)\n";
-  if (r.cone)
-    out << "cone: Signorini gap " << number_text(r.cone->signorini) << ", violation "
-        << number_text(r.cone->violation) << " N, dissipation gap "
-        << number_text(r.cone->dissipation) << ", FCLIB merit " << number_text(r.cone->fclib_merit)
-        << ", Siconos error " << number_text(r.cone->siconos_error) << "\n";
+  if (r.cone) out << cone_measures_text(r.law, r.contacts, *r.cone) << "\n";
   out << "statuses:";
   for (const auto& [status, count] : r.statuses) out << " " << count << " " << status << ";";
   out << "\n";
@@ -211,11 +212,11 @@ std::string check_text(const std::string& problem, const CheckReport& r) {
     if (!e.available) {
       out << "distance from the exact answer: not measured; " << e.why << "\n";
     } else {
-      out << "distance from the exact answer (" << to_string(kExactMethod) << ", unit-free residual "
-          << number_text(e.relative) << ", " << number_text(e.seconds)
+      out << "distance from the exact answer (" << to_string(kExactMethod)
+          << ", unit-free residual " << number_text(e.relative) << ", " << number_text(e.seconds)
           << " s): |w - w*| = " << number_text(e.w_distance) << " ("
-          << number_text(e.w_distance_relative) << " unit-free), |lambda - lambda*| = "
-          << number_text(e.lambda_distance) << " N";
+          << number_text(e.w_distance_relative)
+          << " unit-free), |lambda - lambda*| = " << number_text(e.lambda_distance) << " N";
       if (e.force_distance)
         out << ", |J^T (lambda - lambda*)| = " << number_text(*e.force_distance);
       out << "\n";

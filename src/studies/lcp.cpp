@@ -225,4 +225,39 @@ nlohmann::json lcp_result_json(const std::string& problem,
   return j;
 }
 
+std::string unit_free_text(const UnitFreeResidual& u) {
+  return "unit-free residual " + number_text(u.relative) + " (" + number_text(u.residual) +
+         " N over the force scale " + number_text(u.scale) +
+         " N; solved at <= " + number_text(kSolvedTolerance) + ")";
+}
+
+std::string cone_measures_text(FrictionLaw law, long contacts, const ConeMeasures& m) {
+  return "cone law " + std::string(cone_law_name(law)) + ", " + std::to_string(contacts) +
+         " contacts: Signorini gap " + number_text(m.signorini) + ", cone violation " +
+         number_text(m.violation) + " N, dissipation gap " + number_text(m.dissipation) +
+         ", FCLIB merit " + number_text(m.fclib_merit) + ", Siconos error " +
+         number_text(m.siconos_error);
+}
+
+std::string lcp_text(const std::string& problem,
+                     const LcpFacts& p,
+                     const std::string& solver,
+                     const LcpOutcome& r,
+                     const LcpVerdict& v,
+                     double wall) {
+  std::string t = problem + ": " + std::to_string(p.rows) + " rows (" + p.kind + ")\n";
+  if (p.cfm > 0.0)
+    t += "cfm " + number_text(p.cfm) + " kg^-1 (cfm.txt): solving the boxed problem of A + eps E\n";
+  t += solver + ": " + v.status + ", " + std::to_string(r.iterations) + " " +
+       (r.pivots ? "pivots" : "iterations") + ", " + number_text(wall) + " s\n";
+  if (v.unit_free) t += unit_free_text(*v.unit_free) + "\n";
+  t += "residual " + number_text(v.residual) + " (natural map, infinity norm; data scale " +
+       number_text(v.scale) + ")\n" + r.message + "\n";
+  if (!v.peer_disagrees.empty()) t += v.peer_disagrees + "\n";
+  if (v.cone)
+    t += cone_measures_text(p.stored->cones.law, p.stored->cones.contacts(), *v.cone) + "\n";
+  if (!r.space_reason.empty()) t += "space " + r.space_reason + "\n";
+  return t;
+}
+
 }  // namespace cbps

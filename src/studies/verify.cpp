@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -254,6 +255,45 @@ std::vector<Check> run_derivation_checks() {
           check_power_identity(),
           check_velocity_constraint(),
           check_dimensional_analysis()};
+}
+
+std::string checks_text(const std::vector<Check>& checks) {
+  char line[512];
+  std::snprintf(line,
+                sizeof line,
+                "%-14s %-10s %-10s %-5s %s\n",
+                "equation",
+                "error",
+                "tolerance",
+                "",
+                "check");
+  std::string t = line;
+  for (const Check& c : checks) {
+    std::snprintf(line,
+                  sizeof line,
+                  "%-14s %-10.3g %-10.3g %-5s ",
+                  c.equation.c_str(),
+                  c.error,
+                  c.tolerance,
+                  c.pass() ? "pass" : "FAIL");
+    t += line + c.what + "\n";
+  }
+  return t;
+}
+
+nlohmann::json checks_json(const std::vector<Check>& checks) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const Check& c : checks)
+    out.push_back({{"equation", c.equation},
+                   {"what", c.what},
+                   {"error", c.error},
+                   {"tolerance", c.tolerance},
+                   {"pass", c.pass()}});
+  return out;
+}
+
+bool all_pass(const std::vector<Check>& checks) {
+  return std::all_of(checks.begin(), checks.end(), [](const Check& c) { return c.pass(); });
 }
 
 }  // namespace cbps

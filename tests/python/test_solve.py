@@ -270,3 +270,27 @@ def test_summary_carries_cbps_verdict(chain_folder):
     # is not.
     assert not cbps.solve(A, b, cmin, cmax, "pgs", iterations=3)[1]["solved"]
     assert cbps.solve(A, b, cmin, cmax, "direct")[1]["solved"]
+
+
+def test_check_gives_the_closed_form_residual_of_a_perturbed_answer():
+    # w = A lam - b with A = diag(2, 4), b = (2, -4), 0 <= lam: the answer is lam* = (1, 0) (row 0
+    # between its bounds with w_0 = 0, row 1 at cmin with w_1 = 4 >= 0). lam = (1 + d, 0) gives
+    # w_0 = 2 d and row 0's unit-free term (rho_0 = 1/A_00) |rho_0 w_0| = d; row 1's term is 0.
+    A = sp.csr_matrix(np.diag([2.0, 4.0]))
+    b = np.array([2.0, -4.0])
+    cmin, cmax = np.zeros(2), np.full(2, np.inf)
+    d = 1e-3
+    r = cbps.check(A, b, cmin, cmax, np.array([1.0 + d, 0.0]))
+    assert not r["solved"]
+    assert abs(r["unit_free"]["residual"] - d) <= 1e-15
+    assert r["unit_free"]["scale"] == 1.0 + d  # max(|lam|inf, max_k rho_k |b_k|) = 1 + d
+    assert r["statuses"] == {"between": 1, "at cmin": 1}
+    assert r["worst"][0]["row"] == 0 and r["worst"][0]["label"] == "row 0"
+    assert abs(r["exact"]["lambda_distance"] - d) <= 1e-15
+    assert r["exact"]["force_distance"] is None  # no J given
+    solved = cbps.check(A, b, cmin, cmax, np.array([1.0, 0.0]), exact=False)
+    assert solved["solved"] and solved["exact"] is None
+    with pytest.raises(cbps.InputError, match="lam"):
+        cbps.check(A, b, cmin, cmax, np.array([1.0]))
+    with pytest.raises(cbps.InputError, match="lam"):
+        cbps.check(A, b, cmin, cmax, np.array([1.0, np.nan]))

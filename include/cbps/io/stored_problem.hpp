@@ -76,6 +76,17 @@ StoredProblem stored_problem(const System& sys, double cfm);
 /// line. `kind` says what a .dat file holds (SiconosKind::Auto: from its contents).
 StoredProblem read_problem(const std::string& path, SiconosKind kind = SiconosKind::Auto);
 
+/// read_problem as the commands that read a stored problem take it (`cbps lcp`, `cbps check`):
+/// `siconos` the word of their --siconos (auto, lcp, relay, fc3d; a kind other than auto on a
+/// folder or an FCLIB file is refused), `cone` that of their --cone (set_cone_law). InputError
+/// naming the option.
+StoredProblem read_problem(const std::string& path,
+                           const std::string& siconos,
+                           const std::string& cone);
+/// --cone's law on p's contacts (nothing when cone is empty): "coulomb" or "ccp"; InputError
+/// naming `path` when p has no contacts in cones or the word is another.
+void set_cone_law(StoredProblem& p, const std::string& cone, const std::string& path);
+
 /// Where write_problem puts each file: called with the file's name in the folder ("A.mtx") and
 /// a function that writes the content to a path it is given; the sink chooses that path (a
 /// `--out` folder's temporary place, a temporary name renamed into place, ...).

@@ -26,18 +26,18 @@
 namespace cbps {
 
 struct CheckSettings {
-  int worst = 10;                    ///< how many of the largest terms to name
-  bool exact = true;                 ///< solve by direct and measure the distance from lambda*
-  int iterations = 10000;            ///< direct's limit (its factorizations), as `cbps lcp`
-  double tolerance = 1e-10;          ///< direct's tolerance, as `cbps lcp`
-  double time_limit = 0.0;           ///< s for direct, 0: none
+  int worst = 10;            ///< how many of the largest terms to name
+  bool exact = true;         ///< solve by direct and measure the distance from lambda*
+  int iterations = 10000;    ///< direct's limit (its factorizations), as `cbps lcp`
+  double tolerance = 1e-10;  ///< direct's tolerance, as `cbps lcp`
+  double time_limit = 0.0;   ///< s for direct, 0: none
 };
 
 /// One term of the residual: a row no contact owns, or a contact (its three rows).
 struct CheckedTerm {
-  long row = 0;        ///< the row, or the contact's normal row
-  long contact = -1;   ///< the contact's index, −1 for a row
-  std::string label;   ///< labels.json's label of the row ("contact A-B #F"), else "row k"
+  long row = 0;       ///< the row, or the contact's normal row
+  long contact = -1;  ///< the contact's index, −1 for a row
+  std::string label;  ///< labels.json's label of the row ("contact A-B #F"), else "row k"
   /// A row: "at cmin", "at cmax", "between", "free" (no bound), "outside bounds"; a contact:
   /// "separated", "sticking" (inside the cone), "sliding" (on its surface), "outside cone".
   std::string status;
@@ -49,20 +49,20 @@ struct CheckedTerm {
 /// How far lambda is from the exact answer lambda* (`direct` on the same problem).
 struct ExactDistance {
   bool available = false;
-  std::string why;     ///< when not available: direct refused or did not solve, and why
-  std::string status;  ///< direct's verdict on lambda* ("solved")
-  double relative = 0.0;          ///< lambda*'s unit-free residual
-  double seconds = 0.0;           ///< direct's time, s
-  double w_distance = 0.0;        ///< ‖w − w*‖∞, b's units
-  double w_distance_relative = 0.0;  ///< max_k ρ_k |w_k − w*_k| / S
-  double lambda_distance = 0.0;   ///< ‖lambda − lambda*‖∞, N
+  std::string why;          ///< when not available: direct refused or did not solve, and why
+  std::string status;       ///< direct's verdict on lambda* ("solved")
+  double relative = 0.0;    ///< lambda*'s unit-free residual
+  double seconds = 0.0;     ///< direct's time, s
+  double w_distance = 0.0;  ///< ‖w − w*‖∞, b's units
+  double w_distance_relative = 0.0;      ///< max_k ρ_k |w_k − w*_k| / S
+  double lambda_distance = 0.0;          ///< ‖lambda − lambda*‖∞, N
   std::optional<double> force_distance;  ///< ‖Jᵀ(lambda − lambda*)‖∞, where J is known
 };
 
 struct CheckReport {
   long rows = 0;
   long contacts = 0;
-  std::string law;  ///< the cones' law ("coulomb", "ccp"), empty for the boxed problem
+  FrictionLaw law = FrictionLaw::CoulombCone;  ///< the cones' law, when contacts > 0
   UnitFreeResidual unit_free;
   bool solved = false;
   double natural_map = 0.0;  ///< the natural map with unit step, ∞-norm, N (as `cbps lcp`)

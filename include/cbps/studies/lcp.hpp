@@ -101,6 +101,20 @@ LcpVerdict judge(const LcpFacts& p,
                  std::optional<double> measured = {},
                  std::optional<UnitFreeResidual> measured_unit_free = {});
 
+/// The text `cbps lcp` prints of `problem` solved by `solver` in `wall` s (the lines of
+/// result.json's main fields).
+std::string lcp_text(const std::string& problem,
+                     const LcpFacts& p,
+                     const std::string& solver,
+                     const LcpOutcome& r,
+                     const LcpVerdict& v,
+                     double wall);
+/// "unit-free residual R (X N over the force scale S N; solved at <= 1e-09)", the verdict's line.
+std::string unit_free_text(const UnitFreeResidual& u);
+/// "cone law L, N contacts: Signorini gap ..., FCLIB merit ..., Siconos error ...", the line of
+/// the cone measures.
+std::string cone_measures_text(FrictionLaw law, long contacts, const ConeMeasures& m);
+
 /// result.json (docs/outputs.md) of `problem` solved by `solver` in `wall` s.
 nlohmann::json lcp_result_json(const std::string& problem,
                                const LcpFacts& p,

@@ -2,6 +2,7 @@
 // the Catch2 suite asserts each (tests/studies/test_verify.cpp).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -41,5 +42,12 @@ Check check_dimensional_analysis();
 
 /// All of the above, in the paper's order.
 std::vector<Check> run_derivation_checks();
+
+/// `cbps verify`'s table: a header, then one line per check (equation, error, tolerance, pass or
+/// FAIL, what), as text; or as JSON, one object per check (docs/outputs.md).
+std::string checks_text(const std::vector<Check>& checks);
+nlohmann::json checks_json(const std::vector<Check>& checks);
+/// Every check passes.
+bool all_pass(const std::vector<Check>& checks);
 
 }  // namespace cbps

@@ -1,0 +1,186 @@
+// `cbps check PROBLEM --lambda FILE`: a lambda off the exact answer by a chosen amount has, in
+// cbps's verdict, the residual the analysis gives, with the rows that carry it named.
+//
+// The v-corner (12.2): a sphere (m = 1 kg, radius 0.1 m) in a V of planes tilted 45° and 30°, its
+// two contact normals 75° apart. Each contact row k has J_k = (n_k, r × n_k) = (n_k, 0), so
+// A = J Minv Jᵀ = [[1, cos 75°], [cos 75°, 1]] / m: A_kk = 1/m and the unit-free step ρ_k = m.
+#include <Eigen/Dense>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+
+#include "cbps/base/error.hpp"
+#include "cbps/io/matrix_market.hpp"
+#include "fixture.hpp"
+
+using namespace cbps;
+using test::CliResult;
+using test::run_cli;
+using test::scratch_dir;
+namespace fs = std::filesystem;
+
+namespace {
+
+const double kCos75 = std::cos(75.0 * std::numbers::pi / 180.0);
+const double kSin75 = std::sin(75.0 * std::numbers::pi / 180.0);
+
+void write_lambda(const fs::path& path, const VecX& lambda) {
+  std::string text = "# lambda, N, one row a line\n";
+  for (Eigen::Index k = 0; k < lambda.size(); ++k) text += number_text(lambda(k), 17) + "\n";
+  test::write_file(path, text);
+}
+
+nlohmann::json check_json_of(const std::string& args, int code) {
+  const CliResult r = run_cli("check " + args + " --json");
+  INFO(r.err);
+  REQUIRE(r.code == code);
+  return nlohmann::json::parse(r.out);
+}
+
+}  // namespace
+
+TEST_CASE("cbps check: a v-corner lambda off by delta on one row has the residual delta",
+          "[cli][check]") {
+  const fs::path dir = scratch_dir("check_v_corner");
+  const std::string m = (dir / "m").string();
+  REQUIRE(run_cli("matrices v-corner --step 5 --out " + m).code == 0);
+  const MatX A = MatX(read_matrix_market_sparse(m + "/A.mtx"));
+  const VecX b = read_matrix_market_vector(m + "/b.mtx");
+  REQUIRE(A(0, 1) == Approx(kCos75).epsilon(1e-12));
+  // Both contacts press (lambda* > 0): the exact answer solves A lambda* = b, here by Eigen's LU.
+  const VecX exact = A.partialPivLu().solve(b);
+  REQUIRE(exact.minCoeff() > 1.0);
+
+  SECTION("the exact answer is solved, both rows between their bounds") {
+    write_lambda(dir / "exact.txt", exact);
+    const nlohmann::json j = check_json_of(m + " --lambda " + (dir / "exact.txt").string(), 0);
+    CHECK(j["solved"] == true);
+    CHECK(j["unit_free"]["relative"].get<double>() <= 1e-15);
+    CHECK(j["statuses"]["between"] == 2);
+    CHECK(j["exact"]["lambda_distance"].get<double>() <= 1e-14);
+  }
+  SECTION("lambda_0 + delta: row 0's term is delta, row 1's cos 75° delta") {
+    const double delta = 1e-3;
+    VecX lambda = exact;
+    lambda(0) += delta;
+    write_lambda(dir / "off.txt", lambda);
+    const nlohmann::json j = check_json_of(m + " --lambda " + (dir / "off.txt").string(), 1);
+    // w = A lambda − b = delta A e_0; both rows stay between their bounds, so each term is
+    // |ρ_k w_k| = delta |A_k0| / A_kk: delta and cos 75° delta.
+    CHECK(j["solved"] == false);
+    CHECK(j["unit_free"]["residual"].get<double>() == Approx(delta).epsilon(1e-12));
+    const nlohmann::json& worst = j["worst"];
+    REQUIRE(worst.size() == 2);
+    CHECK(worst[0]["label"] == "contact left-ball point 0");
+    CHECK(worst[0]["status"] == "between");
+    CHECK(worst[0]["residual"].get<double>() == Approx(delta).epsilon(1e-12));
+    CHECK(worst[1]["label"] == "contact right-ball point 0");
+    CHECK(worst[1]["residual"].get<double>() == Approx(kCos75 * delta).epsilon(1e-10));
+    // The scale S = max(‖lambda‖∞, max_k ρ_k |b_k|) with ρ_k = m = 1 kg.
+    const double scale = std::max(lambda.lpNorm<Eigen::Infinity>(), b.lpNorm<Eigen::Infinity>());
+    CHECK(j["unit_free"]["scale"].get<double>() == Approx(scale).epsilon(1e-14));
+    // From the exact answer: |w − w*| = delta max(1, cos 75°) (m = 1), |lambda − lambda*| =
+    // delta, |J^T (lambda − lambda*)| = delta |n_0|∞ = delta cos 45° (the left plane's normal).
+    const nlohmann::json& e = j["exact"];
+    CHECK(e["available"] == true);
+    CHECK(e["w_distance"].get<double>() == Approx(delta).epsilon(1e-10));
+    CHECK(e["lambda_distance"].get<double>() == Approx(delta).epsilon(1e-10));
+    CHECK(e["force_distance"].get<double>() == Approx(delta * std::sqrt(0.5)).epsilon(1e-10));
+    // The text names the same row.
+    const CliResult text = run_cli("check " + m + " --lambda " + (dir / "off.txt").string());
+    CHECK(text.code == 1);
+    CHECK(text.out.find("not solved") != std::string::npos);
+    CHECK(text.out.find("between  contact left-ball point 0") != std::string::npos);
+  }
+  SECTION("lambda_1 = 0: row 1 at cmin with a negative w, its term delta-free") {
+    VecX lambda = exact;
+    lambda(1) = 0.0;
+    write_lambda(dir / "open.txt", lambda);
+    const nlohmann::json j =
+        check_json_of(m + " --lambda " + (dir / "open.txt").string() + " --no-exact", 1);
+    CHECK(j["statuses"]["at cmin"] == 1);
+    CHECK(j["exact"].is_null());
+    // Row 1: w_1 = A_10 lambda_0 − b_1 < 0 at its lower bound 0: term |0 − max(0 − w_1, 0)|.
+    const double w1 = A(1, 0) * exact(0) - b(1);
+    REQUIRE(w1 < 0.0);
+    CHECK(j["worst"][0]["label"] == "contact right-ball point 0");
+    CHECK(j["worst"][0]["status"] == "at cmin");
+    CHECK(j["worst"][0]["residual"].get<double>() == Approx(-w1).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("cbps check: a cone contact's normal off by delta gives the closed-form natural map",
+          "[cli][check]") {
+  const fs::path dir = scratch_dir("check_v_corner_cone");
+  const std::string m = (dir / "m").string();
+  const double mu = 0.5;
+  REQUIRE(
+      run_cli("matrices v-corner --param mu=0.5 --param friction=cone --step 0 --out " + m).code ==
+      0);
+  // At rest (step 0) the frictionless equilibrium is an exact answer under the cone: the normal
+  // rows' 2×2 system A_nn r_n = b_n, no friction, and then u = 0 at both contacts.
+  const MatX A = MatX(read_matrix_market_sparse(m + "/A.mtx"));
+  const VecX b = read_matrix_market_vector(m + "/b.mtx");
+  REQUIRE(A.rows() == 6);
+  Eigen::Matrix2d A_nn;
+  A_nn << A(0, 0), A(0, 3), A(3, 0), A(3, 3);
+  const Eigen::Vector2d r_n = A_nn.partialPivLu().solve(Eigen::Vector2d(b(0), b(3)));
+  VecX lambda = VecX::Zero(6);
+  lambda(0) = r_n(0);
+  lambda(3) = r_n(1);
+  REQUIRE((A * lambda - b).lpNorm<Eigen::Infinity>() <= 1e-14);
+  const double delta = 1e-3;
+  lambda(0) += delta;
+  write_lambda(dir / "off.txt", lambda);
+  const nlohmann::json j = check_json_of(m + " --lambda " + (dir / "off.txt").string(), 1);
+  // A row of friction at a sphere's contact has A_tt = 1/m + r²/I = 3.5/m (I = 0.4 m r²), so each
+  // contact's step is ρ = m/3.5. Pushing r_n of the left contact by delta moves u by delta
+  // A e_0: at the left contact u = (delta, 0, 0), at the right one u = delta (cos 75°, sin 75°
+  // along a tangent); both stay sticking (r − ρ û inside the cone), so each term is ρ ‖û‖ with
+  // De Saxcé's û = u + mu ‖u_t‖ e_n:
+  //   left   delta / 3.5,    right   delta / 3.5 · sqrt((cos 75° + mu sin 75°)² + sin² 75°).
+  const double right = delta / 3.5 * std::hypot(kCos75 + mu * kSin75, kSin75);
+  CHECK(j["law"] == "coulomb");
+  CHECK(j["contacts"] == 2);
+  CHECK(j["unit_free"]["residual"].get<double>() == Approx(right).epsilon(1e-9));
+  const nlohmann::json& worst = j["worst"];
+  REQUIRE(worst.size() == 2);
+  CHECK(worst[0]["label"] == "contact right-ball point 0");
+  CHECK(worst[0]["contact"] == 1);
+  CHECK(worst[0]["status"] == "sticking");
+  CHECK(worst[0]["residual"].get<double>() == Approx(right).epsilon(1e-9));
+  CHECK(worst[1]["label"] == "contact left-ball point 0");
+  CHECK(worst[1]["residual"].get<double>() == Approx(delta / 3.5).epsilon(1e-9));
+  CHECK(j["cone"]["fclib_merit"].get<double>() > 0.0);
+  // Every answer of this problem leaves the ball at rest (w* = 0), so |w − w*| = delta max_k
+  // |A_k0| = delta (A_00 = 1/m) whichever of them direct returns (the friction forces of a
+  // sphere in a V are not unique).
+  CHECK(j["exact"]["w_distance"].get<double>() == Approx(delta).epsilon(1e-8));
+}
+
+TEST_CASE("cbps check: bad lambda files exit 2 naming the file", "[cli][check]") {
+  const fs::path dir = scratch_dir("check_bad");
+  const std::string m = (dir / "m").string();
+  REQUIRE(run_cli("matrices v-corner --step 5 --out " + m).code == 0);
+  const auto refused =
+      [&](const std::string& name, const std::string& text, const std::string& says) {
+        const fs::path path = dir / name;
+        test::write_file(path, text);
+        const CliResult r = run_cli("check " + m + " --lambda " + path.string());
+        CAPTURE(name, r.err);
+        CHECK(r.code == 2);
+        CHECK(r.out.empty());
+        CHECK(r.err.find(says) != std::string::npos);
+      };
+  refused("short.txt", "1\n", "lambda has 1 entries; the problem has 2 rows");
+  refused("nan.txt", "1\nnan\n", "nan.txt: line 2: 'nan' is not finite");
+  refused("word.txt", "1\n2 3\n", "word.txt: line 2: expected one number");
+  refused("inf.mtx",
+          "%%MatrixMarket matrix array real general\n2 1\n1\ninf\n",
+          "inf.mtx: entry 2 is not finite");
+  const CliResult missing = run_cli("check " + m + " --lambda " + (dir / "none.txt").string());
+  CHECK(missing.code == 2);
+  CHECK(missing.err.find("none.txt") != std::string::npos);
+}
