@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
@@ -183,4 +184,50 @@ TEST_CASE("cbps check: bad lambda files exit 2 naming the file", "[cli][check]")
   const CliResult missing = run_cli("check " + m + " --lambda " + (dir / "none.txt").string());
   CHECK(missing.code == 2);
   CHECK(missing.err.find("none.txt") != std::string::npos);
+}
+
+TEST_CASE("cbps check reads the folders of the recipe's C++ and Python engine examples",
+          "[cli][check]") {
+  // docs/check-any-engine.md: examples/engine_step.cpp (a ball on the ground in Coulomb's cone
+  // and a ball hanging on a string, its lambda m g each, plus --error E on the contact's normal)
+  // and examples/engine_step.py (a box on four corners, the engine's own sweeps).
+  const fs::path dir = scratch_dir("check_engine_examples");
+  SECTION("C++: the exact lambda is solved; E on the normal row leaves the term E / 3.5") {
+    const std::string exact = (dir / "exact").string();
+    REQUIRE(std::system(
+                (std::string(CBPS_ENGINE_STEP_EXAMPLE) + " " + exact + " > /dev/null").c_str()) ==
+            0);
+    const nlohmann::json j = check_json_of(exact + " --lambda " + exact + "/lambda_engine.txt", 0);
+    CHECK(j["unit_free"]["relative"].get<double>() <= 1e-15);
+    CHECK(j["statuses"]["sticking"] == 1);
+    CHECK(j["statuses"]["free"] == 1);
+    // E on r_n: u = (E/m, 0, 0) at the contact, whose step is ρ = 1 / max(1/m, 1/m + R²/I) =
+    // m / 3.5 (I = 0.4 m R²); r − ρ u stays inside the cone, so the term is ρ E / m = E / 3.5.
+    const double error = 0.01;
+    const std::string off = (dir / "off").string();
+    REQUIRE(std::system((std::string(CBPS_ENGINE_STEP_EXAMPLE) + " " + off + " --error 0.01" +
+                         " > /dev/null")
+                            .c_str()) == 0);
+    const nlohmann::json k = check_json_of(off + " --lambda " + off + "/lambda_engine.txt", 1);
+    CHECK(k["unit_free"]["residual"].get<double>() == Approx(error / 3.5).epsilon(1e-12));
+    CHECK(k["worst"][0]["label"] == "contact ground-ball #0");
+    CHECK(k["exact"]["force_distance"].get<double>() == Approx(error).epsilon(1e-9));
+  }
+  SECTION("Python: the engine's 10 sweeps are not solved, 2000 are") {
+    const std::string python =
+        fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : std::string("python3");
+    const std::string script = std::string(CBPS_SOURCE_DIR) + "/examples/engine_step.py";
+    const std::string few = (dir / "few").string(), many = (dir / "many").string();
+    REQUIRE(std::system((python + " " + script + " " + few + " > /dev/null").c_str()) == 0);
+    REQUIRE(std::system(
+                (python + " " + script + " " + many + " --iterations 2000 > /dev/null").c_str()) ==
+            0);
+    const nlohmann::json f = check_json_of(few + " --lambda " + few + "/lambda_engine.txt", 1);
+    CHECK(f["unit_free"]["relative"].get<double>() > 1e-9);
+    CHECK(f["contacts"] == 4);
+    const nlohmann::json m = check_json_of(many + " --lambda " + many + "/lambda_engine.txt", 0);
+    // The box's friction forces are not unique (four corners, a rigid face): lambda differs
+    // from direct's answer while the net force on the box, J^T lambda, is the same.
+    CHECK(m["exact"]["force_distance"].get<double>() <= 1e-9);
+  }
 }
