@@ -189,6 +189,12 @@ void Simulation::substep_system(const std::vector<Manifold>& manifolds,
 
 void Simulation::report_contacts(const System& sys, StepReport& report) const {
   report.rows = sys.rows();
+  report.friction_contacts = static_cast<int>(sys.contacts.contacts());
+  report.law = sys.contacts.law;
+  if (!sys.contacts.empty()) {
+    report.mu_min = sys.contacts.mu.minCoeff();
+    report.mu_max = sys.contacts.mu.maxCoeff();
+  }
   for (const Manifold& manifold : manifolds_) {
     report.contacts += static_cast<int>(manifold.points.size());
     for (const ContactPoint& point : manifold.points)

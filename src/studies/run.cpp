@@ -60,6 +60,15 @@ void add_step(RunTotals& t, const Simulation& sim, const StepReport& r) {
   t.max_constraint_error = std::max(t.max_constraint_error, r.max_constraint_error);
   t.max_rows = std::max(t.max_rows, r.rows);
   t.max_contacts = std::max(t.max_contacts, r.contacts);
+  if (r.friction_contacts > 0) {
+    const bool first = t.friction_contact_steps == 0;
+    t.solved_mu_min = first ? r.mu_min : std::min(t.solved_mu_min, r.mu_min);
+    t.solved_mu_max = first ? r.mu_max : std::max(t.solved_mu_max, r.mu_max);
+    t.friction_contact_steps += r.friction_contacts;
+    const std::string law = is_cone(r.law) ? "cone " + std::string(cone_law_name(r.law))
+                                           : std::string(friction_name(r.law));
+    t.solved_laws[law] += r.friction_contacts;
+  }
   t.stage_times += r.times;
   if (!r.solver.route.empty()) ++t.routes[r.solver.route];
   if (!r.position_solver.route.empty()) ++t.position_routes[r.position_solver.route];
@@ -297,6 +306,12 @@ nlohmann::json run_summary_json(const Scene& scene,
                          {"max_points", t.max_contacts}};
   if (is_cone(scene.world.friction))
     summary["contacts"]["cone"] = std::string(cone_law_name(scene.world.friction));
+  // What the steps solved, from their systems' contacts (not the scene's settings).
+  summary["contacts"]["solved"] = {
+      {"friction_contact_steps", t.friction_contact_steps},
+      {"mu_min", t.friction_contact_steps > 0 ? nlohmann::json(t.solved_mu_min) : nullptr},
+      {"mu_max", t.friction_contact_steps > 0 ? nlohmann::json(t.solved_mu_max) : nullptr},
+      {"laws", t.solved_laws}};
   summary["max_penetration"] = number_json(t.max_penetration);
   summary["steps_with_rows"] = t.steps_with_rows;
   summary["steps_method_failed"] = t.steps_failed;

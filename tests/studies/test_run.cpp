@@ -2,6 +2,7 @@
 // order and stop, and summary.json's numbers in the JSON convention of docs/outputs.md.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,19 @@ class Watcher : public StepObserver {
 
  private:
   long stop_after_;
+};
+
+/// Adds up the contact points the collision found (StepReport::contacts) over the steps.
+class PointCounter : public StepObserver {
+ public:
+  explicit PointCounter(long& n) : n_(n) {}
+  bool after_step(const Simulation& /*sim*/, const StepReport& report, long /*done*/) override {
+    n_ += report.contacts;
+    return true;
+  }
+
+ private:
+  long& n_;
 };
 
 }  // namespace
@@ -86,4 +100,29 @@ TEST_CASE("summary.json writes a value that is not finite as a string, never nul
   CHECK(nlohmann::json::parse(j.dump())["max_residual"] == "inf");
   CHECK(number_of_json(j["max_residual"]) == INFINITY);
   CHECK(std::isnan(number_of_json(j["energy_final"])));
+}
+
+TEST_CASE("the totals say which friction the steps solved: contacts, their mu and law",
+          "[run]") {
+  // A stack of two boxes: every contact point the collision finds gets friction rows at mu > 0,
+  // so the contact-steps with friction are the points found, summed over the steps.
+  for (const std::string friction : {"paper", "coulomb", "cone"}) {
+    CAPTURE(friction);
+    Simulation sim(make_builtin_scene(
+        "stack", {{"n", "2"}, {"mu", "0.25"}, {"friction", friction}, {"cone", "ccp"}}));
+    long points = 0;
+    PointCounter counter(points);
+    const RunTotals t = run_steps(sim, 4, {&counter});
+    REQUIRE(points > 0);
+    CHECK(t.friction_contact_steps == points);
+    CHECK(t.solved_mu_min == 0.25);
+    CHECK(t.solved_mu_max == 0.25);
+    const std::string law = friction == "cone" ? "cone ccp" : friction;
+    CHECK(t.solved_laws == std::map<std::string, long>{{law, points}});
+  }
+  // mu = 0: no friction rows, nothing solved under a friction law.
+  Simulation frictionless(make_builtin_scene("stack", {{"n", "2"}, {"mu", "0"}}));
+  const RunTotals t = run_steps(frictionless, 2, {});
+  CHECK(t.friction_contact_steps == 0);
+  CHECK(t.solved_laws.empty());
 }

@@ -65,6 +65,11 @@ struct StepReport {
   /// starts from last step's (7); the others start from 0.
   int warm_rows = 0;
   int contacts = 0;  ///< contact points found this step (4)
+  /// The friction the step's system solved (System::contacts): its contacts with friction rows,
+  /// the smallest and largest of their mu (0 with none) and the law their rows carry.
+  int friction_contacts = 0;
+  double mu_min = 0.0, mu_max = 0.0;
+  FrictionLaw law = FrictionLaw::PaperBox;
   SolverSummary solver;
   SolverSummary position_solver;      ///< the position system of 8.1 (improved push only)
   double max_constraint_error = 0.0;  ///< after the step, m

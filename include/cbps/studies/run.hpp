@@ -31,6 +31,11 @@ struct RunTotals {
   long iterations_total = 0;
   int max_rows = 0;
   int max_contacts = 0;
+  /// The friction the steps solved (StepReport): contacts with friction rows summed over the
+  /// steps, the range of their mu, and each law seen → the contact-steps that carried it.
+  long friction_contact_steps = 0;
+  double solved_mu_min = 0.0, solved_mu_max = 0.0;
+  std::map<std::string, long> solved_laws;
   double max_penetration = 0.0;         ///< m
   double cfm_acceleration_error = 0.0;  ///< m/s², max eps |lambda| (StepReport)
   StageTimes stage_times;               ///< summed over the steps, s
