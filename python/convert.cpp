@@ -242,6 +242,12 @@ py::dict step_report_dict(const StepReport& r) {
   d["rows"] = r.rows;
   d["warm_rows"] = r.warm_rows;
   d["contacts"] = r.contacts;
+  // The friction the step solved, from its system's contacts (summary.json's contacts.solved).
+  d["friction_contacts"] = r.friction_contacts;
+  d["mu_min"] = r.friction_contacts > 0 ? py::object(py::float_(r.mu_min)) : py::none();
+  d["mu_max"] = r.friction_contacts > 0 ? py::object(py::float_(r.mu_max)) : py::none();
+  d["friction_law"] =
+      r.friction_contacts > 0 ? py::object(py::str(std::string(law_name(r.law)))) : py::none();
   d["iterations"] = r.solver.iterations;
   d["residual"] = r.solver.residual;
   d["termination"] = to_string(r.solver.termination);

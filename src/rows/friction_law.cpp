@@ -22,6 +22,20 @@ std::string_view cone_law_name(FrictionLaw law) {
   return law == FrictionLaw::CoulombCone ? "coulomb" : law == FrictionLaw::Relaxation ? "ccp" : "";
 }
 
+std::string_view law_name(FrictionLaw law) {
+  switch (law) {
+    case FrictionLaw::PaperBox:
+      return "paper";
+    case FrictionLaw::CoulombBox:
+      return "coulomb";
+    case FrictionLaw::CoulombCone:
+      return "cone coulomb";
+    case FrictionLaw::Relaxation:
+      return "cone ccp";
+  }
+  return "";
+}
+
 bool cone_law_from_string(std::string_view name, FrictionLaw& law) {
   if (name == "coulomb") {
     law = FrictionLaw::CoulombCone;

@@ -65,9 +65,7 @@ void add_step(RunTotals& t, const Simulation& sim, const StepReport& r) {
     t.solved_mu_min = first ? r.mu_min : std::min(t.solved_mu_min, r.mu_min);
     t.solved_mu_max = first ? r.mu_max : std::max(t.solved_mu_max, r.mu_max);
     t.friction_contact_steps += r.friction_contacts;
-    const std::string law = is_cone(r.law) ? "cone " + std::string(cone_law_name(r.law))
-                                           : std::string(friction_name(r.law));
-    t.solved_laws[law] += r.friction_contacts;
+    t.solved_laws[std::string(law_name(r.law))] += r.friction_contacts;
   }
   t.stage_times += r.times;
   if (!r.solver.route.empty()) ++t.routes[r.solver.route];

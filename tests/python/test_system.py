@@ -178,3 +178,16 @@ def test_cone_system_and_solve_with_cones(law):
         bad = dict(cones, normal_row=[0, 1] + list(cones["normal_row"][2:]))
         cbps.solve(s.A, s.b, s.cmin, s.cmax, "nsgs", cones=bad)
     assert cbps.Simulation(cbps.scene("stack", n=2)).build_system().cones is None
+
+
+def test_step_reports_the_friction_its_system_solved():
+    # A stack of two boxes at mu = 0.25 under the relaxation: every contact point found gets
+    # friction rows in the cone, so the step's friction contacts are its contact points.
+    sim = cbps.Simulation(cbps.scene("stack", n=2, mu=0.25, friction="cone", cone="ccp"))
+    r = sim.step()
+    assert r["contacts"] > 0
+    assert r["friction_contacts"] == r["contacts"]
+    assert r["mu_min"] == r["mu_max"] == 0.25
+    assert r["friction_law"] == "cone ccp"
+    bare = cbps.Simulation(cbps.scene("stack", n=2, mu=0)).step()
+    assert bare["friction_contacts"] == 0 and bare["friction_law"] is None and bare["mu_min"] is None

@@ -102,8 +102,7 @@ TEST_CASE("summary.json writes a value that is not finite as a string, never nul
   CHECK(std::isnan(number_of_json(j["energy_final"])));
 }
 
-TEST_CASE("the totals say which friction the steps solved: contacts, their mu and law",
-          "[run]") {
+TEST_CASE("the totals say which friction the steps solved: contacts, their mu and law", "[run]") {
   // A stack of two boxes: every contact point the collision finds gets friction rows at mu > 0,
   // so the contact-steps with friction are the points found, summed over the steps.
   for (const std::string friction : {"paper", "coulomb", "cone"}) {

@@ -38,6 +38,9 @@ inline bool is_cone(FrictionLaw law) {
 std::string_view friction_name(FrictionLaw law);
 /// A cone's law word: "coulomb" (CoulombCone) or "ccp" (Relaxation); "" for a box.
 std::string_view cone_law_name(FrictionLaw law);
+/// The law in one name, as outputs report it: "paper", "coulomb" (the boxes), "cone coulomb",
+/// "cone ccp".
+std::string_view law_name(FrictionLaw law);
 /// "coulomb" → CoulombCone, "ccp" → Relaxation; false (law untouched) for anything else.
 bool cone_law_from_string(std::string_view name, FrictionLaw& law);
 
