@@ -23,17 +23,9 @@ std::string_view cone_law_name(FrictionLaw law) {
 }
 
 std::string_view law_name(FrictionLaw law) {
-  switch (law) {
-    case FrictionLaw::PaperBox:
-      return "paper";
-    case FrictionLaw::CoulombBox:
-      return "coulomb";
-    case FrictionLaw::CoulombCone:
-      return "cone coulomb";
-    case FrictionLaw::Relaxation:
-      return "cone ccp";
-  }
-  return "";
+  if (law == FrictionLaw::CoulombCone) return "cone coulomb";
+  if (law == FrictionLaw::Relaxation) return "cone ccp";
+  return friction_name(law);  // the boxes: "paper", "coulomb"
 }
 
 bool cone_law_from_string(std::string_view name, FrictionLaw& law) {
