@@ -12,7 +12,7 @@ namespace cbps::cli {
 
 struct CheckOptions {
   std::string problem, lambda, siconos = "auto", cone;
-  bool json = false;
+  bool json = false, quiet = false;
   CheckSettings settings;
 };
 
@@ -38,10 +38,13 @@ void register_check(CLI::App& app, Action& run) {
                   "stop direct after this many seconds (default 0: no limit)")
       ->check(non_negative());
   add_json_flag(cmd, o->json, "the report");
+  add_quiet_flag(cmd, o->quiet, "no progress line on stderr every 2 s of a long exact solve");
   cmd->callback([&run, o] {
     run = [o] {
       const StoredProblem p = read_problem(o->problem, o->siconos, o->cone);
-      const CheckReport r = check_lambda(p, read_vector_file(o->lambda), o->settings);
+      const VecX lambda = read_vector_file(o->lambda);
+      const Heartbeat beat("cbps check: " + o->problem, o->settings.time_limit, o->quiet);
+      const CheckReport r = check_lambda(p, lambda, o->settings);
       if (o->json)
         std::printf("%s\n", check_json(o->problem, r).dump(2).c_str());
       else

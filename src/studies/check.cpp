@@ -17,9 +17,10 @@ namespace cbps {
 
 namespace {
 
-std::string label_of(const StoredProblem& p, long row) {
+/// The row's label from labels.json, else "row k" (or "contact i" for contact i's normal row).
+std::string label_of(const StoredProblem& p, long row, long contact = -1) {
   if (p.labels.size() == static_cast<std::size_t>(p.rows())) return p.labels[std::size_t(row)];
-  return "row " + std::to_string(row);
+  return contact >= 0 ? "contact " + std::to_string(contact) : "row " + std::to_string(row);
 }
 
 /// A row's status: where lambda_k is in [cmin_k, cmax_k], to within delta (N).
@@ -103,7 +104,7 @@ CheckReport check_lambda(const StoredProblem& p, const VecX& lambda, const Check
   for (long i = 0; i < p.cones.contacts(); ++i) {
     const int n = p.cones.normal[std::size_t(i)];
     CheckedTerm t{
-        n, i, label_of(p, n), "", terms.term(n), lambda.segment<3>(n), terms.w.segment<3>(n)};
+        n, i, label_of(p, n, i), "", terms.term(n), lambda.segment<3>(n), terms.w.segment<3>(n)};
     t.status = contact_status(lambda.segment<3>(n), p.cones.mu(i), delta);
     all.push_back(t);
     in_cone[std::size_t(n)] = in_cone[std::size_t(n + 1)] = in_cone[std::size_t(n + 2)] = 1;

@@ -20,24 +20,25 @@
 #include <vector>
 
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/system/cone_problem.hpp"
 #include "cbps/system/unit_free.hpp"
 
 namespace cbps {
 
 struct CheckSettings {
-  int worst = 10;            ///< how many of the largest terms to name
-  bool exact = true;         ///< solve by direct and measure the distance from lambda*
-  int iterations = 10000;    ///< direct's limit (its factorizations), as `cbps lcp`
-  double tolerance = 1e-10;  ///< direct's tolerance, as `cbps lcp`
-  double time_limit = 0.0;   ///< s for direct, 0: none
+  int worst = 10;          ///< how many of the largest terms to name
+  bool exact = true;       ///< solve by direct and measure the distance from lambda*
+  int iterations = 10000;  ///< direct's limit (its factorizations), as `cbps lcp`
+  double tolerance = SolveSettings{}.tolerance;  ///< direct's, N, as `cbps lcp`
+  double time_limit = 0.0;                       ///< s for direct, 0: none
 };
 
 /// One term of the residual: a row no contact owns, or a contact (its three rows).
 struct CheckedTerm {
   long row = 0;       ///< the row, or the contact's normal row
   long contact = -1;  ///< the contact's index, −1 for a row
-  std::string label;  ///< labels.json's label of the row ("contact A-B #F"), else "row k"
+  std::string label;  ///< labels.json's ("contact A-B #F"), else "row k" or "contact i"
   /// A row: "at cmin", "at cmax", "between", "free" (no bound), "outside bounds"; a contact:
   /// "separated", "sticking" (inside the cone), "sliding" (on its surface), "outside cone".
   std::string status;
