@@ -231,3 +231,31 @@ TEST_CASE("cbps check reads the folders of the recipe's C++ and Python engine ex
     CHECK(m["exact"]["force_distance"].get<double>() <= 1e-9);
   }
 }
+
+TEST_CASE("cbps check reads the field's own files: FCLIB (a non-symmetric W) and Siconos LCP",
+          "[cli][check]") {
+  const fs::path dir = scratch_dir("check_field_files");
+  // Siconos' Capsules (286 contacts, W not symmetric): nsgs's answer to its floor is solved, the
+  // same answer with one contact's normal pushed by 1e-3 N is not.
+  const std::string capsules = (test::kFc3dDir / "Capsules-i125-1213.hdf5").string();
+  const std::string sol = (dir / "capsules").string();
+  REQUIRE(run_cli("lcp " + capsules +
+                  " --solver nsgs --iterations 100000 --tolerance 1e-14 --out " + sol)
+              .code == 0);
+  const nlohmann::json j = check_json_of(capsules + " --lambda " + sol + "/lambda.mtx", 0);
+  CHECK(j["contacts"] == 286);
+  CHECK(j["exact"]["available"] == true);
+  VecX lambda = read_matrix_market_vector(sol + "/lambda.mtx");
+  lambda(0) += 1e-3;
+  write_lambda(dir / "pushed.txt", lambda);
+  const nlohmann::json k =
+      check_json_of(capsules + " --lambda " + (dir / "pushed.txt").string() + " --no-exact", 1);
+  CHECK(k["worst"][0]["residual"].get<double>() > 1e-4);
+  // A Siconos LCP: Lemke's answer (not direct's) is solved.
+  const std::string lcp = (test::kSiconosDir / "lcp" / "lcp_deudeu.dat").string();
+  const std::string lemke = (dir / "lemke").string();
+  REQUIRE(run_cli("lcp " + lcp + " --solver lemke --out " + lemke).code == 0);
+  const nlohmann::json l = check_json_of(lcp + " --lambda " + lemke + "/lambda.mtx", 0);
+  CHECK(l["rows"] == 2);
+  CHECK(l["exact"]["w_distance"].get<double>() <= 1e-12);
+}
