@@ -54,7 +54,16 @@ ExactDistance exact_distance(const StoredProblem& p,
     return d;
   }
   const auto start = std::chrono::steady_clock::now();
-  const LcpOutcome r = solve_stored(spec, p, s.iterations, s.tolerance, s.time_limit);
+  LcpOutcome r;
+  try {
+    r = solve_stored(spec, p, s.iterations, s.tolerance, s.time_limit);
+  } catch (const InputError& e) {  // the given lambda is still judged
+    d.why = e.what();
+    return d;
+  } catch (const ComputationError& e) {
+    d.why = e.what();
+    return d;
+  }
   d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const UnitFreeResidual u = unit_free_residual(p.problem(), r.lambda, p.cfm);
   d.relative = u.relative;
@@ -69,8 +78,9 @@ ExactDistance exact_distance(const StoredProblem& p,
   const UnitFreeTerms exact = unit_free_terms(p.problem(), r.lambda, p.cfm);
   const VecX dw = terms.w - exact.w;
   d.w_distance = dw.lpNorm<Eigen::Infinity>();
-  d.w_distance_relative =
-      unit_free_of((terms.rho.array() * dw.array().abs()).maxCoeff(), terms.scale).relative;
+  if (dw.size() > 0)
+    d.w_distance_relative =
+        unit_free_of((terms.rho.array() * dw.array().abs()).maxCoeff(), terms.scale).relative;
   const VecX dl = lambda - r.lambda;
   d.lambda_distance = dl.lpNorm<Eigen::Infinity>();
   if (p.has_jacobian()) d.force_distance = VecX(p.J.transpose() * dl).lpNorm<Eigen::Infinity>();

@@ -294,3 +294,6 @@ def test_check_gives_the_closed_form_residual_of_a_perturbed_answer():
         cbps.check(A, b, cmin, cmax, np.array([1.0]))
     with pytest.raises(cbps.InputError, match="lam"):
         cbps.check(A, b, cmin, cmax, np.array([1.0, np.nan]))
+    # No rows: nothing to violate, solved, and the exact answer is the empty one.
+    empty = cbps.check(sp.csr_matrix((0, 0)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
+    assert empty["solved"] and empty["worst"] == [] and empty["exact"]["w_distance"] == 0.0
