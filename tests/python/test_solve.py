@@ -297,3 +297,18 @@ def test_check_gives_the_closed_form_residual_of_a_perturbed_answer():
     # No rows: nothing to violate, solved, and the exact answer is the empty one.
     empty = cbps.check(sp.csr_matrix((0, 0)), np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0))
     assert empty["solved"] and empty["worst"] == [] and empty["exact"]["w_distance"] == 0.0
+
+
+def test_check_judges_a_cone_problem_with_a_non_symmetric_w():
+    # Siconos' Capsules (FCLIB, 286 contacts in Coulomb's cone, W not symmetric): nsgs's answer to
+    # its floor is solved; the same with one contact's normal pushed by 1e-3 N is not.
+    p = cbps.read_problem(str(ROOT / "tests" / "data" / "siconos-fc3d" / "Capsules-i125-1213.hdf5"))
+    assert abs(p.A - p.A.T).max() > 0
+    lam, _ = cbps.solve(p.A, p.b, p.cmin, p.cmax, "nsgs", cones=p.cones, iterations=100000,
+                        tolerance=1e-14, history=False)
+    r = cbps.check(p.A, p.b, p.cmin, p.cmax, lam, cones=p.cones)
+    assert r["solved"] and r["contacts"] == 286 and r["law"] == "coulomb"
+    assert r["exact"]["available"]
+    lam[0] += 1e-3
+    pushed = cbps.check(p.A, p.b, p.cmin, p.cmax, lam, cones=p.cones, exact=False)
+    assert not pushed["solved"] and pushed["exact"] is None
