@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <span>
 
 #include "cbps/base/error.hpp"
 #include "cbps/scene/builtin.hpp"
@@ -34,12 +35,6 @@ std::string parameter_text(const py::handle& value) {
 double positive(double x, const std::string& what, const char* unit) {
   if (!(x > 0.0) || !std::isfinite(x))
     throw InputError(what + " " + number_text(x) + ": must be a positive finite " + unit);
-  return x;
-}
-
-double non_negative(double x, const std::string& what) {
-  if (!(x >= 0.0) || !std::isfinite(x))
-    throw InputError(what + " " + number_text(x) + ": must be a finite number >= 0");
   return x;
 }
 
@@ -95,8 +90,9 @@ void bind_scene_time(py::class_<Scene>& scene) {
           "default simulated time of Simulation.run(), s");
 }
 
-/// A world setting as Python gives it: a number, a whole number or one of its words.
-double setting_from_python(const WorldSetting& s, const py::handle& value) {
+/// A setting as Python gives it: a number, a whole number, one of its words or a bool.
+template <typename T>
+double setting_from_python(const Setting<T>& s, const py::handle& value) {
   const std::string key(s.key);
   if (s.type == SettingType::Word) {
     if (!py::isinstance<py::str>(value))
@@ -107,38 +103,55 @@ double setting_from_python(const WorldSetting& s, const py::handle& value) {
     if (!index) throw InputError(key + " '" + text + "': " + why);
     return *index;
   }
+  if (s.type == SettingType::Flag) {
+    if (!py::isinstance<py::bool_>(value))
+      throw InputError(key + " " + py::repr(value).cast<std::string>() +
+                       ": expected True or False");
+    return value.cast<bool>() ? 1.0 : 0.0;
+  }
   if (s.type == SettingType::Whole)
     return static_cast<double>(whole_from_python(
         value, key, static_cast<long long>(s.min), static_cast<long long>(s.max)));
   return real_from_python(value, key);
 }
 
-/// The world's settings (settings.hpp), each a property of the scene file's key with the checks
-/// of the scene file and the command line, and gravity.
-void bind_scene_world(py::class_<Scene>& scene) {
-  for (const WorldSetting& setting : world_settings()) {
-    const WorldSetting* s = &setting;
+/// Each setting of `settings` (settings.hpp) a property of the scene file's key, held in the
+/// part of the scene `part` gives, with the checks of the scene file and the command line.
+template <typename T>
+void bind_settings(py::class_<Scene>& scene,
+                   std::span<const Setting<T>> settings,
+                   T& (*part)(Scene&)) {
+  for (const Setting<T>& setting : settings) {
+    const Setting<T>* s = &setting;
     std::string doc(s->rule);
     if (!s->unit.empty()) doc += ", " + std::string(s->unit);
     if (s->applies != nullptr) doc = std::string(s->applies_text) + ": " + doc;
     scene.def_property(
         std::string(s->key).c_str(),
-        [s](const Scene& sc) -> py::object {
-          if (s->type == SettingType::Word) return py::str(setting_text(*s, sc.world));
+        [s, part](Scene& sc) -> py::object {
+          const T& target = part(sc);
+          if (s->type == SettingType::Word) return py::str(setting_text(*s, target));
+          if (s->type == SettingType::Flag) return py::bool_(s->get(target) != 0.0);
           if (s->type == SettingType::Whole)
-            return py::int_(static_cast<long long>(s->get(sc.world)));
-          return py::float_(s->get(sc.world));
+            return py::int_(static_cast<long long>(s->get(target)));
+          return py::float_(s->get(target));
         },
-        [s](Scene& sc, const py::object& value) {
+        [s, part](Scene& sc, const py::object& value) {
           const double v = setting_from_python(*s, value);
-          const std::string why = set_world_setting(sc.world, *s, v);
+          const std::string why = set_setting(part(sc), *s, v);
           if (why.empty()) return;
-          const std::string text =
-              s->type == SettingType::Word ? "'" + value.cast<std::string>() + "'" : number_text(v);
+          const std::string text = s->type == SettingType::Word
+                                       ? "'" + value.cast<std::string>() + "'"
+                                       : py::repr(value).cast<std::string>();
           throw InputError(std::string(s->key) + " " + text + ": " + why);
         },
         doc.c_str());
   }
+}
+
+/// The world's settings (settings.hpp), each a property of the scene file's key, and gravity.
+void bind_scene_world(py::class_<Scene>& scene) {
+  bind_settings<World>(scene, world_settings(), [](Scene& sc) -> World& { return sc.world; });
   scene.def_property(
       "gravity",
       [](const Scene& s) { return to_numpy(s.world.gravity); },
@@ -146,49 +159,19 @@ void bind_scene_world(py::class_<Scene>& scene) {
       "g, m/s^2 (y is up)");
 }
 
-/// A scene's solver settings.
+/// A scene's solver settings (settings.hpp: method, iterations, tolerance, ..., cfm), each a
+/// property of the scene file's key, and `solver`, set as a --solver spec.
 void bind_scene_solver(py::class_<Scene>& scene) {
-  scene
-      .def_property(
-          "solver",
-          [](const Scene& s) { return std::string(to_string(s.solver.method)); },
-          [](Scene& s, const std::string& spec) {
-            apply_solver_spec(parse_solver_spec(spec, "solver"), s.solver);
-          },
-          "the method's name; set it with a --solver spec such as 'psor:1.3' or "
-          "'apgd:restart=off' (parse_solver_spec)")
-      .def_property_readonly(
-          "relaxation", [](const Scene& s) { return s.solver.relaxation; }, "omega")
-      .def_property(
-          "iterations",
-          [](const Scene& s) { return s.solver.max_iterations; },
-          [](Scene& s, const py::object& n) {
-            s.solver.max_iterations = static_cast<int>(
-                whole_from_python(n, "iterations", 1, std::numeric_limits<int>::max()));
-          },
-          "max solver sweeps per step")
-      .def_property(
-          "tolerance",
-          [](const Scene& s) { return s.solver.tolerance; },
-          [](Scene& s, const py::object& t) {
-            s.solver.tolerance = non_negative(real_from_python(t, "tolerance"), "tolerance");
-          },
-          "natural-map residual to stop at, N (0: every sweep)")
-      .def_property(
-          "cfm",
-          [](const Scene& s) { return s.solver.cfm; },
-          [](Scene& s, const py::object& eps) {
-            s.solver.cfm = non_negative(real_from_python(eps, "cfm"), "cfm");
-          },
-          "constraint-force mixing eps, 1/kg: steps solve (A + eps E) lambda = b")
-      .def_property(
-          "seed",
-          [](const Scene& s) { return s.solver.seed; },
-          [](Scene& s, const py::object& seed) {
-            s.solver.seed =
-                unsigned_from_python(seed, "seed", 0, std::numeric_limits<std::uint64_t>::max());
-          },
-          "seed of the random row order (order=random)");
+  bind_settings<SolverSettings>(
+      scene, solver_settings(), [](Scene& sc) -> SolverSettings& { return sc.solver; });
+  scene.def_property(
+      "solver",
+      [](const Scene& s) { return std::string(to_string(s.solver.method)); },
+      [](Scene& s, const std::string& spec) {
+        apply_solver_spec(parse_solver_spec(spec, "solver"), s.solver);
+      },
+      "the method's name; set it with a --solver spec such as 'psor:1.3' or "
+      "'apgd:restart=off' (parse_solver_spec)");
 }
 
 /// A scene's bodies, its JSON text and file, its repr.

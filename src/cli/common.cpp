@@ -19,6 +19,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <span>
 #include <sstream>
 #include <thread>
 
@@ -45,42 +46,59 @@ void add_scene_options(CLI::App* cmd, SceneOptions& o, const std::string& what) 
   cmd->add_option("--param", o.params, "NAME=VALUE: a built-in scene's parameter (repeatable)");
 }
 
+namespace {
+
+/// --KEY of a setting (settings.hpp), its help made from the entry; the value is kept as given
+/// under its key and checked where it is applied.
+template <typename T>
+void add_setting_option(CLI::App* cmd,
+                        std::map<std::string, std::string>& given,
+                        const Setting<T>& s) {
+  const std::string key(s.key);
+  std::string help(s.rule);
+  if (s.applies != nullptr) help = "under " + std::string(s.applies_text) + ": " + help;
+  help += " (" + (s.unit.empty() ? "" : std::string(s.unit) + "; ") +
+          (s.type == SettingType::Word ? "" : range_text(s) + "; ") + "default: the scene's)";
+  cmd->add_option_function<std::string>(
+         option_name(s), [&given, key](const std::string& value) { given[key] = value; }, help)
+      ->type_name(s.type == SettingType::Real    ? "FLOAT"
+                  : s.type == SettingType::Whole ? "INT"
+                                                 : "WORD");
+}
+
+/// The settings given as options onto `target`, in the table's order, each checked as a scene
+/// file's is: InputError naming the option.
+template <typename T>
+void apply_setting_options(T& target,
+                           std::span<const Setting<T>> settings,
+                           const std::map<std::string, std::string>& given) {
+  for (const Setting<T>& s : settings)
+    if (const auto text = given.find(std::string(s.key)); text != given.end())
+      if (const std::string why = set_setting_text(target, s, text->second); !why.empty())
+        throw InputError(option_name(s) + " " + text->second + ": " + why);
+}
+
+}  // namespace
+
+void add_solver_options(CLI::App* cmd,
+                        StepOptions& o,
+                        std::initializer_list<std::string_view> keys) {
+  for (const std::string_view key : keys)
+    add_setting_option(cmd, o.solver_settings, *find_solver_setting(key));  // an option's key
+}
+
 void add_world_options(CLI::App* cmd, StepOptions& o) {
-  cmd->add_option("--cfm",
-                  o.cfm,
-                  "constraint-force mixing eps in kg^-1: solve (A + eps E) lambda = b; the "
-                  "summary reports its effect eps max|lambda| (default: the scene's, 0)")
-      ->check(non_negative());
-  for (const WorldSetting& s : world_settings()) {
-    if (!s.option) continue;
-    const std::string key(s.key);
-    std::string help(s.rule);
-    if (s.applies != nullptr) help = "under " + std::string(s.applies_text) + ": " + help;
-    help += " (" + (s.unit.empty() ? "" : std::string(s.unit) + "; ") +
-            (s.type == SettingType::Word ? "" : range_text(s) + "; ") + "default: the scene's)";
-    cmd->add_option_function<std::string>(
-           option_name(s), [&o, key](const std::string& value) { o.world[key] = value; }, help)
-        ->type_name(s.type == SettingType::Real    ? "FLOAT"
-                    : s.type == SettingType::Whole ? "INT"
-                                                   : "WORD");
-  }
+  add_solver_options(cmd, o, {"cfm"});
+  for (const WorldSetting& s : world_settings())
+    if (s.option) add_setting_option(cmd, o.world, s);
+}
+
+void apply_solver_options(SolverSettings& solver, const StepOptions& o) {
+  apply_setting_options(solver, solver_settings(), o.solver_settings);
 }
 
 void apply_world_options(World& world, const StepOptions& o) {
-  for (const WorldSetting& s : world_settings()) {
-    const auto given = o.world.find(std::string(s.key));
-    if (given == o.world.end()) continue;
-    const std::string what = option_name(s) + " " + given->second;
-    std::string why;
-    const std::optional<double> value = setting_value(s, given->second, why);
-    if (value) why = set_world_setting(world, s, *value);
-    if (!why.empty()) throw InputError(what + ": " + why);
-  }
-}
-
-void add_seed_option(CLI::App* cmd, StepOptions& o) {
-  cmd->add_option("--seed", o.seed, "seed of the random row order (order=random), >= 0")
-      ->check(non_negative());
+  apply_setting_options(world, world_settings(), o.world);
 }
 
 void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
@@ -99,15 +117,7 @@ void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length) {
                   "NAME one of the solvers listed below, e.g. psor:1.3 (default: the scene's, "
                   "pgs)");
   cmd->footer(solver_spec_help());
-  add_seed_option(cmd, o);
-  cmd->add_option("--iterations", o.iterations, "max solver sweeps per step")->check(positive());
-  cmd->add_option("--tolerance",
-                  o.tolerance,
-                  "natural-map residual to stop at, N, for every method (0: all sweeps, and "
-                  "the direct path to its rounding floor; below that floor the direct path "
-                  "stops there once its steps no longer reduce the residual; default: the "
-                  "scene's, 1e-10)")
-      ->check(non_negative());
+  add_solver_options(cmd, o, {"seed", "iterations", "tolerance"});
   add_world_options(cmd, o);
 }
 
@@ -123,7 +133,9 @@ CLI::Option* add_quiet_flag(CLI::App* cmd, bool& quiet, const std::string& what)
   return cmd->add_flag("--quiet", quiet, what);
 }
 
-bool world_options_given(const StepOptions& o) { return !o.world.empty() || o.cfm >= 0.0; }
+bool world_options_given(const StepOptions& o) {
+  return !o.world.empty() || o.solver_settings.contains("cfm");
+}
 
 std::map<std::string, std::string> parameter_values(const std::vector<std::string>& params) {
   std::map<std::string, std::string> values;
@@ -182,10 +194,7 @@ void apply_step_options(Scene& scene, const StepOptions& o) {
     // InputError names what is wrong
     apply_solver_spec(parse_solver_spec(o.solver, "--solver"), scene.solver);
   }
-  if (o.seed >= 0) scene.solver.seed = static_cast<std::uint64_t>(o.seed);
-  if (o.iterations > 0) scene.solver.max_iterations = o.iterations;
-  if (o.tolerance >= 0.0) scene.solver.tolerance = o.tolerance;
-  if (o.cfm >= 0.0) scene.solver.cfm = o.cfm;
+  apply_solver_options(scene.solver, o);
 }
 
 long step_count(const Scene& scene, const StepOptions& o) {

@@ -3,10 +3,12 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cbps/io/json_numbers.hpp"
@@ -30,13 +32,9 @@ struct StepOptions {
   long steps = -1;
   double duration = -1.0;
   std::string solver;
-  int iterations = -1;
-  double tolerance = -1.0;
-  /// --KEY VALUE of the world settings given (settings.hpp: dt, beta, push, integrator, scheme and
-  /// its settings), by key, as given; those not given keep the scene's.
-  std::map<std::string, std::string> world;
-  long long seed = -1;  ///< --seed; negative keeps the scene's
-  double cfm = -1.0;    ///< --cfm; negative keeps the scene's
+  /// --KEY VALUE of the world and solver settings given (settings.hpp: --dt, --beta, ...;
+  /// --seed, --iterations, --tolerance, --cfm) by key, as given; the rest keep the scene's.
+  std::map<std::string, std::string> world, solver_settings;
 };
 
 void add_scene_options(
@@ -46,11 +44,15 @@ void add_scene_options(
 /// --cfm and the world settings that have an option (settings.hpp: --dt, --beta, --push,
 /// --integrator, --scheme, --substeps and the schemes' own).
 void add_world_options(CLI::App* cmd, StepOptions& o);
-/// The world options given onto the scene's world, in the table's order (a scheme before its
-/// own settings), each checked as a scene file's /world/KEY is: InputError naming the option.
+/// --KEY of the solver settings `keys` (settings.hpp; each one whose entry is an option).
+void add_solver_options(CLI::App* cmd,
+                        StepOptions& o,
+                        std::initializer_list<std::string_view> keys);
+/// The world (solver) options given onto a world (solver), in the table's order (a scheme before
+/// its own settings), each checked as a scene file's /world/KEY (/solver/KEY) is: InputError
+/// naming the option.
 void apply_world_options(World& world, const StepOptions& o);
-/// --seed of random row orders.
-void add_seed_option(CLI::App* cmd, StepOptions& o);
+void apply_solver_options(SolverSettings& solver, const StepOptions& o);
 /// --solver, --seed, --iterations, --tolerance and the world options; with run_length also
 /// --steps and --duration (commands that run a scene; explain and matrices take --step).
 void add_step_options(CLI::App* cmd, StepOptions& o, bool run_length = true);

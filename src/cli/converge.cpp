@@ -126,7 +126,9 @@ ConvergenceLimits limits_of(const ConvergeOptions& o) {
   limits.record_every = o.record_every;
   limits.tolerance = o.tolerance;
   limits.time_limit = o.time_limit;
-  limits.seed = o.step.seed >= 0 ? std::uint64_t(o.step.seed) : 0u;
+  SolverSettings given;  // --seed, checked as a scene's /solver/seed (default 0)
+  apply_solver_options(given, o.step);
+  limits.seed = given.seed;
   if (!o.quiet) {
     limits.progress = [](const SolverSpec& spec, int k, double time_s, double residual) {
       if (k == 0) return;
@@ -287,7 +289,7 @@ void register_converge(CLI::App& app, Action& run) {
          "max time per solver, s (default 10): a sweeping method stops after the sweep that "
          "passes it, a Siconos peer's child process is killed at it")
       ->check(positive());
-  add_seed_option(cmd, o->step);
+  add_solver_options(cmd, o->step, {"seed"});
   add_out_option(cmd, o->out, "convergence.csv, summary.json and the plot");
   add_json_flag(cmd, o->json, "the summary");
   add_quiet_flag(cmd, o->quiet);

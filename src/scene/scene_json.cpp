@@ -38,7 +38,6 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // allowed | |q| − 1 | in a
 constexpr double kUnitRounding = 4.0 * std::numeric_limits<double>::epsilon();
 constexpr double kSymmetryTolerance = 1e-12;  // allowed |I_ij − I_ji| / max |I_kl|
 const std::vector<std::string> kShapeTypes{"sphere", "box", "plane"};
-const std::vector<std::string> kRowOrders{"natural", "reverse", "random"};  // RowOrder order
 const std::vector<std::string> kConstraintTypes{"distance"};
 
 std::string join(const std::vector<std::string>& words) {
@@ -136,21 +135,14 @@ double positive(const Node& node) {
   return value;
 }
 
-double nonnegative(const Node& node) {
-  const double value = number(node);
-  if (!(value >= 0.0)) fail(node, "must be >= 0" + got(node));
-  return value;
-}
-
-int integer(const Node& node, int min) {
+/// A whole number (its range is the setting's, checked where it is set).
+double whole(const Node& node) {
   const Json& j = node.json;
   if (!j.is_number()) fail(node, "expected an integer (got " + std::string(j.type_name()) + ")");
   const double value = j.get<double>();
-  const bool integral = j.is_number_integer() || std::trunc(value) == value;
-  if (!integral) fail(node, "expected an integer" + got(node));
-  if (value < min) fail(node, "must be >= " + std::to_string(min) + got(node));
-  if (value > std::numeric_limits<int>::max()) fail(node, "too large" + got(node));
-  return static_cast<int>(value);
+  if (!j.is_number_integer() && std::trunc(value) != value)
+    fail(node, "expected an integer" + got(node));
+  return value;
 }
 
 bool boolean(const Node& node) {
@@ -186,32 +178,19 @@ Vec3 positive_vec3(const Node& node) {
 
 // ---- Scene parts ---------------------------------------------------------------------------
 
-/// A number in [0, 1].
-double unit_interval(const Node& node) {
-  const double value = number(node);
-  if (value < 0.0 || value > 1.0) fail(node, "must be in [0, 1]" + got(node));
-  return value;
-}
-
-/// One of the names in `names` (`what` says what they name); returns its index.
-std::size_t choice(const Node& node, const std::vector<std::string>& names, const char* what) {
-  const std::string name = text(node);
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (names[k] == name) return k;
-  fail(node,
-       std::string("unknown ") + what + " " + in_quotes(name) + " (valid: " + join(names) + ")");
-}
-
-/// One world setting's value as the file gives it (settings.hpp): a number (or, where the entry
-/// says so, a fraction "p/q" as a string), an integer, or one of its words.
-double setting_of_node(const Node& node, const WorldSetting& s) {
+/// One setting's value as the file gives it (settings.hpp): a number (or, where the entry says
+/// so, a fraction "p/q" as a string), an integer, one of its words, or true or false. Its
+/// range is checked where it is set (set_setting).
+template <typename T>
+double setting_of_node(const Node& node, const Setting<T>& s) {
   if (s.type == SettingType::Word) {
     std::string why;
     const std::optional<double> index = setting_value(s, text(node), why);
     if (!index) fail(node, why);
     return *index;
   }
-  if (s.type == SettingType::Whole) return integer(node, static_cast<int>(s.min));
+  if (s.type == SettingType::Flag) return boolean(node) ? 1.0 : 0.0;
+  if (s.type == SettingType::Whole) return whole(node);
   if (s.fraction && node.json.is_string()) {
     double value = 0.0;
     if (!parse_number(node.json.get<std::string>(), value))
@@ -219,6 +198,41 @@ double setting_of_node(const Node& node, const WorldSetting& s) {
     return value;
   }
   return number(node);
+}
+
+/// Every setting of `settings` that `node` gives, in the table's order, each checked as the
+/// command line checks it.
+template <typename T>
+void read_settings(const Node& node, std::span<const Setting<T>> settings, T& target) {
+  for (const Setting<T>& s : settings) {
+    const std::string key(s.key);
+    if (!has(node, key.c_str())) continue;
+    const Node value = child(node, key);
+    const std::string why = set_setting(target, s, setting_of_node(value, s));
+    if (!why.empty())
+      fail(value,
+           why + (s.type == SettingType::Word || s.type == SettingType::Flag ? "" : got(value)));
+  }
+}
+
+/// The settings of `settings` that apply to `target` (and are given, where that matters), as
+/// JSON values under their keys.
+template <typename T>
+void write_settings(Json& out, std::span<const Setting<T>> settings, const T& target) {
+  for (const Setting<T>& s : settings) {
+    if (s.applies != nullptr && !s.applies(target)) continue;  // means nothing here
+    if (s.given != nullptr && !s.given(target)) continue;      // follows another until given
+    const std::string key(s.key);
+    const double value = s.get(target);
+    if (s.type == SettingType::Word)
+      out[key] = setting_text(s, target);
+    else if (s.type == SettingType::Flag)
+      out[key] = value != 0.0;
+    else if (s.type == SettingType::Whole)
+      out[key] = static_cast<long long>(value);
+    else
+      out[key] = value;
+  }
 }
 
 /// /world: gravity, then every world setting the file gives, in the table's order (settings.hpp:
@@ -229,13 +243,7 @@ World read_world(const Node& node) {
   check_object(node, valid);
   World world = scene_file_world();
   if (has(node, "gravity")) world.gravity = vec3(child(node, "gravity"));
-  for (const WorldSetting& s : world_settings()) {
-    const std::string key(s.key);
-    if (!has(node, key.c_str())) continue;
-    const Node value = child(node, key);
-    const std::string why = set_world_setting(world, s, setting_of_node(value, s));
-    if (!why.empty()) fail(value, why + (s.type == SettingType::Word ? "" : got(value)));
-  }
+  read_settings(node, world_settings(), world);
   return world;
 }
 
@@ -274,44 +282,13 @@ void read_method_parameters(const Node& node, SolverSettings& solver) {
   }
 }
 
+/// /solver: every solver setting the file gives (settings.hpp), the older warm_start (true is
+/// warm 1, false warm 0) and the method's own parameters.
 SolverSettings read_solver(const Node& node) {
-  check_object(node,
-               {"method",
-                "iterations",
-                "tolerance",
-                "delta_tolerance",
-                "relaxation",
-                "order",
-                "seed",
-                "warm_start",
-                "warm",
-                "warm_friction",
-                "contacts_first",
-                "split_islands",
-                "cfm",
-                "parameters"});
+  std::vector<std::string> valid{"warm_start", "parameters"};
+  for (const SolverSetting& s : solver_settings()) valid.emplace_back(s.key);
+  check_object(node, valid);
   SolverSettings solver;
-  if (has(node, "method")) {
-    const Node method = child(node, "method");
-    const std::string name = text(method);
-    if (!method_from_string(name, solver.method))
-      fail(method, "unknown method " + in_quotes(name) + " (valid: " + method_names() + ")");
-  }
-  if (has(node, "iterations")) solver.max_iterations = integer(child(node, "iterations"), 1);
-  if (has(node, "tolerance")) solver.tolerance = nonnegative(child(node, "tolerance"));
-  if (has(node, "delta_tolerance"))
-    solver.delta_tolerance = nonnegative(child(node, "delta_tolerance"));
-  if (has(node, "relaxation")) {
-    const Node omega = child(node, "relaxation");
-    solver.relaxation = number(omega);
-    if (!relaxation_in_range(solver.method, solver.relaxation))
-      fail(omega, std::string("must be in ") + relaxation_range(solver.method) + got(omega));
-  }
-  if (has(node, "order"))
-    solver.order = static_cast<RowOrder>(choice(child(node, "order"), kRowOrders, "row order"));
-  if (has(node, "seed")) solver.seed = static_cast<std::uint64_t>(integer(child(node, "seed"), 0));
-  // The warm-start factors (7): /solver/warm in [0, 1], or the older /solver/warm_start
-  // (true: 1, false: 0); /solver/warm_friction for the friction rows (default: the same).
   if (has(node, "warm_start")) {
     const Node warm_start = child(node, "warm_start");
     if (has(node, "warm"))
@@ -320,19 +297,7 @@ SolverSettings read_solver(const Node& node) {
            "warm 1, false is warm 0)");
     solver.warm = boolean(warm_start) ? 1.0 : 0.0;
   }
-  if (has(node, "warm")) solver.warm = unit_interval(child(node, "warm"));
-  if (has(node, "warm_friction"))
-    solver.warm_friction = unit_interval(child(node, "warm_friction"));
-  if (has(node, "contacts_first")) {
-    const Node first = child(node, "contacts_first");
-    solver.contacts_first = boolean(first);
-    if (solver.contacts_first && !method_entry(solver.method).contacts_first)
-      fail(first,
-           "applies to the methods pgs and matrix-free (method is " +
-               in_quotes(std::string(to_string(solver.method))) + ")");
-  }
-  if (has(node, "split_islands")) solver.split_islands = boolean(child(node, "split_islands"));
-  if (has(node, "cfm")) solver.cfm = nonnegative(child(node, "cfm"));
+  read_settings(node, solver_settings(), solver);
   if (has(node, "parameters")) read_method_parameters(child(node, "parameters"), solver);
   return solver;
 }
@@ -946,32 +911,11 @@ std::string scene_to_json(const Scene& scene) {
 
   Json world = Json::object();
   world["gravity"] = vec_json(scene.world.gravity);
-  for (const WorldSetting& s : world_settings()) {
-    if (s.applies != nullptr && !s.applies(scene.world)) continue;  // means nothing here
-    const std::string key(s.key);
-    const double value = s.get(scene.world);
-    if (s.type == SettingType::Word)
-      world[key] = setting_text(s, scene.world);
-    else if (s.type == SettingType::Whole)
-      world[key] = static_cast<long long>(value);
-    else
-      world[key] = value;
-  }
+  write_settings(world, world_settings(), scene.world);
   root["world"] = world;
 
   Json solver = Json::object();
-  solver["method"] = std::string(to_string(scene.solver.method));
-  solver["iterations"] = scene.solver.max_iterations;
-  solver["tolerance"] = scene.solver.tolerance;
-  solver["delta_tolerance"] = scene.solver.delta_tolerance;
-  solver["relaxation"] = scene.solver.relaxation;
-  solver["order"] = kRowOrders.at(static_cast<std::size_t>(scene.solver.order));
-  solver["seed"] = scene.solver.seed;
-  solver["warm"] = scene.solver.warm;
-  if (scene.solver.warm_friction) solver["warm_friction"] = *scene.solver.warm_friction;
-  solver["contacts_first"] = scene.solver.contacts_first;
-  solver["split_islands"] = scene.solver.split_islands;
-  solver["cfm"] = scene.solver.cfm;
+  write_settings(solver, solver_settings(), scene.solver);
   // The method's own parameters, numbers as numbers, words as the grammar writes them.
   Json parameters = Json::object();
   for (const auto& [key, value] : method_parameters(scene.solver.method, scene.solver.methods)) {

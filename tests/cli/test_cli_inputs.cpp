@@ -51,8 +51,8 @@ TEST_CASE("run lengths that give no step or too many are refused", "[cli][inputs
 TEST_CASE("option values are checked and named, without DBL_MAX in 300 digits", "[cli][inputs]") {
   const fs::path dir = scratch_dir("inputs_options");
   refused("run chain --seed -5", "--seed", dir);
-  refused("run chain --iterations -1", "'-1' is not a number > 0", dir);
-  refused("run chain --tolerance -1", "'-1' is not a number >= 0", dir);
+  refused("run chain --iterations -1", "--iterations -1: must be >= 1", dir);
+  refused("run chain --tolerance -1", "--tolerance -1: must be >= 0", dir);
   refused("run chain --solver pgs:order=random:order=natural", "'order=' given twice", dir);
   refused("run chain --check-tolerance 1e-3", "needs --check", dir);
   write_file(dir / "rod.json",

@@ -51,6 +51,36 @@ def test_settings_as_the_step_options():
     assert sim.stages()[-1].startswith("integrate")
 
 
+def test_solver_settings_as_the_scene_file():
+    """Every /solver setting is a property of its own name, written as a scene file writes it
+    and checked as a scene file checks it (relaxation's range by method, contacts_first)."""
+    scene = cbps.scene("chain")
+    assert (scene.method, scene.order, scene.split_islands, scene.contacts_first) == (
+        "pgs", "natural", True, False)
+    assert scene.warm_friction == scene.warm == 1.0  # follows warm until given
+    assert "warm_friction" not in json.loads(scene.to_json())["solver"]
+    scene.relaxation = 1.5
+    with pytest.raises(cbps.InputError, match=r"method 'jacobi': takes a relaxation in \(0, 1\]"):
+        scene.method = "jacobi"
+    scene.order, scene.contacts_first, scene.warm_friction = "random", True, 0.0
+    scene.delta_tolerance, scene.seed = 1e-6, 12
+    scene.relaxation = 1.0
+    with pytest.raises(cbps.InputError, match="method 'direct': takes no contacts_first"):
+        scene.method = "direct"
+    scene.contacts_first = False
+    scene.method = "direct"
+    with pytest.raises(cbps.InputError, match="contacts_first True: applies to the methods pgs"):
+        scene.contacts_first = True
+    scene.method = "pgs"
+    scene.contacts_first = True
+    with pytest.raises(cbps.InputError, match="split_islands 1: expected True or False"):
+        scene.split_islands = 1
+    solver = json.loads(scene.to_json())["solver"]
+    assert solver["order"] == "random" and solver["contacts_first"] is True
+    assert solver["warm_friction"] == 0.0 and solver["delta_tolerance"] == 1e-6
+    assert solver["seed"] == 12 and solver["method"] == "pgs"
+
+
 def test_scheme_substeps_as_the_command_line(tmp_path):
     """scene.scheme and scene.substeps are --scheme and --substeps: the same scene file, and
     a run of 30 steps ends where `cbps run` ends."""
