@@ -80,10 +80,8 @@ void apply_setting_options(T& target,
 
 }  // namespace
 
-void add_solver_options(CLI::App* cmd,
-                        StepOptions& o,
-                        std::initializer_list<std::string_view> keys) {
-  for (const std::string_view key : keys)
+void add_solver_options(CLI::App* cmd, StepOptions& o, std::initializer_list<const char*> keys) {
+  for (const char* key : keys)
     add_setting_option(cmd, o.solver_settings, *find_solver_setting(key));  // an option's key
 }
 

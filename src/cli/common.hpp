@@ -8,7 +8,6 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "cbps/io/json_numbers.hpp"
@@ -45,9 +44,7 @@ void add_scene_options(
 /// --integrator, --scheme, --substeps and the schemes' own).
 void add_world_options(CLI::App* cmd, StepOptions& o);
 /// --KEY of the solver settings `keys` (settings.hpp; each one whose entry is an option).
-void add_solver_options(CLI::App* cmd,
-                        StepOptions& o,
-                        std::initializer_list<std::string_view> keys);
+void add_solver_options(CLI::App* cmd, StepOptions& o, std::initializer_list<const char*> keys);
 /// The world (solver) options given onto a world (solver), in the table's order (a scheme before
 /// its own settings), each checked as a scene file's /world/KEY (/solver/KEY) is: InputError
 /// naming the option.

@@ -44,7 +44,7 @@ struct ConvergeOptions {
   bool solvers_given = false;  ///< --solvers was given (an empty list is refused)
   std::string cone;            ///< --cone: an FCLIB file's law
   long at_step = 0;
-  int iterations = 100000;
+  int iterations = kStudyIterations;
   int record_every = kRecordLog;                 ///< --record-every: K, or log (kRecordLog)
   double tolerance = SolveSettings{}.tolerance;  ///< N, the one default (solver.hpp)
   double time_limit = 10.0;
@@ -256,9 +256,12 @@ void register_converge(CLI::App& app, Action& run) {
   add_world_options(cmd, o->step);
   cmd->add_option("--iterations",
                   o->iterations,
-                  "max sweeps per solver; TAO's iterations for tao:TYPE (default 100000)")
+                  "max sweeps per solver; TAO's iterations for tao:TYPE (default " +
+                      std::to_string(kStudyIterations) + ")")
       ->check(positive());
-  cmd->add_option("--tolerance", o->tolerance, "stop at this residual, N (default 1e-10)")
+  cmd->add_option("--tolerance",
+                  o->tolerance,
+                  "stop at this residual, N (default " + number_text(o->tolerance) + ")")
       ->check(non_negative());
   cmd->add_option_function<std::string>(
          "--record-every",

@@ -36,7 +36,7 @@ namespace fs = std::filesystem;
 struct LcpOptions {
   std::string problem;
   std::string solver;
-  int iterations = 10000;
+  int iterations = kProblemIterations;
   double tolerance = SolveSettings{}.tolerance;  ///< N, the one default (solver.hpp)
   double time_limit = 0.0;                       ///< --time-limit, s; 0: none
   bool json = false;
@@ -202,19 +202,21 @@ void register_lcp(CLI::App& app, Action& run) {
                   o->iterations,
                   "the iterative methods (all but direct, active-set and lemke): at most this "
                   "many sweeps (apgd, admm, nncg, pgs-sm: iterations); tao:TYPE: TAO's "
-                  "iterations (default 10000)")
+                  "iterations (default " +
+                      std::to_string(kProblemIterations) + ")")
       ->check(positive());
   cmd->add_option(
          "--tolerance",
          o->tolerance,
-         "every method but lemke and tao:TYPE: stop at this natural-map residual, N (default "
-         "1e-10; the direct path also reads it as a unit-free residual, docs/cones.md; below "
-         "their rounding floor the exact paths stop there once their steps no longer reduce the "
-         "residual; lemke pivots to the end). tao:TYPE: TAO's absolute tolerance gatol on its "
-         "own measure (a 2-norm of the gradient without the rows TAO holds at a bound; for "
-         "bqpip its mean infeasibility), not the natural-map residual. Whatever the method "
-         "says, the result is judged solved when its unit-free residual is <= 1e-9 (under "
-         "mpirun: the natural-map residual <= 1e-9 max(1, |b|inf, max |A_ij|))")
+         "every method but lemke and tao:TYPE: stop at this natural-map residual, N (default " +
+             number_text(o->tolerance) +
+             "; the direct path also reads it as a unit-free residual, docs/cones.md; below their "
+             "rounding floor the exact paths stop there once their steps no longer reduce the "
+             "residual; lemke pivots to the end). tao:TYPE: TAO's absolute tolerance gatol on "
+             "its own measure (a 2-norm of the gradient without the rows TAO holds at a bound; "
+             "for bqpip its mean infeasibility), not the natural-map residual. Whatever the "
+             "method says, the result is judged solved when its unit-free residual is <= 1e-9 "
+             "(under mpirun: the natural-map residual <= 1e-9 max(1, |b|inf, max |A_ij|))")
       ->check(non_negative());
   cmd->add_option("--time-limit",
                   o->time_limit,

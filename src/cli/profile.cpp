@@ -27,7 +27,7 @@ struct ProfileOptions {
   std::string solvers = "pgs,psor:1.3,sgs,pgs-nesterov,apgd,nncg,pgs-sm,admm,rbgs,block-pgs,direct";
   std::string out;
   bool quick = false;
-  int budget_iterations = 100000;
+  int budget_iterations = kStudyIterations;
   double time_limit = 1.0;
   bool json = false;
   bool quiet = false;
@@ -126,10 +126,10 @@ void register_profile(CLI::App& app, Action& run) {
           o->solvers + ")");
   cmd->footer(solver_spec_help() + tao_spec_help());
   cmd->add_flag("--quick", o->quick, "only the problems the library marks quick");
-  cmd->add_option(
-         "--budget-iterations",
-         o->budget_iterations,
-         "max sweeps per problem and solver; TAO's iterations for tao:TYPE (default 100000)")
+  cmd->add_option("--budget-iterations",
+                  o->budget_iterations,
+                  "max sweeps per problem and solver; TAO's iterations for tao:TYPE (default " +
+                      std::to_string(kStudyIterations) + ")")
       ->check(positive());
   cmd->add_option("--time-limit",
                   o->time_limit,

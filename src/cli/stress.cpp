@@ -89,28 +89,24 @@ int stress_command(const StressOptions& o) {
                             const StressResult* r) {
     const auto now = std::chrono::steady_clock::now();
     if (o.quiet || (r == nullptr && now - last < std::chrono::seconds(5))) return;
-    if (r == nullptr) {
-      last = now;
-      std::fprintf(stderr,
-                   "cbps stress: [%zu/%zu] %s %s: step %ld/%ld\n",
-                   done,
-                   total,
-                   c.name.c_str(),
-                   solver.c_str(),
-                   step,
-                   steps);
-      return;
-    }
     last = now;
+    char what[160];
+    if (r == nullptr)
+      std::snprintf(what, sizeof what, "step %ld/%ld", step, steps);
+    else
+      std::snprintf(what,
+                    sizeof what,
+                    "%s, %.2f s (%.0f s in all)",
+                    r->status.c_str(),
+                    r->wall_time_s,
+                    std::chrono::duration<double>(now - start).count());
     std::fprintf(stderr,
-                 "cbps stress: [%zu/%zu] %s %s: %s, %.2f s (%.0f s in all)\n",
+                 "cbps stress: [%zu/%zu] %s %s: %s\n",
                  done,
                  total,
                  c.name.c_str(),
                  solver.c_str(),
-                 r->status.c_str(),
-                 r->wall_time_s,
-                 std::chrono::duration<double>(now - start).count());
+                 what);
   };
   const std::vector<StressResult> results = run_stress_catalogue(
       cases, kept, o.budget, progress, integrator_named(o.integrator).value_or(Integrator::Paper));

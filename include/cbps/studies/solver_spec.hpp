@@ -17,6 +17,14 @@
 
 namespace cbps {
 
+/// The sweeps one solve of a stored problem may take at most (`cbps lcp --iterations`, Python's
+/// solve(iterations=)): a budget for a whole problem, unlike a scene's sweeps per step
+/// (SolveSettings::max_iterations).
+inline constexpr int kProblemIterations = 10000;
+/// The sweeps each solver may take at most in the studies that run every solver to a tolerance
+/// (`cbps converge --iterations`, `cbps profile --budget-iterations`).
+inline constexpr int kStudyIterations = 100000;
+
 /// One parsed spec. The names:
 ///   pgs          7.1.1 (omega = 1); psor:OMEGA is PGS with relaxation 0 < OMEGA < 2
 ///   jacobi       projected Jacobi; jacobi:OMEGA damps it, 0 < OMEGA ≤ 1
