@@ -124,8 +124,7 @@ SolverSpec parse_solver_spec(const std::string& text, const std::string& what) {
     if (sorts) valid += "contacts_first, ";
     valid += "warm, warm_friction";
     bool known = false;
-    for (const MethodKey& m : method_keys()) {
-      if (m.method != spec.method) continue;
+    for (const MethodKey& m : method_entry(spec.method).keys) {
       valid += ", " + std::string(m.key);
       if (m.key != key) continue;
       known = true;

@@ -24,8 +24,22 @@ inline constexpr unsigned kRelaxationLaw = 1;  ///< the convex relaxation (Frict
 inline constexpr unsigned kCoulombLaw = 2;     ///< Coulomb's law (FrictionLaw::CoulombCone)
 inline constexpr unsigned kEitherLaw = kRelaxationLaw | kCoulombLaw;
 
-/// One method: its own name, its traits and its solve function. The traits' meanings are the
-/// questions of solver.hpp that read them.
+/// A method's own key=value: the key, what it accepts (for messages) and its setter (false for a
+/// value out of range), over the method's settings (method_settings.hpp). Each method's keys
+/// are written beside its code, in its entry.
+struct MethodKey {
+  std::string_view key;
+  std::string_view accepts;
+  bool (*set)(const std::string& value, MethodSettings& settings);
+  std::string (*get)(const MethodSettings& settings);  ///< as the grammar writes it
+};
+/// The pieces keys are made of: x as the grammar reads it back (the shortest text that does),
+/// and a whole number ≥ 1 (a count of sweeps or iterations) read into out.
+std::string key_number(double x);
+bool key_count(const std::string& value, int& out);
+
+/// One method: its own name, its traits, its solve function and its own keys. The traits'
+/// meanings are the questions of solver.hpp that read them.
 struct MethodEntry {
   Method method;
   std::string_view name;        ///< its own name (to_string); aliases are apart (method_table)
@@ -53,7 +67,8 @@ struct MethodEntry {
   SolverSummary (*solve)(const BoxedProblem& problem,
                          VecX& lambda,
                          const SolverOptions& options) = nullptr;
-  std::string_view what;  ///< one line for --help
+  std::string_view what;              ///< one line for --help
+  std::span<const MethodKey> keys{};  ///< its own key=value, written beside it; none: {}
 };
 
 /// Every method's entry, in the order --help lists them. Each is written beside its code (the
@@ -81,18 +96,6 @@ std::span<const MethodName> method_table();
 /// The entry of a name, or null.
 const MethodName* find_method_name(std::string_view name);
 
-/// A method's own key=value: the method, the key, what it accepts (for messages) and its setter
-/// (false for a value out of range).
-struct MethodKey {
-  Method method;
-  std::string_view key;
-  std::string_view accepts;
-  bool (*set)(const std::string& value, MethodSettings& settings);
-  std::string (*get)(const MethodSettings& settings);  ///< as the grammar writes it
-};
-
-/// Every method's own keys.
-std::span<const MethodKey> method_keys();
 /// The key of a method, or null.
 const MethodKey* find_method_key(Method method, std::string_view key);
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/solvers/exact/cholmod_factor.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/system/cone_problem.hpp"
@@ -110,6 +111,33 @@ SolverSummary admm_method(const BoxedProblem& p, VecX& lambda, const SolverOptio
 
 }  // namespace
 
+/// admm's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kAdmmKeys[] = {
+    {"rho",
+     "a number > 0",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.admm.rho) && s.admm.rho > 0.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.admm.rho); }},
+    {"alpha",
+     "a number in (0, 2)",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.admm.alpha) && s.admm.alpha > 0.0 && s.admm.alpha < 2.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.admm.alpha); }},
+    {"adapt",
+     "on or off",
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.admm.adapt_rho); },
+     [](const MethodSettings& s) -> std::string { return s.admm.adapt_rho ? "on" : "off"; }},
+    {"rho_min",
+     "a number > 0",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.admm.rho_min) && s.admm.rho_min > 0.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.admm.rho_min); }},
+};
+
 extern const MethodEntry kAdmmEntry;
 constexpr MethodEntry kAdmmEntry{
     .method = Method::Admm,
@@ -121,6 +149,7 @@ constexpr MethodEntry kAdmmEntry{
     .what =
         "ADMM with one factor of A + rho E (Boyd et al. 2011); rho=, alpha=, adapt=on|off, "
         "rho_min=",
+    .keys = kAdmmKeys,
 };
 
 }  // namespace cbps

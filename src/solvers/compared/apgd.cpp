@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/system/cone_problem.hpp"
 
@@ -115,6 +116,27 @@ SolverSummary apgd_method(const BoxedProblem& p, VecX& lambda, const SolverOptio
 
 }  // namespace
 
+/// apgd's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kApgdKeys[] = {
+    {"restart",
+     "on or off",
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.apgd.restart); },
+     [](const MethodSettings& s) -> std::string { return s.apgd.restart ? "on" : "off"; }},
+    {"grow",
+     "a number > 1",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.apgd.grow) && s.apgd.grow > 1.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.apgd.grow); }},
+    {"shrink",
+     "a number in (0, 1]",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.apgd.shrink) && s.apgd.shrink > 0.0 && s.apgd.shrink <= 1.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.apgd.shrink); }},
+};
+
 extern const MethodEntry kApgdEntry;
 constexpr MethodEntry kApgdEntry{
     .method = Method::Apgd,
@@ -126,6 +148,7 @@ constexpr MethodEntry kApgdEntry{
     .what =
         "accelerated projected gradient descent (Mazhar et al. 2015); grow=, shrink=, "
         "restart=on|off",
+    .keys = kApgdKeys,
 };
 
 }  // namespace cbps

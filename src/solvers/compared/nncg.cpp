@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "../sweep.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
@@ -65,6 +66,17 @@ SolverSummary nncg_method(const BoxedProblem& p, VecX& lambda, const SolverOptio
 
 }  // namespace
 
+/// nncg's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kNncgKeys[] = {
+    {"restart_beta",
+     "a number >= 0",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.nncg.restart_beta) && s.nncg.restart_beta >= 0.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.nncg.restart_beta); }},
+};
+
 extern const MethodEntry kNncgEntry;
 constexpr MethodEntry kNncgEntry{
     .method = Method::Nncg,
@@ -75,6 +87,7 @@ constexpr MethodEntry kNncgEntry{
     .what =
         "nonsmooth nonlinear conjugate gradient on PGS sweeps (Silcowitz, Niebe & Erleben "
         "2010); restart_beta=",
+    .keys = kNncgKeys,
 };
 
 }  // namespace cbps

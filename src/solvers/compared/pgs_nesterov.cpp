@@ -94,6 +94,15 @@ SolverSummary pgs_nesterov_method(const BoxedProblem& p, VecX& lambda, const Sol
 
 }  // namespace
 
+/// pgs-nesterov's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kPgsNesterovKeys[] = {
+    {"restart",
+     "on or off",
+     [](const std::string& v, MethodSettings& s) { return on_off(v, s.pgs_nesterov.restart); },
+     [](const MethodSettings& s) -> std::string { return s.pgs_nesterov.restart ? "on" : "off"; }},
+};
+
 extern const MethodEntry kPgsNesterovEntry;
 constexpr MethodEntry kPgsNesterovEntry{
     .method = Method::PgsNesterov,
@@ -105,6 +114,7 @@ constexpr MethodEntry kPgsNesterovEntry{
     .what =
         "PGS with Nesterov momentum and adaptive restart (O'Donoghue & Candes 2015); "
         "restart=on|off",
+    .keys = kPgsNesterovKeys,
 };
 
 }  // namespace cbps

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "../sweep.hpp"
+#include "cbps/base/numbers.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 
@@ -209,6 +210,26 @@ SolverSummary pgs_sm_method(const BoxedProblem& p, VecX& lambda, const SolverOpt
 
 }  // namespace
 
+/// pgs-sm's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kPgsSmKeys[] = {
+    {"sweeps",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return key_count(v, s.pgs_sm.pgs_sweeps); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.pgs_sm.pgs_sweeps); }},
+    {"cg",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return key_count(v, s.pgs_sm.cg_iterations); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.pgs_sm.cg_iterations); }},
+    {"cg_tolerance",
+     "a number in (0, 1)",
+     [](const std::string& v, MethodSettings& s) {
+       return parse_number(v, s.pgs_sm.cg_tolerance) && s.pgs_sm.cg_tolerance > 0.0 &&
+              s.pgs_sm.cg_tolerance < 1.0;
+     },
+     [](const MethodSettings& s) -> std::string { return key_number(s.pgs_sm.cg_tolerance); }},
+};
+
 extern const MethodEntry kPgsSmEntry;
 constexpr MethodEntry kPgsSmEntry{
     .method = Method::PgsSm,
@@ -219,6 +240,7 @@ constexpr MethodEntry kPgsSmEntry{
     .what =
         "PGS with subspace minimization by CG (Silcowitz, Niebe & Erleben 2010); sweeps=, "
         "cg=, cg_tolerance=",
+    .keys = kPgsSmKeys,
 };
 
 }  // namespace cbps

@@ -154,6 +154,23 @@ SolverSummary shock_method(const BoxedProblem& p, VecX& lambda, const SolverOpti
 
 }  // namespace
 
+/// shock's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kShockKeys[] = {
+    {"level_sweeps",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return key_count(v, s.shock.level_sweeps); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.shock.level_sweeps); }},
+    {"direction",
+     "up or down",
+     [](const std::string& v, MethodSettings& s) {
+       if (v != "up" && v != "down") return false;
+       s.shock.top_down = v == "down";
+       return true;
+     },
+     [](const MethodSettings& s) -> std::string { return s.shock.top_down ? "down" : "up"; }},
+};
+
 extern const MethodEntry kShockEntry;
 constexpr MethodEntry kShockEntry{
     .method = Method::Shock,
@@ -164,6 +181,7 @@ constexpr MethodEntry kShockEntry{
     .what =
         "PGS level by level from the ground up (Guendelman, Bridson & Fedkiw 2003); "
         "level_sweeps=, direction=up|down",
+    .keys = kShockKeys,
 };
 
 }  // namespace cbps

@@ -131,6 +131,15 @@ SolverSummary solve_nsgs(const BoxedProblem& problem, VecX& lambda, const Solver
 
 // This file's entry in the one table of methods (methods.hpp, gathered by methods.cpp).
 
+/// nsgs's own keys (`--solver NAME:key=value`, /solver/parameters), over its settings
+/// (method_settings.hpp).
+constexpr MethodKey kNsgsKeys[] = {
+    {"local",
+     "a whole number >= 1",
+     [](const std::string& v, MethodSettings& s) { return key_count(v, s.nsgs.local); },
+     [](const MethodSettings& s) -> std::string { return std::to_string(s.nsgs.local); }},
+};
+
 extern const MethodEntry kNsgsEntry;
 constexpr MethodEntry kNsgsEntry{
     .method = Method::Nsgs,
@@ -140,6 +149,7 @@ constexpr MethodEntry kNsgsEntry{
     .what =
         "non-smooth Gauss-Seidel: 7.1.1 with each contact's rows projected onto its friction "
         "cone (Jean & Moreau 1992); local=; PGS where no row is in a cone",
+    .keys = kNsgsKeys,
 };
 
 }  // namespace cbps
