@@ -69,3 +69,25 @@ if(CBPS_BUILD_TESTS AND cbps_peers_missing)
     set_tests_properties(peers-${_library}-not-built-exits-2 PROPERTIES LABELS peers TIMEOUT 60)
   endwhile()
 endif()
+
+# MuJoCo 2.2 (Debian: libmujoco-dev): `cbps mujoco` exports the constraint problem of a step
+# of MuJoCo's own as a cbps problem (src/io/mujoco_problem.cpp, docs/mujoco.md). Optional like the
+# peers: without it, `cbps mujoco` exits 2 saying how to get it.
+# Found by its header and library: Debian's mujocoConfig.cmake names qhull's headers, which
+# libmujoco-dev does not bring.
+if(CBPS_PEERS)
+  find_path(CBPS_MUJOCO_INCLUDE_DIR mujoco/mujoco.h)
+  find_library(CBPS_MUJOCO_LIBRARY mujoco)
+endif()
+if(CBPS_MUJOCO_INCLUDE_DIR AND CBPS_MUJOCO_LIBRARY)
+  add_library(cbps_mujoco INTERFACE IMPORTED)
+  target_include_directories(cbps_mujoco SYSTEM INTERFACE "${CBPS_MUJOCO_INCLUDE_DIR}")
+  target_link_libraries(cbps_mujoco INTERFACE "${CBPS_MUJOCO_LIBRARY}")
+  target_link_libraries(cbps_core PRIVATE cbps_mujoco)
+  target_compile_definitions(cbps_core PRIVATE CBPS_HAVE_MUJOCO)
+  list(APPEND cbps_peers_found mujoco)
+  message(STATUS "cbps: MuJoCo found (${CBPS_MUJOCO_LIBRARY}): cbps mujoco")
+else()
+  message(STATUS "cbps: MuJoCo ${cbps_peers_why} (Debian: libmujoco-dev; scripts/setup.sh): "
+                 "cbps mujoco exits 2 saying so")
+endif()

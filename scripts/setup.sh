@@ -37,6 +37,8 @@ packages=(
   # FCLIB files (docs/cones.md): HDF5 for cbps's reader and writer; FCLIB's own library for the
   # tests (its reader and merit function check what cbps writes).
   libhdf5-dev libfclib-dev
+  # MuJoCo's C API for `cbps mujoco` (docs/mujoco.md), and its sample models for the study.
+  libmujoco-dev libmujoco-samples
 )
 if [ "$with_petsc" -eq 1 ]; then
   # PETSc 3.18 (pkg-config PETSc) with Open MPI's headers and its mpirun; and OpenBLAS's

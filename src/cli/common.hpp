@@ -140,6 +140,7 @@ void register_explain(CLI::App& app, Action& run);
 void register_matrices(CLI::App& app, Action& run);
 void register_lcp(CLI::App& app, Action& run);
 void register_check(CLI::App& app, Action& run);
+void register_mujoco(CLI::App& app, Action& run);
 void register_verify(CLI::App& app, Action& run);
 void register_converge(CLI::App& app, Action& run);
 void register_profile(CLI::App& app, Action& run);

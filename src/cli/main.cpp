@@ -65,6 +65,7 @@ int run(int argc, char** argv) {
   cbps::cli::register_matrices(app, action);
   cbps::cli::register_lcp(app, action);
   cbps::cli::register_check(app, action);
+  cbps::cli::register_mujoco(app, action);
   cbps::cli::register_verify(app, action);
   cbps::cli::register_converge(app, action);
   cbps::cli::register_profile(app, action);
