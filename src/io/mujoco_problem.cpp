@@ -129,12 +129,11 @@ const char* solver_word(int solver) {
   return solver == mjSOL_PGS ? "pgs" : solver == mjSOL_CG ? "cg" : "newton";
 }
 
-/// MuJoCo's rows of the current forward pass as a cbps problem (the header's mapping).
-MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long step) {
+/// The step's matrices as MuJoCo holds them: J (efc_J, dense or sparse), M (mj_fullM), R,
+/// MuJoCo's forces and, where its PGS formed it, efc_AR; and A = J M⁻¹ Jᵀ + R (symmetrized: the
+/// two halves of J M⁻¹ Jᵀ differ by round-off), b = aref − J qacc_smooth.
+void read_matrices(const mjModel* m, mjData* d, MujocoStep& s) {
   const int nefc = d->nefc, nv = m->nv;
-  MujocoStep s;
-  s.step = step;
-  s.time = d->time;
   s.J = MatX::Zero(nefc, nv);
   if (mj_isSparse(m)) {
     for (int i = 0; i < nefc; ++i)
@@ -167,18 +166,26 @@ MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long s
   p.folder = true;
   p.without_jacobian = "a MuJoCo step's folder keeps J and M apart (A holds R as well)";
   p.A = A.sparseView(0.0, 0.0);
-  VecX qacc_smooth = Eigen::Map<const VecX>(d->qacc_smooth, nv);
+  const VecX qacc_smooth = Eigen::Map<const VecX>(d->qacc_smooth, nv);
   p.b = Eigen::Map<const VecX>(d->efc_aref, nefc) - s.J * qacc_smooth;
-  p.cmin = VecX::Constant(nefc, -kInf);
-  p.cmax = VecX::Constant(nefc, kInf);
-  p.blocks.assign(std::size_t(nefc), -1);
-  s.labels.resize(std::size_t(nefc));
   s.force = Eigen::Map<const VecX>(d->efc_force, nefc);
   if (mj_isDual(m) && !mj_isSparse(m)) {
     s.AR = MatX(nefc, nefc);
     for (int i = 0; i < nefc; ++i)
       for (int j = 0; j < nefc; ++j) s.AR(i, j) = d->efc_AR[i * nefc + j];
   }
+}
+
+/// Each row's set and label from its MuJoCo type (the header's mapping); InputError naming a
+/// row cbps has no law for.
+void map_rows(const mjModel* m, const mjData* d, const std::string& model, MujocoStep& s) {
+  const int nefc = d->nefc;
+  const long step = s.step;
+  StoredProblem& p = s.problem;
+  p.cmin = VecX::Constant(nefc, -kInf);
+  p.cmax = VecX::Constant(nefc, kInf);
+  p.blocks.assign(std::size_t(nefc), -1);
+  s.labels.resize(std::size_t(nefc));
   std::vector<double> mu;
   for (int i = 0; i < nefc;) {
     const int id = d->efc_id[i];
@@ -250,7 +257,11 @@ MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long s
   p.cones.mu = Eigen::Map<const VecX>(mu.data(), Eigen::Index(mu.size()));
   p.cones.law = FrictionLaw::Relaxation;
   p.labels = s.labels;
-  MujocoSolve& v = s.solve;
+}
+
+/// MuJoCo's own account of the solve: its solver, cone, iterations and their statistics.
+MujocoSolve solve_of(const mjModel* m, const mjData* d) {
+  MujocoSolve v;
   v.solver = solver_word(m->opt.solver);
   v.cone = m->opt.cone == mjCONE_ELLIPTIC ? "elliptic" : "pyramidal";
   v.iterations = d->solver_iter;
@@ -261,6 +272,17 @@ MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long s
     v.improvement.push_back(d->solver[k].improvement);
     v.gradient.push_back(d->solver[k].gradient);
   }
+  return v;
+}
+
+/// MuJoCo's problem of the current forward pass as a cbps problem (the header's mapping).
+MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long step) {
+  MujocoStep s;
+  s.step = step;
+  s.time = d->time;
+  read_matrices(m, d, s);
+  map_rows(m, d, model, s);
+  s.solve = solve_of(m, d);
   return s;
 }
 

@@ -7,6 +7,7 @@
 // 12.3.1.
 #pragma once
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -70,5 +71,10 @@ Explained explain_step(const Scene& scene, const Simulation& sim, long at_step);
 
 /// `cbps explain --json`: every block with its equation, unit and value.
 nlohmann::json explain_json(const Explained& e);
+
+/// `cbps explain`'s text: J, Minv, A (dense when narrow, else their nonzeros), v1, fext,
+/// upsilon, b, lambda against its bounds with w and each row's status, v2 and the solver's
+/// message, labelled, with units and equation numbers (explain_text.cpp).
+void print_explain_text(std::FILE* out, const Explained& e);
 
 }  // namespace cbps
