@@ -32,6 +32,12 @@ void register_mujoco(CLI::App& app, Action& run) {
       ->check(non_negative());
   cmd->add_option("--mujoco-tolerance", o->run.tolerance, "(default: the model's)")
       ->check(non_negative());
+  cmd->add_option("--ladder",
+                  o->run.ladder,
+                  "also solve each exported step's state again by MuJoCo's pgs, cg and newton "
+                  "with 1, 2, 4, ... up to N iterations and tolerance 0, each answer's unit-free "
+                  "residual in mujoco.json (default 0: none)")
+      ->check(non_negative());
   add_out_option(cmd, o->out, "step-K/ per step exported")->required();
   add_quiet_flag(cmd, o->quiet, "no line per step exported");
   cmd->callback([&run, o] {

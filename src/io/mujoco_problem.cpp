@@ -12,6 +12,7 @@
 
 #include "cbps/base/error.hpp"
 #include "cbps/io/matrix_market.hpp"
+#include "cbps/system/unit_free.hpp"
 
 #ifdef CBPS_HAVE_MUJOCO
 #include <mujoco/mujoco.h>
@@ -28,6 +29,16 @@ void write_json_file(const std::string& path, const nlohmann::json& j) {
   out << j.dump(2) << "\n";
   out.flush();
   if (!out) throw std::runtime_error(path + ": write failed");
+}
+
+nlohmann::json ladder_json(const std::vector<MujocoRung>& ladder) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const MujocoRung& r : ladder)
+    out.push_back({{"solver", r.solver},
+                   {"iterations", r.iterations},
+                   {"used", r.used},
+                   {"unit_free", r.unit_free}});
+  return out;
 }
 
 /// The files every step writes beside the problem's.
@@ -79,7 +90,8 @@ void write_files(const MujocoStep& s, const std::string& model, const FileSink& 
                      {"gradient", v.gradient},
                      {"rows", s.problem.rows()},
                      {"nv", s.M.rows()},
-                     {"contacts", v.contacts}});
+                     {"contacts", v.contacts},
+                     {"ladder", ladder_json(s.ladder)}});
   });
 }
 
@@ -286,6 +298,29 @@ MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long s
   return s;
 }
 
+/// The ladder of MujocoRun::ladder on the state of the forward pass just made (its problem in
+/// s), each rung from the step's own warm start `warm`; the model's options restored after.
+void climb_ladder(mjModel* m, mjData* d, int top, const std::vector<mjtNum>& warm, MujocoStep& s) {
+  const mjOption own = m->opt;
+  const BoxedProblem problem = s.problem.problem();
+  for (const int solver : {mjSOL_PGS, mjSOL_CG, mjSOL_NEWTON}) {
+    for (int k = 1; k <= top; k *= 2) {
+      m->opt.solver = solver;
+      m->opt.iterations = k;
+      m->opt.tolerance = 0.0;  // exactly k iterations, unless MuJoCo stops by itself (used)
+      std::copy(warm.begin(), warm.end(), d->qacc_warmstart);  // the step's own warm start
+      mj_forward(m, d);
+      if (d->nefc != s.problem.rows())
+        throw std::logic_error("MuJoCo's rows changed between two forward passes of one state");
+      const VecX force = Eigen::Map<const VecX>(d->efc_force, d->nefc);
+      s.ladder.push_back(
+          {solver_word(solver), k, d->solver_iter, unit_free_residual(problem, force).relative});
+      if (k > top / 2) break;
+    }
+  }
+  m->opt = own;
+}
+
 }  // namespace
 
 bool mujoco_built() { return true; }
@@ -341,8 +376,15 @@ void run_mujoco(const MujocoRun& run, const std::function<void(const MujocoStep&
     const bool exported = (run.every > 0 && k % run.every == 0) ||
                           std::find(run.at.begin(), run.at.end(), k) != run.at.end();
     if (exported) {
-      mj_forward(m, d);  // the step's own forward pass; mj_step repeats it exactly
-      each(capture(m, d, run.model, k));
+      // mj_forward writes its answer into qacc_warmstart: every pass of this state starts from
+      // the warm start the step had, so that mj_step repeats the exported pass exactly and the
+      // run is the run without export.
+      const std::vector<mjtNum> warm(d->qacc_warmstart, d->qacc_warmstart + m->nv);
+      mj_forward(m, d);
+      MujocoStep s = capture(m, d, run.model, k);
+      if (run.ladder > 0) climb_ladder(m, d, run.ladder, warm, s);
+      each(s);
+      std::copy(warm.begin(), warm.end(), d->qacc_warmstart);
     }
     mj_step(m, d);
     for (int w = 0; w < mjNWARNING; ++w)

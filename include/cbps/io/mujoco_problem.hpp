@@ -31,6 +31,9 @@ struct MujocoRun {
   std::string solver;       ///< MuJoCo's solver: pgs, cg or newton; empty: the model's
   int iterations = -1;      ///< MuJoCo's opt.iterations; negative: the model's
   double tolerance = -1.0;  ///< MuJoCo's opt.tolerance; negative: the model's
+  /// For each exported step, MuJoCo's three solvers again on its state, 1, 2, 4, ... up to
+  /// this many iterations (MujocoRung); 0: none.
+  int ladder = 0;
 };
 
 /// MuJoCo's own account of one step's solve.
@@ -43,6 +46,17 @@ struct MujocoSolve {
   /// Per iteration (at most mjNSOLVER = 1000 kept by MuJoCo): its improvement and gradient.
   std::vector<double> improvement, gradient;
   int contacts = 0;  ///< ncon
+};
+
+/// How far each MuJoCo solver gets on one step's problem in a given number of iterations: the
+/// step's state solved again by pgs, cg and newton with opt.iterations = 1, 2, 4, ... and
+/// opt.tolerance 0, each answer's unit-free residual (system/unit_free.hpp) on the exported
+/// problem. MujocoRun::ladder asks for it.
+struct MujocoRung {
+  std::string solver;
+  int iterations = 0;  ///< the iterations allowed
+  int used = 0;        ///< the iterations MuJoCo ran (fewer where it stopped by itself)
+  double unit_free = 0.0;
 };
 
 /// One exported step: the problem, MuJoCo's forces and the matrices it was made of.
@@ -58,6 +72,7 @@ struct MujocoStep {
   MatX
       AR;  ///< efc_AR (J M⁻¹ Jᵀ + R) where MuJoCo formed it (its PGS, a dense Jacobian); else empty
   MujocoSolve solve;
+  std::vector<MujocoRung> ladder;  ///< with MujocoRun::ladder
 };
 
 /// True in a build with MuJoCo.
