@@ -62,6 +62,7 @@ MODULES = {
     "docs/peers.md": "doc_tables_peers",
     "docs/cones.md": "doc_tables_cones",
     "docs/siconos-study.md": "doc_tables_siconos_study",
+    "docs/mujoco.md": "doc_tables_mujoco",
     "bench/README.md": "doc_tables_bench_readme",
     "validation/README.md": "doc_tables_validation_readme",
 }

@@ -15,7 +15,7 @@ distance from direct's exact answer, ‖lambda − lambda*‖∞ over the force 
 profiled on the steps of the Newton run (`cbps profile --solvers pgs,apgd,direct`).
 
 Writes OUT/study.json (the numbers docs/mujoco.md's tables are generated from, by
-scripts/doc_tables.py) and OUT/mujoco-study.png (the distance per step). Each run's folders go to
+scripts/doc_tables.py) and docs/mujoco-study.png (the residual of MuJoCo's forces per step). Each run's folders go to
 a temporary folder that is removed at the end. Standard library, and matplotlib for the figure.
 """
 import argparse
@@ -105,10 +105,24 @@ def profile(cbps, folder, out):
     for m in p["measurements"]:
         per.setdefault(m["solver"], []).append(
             {"problem": m["problem"], "status": m["status"],
-             "reached": {t: m["reached"][t]["iterations"] if m["reached"][t] else None
-                         for t in m["reached"]},
+             "reached": m["reached"],  # per tolerance: iterations and time_s, or null
              "time_s": m["time_s"]})
     return per
+
+
+def machine():
+    """The processor's make and the cores, as "AMD EPYC, 2 cores"."""
+    name = "unknown processor"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    words = line.split(":", 1)[1].split()
+                    name = " ".join(words[:2])
+                    break
+    except OSError:
+        pass
+    return f"{name}, {os.cpu_count()} cores"
 
 
 def figure(study, path):
@@ -144,7 +158,8 @@ def main():
     version = run([cbps, "--version"]).stdout.strip()
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
-    study = {"command": "/usr/bin/python3 validation/mujoco_study.py build/release/cbps "
+    study = {"format": "cbps-mujoco-study/1", "machine": machine(),
+             "command": "/usr/bin/python3 validation/mujoco_study.py build/release/cbps "
                         "validation/results/mujoco",
              "steps": args.steps, "every": args.every, "ladder": args.ladder,
              "tolerances": TOLERANCES, "cbps_solvers": CBPS_SOLVERS, "cbps": version,
@@ -164,7 +179,7 @@ def main():
     with open(os.path.join(args.out, "study.json.tmp"), "w") as f:
         json.dump(study, f, indent=1)
     os.replace(os.path.join(args.out, "study.json.tmp"), os.path.join(args.out, "study.json"))
-    figure(study, os.path.join(args.out, "mujoco-study.png"))
+    figure(study, os.path.join(ROOT, "docs", "mujoco-study.png"))
     print(f"mujoco_study.py: wrote {args.out} ({study['wall_time_s']} s)", file=sys.stderr)
 
 
