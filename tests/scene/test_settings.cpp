@@ -37,6 +37,18 @@ World world_where_it_applies(const WorldSetting& s) {
   return world;
 }
 
+/// The scene's file with KEY's value replaced by -1 is refused, naming /PART/KEY.
+void refused_in_file(const Scene& scene, const std::string& part, std::string_view key) {
+  std::string file = scene_to_json(scene);
+  const std::string quoted = "\"" + std::string(key) + "\": ";
+  const auto at = file.find(quoted);
+  REQUIRE(at != std::string::npos);
+  const auto end = file.find_first_of(",\n}", at + quoted.size());
+  file.replace(at + quoted.size(), end - at - quoted.size(), "-1");
+  CHECK_THROWS_WITH(parse_scene(file, "settings.json"),
+                    Catch::Contains("settings.json: " + part + std::string(key) + ": "));
+}
+
 }  // namespace
 
 TEST_CASE("docs/scene-format.md holds the world and solver settings' rows as the tables make them",
@@ -83,15 +95,7 @@ TEST_CASE("every world setting reads back from a scene file as written, and its 
       CHECK_FALSE(set_world_setting(world, s, static_cast<double>(s.words().size())).empty());
     } else {
       CHECK_FALSE(set_world_setting(world, s, s.min - 1.0).empty());
-      std::string file = scene_to_json(scene);
-      std::string key = "\"";
-      key.append(s.key).append("\": ");
-      const auto at = file.find(key);
-      REQUIRE(at != std::string::npos);
-      const auto end = file.find_first_of(",\n}", at + key.size());
-      file.replace(at + key.size(), end - at - key.size(), "-1");
-      CHECK_THROWS_WITH(parse_scene(file, "settings.json"),
-                        Catch::Contains("settings.json: /world/" + std::string(s.key) + ": "));
+      refused_in_file(scene, "/world/", s.key);
     }
   }
 }
@@ -158,15 +162,7 @@ TEST_CASE("every solver setting reads back from a scene file as written, and its
       CHECK(set_setting(solver, s, 0.5) == "expected true or false");
     } else {
       CHECK_FALSE(set_setting(solver, s, s.min - 1.0).empty());
-      std::string file = scene_to_json(scene);
-      std::string key = "\"";
-      key.append(s.key).append("\": ");
-      const auto at = file.find(key);
-      REQUIRE(at != std::string::npos);
-      const auto end = file.find_first_of(",\n}", at + key.size());
-      file.replace(at + key.size(), end - at - key.size(), "-1");
-      CHECK_THROWS_WITH(parse_scene(file, "settings.json"),
-                        Catch::Contains("settings.json: /solver/" + std::string(s.key) + ": "));
+      refused_in_file(scene, "/solver/", s.key);
     }
   }
 }
