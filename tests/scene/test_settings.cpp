@@ -40,7 +40,8 @@ World world_where_it_applies(const WorldSetting& s) {
 /// The scene's file with KEY's value replaced by -1 is refused, naming /PART/KEY.
 void refused_in_file(const Scene& scene, const std::string& part, std::string_view key) {
   std::string file = scene_to_json(scene);
-  const std::string quoted = "\"" + std::string(key) + "\": ";
+  std::string quoted = "\"";  // appended, not added: GCC 12's -Wrestrict misreads the sum
+  quoted.append(key).append("\": ");
   const auto at = file.find(quoted);
   REQUIRE(at != std::string::npos);
   const auto end = file.find_first_of(",\n}", at + quoted.size());
