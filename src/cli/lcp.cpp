@@ -149,7 +149,7 @@ int lcp_command(const LcpOptions& o) {
   // for the other Siconos files.
   const bool cones = !p.cones.empty();
   const Method fallback =
-      !cones && !p.folder && p.rows() <= kMaxDenseLemkeRows ? Method::Lemke : kExactMethod;
+      !cones && !p.folder && p.rows() <= kMaxDenseLemkeRows ? kPivotingMethod : kExactMethod;
   const SolverSpec spec =
       given ? *given : parse_solver_spec(std::string(to_string(fallback)), "--solver");
   check_applicable(spec, p, o.problem);

@@ -368,8 +368,7 @@ void run_mujoco(const MujocoRun& run, const std::function<void(const MujocoStep&
     const int key = mj_name2id(m, mjOBJ_KEY, run.keyframe.c_str());
     if (key < 0)
       throw InputError("--keyframe " + run.keyframe + ": " + run.model +
-                       " has no keyframe of "
-                       "that name");
+                       " has no keyframe of that name");
     mj_resetDataKeyframe(m, d, key);
   }
   for (long k = 0; k < run.steps; ++k) {

@@ -76,7 +76,7 @@ namespace {
 
 /// Names besides a method's own, each listed after its method.
 constexpr MethodName kAliases[] = {
-    {"psor", Method::Pgs, true, true, "PGS with relaxation, psor:OMEGA, OMEGA in (0, 2) required"},
+    {"psor", kPaperMethod, true, true, "PGS with relaxation, psor:OMEGA, OMEGA in (0, 2) required"},
 };
 
 /// Every name: each entry's own, its aliases after it.

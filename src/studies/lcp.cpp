@@ -66,7 +66,7 @@ void check_applicable(const SolverSpec& spec, const StoredProblem& p, const std:
   if (needs_jacobian(spec.method) && !p.has_jacobian())
     throw InputError(what + ": " + path + ": " + p.without_jacobian + "; " +
                      std::string(to_string(spec.method)) +
-                     (spec.method == Method::MatrixFree
+                     (method_entry(spec.method).sweeps_factors
                           ? " sweeps on J and Minv (7.1.1 without A)"
                           : " takes its levels from the bodies of J's rows") +
                      ", so it needs a `cbps matrices` folder with J.mtx and Minv.mtx");

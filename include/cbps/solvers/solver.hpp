@@ -86,6 +86,9 @@ inline constexpr Method kPaperMethod = Method::Pgs;
 /// The paper's sweep on friction cones (nsgs, docs/cones.md) in its role: a cone scene's default,
 /// the sweep a teaching page shows on cones, the exact path's sweeps on cones.
 inline constexpr Method kConeSweepMethod = Method::Nsgs;
+/// The pivoting method (exact/lemke.hpp) in its role: the exact answer of a dense problem that
+/// is neither symmetric nor on cones (a Siconos LCP or relay file), `cbps lcp`'s default there.
+inline constexpr Method kPivotingMethod = Method::Lemke;
 /// The method of a name; false (method untouched) for a name that is none.
 bool method_from_string(std::string_view name, Method& method);
 /// The method of a name known to be one (code, tests); std::invalid_argument otherwise.
@@ -166,7 +169,7 @@ std::string to_string(RowOrder order);
 /// step stop and split alike. Fields a method has no use for are ignored by it (the row order by
 /// Jacobi, the sweeps by the exact paths).
 struct SolveSettings {
-  Method method = Method::Pgs;
+  Method method = kPaperMethod;
   int max_iterations = 100;  ///< sweeps (iterative methods)
   /// Stop when the natural-map residual ≤ this, N, for every method; 0: iterative methods run
   /// every sweep, the direct path stops at its rounding floor (direct.hpp); below that floor
