@@ -99,6 +99,15 @@ TEST_CASE("MuJoCo's problem of a step: Newton at its floor agrees with direct on
     }
     agrees_with_direct(steps, checked);
   }
+  MujocoRun soft;  // impratio 10: the friction rows' R changes, the cone is still friction[0]'s
+  soft.model = model("sliding_box_elliptic_impratio.xml");
+  soft.keyframe = "pushed";
+  soft.steps = 91;
+  soft.at = {10, 40, 90};  // sliding on two contacts at each
+  const std::vector<MujocoStep> impratio = exported(soft);
+  REQUIRE(impratio.size() == 3);
+  CHECK(impratio[0].problem.cones.mu(0) == 0.5);
+  agrees_with_direct(impratio, checked);
   MujocoRun chain;  // joint limits at +-0.3 rad: rows [0, inf)
   chain.model = model("hinge_chain_limits.xml");
   chain.keyframe = "bent";
@@ -119,7 +128,7 @@ TEST_CASE("MuJoCo's problem of a step: Newton at its floor agrees with direct on
   CHECK(rows[0].problem.cmin(3) == -2.0);
   CHECK(rows[0].problem.cmax(3) == 2.0);
   agrees_with_direct(rows, checked);
-  CHECK(checked == 11);
+  CHECK(checked == 14);
 }
 
 TEST_CASE("A + R as cbps forms it is MuJoCo's own efc_AR where its PGS forms it", "[mujoco]") {
