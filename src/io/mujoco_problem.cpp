@@ -136,6 +136,9 @@ std::string name_of(const mjModel* m, int type, int id, const char* kind) {
   return text;
 }
 
+/// MuJoCo's solvers, the ladder's order.
+constexpr int kSolvers[] = {mjSOL_PGS, mjSOL_CG, mjSOL_NEWTON};
+
 /// What MuJoCo's options say, as words.
 const char* solver_word(int solver) {
   return solver == mjSOL_PGS ? "pgs" : solver == mjSOL_CG ? "cg" : "newton";
@@ -303,7 +306,7 @@ MujocoStep capture(const mjModel* m, mjData* d, const std::string& model, long s
 void climb_ladder(mjModel* m, mjData* d, int top, const std::vector<mjtNum>& warm, MujocoStep& s) {
   const mjOption own = m->opt;
   const BoxedProblem problem = s.problem.problem();
-  for (const int solver : {mjSOL_PGS, mjSOL_CG, mjSOL_NEWTON}) {
+  for (const int solver : kSolvers) {
     for (int k = 1; k <= top; k *= 2) {
       m->opt.solver = solver;
       m->opt.iterations = k;
@@ -346,14 +349,12 @@ void run_mujoco(const MujocoRun& run, const std::function<void(const MujocoStep&
                      (error[0] != '\0' ? std::string(": ") + error : std::string()));
   mjModel* m = model.m;
   if (!run.solver.empty()) {
-    if (run.solver == "pgs")
-      m->opt.solver = mjSOL_PGS;
-    else if (run.solver == "cg")
-      m->opt.solver = mjSOL_CG;
-    else if (run.solver == "newton")
-      m->opt.solver = mjSOL_NEWTON;
-    else
+    const int* named = nullptr;
+    for (const int& solver : kSolvers)
+      if (run.solver == solver_word(solver)) named = &solver;
+    if (named == nullptr)
       throw InputError("--mujoco-solver " + run.solver + ": not pgs, cg or newton");
+    m->opt.solver = *named;
   }
   if (run.iterations >= 0) m->opt.iterations = run.iterations;
   if (run.tolerance >= 0.0) m->opt.tolerance = run.tolerance;

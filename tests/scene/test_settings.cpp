@@ -50,6 +50,16 @@ void refused_in_file(const Scene& scene, const std::string& part, std::string_vi
                     Catch::Contains("settings.json: " + part + std::string(key) + ": "));
 }
 
+/// A value of `s` that is not its default and lies in its range: the last word, the other flag,
+/// or the minimum plus 2 (whole) or 0.375 (an exact binary fraction), within the maximum.
+template <typename T>
+double other_value(const Setting<T>& s, const T& target) {
+  return s.type == SettingType::Word    ? static_cast<double>(s.words().size() - 1)
+         : s.type == SettingType::Flag  ? 1.0 - s.get(target)
+         : s.type == SettingType::Whole ? s.min + 2.0
+                                        : std::min(s.min + 0.375, s.max);
+}
+
 }  // namespace
 
 TEST_CASE("docs/scene-format.md holds the world and solver settings' rows as the tables make them",
@@ -80,12 +90,8 @@ TEST_CASE("every world setting reads back from a scene file as written, and its 
           "[settings]") {
   for (const WorldSetting& s : world_settings()) {
     CAPTURE(s.key);
-    // A value that is not the default and lies in the range: the last word, or the minimum
-    // plus 0.375 (an exact binary fraction), within the maximum.
     World world = world_where_it_applies(s);
-    const double value = s.type == SettingType::Word    ? static_cast<double>(s.words().size() - 1)
-                         : s.type == SettingType::Whole ? s.min + 2.0
-                                                        : std::min(s.min + 0.375, s.max);
+    const double value = other_value(s, world);
     REQUIRE(set_world_setting(world, s, value).empty());
     Scene scene;
     scene.world = world;
@@ -144,13 +150,8 @@ TEST_CASE("every solver setting reads back from a scene file as written, and its
           "[settings]") {
   for (const SolverSetting& s : solver_settings()) {
     CAPTURE(s.key);
-    // A value that is not the default and lies in the range: the last word, the other flag, or
-    // the minimum plus 2 (whole) or 0.375 (an exact binary fraction), within the maximum.
     SolverSettings solver;
-    const double value = s.type == SettingType::Word    ? static_cast<double>(s.words().size() - 1)
-                         : s.type == SettingType::Flag  ? 1.0 - s.get(solver)
-                         : s.type == SettingType::Whole ? s.min + 2.0
-                                                        : std::min(s.min + 0.375, s.max);
+    const double value = other_value(s, solver);
     REQUIRE(value != s.get(solver));
     REQUIRE(set_setting(solver, s, value).empty());
     Scene scene;
