@@ -33,7 +33,6 @@
 #include "cbps/solvers/solver.hpp"
 #include "cbps/solvers/threads.hpp"
 #include "cbps/studies/solver_spec.hpp"
-#include "cbps/system/cone_problem.hpp"
 
 extern char** environ;
 

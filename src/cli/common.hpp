@@ -16,7 +16,6 @@
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
 #include "cbps/step/simulation.hpp"
-#include "cbps/system/system.hpp"
 
 namespace cbps::cli {
 

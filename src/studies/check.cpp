@@ -7,8 +7,8 @@
 #include <sstream>
 
 #include "cbps/base/error.hpp"
+#include "cbps/base/friction_law.hpp"
 #include "cbps/base/numbers.hpp"
-#include "cbps/rows/friction_law.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/lcp.hpp"
 #include "cbps/studies/solver_spec.hpp"

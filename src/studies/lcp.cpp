@@ -35,7 +35,7 @@ void explain_space(const SolverSpec& spec,
                      " rows, fewer than 500 or no bounded row: the active-set path on A "
                      "itself (" +
                      (p.has_jacobian() ? "J and Minv present" : p.without_jacobian) + ")";
-  } else if (spec.method == Method::ActiveSet) {
+  } else if (s.route == "active-set") {
     r.space_reason = "none: the active-set path factors blocks of A itself";
   } else {
     r.space_reason = "none: " + method + " factors no Newton system";

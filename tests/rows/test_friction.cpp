@@ -130,7 +130,7 @@ TEST_CASE("the friction tangents turn continuously with the normal (5.4)", "[con
 }
 
 // ---------------------------------------------------------------------------------------------
-// The friction law as one value (rows/friction_law.hpp): the scene's, on the rows, in the system.
+// The friction law as one value (base/friction_law.hpp): the scene's, on the rows, in the system.
 
 TEST_CASE("a contact's friction law is one value from the scene through the rows to the system",
           "[contact][eq5.4][cones]") {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/solvers/paper/pgs.hpp"
 #include "cbps/solvers/solver.hpp"
@@ -103,6 +104,51 @@ TEST_CASE(
   CHECK((lambda - by_hand).lpNorm<Eigen::Infinity>() <= 1e-12 * by_hand.lpNorm<Eigen::Infinity>());
   // The residual it reports is the Coulomb problem's at its lambda.
   CHECK(s.residual == Approx(coulomb_residual(sys.problem(), sys.coulomb(), lambda, 0.0)));
+}
+
+TEST_CASE(
+    "Coulomb bounds under every method whose sweep stands alone: one solve moving the bounds "
+    "after each sweep gives what a new solve() of one sweep per box gives",
+    "[contact][eq5.4][eq7.1.1]") {
+  // Issue 52, item 2: the bounds move inside the sweep loop of each such method (its entry's
+  // sweeps_alone), not around solve(). The other way, kept here as the reference: solve() for
+  // one sweep over the box at ±mu lambda_n of the lambda before it, again and again.
+  Simulation sim(contact_scene("pyramid", {{"base", "4"}, {"friction", "coulomb"}}, "pgs"));
+  for (int s = 0; s < 10; ++s) sim.step();
+  const System sys = sim.build_system();
+  REQUIRE(sys.coulomb().any());
+  const BoxedProblem problem = sys.problem();
+  int methods = 0;
+  for (const MethodEntry* e : method_entries()) {
+    if (!e->sweeps_alone) continue;
+    ++methods;
+    CAPTURE(e->name);
+    const int sweeps = 25;
+    SolverOptions options;
+    options.method = e->method;
+    options.max_iterations = sweeps;
+    VecX lambda = VecX::Zero(sys.rows());
+    const SolverSummary s = solve_coulomb(problem, sys.coulomb(), lambda, options);
+    INFO(s.message);
+    CHECK(s.iterations == sweeps);
+    SolverOptions one = options;
+    one.max_iterations = 1;
+    one.split_islands = false;
+    VecX by_boxes = VecX::Zero(sys.rows());
+    VecX cmin, cmax;
+    for (int n = 0; n < sweeps; ++n) {
+      coulomb_bounds(problem, sys.coulomb(), by_boxes, cmin, cmax);
+      BoxedProblem at{problem.A, problem.b, cmin, cmax, problem.J, problem.Minv};
+      at.blocks = problem.blocks;
+      at.kinds = problem.kinds;
+      at.symmetric = problem.symmetric;
+      solve(at, by_boxes, one);
+    }
+    CHECK((lambda - by_boxes).lpNorm<Eigen::Infinity>() <=
+          1e-12 * by_boxes.lpNorm<Eigen::Infinity>());
+  }
+  // pgs, sgs, jacobi, block-pgs, matrix-free, rbgs, shock.
+  CHECK(methods == 7);
 }
 
 TEST_CASE(

@@ -3,8 +3,8 @@
 
 #include <vector>
 
+#include "cbps/base/friction_law.hpp"
 #include "cbps/collision/collision.hpp"
-#include "cbps/rows/friction_law.hpp"
 #include "cbps/rows/row.hpp"
 
 namespace cbps {

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "cbps/base/friction_law.hpp"
 #include "cbps/base/row_kind.hpp"
 #include "cbps/body/body.hpp"
-#include "cbps/rows/friction_law.hpp"
 
 namespace cbps {
 
@@ -46,7 +46,7 @@ struct Row {
   /// PGS solves the rows of one manifold together.
   int manifold = -1;
   /// A contact row whose two friction rows follow it: its contact's friction coefficient and
-  /// law (5.4, rows/friction_law.hpp); mu −1 for every other row (a contact without friction
+  /// law (5.4, base/friction_law.hpp); mu −1 for every other row (a contact without friction
   /// rows, at mu = 0, included).
   double mu = -1.0;
   FrictionLaw law = FrictionLaw::PaperBox;

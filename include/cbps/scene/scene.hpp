@@ -75,7 +75,7 @@ struct World {
   Integrator integrator = Integrator::Paper;  ///< how a step turns the bodies (body.hpp)
   SchemeSettings scheme;                      ///< how a step advances time (docs/schemes.md)
   double mu = 0.0;                            ///< friction coefficient (5.4); 0: no friction rows
-  /// Every contact's friction law (5.4, rows/friction_law.hpp; scene keys `friction` and `cone`)
+  /// Every contact's friction law (5.4, base/friction_law.hpp; scene keys `friction` and `cone`)
   FrictionLaw friction = FrictionLaw::PaperBox;
   double restitution = 0.0;            ///< epsilon of 8.2.1, in [0, 1]
   double restitution_threshold = 0.1;  ///< approach speed below which no bounce (8.2), m/s

@@ -19,7 +19,7 @@ namespace cbps {
 /// Whose code a method runs: cbps's own, or a peer library's (peers/peers.hpp).
 enum class Library { Cbps, Siconos, Bullet };
 
-/// The cone laws a method takes (rows/friction_law.hpp), as bits of MethodEntry::laws.
+/// The cone laws a method takes (base/friction_law.hpp), as bits of MethodEntry::laws.
 inline constexpr unsigned kRelaxationLaw = 1;  ///< the convex relaxation (FrictionLaw::Relaxation)
 inline constexpr unsigned kCoulombLaw = 2;     ///< Coulomb's law (FrictionLaw::CoulombCone)
 inline constexpr unsigned kEitherLaw = kRelaxationLaw | kCoulombLaw;
@@ -62,11 +62,15 @@ struct MethodEntry {
   bool symmetric_on_cones = false;  ///< ... on friction cones
   unsigned laws = 0;                ///< the cone laws it takes (takes_cones, takes_cone_law)
   long max_rows = 0;                ///< the most rows it takes (a dense copy of A), 0: any
+  std::string_view rows_why{};      ///< why max_rows holds, for the refusal's message
   bool pivots = false;              ///< its iterations are pivots (counts_pivots)
   /// The method on a whole problem as it is (no CFM, no islands: solve() does those).
   SolverSummary (*solve)(const BoxedProblem& problem,
                          VecX& lambda,
                          const SolverOptions& options) = nullptr;
+  /// Why it cannot take this problem beyond the traits above, or "" where it can (a peer's own
+  /// limits: siconos:avi takes no free row, bullet:dantzig needs cmin <= 0 <= cmax); null: none.
+  std::string (*refuse)(const BoxedProblem& problem) = nullptr;
   std::string_view what;              ///< one line for --help
   std::span<const MethodKey> keys{};  ///< its own key=value, written beside it; none: {}
 };

@@ -272,8 +272,8 @@ struct SolverSummary {
   std::string space;      ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
   /// direct: how it reached its answer (kRoutes in direct.hpp): "guess" (the guess already
   /// solved it), "warm" (the crossover from the guess's partition), "interior" (the interior
-  /// point, then the crossover), "active-set" (few rows), "linear" (no bounded row); "" for the
-  /// other methods
+  /// point, then the crossover), "active-set" (few rows; also the active-set method's own),
+  /// "linear" (no bounded row); "" for the other methods
   std::string route;
   /// A peer's own word on its answer ("info 0", "returned true"; peers.hpp), empty for cbps's
   /// methods; whether that word was success; and the seconds spent converting the problem to

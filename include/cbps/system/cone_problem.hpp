@@ -1,4 +1,4 @@
-// The contacts of a problem and their friction law (rows/friction_law.hpp: the laws, the cone
+// The contacts of a problem and their friction law (base/friction_law.hpp: the laws, the cone
 // K_mu, its dual, De Saxcé's term and each contact's natural map), beside the box of 6.2: the same
 // A, b and w = A lambda − b, but each contact's three rows (normal, t1, t2) are one contact. Under
 // a cone law they live in K_mu instead of three boxes; FCLIB's u = W r + q is w = A lambda − b
@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
+#include "cbps/base/friction_law.hpp"
 #include "cbps/base/types.hpp"
-#include "cbps/rows/friction_law.hpp"
 
 namespace cbps {
 

@@ -62,6 +62,7 @@ constexpr MethodEntry kRbgsEntry{
     .method = Method::Rbgs,
     .name = "rbgs",
     .omega = true,
+    .sweeps_alone = true,
     .solve = solve_rbgs,
     .what = "red-black (graph-coloured) PGS, the parallel engines' order",
 };

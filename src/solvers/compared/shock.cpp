@@ -177,6 +177,7 @@ constexpr MethodEntry kShockEntry{
     .name = "shock",
     .omega = true,
     .needs_jacobian = true,
+    .sweeps_alone = true,
     .solve = shock_method,
     .what =
         "PGS level by level from the ground up (Guendelman, Bridson & Fedkiw 2003); "

@@ -302,10 +302,11 @@ SolverSummary direct_fixed_point(const BoxedProblem& bounded,
 }
 
 /// The methods whose sweep depends on nothing but lambda and the problem (their entry's
-/// sweeps_alone, methods.hpp: the Gauss-Seidel and Jacobi sweeps of 7.1.1 and their block and
-/// matrix-free forms): bounds moved between two sweeps
-/// of one solve are what a new solve from that lambda would see. The others carry state from
-/// sweep to sweep (momentum, a dual, a peer's own loop) and restart for every move.
+/// sweeps_alone, methods.hpp: the Gauss-Seidel and Jacobi sweeps of 7.1.1, their block and
+/// matrix-free forms, and 7.1.1 in the coloured (rbgs) and levelled (shock) orders): bounds moved
+/// between two sweeps of one solve are what a new solve from that lambda would see. The others
+/// carry state from sweep to sweep (momentum, a dual, a peer's own loop) that was built for the
+/// box before the move, and restart for every move: one solve() of one iteration per box.
 bool sweeps_alone(Method method) { return method_entry(method).sweeps_alone; }
 
 /// The iterative methods: the bounds follow lambda before every sweep (bounded, cmin, cmax as

@@ -2,6 +2,11 @@
 // problem: btMLCPSolverInterface::solveMLCP(A, b, x, lo, hi) is 6.2's problem itself
 // (w = A x − b, lo ≤ x ≤ hi), with A dense. Infinite bounds pass as they are (BT_INFINITY is
 // IEEE infinity in a double build).
+#include <cmath>
+#include <string>
+
+#include "cbps/base/error.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 
 #ifdef CBPS_HAVE_BULLET
@@ -96,3 +101,62 @@ PeerRun run_bullet(const BoxedProblem&, VecX&, const SolverOptions&) { return {}
 }  // namespace cbps
 
 #endif
+
+namespace cbps {
+
+namespace {
+
+/// Dantzig's method (ODE's, as Bullet ships it) needs cmin <= 0 <= cmax on every row.
+std::string dantzig_refusal(const BoxedProblem& problem) {
+  for (long k = 0; k < problem.rows(); ++k)
+    if (!(problem.cmin[k] <= 0.0 && problem.cmax[k] >= 0.0))
+      return "bullet:dantzig: Dantzig's method (ODE's, as Bullet ships it) needs cmin <= 0 <= "
+             "cmax on every row; row " +
+             std::to_string(k) + " has [" + number_text(problem.cmin[k]) + ", " +
+             number_text(problem.cmax[k]) + "]";
+  return "";
+}
+
+}  // namespace
+
+// This file's entries in the one table of methods (methods.hpp, gathered by methods.cpp); the
+// entries are there in every build, the peers refuse where the build has no Bullet
+// (peer_available).
+
+extern const MethodEntry kBulletDantzigEntry;
+constexpr MethodEntry kBulletDantzigEntry{
+    .method = Method::BulletDantzig,
+    .name = "bullet:dantzig",
+    .iterative = false,
+    .library = Library::Bullet,
+    .max_rows = kPeerDenseRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .refuse = dantzig_refusal,
+    .what = "Bullet's Dantzig solver (ODE's) on the boxed problem (dense, cmin <= 0 <= cmax)",
+};
+
+extern const MethodEntry kBulletLemkeEntry;
+constexpr MethodEntry kBulletLemkeEntry{
+    .method = Method::BulletLemke,
+    .name = "bullet:lemke",
+    .iterative = false,
+    .library = Library::Bullet,
+    .max_rows = kPeerTableauRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what = "Bullet's Lemke solver on the boxed problem (dense, <= 1000 rows)",
+};
+
+extern const MethodEntry kBulletPgsEntry;
+constexpr MethodEntry kBulletPgsEntry{
+    .method = Method::BulletPgs,
+    .name = "bullet:pgs",
+    .library = Library::Bullet,
+    .max_rows = kPeerDenseRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what = "Bullet's projected Gauss-Seidel on the dense A",
+};
+
+}  // namespace cbps

@@ -76,9 +76,8 @@ std::string peer_refusal(Method method, const BoxedProblem& problem) {
   const long c = problem.rows();
   if (c > peer_max_rows(method))
     return name + ": the problem has " + std::to_string(c) + " rows; " + name +
-           " is run on at most " + std::to_string(peer_max_rows(method)) +
-           (method == Method::SiconosEnum ? " (it enumerates 2^rows cases)"
-                                          : " (it works on a dense copy of A)");
+           " is run on at most " + std::to_string(peer_max_rows(method)) + " (" +
+           std::string(method_entry(method).rows_why) + ")";
   if (is_siconos_fc3d(method)) {
     // Siconos' FrictionContactProblem: every row a contact's (normal, t1, t2), Coulomb's law.
     if (problem.cones == nullptr)
@@ -96,21 +95,7 @@ std::string peer_refusal(Method method, const BoxedProblem& problem) {
                std::to_string(k) + " is in no contact (bounds [" + number_text(problem.cmin[k]) +
                ", " + number_text(problem.cmax[k]) + "]); nsgs and direct solve such a problem";
   }
-  if (method == Method::SiconosAvi) {
-    // Without free rows an MLCP is an LCP (its boxed rows split in two, siconos.cpp).
-    for (long k = 0; k < c; ++k)
-      if (!std::isfinite(problem.cmin[k]) && !std::isfinite(problem.cmax[k]))
-        return name + ": Siconos' AVI solver (Cao & Ferris) takes an LCP or a relay problem, " +
-               "and row " + std::to_string(k) +
-               " is free (both bounds infinite: an equality of an MLCP, which it does not take)";
-  }
-  if (method == Method::BulletDantzig) {
-    for (long k = 0; k < c; ++k)
-      if (!(problem.cmin[k] <= 0.0 && problem.cmax[k] >= 0.0))
-        return name + ": Dantzig's method (ODE's, as Bullet ships it) needs cmin <= 0 <= cmax on " +
-               "every row; row " + std::to_string(k) + " has [" + number_text(problem.cmin[k]) +
-               ", " + number_text(problem.cmax[k]) + "]";
-  }
+  if (const auto refuse = method_entry(method).refuse) return refuse(problem);
   return "";
 }
 
@@ -154,142 +139,5 @@ SolverSummary solve_peer(const BoxedProblem& problem, VecX& lambda, const Solver
   s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;
 }
-
-// This file's entries in the one table of methods (methods.hpp, gathered by methods.cpp).
-
-namespace {
-
-// The peers' row limits: they work on a dense copy of A.
-constexpr long kDenseRows = kMaxDenseLemkeRows;  ///< 72 MB at 3000 rows, as cbps's own lemke
-constexpr long kEnumerationRows = 20;  ///< 2^c cases (2^(2c) for a boxed pair): 10^6 at 20 rows
-constexpr long kTableauRows = 1000;    ///< a dense inverse of A, a 2c x 4c tableau: 64 MB
-constexpr long kDenseConeRows = 6000;  ///< a dense W of 288 MB: the 1,600-contact pyramid's rows
-
-}  // namespace
-
-extern const MethodEntry kSiconosLemkeEntry;
-constexpr MethodEntry kSiconosLemkeEntry{
-    .method = Method::SiconosLemke,
-    .name = "siconos:lemke",
-    .iterative = false,
-    .library = Library::Siconos,
-    .max_rows = kDenseRows,
-    .solve = solve_peer,
-    .what =
-        "Siconos numerics' lexicographic Lemke on the LCP, relay or MLCP (dense, <= 3000 "
-        "rows)",
-};
-
-extern const MethodEntry kSiconosPgsEntry;
-constexpr MethodEntry kSiconosPgsEntry{
-    .method = Method::SiconosPgs,
-    .name = "siconos:pgs",
-    .library = Library::Siconos,
-    .max_rows = kDenseRows,
-    .solve = solve_peer,
-    .what = "Siconos numerics' projected Gauss-Seidel on the LCP, relay or MLCP (dense)",
-};
-
-extern const MethodEntry kSiconosEnumEntry;
-constexpr MethodEntry kSiconosEnumEntry{
-    .method = Method::SiconosEnum,
-    .name = "siconos:enum",
-    .iterative = false,
-    .library = Library::Siconos,
-    .max_rows = kEnumerationRows,
-    .solve = solve_peer,
-    .what = "Siconos numerics' enumeration of the complementarity cases (<= 20 rows)",
-};
-
-extern const MethodEntry kSiconosAviEntry;
-constexpr MethodEntry kSiconosAviEntry{
-    .method = Method::SiconosAvi,
-    .name = "siconos:avi",
-    .iterative = false,
-    .library = Library::Siconos,
-    .max_rows = kDenseRows,
-    .solve = solve_peer,
-    .what = "Siconos numerics' AVI solver of Cao & Ferris on the LCP or relay (dense)",
-};
-
-extern const MethodEntry kSiconosFc3dNsgsEntry;
-constexpr MethodEntry kSiconosFc3dNsgsEntry{
-    .method = Method::SiconosFc3dNsgs,
-    .name = "siconos:fc3d-nsgs",
-    .library = Library::Siconos,
-    .laws = kCoulombLaw,
-    .max_rows = kDenseConeRows,
-    .solve = solve_peer,
-    .what =
-        "Siconos numerics' non-smooth Gauss-Seidel on Coulomb's cones (fc3d; dense, <= 6000 "
-        "rows)",
-};
-
-extern const MethodEntry kSiconosFc3dNsnAcEntry;
-constexpr MethodEntry kSiconosFc3dNsnAcEntry{
-    .method = Method::SiconosFc3dNsnAc,
-    .name = "siconos:fc3d-nsn-ac",
-    .library = Library::Siconos,
-    .laws = kCoulombLaw,
-    .max_rows = kDenseConeRows,
-    .solve = solve_peer,
-    .what =
-        "Siconos numerics' non-smooth Newton on Alart-Curnier's function (fc3d; Coulomb's "
-        "cones)",
-};
-
-extern const MethodEntry kSiconosFc3dProxEntry;
-constexpr MethodEntry kSiconosFc3dProxEntry{
-    .method = Method::SiconosFc3dProx,
-    .name = "siconos:fc3d-prox",
-    .library = Library::Siconos,
-    .laws = kCoulombLaw,
-    .max_rows = kDenseConeRows,
-    .solve = solve_peer,
-    .what = "Siconos numerics' proximal points around NSN-AC (fc3d; Coulomb's cones)",
-};
-
-extern const MethodEntry kSiconosFc3dAdmmEntry;
-constexpr MethodEntry kSiconosFc3dAdmmEntry{
-    .method = Method::SiconosFc3dAdmm,
-    .name = "siconos:fc3d-admm",
-    .library = Library::Siconos,
-    .laws = kCoulombLaw,
-    .max_rows = kDenseConeRows,
-    .solve = solve_peer,
-    .what = "Siconos numerics' ADMM on Coulomb's cones (fc3d)",
-};
-
-extern const MethodEntry kBulletDantzigEntry;
-constexpr MethodEntry kBulletDantzigEntry{
-    .method = Method::BulletDantzig,
-    .name = "bullet:dantzig",
-    .iterative = false,
-    .library = Library::Bullet,
-    .max_rows = kDenseRows,
-    .solve = solve_peer,
-    .what = "Bullet's Dantzig solver (ODE's) on the boxed problem (dense, cmin <= 0 <= cmax)",
-};
-
-extern const MethodEntry kBulletLemkeEntry;
-constexpr MethodEntry kBulletLemkeEntry{
-    .method = Method::BulletLemke,
-    .name = "bullet:lemke",
-    .iterative = false,
-    .library = Library::Bullet,
-    .max_rows = kTableauRows,
-    .solve = solve_peer,
-    .what = "Bullet's Lemke solver on the boxed problem (dense, <= 1000 rows)",
-};
-
-extern const MethodEntry kBulletPgsEntry;
-constexpr MethodEntry kBulletPgsEntry{
-    .method = Method::BulletPgs,
-    .name = "bullet:pgs",
-    .library = Library::Bullet,
-    .max_rows = kDenseRows,
-    .solve = solve_peer,
-    .what = "Bullet's projected Gauss-Seidel on the dense A",
-};
 
 }  // namespace cbps

@@ -1,6 +1,11 @@
 // Siconos numerics (4.4, C API) on cbps's boxed problem: the LCP, relay and MLCP forms of
 // peers.hpp, each built dense, handed to Siconos' driver, and read back into lambda; and on a
 // problem with Coulomb's cones, its FrictionContactProblem for the fc3d solvers.
+#include <cmath>
+#include <string>
+
+#include "cbps/base/error.hpp"
+#include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 
 #ifdef CBPS_HAVE_SICONOS
@@ -50,36 +55,31 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// Siconos' solver ids of each of its methods, per problem class it takes (0: it has none).
+struct SiconosIds {
+  Method method;
+  int lcp, relay, mlcp, fc3d;
+};
+constexpr SiconosIds kSiconosIds[] = {
+    {Method::SiconosLemke, SICONOS_LCP_LEMKE, SICONOS_RELAY_LEMKE, SICONOS_MLCP_LCP_LEMKE, 0},
+    {Method::SiconosPgs, SICONOS_LCP_PGS, SICONOS_RELAY_PGS, SICONOS_MLCP_PGS, 0},
+    {Method::SiconosEnum, SICONOS_LCP_ENUM, SICONOS_RELAY_ENUM, SICONOS_MLCP_ENUM, 0},
+    {Method::SiconosAvi, SICONOS_LCP_AVI_CAOFERRIS, SICONOS_RELAY_AVI_CAOFERRIS, 0, 0},
+    {Method::SiconosFc3dNsgs, 0, 0, 0, SICONOS_FRICTION_3D_NSGS},
+    {Method::SiconosFc3dNsnAc, 0, 0, 0, SICONOS_FRICTION_3D_NSN_AC},
+    {Method::SiconosFc3dProx, 0, 0, 0, SICONOS_FRICTION_3D_PROX},
+    {Method::SiconosFc3dAdmm, 0, 0, 0, SICONOS_FRICTION_3D_ADMM},
+};
+
 /// Siconos' solver id for a peer on a problem class; 0 when it has none.
 int solver_id(Method method, PeerClass c) {
-  switch (method) {
-    case Method::SiconosLemke:
-      return c == PeerClass::Lcp     ? int{SICONOS_LCP_LEMKE}
-             : c == PeerClass::Relay ? int{SICONOS_RELAY_LEMKE}
-                                     : int{SICONOS_MLCP_LCP_LEMKE};
-    case Method::SiconosPgs:
-      return c == PeerClass::Lcp     ? int{SICONOS_LCP_PGS}
-             : c == PeerClass::Relay ? int{SICONOS_RELAY_PGS}
-                                     : int{SICONOS_MLCP_PGS};
-    case Method::SiconosEnum:
-      return c == PeerClass::Lcp     ? int{SICONOS_LCP_ENUM}
-             : c == PeerClass::Relay ? int{SICONOS_RELAY_ENUM}
-                                     : int{SICONOS_MLCP_ENUM};
-    case Method::SiconosAvi:
-      return c == PeerClass::Lcp     ? int{SICONOS_LCP_AVI_CAOFERRIS}
-             : c == PeerClass::Relay ? int{SICONOS_RELAY_AVI_CAOFERRIS}
-                                     : 0;
-    case Method::SiconosFc3dNsgs:
-      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_NSGS} : 0;
-    case Method::SiconosFc3dNsnAc:
-      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_NSN_AC} : 0;
-    case Method::SiconosFc3dProx:
-      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_PROX} : 0;
-    case Method::SiconosFc3dAdmm:
-      return c == PeerClass::FrictionContact ? int{SICONOS_FRICTION_3D_ADMM} : 0;
-    default:
-      return 0;
-  }
+  for (const SiconosIds& ids : kSiconosIds)
+    if (ids.method == method)
+      return c == PeerClass::Lcp     ? ids.lcp
+             : c == PeerClass::Relay ? ids.relay
+             : c == PeerClass::Mlcp  ? ids.mlcp
+                                     : ids.fc3d;
+  return 0;
 }
 
 /// The MLCP of a boxed problem (Cottle, Pang & Stone 1992, 1.5): z = [u; v], w = M z + q,
@@ -357,3 +357,129 @@ PeerRun run_siconos(const BoxedProblem&, VecX&, const SolverOptions&) { return {
 }  // namespace cbps
 
 #endif
+
+namespace cbps {
+
+namespace {
+
+/// Siconos' AVI solver (Cao & Ferris) takes an LCP or a relay problem: no free row. Without free
+/// rows an MLCP is an LCP (its boxed rows split in two, above).
+std::string avi_refusal(const BoxedProblem& problem) {
+  for (long k = 0; k < problem.rows(); ++k)
+    if (!std::isfinite(problem.cmin[k]) && !std::isfinite(problem.cmax[k]))
+      return "siconos:avi: Siconos' AVI solver (Cao & Ferris) takes an LCP or a relay problem, "
+             "and row " +
+             std::to_string(k) +
+             " is free (both bounds infinite: an equality of an MLCP, which it does not take)";
+  return "";
+}
+
+}  // namespace
+
+// This file's entries in the one table of methods (methods.hpp, gathered by methods.cpp); the
+// entries are there in every build, the peers refuse where the build has no Siconos
+// (peer_available).
+
+extern const MethodEntry kSiconosLemkeEntry;
+constexpr MethodEntry kSiconosLemkeEntry{
+    .method = Method::SiconosLemke,
+    .name = "siconos:lemke",
+    .iterative = false,
+    .library = Library::Siconos,
+    .max_rows = kPeerDenseRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what =
+        "Siconos numerics' lexicographic Lemke on the LCP, relay or MLCP (dense, <= 3000 "
+        "rows)",
+};
+
+extern const MethodEntry kSiconosPgsEntry;
+constexpr MethodEntry kSiconosPgsEntry{
+    .method = Method::SiconosPgs,
+    .name = "siconos:pgs",
+    .library = Library::Siconos,
+    .max_rows = kPeerDenseRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what = "Siconos numerics' projected Gauss-Seidel on the LCP, relay or MLCP (dense)",
+};
+
+extern const MethodEntry kSiconosEnumEntry;
+constexpr MethodEntry kSiconosEnumEntry{
+    .method = Method::SiconosEnum,
+    .name = "siconos:enum",
+    .iterative = false,
+    .library = Library::Siconos,
+    .max_rows = kPeerEnumerationRows,
+    .rows_why = "it enumerates 2^rows cases",
+    .solve = solve_peer,
+    .what = "Siconos numerics' enumeration of the complementarity cases (<= 20 rows)",
+};
+
+extern const MethodEntry kSiconosAviEntry;
+constexpr MethodEntry kSiconosAviEntry{
+    .method = Method::SiconosAvi,
+    .name = "siconos:avi",
+    .iterative = false,
+    .library = Library::Siconos,
+    .max_rows = kPeerDenseRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .refuse = avi_refusal,
+    .what = "Siconos numerics' AVI solver of Cao & Ferris on the LCP or relay (dense)",
+};
+
+extern const MethodEntry kSiconosFc3dNsgsEntry;
+constexpr MethodEntry kSiconosFc3dNsgsEntry{
+    .method = Method::SiconosFc3dNsgs,
+    .name = "siconos:fc3d-nsgs",
+    .library = Library::Siconos,
+    .laws = kCoulombLaw,
+    .max_rows = kPeerDenseConeRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what =
+        "Siconos numerics' non-smooth Gauss-Seidel on Coulomb's cones (fc3d; dense, <= 6000 "
+        "rows)",
+};
+
+extern const MethodEntry kSiconosFc3dNsnAcEntry;
+constexpr MethodEntry kSiconosFc3dNsnAcEntry{
+    .method = Method::SiconosFc3dNsnAc,
+    .name = "siconos:fc3d-nsn-ac",
+    .library = Library::Siconos,
+    .laws = kCoulombLaw,
+    .max_rows = kPeerDenseConeRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what =
+        "Siconos numerics' non-smooth Newton on Alart-Curnier's function (fc3d; Coulomb's "
+        "cones)",
+};
+
+extern const MethodEntry kSiconosFc3dProxEntry;
+constexpr MethodEntry kSiconosFc3dProxEntry{
+    .method = Method::SiconosFc3dProx,
+    .name = "siconos:fc3d-prox",
+    .library = Library::Siconos,
+    .laws = kCoulombLaw,
+    .max_rows = kPeerDenseConeRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what = "Siconos numerics' proximal points around NSN-AC (fc3d; Coulomb's cones)",
+};
+
+extern const MethodEntry kSiconosFc3dAdmmEntry;
+constexpr MethodEntry kSiconosFc3dAdmmEntry{
+    .method = Method::SiconosFc3dAdmm,
+    .name = "siconos:fc3d-admm",
+    .library = Library::Siconos,
+    .laws = kCoulombLaw,
+    .max_rows = kPeerDenseConeRows,
+    .rows_why = "it works on a dense copy of A",
+    .solve = solve_peer,
+    .what = "Siconos numerics' ADMM on Coulomb's cones (fc3d)",
+};
+
+}  // namespace cbps

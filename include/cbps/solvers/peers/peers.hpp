@@ -39,6 +39,12 @@ enum class PeerClass { Lcp, Relay, Mlcp, FrictionContact };
 PeerClass peer_class(const BoxedProblem& problem);
 std::string to_string(PeerClass c);
 
+/// The peers' row limits (their entries' max_rows): they work on a dense copy of A.
+inline constexpr long kPeerDenseRows = kMaxDenseLemkeRows;  ///< 72 MB, as cbps's own lemke
+inline constexpr long kPeerEnumerationRows = 20;  ///< 2^c cases (2^(2c) for a boxed pair): 10^6
+inline constexpr long kPeerTableauRows = 1000;  ///< a dense inverse of A, a 2c x 4c tableau: 64 MB
+inline constexpr long kPeerDenseConeRows = 6000;  ///< a dense W of 288 MB: 1,600 contacts' rows
+
 /// The largest problem each peer is handed (rows of the boxed problem): the dense peers' memory
 /// and the enumeration's 2^c cases.
 long peer_max_rows(Method method);

@@ -1,5 +1,5 @@
-// Each friction law's per-contact pieces (rows/friction_law.hpp).
-#include "cbps/rows/friction_law.hpp"
+// Each friction law's per-contact pieces (base/friction_law.hpp).
+#include "cbps/base/friction_law.hpp"
 
 #include <cmath>
 
