@@ -258,9 +258,11 @@ TEST_CASE("direct on Coulomb's cones finishes a pile settling under the paper's 
   // it settles, its step posed on Coulomb's cone (`cbps matrices pyramid --param base=B --step 3
   // --fclib F --cone coulomb`). Its answer has contacts opening, sticking and sliding at 1e-9
   // m/s on a singular A; the fixed point on De Saxcé's term stalls there (1.8e-9 N on base 3),
-  // the interior point with the term refreshed at every iterate does not. Judged by the law's
-  // natural map and its measures, both defined apart from the solver.
-  for (const int base : {3, 5}) {
+  // the interior point with the term refreshed at every iterate does not on bases 3 and 5. On
+  // base 4 every stage before the averaged fixed point stops short (its message: "averaged
+  // fixed-point rounds"), and that one finishes it. Judged by the law's natural map and its
+  // measures, both defined apart from the solver.
+  for (const int base : {3, 4, 5}) {
     const System sys = system_of("pyramid", {{"base", std::to_string(base)}, {"mu", "0.5"}}, 3);
     const FrictionContacts cones = contacts_in_cones(sys, FrictionLaw::CoulombCone);
     BoxedProblem problem = sys.problem();

@@ -71,15 +71,23 @@ namespace cbps {
 ///      Alart–Curnier's function (the relaxation: stage 2) from the sweeps' answer
 ///      (sweeps_then_newton in cone_direct.cpp): the sweeps converge linearly where Newton's
 ///      steps stall on a rank-deficient W (Siconos' Capsules), and Newton's steps finish from
-///      their answer. Coulomb's problem is not monotone: on the larger piles settling under the
-///      paper's box (400 and 1,600 contacts) and on Siconos' RockPile none of this finishes
-///      (docs/cones.md), and it says so.
+///      their answer.
+///   5. Coulomb's law where stages 1 to 4 stop short: the fixed point on De Saxcé's term
+///      averaged, s ← (1 − a) s + a mu ‖u_t(s)‖ with a = 0.7 (Krasnosel'skii 1955, Mann 1953),
+///      each round the CCP of b_n − s by stages 1 and 2, to a twentieth of the best Coulomb
+///      residual so far; the CCP's w is unique, so the rounds are a map of s alone,
+///      whose fixed points solve Coulomb's law (Acary, Cadoux, Lemaréchal & Malick 2011). Where
+///      the plain rounds of stage 3 cycle (the larger piles settling under the paper's box) the
+///      averaged ones converge, linearly and slowly (averaged_fixed_point in cone_direct.cpp:
+///      at most 2,000 rounds and 40,000 factorizations of its own, ended by 150 rounds in a row
+///      that do not halve the best residual). Where none of this finishes (Siconos' RockPile,
+///      docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
-/// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more: every stage stops
-/// there (the relaxation needs far fewer; Coulomb's law where it cannot finish would go on for
-/// minutes).
+/// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more, stage 5 its own
+/// 40,000: every stage stops there (the relaxation needs far fewer), and at the deadline
+/// (SolverOptions::time_limit).
 /// Returns Termination::Direct only when the law's residual of lambda is at most the tolerance
 /// read in N and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the
 /// rounding floor, or, where the tolerance is below 1000 ulps of the force scale, when the
