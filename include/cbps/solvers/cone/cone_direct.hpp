@@ -79,14 +79,15 @@ namespace cbps {
 ///      whose fixed points solve Coulomb's law (Acary, Cadoux, Lemaréchal & Malick 2011). Where
 ///      the plain rounds of stage 3 cycle (the larger piles settling under the paper's box) the
 ///      averaged ones converge, linearly and slowly (averaged_fixed_point in cone_direct.cpp:
-///      at most 2,000 rounds and 40,000 factorizations of its own, ended by 150 rounds in a row
-///      that do not halve the best residual). Where none of this finishes (Siconos' RockPile,
-///      docs/cones.md), it says so.
+///      at most 2,000 rounds and 40,000 factorizations of its own, no more than 3e7 / rows,
+///      ended by 150 rounds in a row that do not halve the best residual). Where none of this
+///      finishes (Siconos' RockPile, docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
 /// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more, stage 5 its own
-/// 40,000: every stage stops there (the relaxation needs far fewer), and at the deadline
+/// min(40,000, 3e7 / rows): every stage stops there (the relaxation needs far fewer), and at
+/// the deadline
 /// (SolverOptions::time_limit).
 /// Returns Termination::Direct only when the law's residual of lambda is at most the tolerance
 /// read in N and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the
