@@ -3,12 +3,10 @@
 #include "cbps/solvers/peers/peers.hpp"
 
 #include <chrono>
-#include <cmath>
 #include <sstream>
 
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
-#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/system/cone_problem.hpp"
 #include "cbps/system/unit_free.hpp"
