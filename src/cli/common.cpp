@@ -302,25 +302,6 @@ void set_invocation(int argc, const char* const* argv) {
   invocation() = text;
 }
 
-void step_to(Simulation& sim, long steps, const std::string& command, bool quiet) {
-  const auto start = std::chrono::steady_clock::now();
-  auto last = start;
-  for (long s = 0; s < steps; ++s) {
-    sim.step();
-    const auto now = std::chrono::steady_clock::now();
-    if (quiet || now - last <= std::chrono::seconds(2)) continue;
-    last = now;
-    std::fprintf(stderr,
-                 "cbps %s: stepping to step %ld: %ld/%ld (%.0f%%), %.1f s elapsed\n",
-                 command.c_str(),
-                 steps,
-                 s + 1,
-                 steps,
-                 100.0 * static_cast<double>(s + 1) / static_cast<double>(steps),
-                 std::chrono::duration<double>(now - start).count());
-  }
-}
-
 struct Heartbeat::State {
   std::mutex mutex;
   std::condition_variable wake;

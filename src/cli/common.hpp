@@ -15,7 +15,6 @@
 #include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
-#include "cbps/step/simulation.hpp"
 
 namespace cbps::cli {
 
@@ -99,11 +98,6 @@ long step_count(const Scene& scene, const StepOptions& o);
 /// "cbps" and its arguments, each quoted for a POSIX shell where it needs it (set by main).
 const std::string& invocation_text();
 void set_invocation(int argc, const char* const* argv);
-
-/// Steps `sim` `steps` times (to the step a command studies), with a progress line on stderr
-/// every 2 s ("cbps COMMAND: stepping to step N: k/N (p%), s elapsed") unless `quiet`: a
-/// command that steps for long before its work is not silent.
-void step_to(Simulation& sim, long steps, const std::string& command, bool quiet = false);
 
 /// While it lives, a line on stderr every 2 s ("cbps lcp: siconos:lemke on F: running, 4.0 s
 /// elapsed (time limit 600 s)") unless `quiet`: a solve that exposes no iterates (a peer in its

@@ -21,7 +21,6 @@
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
-#include "cbps/step/simulation.hpp"
 #include "cbps/studies/convergence.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "common.hpp"
@@ -63,19 +62,7 @@ bool is_problem(const std::string& path) {
 ConvergenceSystem system_of_scene(const ConvergeOptions& o) {
   Scene scene = load_scene(o.scene);
   apply_step_options(scene, o.step);
-  if (scene.world.friction == FrictionLaw::CoulombBox && scene.world.mu > 0.0)
-    throw InputError(o.scene.scene +
-                     ": Coulomb friction bounds move with lambda, so the system is not one boxed "
-                     "problem; study it with friction=paper");
-  // The steps before the one studied need a method that solves cones (the boxed methods refuse
-  // them): the scene's own if it does, else the exact path (docs/cones.md).
-  if (is_cone(scene.world.friction) && scene.world.mu > 0.0 &&
-      !takes_cone_law(scene.solver.method, scene.world.friction))
-    scene.solver.method = kExactMethod;
-  Simulation sim(scene);
-  step_to(sim, o.at_step, "converge", o.quiet);
-  const System sys = sim.build_system();  // with A, whatever the scene's method reads
-  return convergence_system(o.scene.scene, o.at_step, sys, scene.solver.cfm, sim.last_lambda(sys));
+  return convergence_system(std::move(scene), o.scene.scene, o.at_step, o.quiet);
 }
 
 /// Runs the plot script on the CSV; true if it wrote its files.

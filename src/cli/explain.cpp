@@ -11,7 +11,6 @@
 #include <memory>
 
 #include "cbps/base/error.hpp"
-#include "cbps/step/simulation.hpp"
 #include "cbps/studies/teaching_page.hpp"
 #include "common.hpp"
 
@@ -35,26 +34,15 @@ void print_json(const Explained& e) { std::cout << explain_json(e).dump(2) << "\
 /// On a scene on friction cones without --solver the shown system is solved exactly (`direct`)
 /// and the scene's own sweeps (nsgs, 100 by default) are drawn beside it: a handout whose rows
 /// are red because the sweeps stopped short teaches the wrong answer.
-void write_page(const Scene& scene,
-                const Simulation& sim,
-                long at_step,
-                const std::string& html,
-                bool solver_given) {
-  const System shown = sim.build_system();
-  std::vector<std::string> bodies;
-  for (int body : shown.body_of_block)
-    bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
-  std::optional<Method> method;
-  if (!solver_given && shown.cones() != nullptr && is_iterative(scene.solver.method))
-    method = kExactMethod;
-  TeachingStep step = teaching_step(sim, column_labels(scene, shown), bodies, method);
+void write_page(const Scene& scene, long at_step, const std::string& html, bool solver_given) {
+  TeachingStep step = teaching_step(scene, at_step, solver_given);
   step.command = invocation_text();
   write_output_file(html, "--html " + html, teaching_page_html(step));
   std::printf("%s, step %ld: %s, %s; wrote %s\n",
               scene.name.c_str(),
               at_step,
-              count_text(shown.rows(), "row").c_str(),
-              count_text(shown.blocks(), "movable body", "movable bodies").c_str(),
+              count_text(step.sys.rows(), "row").c_str(),
+              count_text(step.sys.blocks(), "movable body", "movable bodies").c_str(),
               html.c_str());
 }
 
@@ -67,13 +55,11 @@ int explain_command(const ExplainOptions& o) {
                       "--html " + o.html,
                       o.force || is_teaching_page(o.html),
                       "it is not a page cbps wrote; --force replaces it");
-  Simulation sim(scene);
-  step_to(sim, o.at_step, "explain");
   if (!o.html.empty()) {
-    write_page(scene, sim, o.at_step, o.html, !o.step.solver.empty());
+    write_page(scene, o.at_step, o.html, !o.step.solver.empty());
     return 0;
   }
-  const Explained e = explain_step(scene, sim, o.at_step);
+  const Explained e = explain_step(scene, o.at_step);
   if (o.json)
     print_json(e);
   else

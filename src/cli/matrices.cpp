@@ -16,7 +16,6 @@
 #include "cbps/io/output_file.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/solvers/solver.hpp"
-#include "cbps/step/simulation.hpp"
 #include "cbps/studies/step_problem.hpp"
 #include "common.hpp"
 
@@ -58,18 +57,16 @@ int matrices_command(const MatricesOptions& o) {
                        "; the scene's law is set by --param cone=LAW (coulomb or ccp)");
   }
   OutputDir dir(o.out);
-  Simulation sim(scene);
-  step_to(sim, o.at_step, "matrices", o.quiet);
-  const System sys = sim.build_system();
   // lambda by the exact path, and the boxed problem it solves (with Coulomb friction, at the
   // fixed point of the bounds), written by the one writer of a problem folder.
   const std::string what = "matrices: " + scene.name + ", step " + std::to_string(o.at_step);
   StepProblem step;
   try {
-    step = solved_step_problem(sim, scene, sys, what);
+    step = solved_step_problem(scene, o.at_step, "matrices", what, o.quiet);
   } catch (const ComputationError& e) {
     throw ComputationError(std::string(e.what()) + "; nothing written");
   }
+  const System& sys = step.sys;
   ProblemNotes notes;
   if (step.coulomb)
     notes.bounds = "; Coulomb friction rows: -+mu lambda_n at the fixed point (labels.json)";

@@ -160,10 +160,9 @@ int run_command(const RunOptions& o) {
   Progress progress(steps);
   if (!o.quiet) observers.push_back(&progress);
 
-  Simulation sim(scene);
   // The divergence guard (Simulation::step) stops the run at the step that failed; what was
   // recorded before it is kept and the summary says where and why.
-  const RunTotals totals = run_steps(sim, steps, observers);
+  const RunTotals totals = run_scene(scene, steps, observers);
 
   nlohmann::json summary = run_summary_json(scene, totals, !o.no_timing, threads_json());
   if (check) summary["cross_check"] = check->json(!o.no_timing);

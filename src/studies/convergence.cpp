@@ -11,6 +11,8 @@
 #include "cbps/scene/scene.hpp"
 #include "cbps/solvers/exact/direct.hpp"
 #include "cbps/solvers/peers/peers.hpp"
+#include "cbps/step/simulation.hpp"
+#include "cbps/studies/run.hpp"
 #include "cbps/system/cone_problem.hpp"
 
 namespace cbps {
@@ -42,13 +44,27 @@ ConvergenceSystem convergence_system(const std::string& path) {
   return s;
 }
 
-ConvergenceSystem convergence_system(
-    const std::string& name, long step, const System& sys, double cfm, VecX previous_lambda) {
+ConvergenceSystem convergence_system(Scene scene,
+                                     const std::string& name,
+                                     long at_step,
+                                     bool quiet) {
+  if (scene.world.friction == FrictionLaw::CoulombBox && scene.world.mu > 0.0)
+    throw InputError(name +
+                     ": Coulomb friction bounds move with lambda, so the system is not one boxed "
+                     "problem; study it with friction=paper");
+  // The steps before the one studied need a method that solves cones (the boxed methods refuse
+  // them): the scene's own if it does, else the exact path (docs/cones.md).
+  if (is_cone(scene.world.friction) && scene.world.mu > 0.0 &&
+      !takes_cone_law(scene.solver.method, scene.world.friction))
+    scene.solver.method = kExactMethod;
+  Simulation sim(scene);
+  step_to(sim, at_step, "converge", quiet);
+  const System sys = sim.build_system();  // with A, whatever the scene's method reads
   ConvergenceSystem s;
   s.name = name;
-  s.step = step;
-  s.stored = stored_problem(sys, cfm);
-  s.previous_lambda = std::move(previous_lambda);
+  s.step = at_step;
+  s.stored = stored_problem(sys, scene.solver.cfm);
+  s.previous_lambda = sim.last_lambda(sys);
   return s;
 }
 

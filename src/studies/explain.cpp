@@ -6,6 +6,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/step/push.hpp"
+#include "cbps/studies/run.hpp"
 
 namespace cbps {
 
@@ -51,9 +52,8 @@ std::string unit_of_A(const System& sys, const std::vector<std::string>& cols) {
                      : "kg^-1 (every row is a force row, lambda in N)";
 }
 
-}  // namespace
-
-Explained explain_step(const Scene& scene, const Simulation& sim, long at_step) {
+/// The explanation of the step `at_step` that `sim` is at (explain_step).
+Explained explain_current(const Scene& scene, const Simulation& sim, long at_step) {
   Explained e;
   e.scene = scene.name;
   e.step = at_step;
@@ -90,6 +90,27 @@ Explained explain_step(const Scene& scene, const Simulation& sim, long at_step) 
     e.f_units.emplace_back(angular_column(c) ? "N m" : "N");
   }
   return e;
+}
+
+}  // namespace
+
+Explained explain_step(const Scene& scene, long at_step) {
+  Simulation sim(scene);
+  step_to(sim, at_step, "explain");
+  return explain_current(scene, sim, at_step);
+}
+
+TeachingStep teaching_step(const Scene& scene, long at_step, bool method_chosen) {
+  Simulation sim(scene);
+  step_to(sim, at_step, "explain");
+  const System shown = sim.build_system();
+  std::vector<std::string> bodies;
+  for (int body : shown.body_of_block)
+    bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
+  std::optional<Method> method;
+  if (!method_chosen && shown.cones() != nullptr && is_iterative(scene.solver.method))
+    method = kExactMethod;
+  return teaching_step(sim, column_labels(scene, shown), bodies, method);
 }
 
 std::string scheme_note(const SchemeSettings& scheme) {

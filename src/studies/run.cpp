@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "cbps/io/json_numbers.hpp"
 #include "cbps/solvers/exact/direct.hpp"
@@ -104,6 +105,30 @@ void record_bodies(CsvFile& csv, double t, const std::vector<Body>& bodies) {
 }
 
 }  // namespace
+
+RunTotals run_scene(const Scene& scene, long steps, const std::vector<StepObserver*>& observers) {
+  Simulation sim(scene);
+  return run_steps(sim, steps, observers);
+}
+
+void step_to(Simulation& sim, long steps, const std::string& command, bool quiet) {
+  const auto start = std::chrono::steady_clock::now();
+  auto last = start;
+  for (long s = 0; s < steps; ++s) {
+    sim.step();
+    const auto now = std::chrono::steady_clock::now();
+    if (quiet || now - last <= std::chrono::seconds(2)) continue;
+    last = now;
+    std::fprintf(stderr,
+                 "cbps %s: stepping to step %ld: %ld/%ld (%.0f%%), %.1f s elapsed\n",
+                 command.c_str(),
+                 steps,
+                 s + 1,
+                 steps,
+                 100.0 * static_cast<double>(s + 1) / static_cast<double>(steps),
+                 std::chrono::duration<double>(now - start).count());
+  }
+}
 
 RunTotals run_steps(Simulation& sim, long steps, const std::vector<StepObserver*>& observers) {
   RunTotals t;

@@ -5,14 +5,20 @@
 #include "cbps/io/fclib_file.hpp"
 #include "cbps/solvers/paper/coulomb.hpp"
 #include "cbps/studies/explain.hpp"
+#include "cbps/studies/run.hpp"
 
 namespace cbps {
 
-StepProblem solved_step_problem(Simulation& sim,
-                                const Scene& scene,
-                                const System& sys,
-                                const std::string& what) {
+StepProblem solved_step_problem(const Scene& scene,
+                                long at_step,
+                                const std::string& command,
+                                const std::string& what,
+                                bool quiet) {
+  Simulation sim(scene);
+  step_to(sim, at_step, command, quiet);
   StepProblem out;
+  out.sys = sim.build_system();
+  const System& sys = out.sys;
   SolverSettings exact = scene.solver;
   exact.method = kExactMethod;
   exact.tolerance = 0.0;

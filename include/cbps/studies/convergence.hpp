@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/scene/scene.hpp"
 #include "cbps/solvers/solver.hpp"
 #include "cbps/studies/solver_spec.hpp"
 #include "cbps/system/system.hpp"
@@ -57,9 +58,15 @@ struct ConvergenceSystem {
 /// A stored problem (a `cbps matrices` folder or a Siconos file) to study; InputError when its
 /// A is not symmetric (the direct path, the reference, solves the QP of 6.2).
 ConvergenceSystem convergence_system(const std::string& path);
-/// A step's system (Simulation::assemble) to study, with the simulation's last lambda.
-ConvergenceSystem convergence_system(
-    const std::string& name, long step, const System& sys, double cfm, VecX previous_lambda);
+/// The system of step `at_step` of `scene` (Simulation::build_system, with A) to study, with
+/// the simulation's last lambda, named `name`. The steps before it by the scene's method, or by
+/// the exact path where that method does not take the scene's cones; progress on stderr as
+/// step_to's ("cbps converge: stepping to ...") unless `quiet`. InputError under Coulomb's box
+/// with mu > 0: its bounds move with lambda, so the step is not one boxed problem.
+ConvergenceSystem convergence_system(Scene scene,
+                                     const std::string& name,
+                                     long at_step,
+                                     bool quiet);
 
 /// The reference: the direct path from lambda = 0 into s.lambda_star (and v2_star); lambda is
 /// unique when A + eps E is numerically definite, as the direct path judges it (CHOLMOD's

@@ -65,9 +65,16 @@ inline constexpr const char* kSoftnessNote =
 /// What the system shown is under a substepping scheme (its first substep).
 std::string scheme_note(const SchemeSettings& scheme);
 
-/// The explanation of the step `at_step` the simulation is at; InputError, naming the sizes,
-/// when its dense J, Minv and A would be more than kMaxExplainEntries numbers.
-Explained explain_step(const Scene& scene, const Simulation& sim, long at_step);
+/// The explanation of step `at_step` of `scene` (a new Simulation stepped there, progress as
+/// step_to's); InputError, naming the sizes, when its dense J, Minv and A would be more than
+/// kMaxExplainEntries numbers.
+Explained explain_step(const Scene& scene, long at_step);
+
+/// The teaching page's step `at_step` of `scene` (a new Simulation stepped there, progress as
+/// step_to's), labelled by the scene's bodies: teaching_step of that simulation. On friction
+/// cones the shown systems are solved exactly (`direct`) where the scene's method sweeps, unless
+/// `method_chosen` (the user named the method: the page shows what it does).
+TeachingStep teaching_step(const Scene& scene, long at_step, bool method_chosen);
 
 /// `cbps explain --json`: every block with its equation, unit and value.
 nlohmann::json explain_json(const Explained& e);

@@ -76,6 +76,17 @@ class StepObserver {
 /// bodies as they were before that step); other errors propagate.
 RunTotals run_steps(Simulation& sim, long steps, const std::vector<StepObserver*>& observers = {});
 
+/// run_steps over a new Simulation of `scene` (`cbps run`).
+RunTotals run_scene(const Scene& scene,
+                    long steps,
+                    const std::vector<StepObserver*>& observers = {});
+
+/// Steps `sim` `steps` times (to the step a command studies: the system of step K is the one
+/// after K steps), with a progress line on stderr every 2 s ("cbps COMMAND: stepping to step N:
+/// k/N (p%), s elapsed") unless `quiet`: a command that steps for long before its work is not
+/// silent. A DivergenceError propagates.
+void step_to(Simulation& sim, long steps, const std::string& command, bool quiet = false);
+
 /// `cbps run --check`: every step's system solved again by the direct path (interior point with
 /// crossover, 6.2) from the iterative solver's lambda (from interior_from_rows rows on only
 /// when that already solves the step to the rounding floor, else from 0), and v2 compared (v2

@@ -18,20 +18,23 @@ namespace cbps {
 
 /// A step's boxed problem and its exact answer.
 struct StepProblem {
+  System sys;             ///< the step's system, with A (Simulation::build_system)
   StoredProblem problem;  ///< A = J Minv Jᵀ, b, the bounds lambda satisfies, the scene's cfm
   VecX lambda;            ///< by the exact path, to its rounding floor (6.2)
   SolverSummary direct;   ///< the exact path's summary
   bool coulomb = false;   ///< rows with Coulomb's bounds ±mu lambda_n (5.4)
 };
 
-/// The problem `sys` (built by `sim` for `scene`) poses, solved by the exact path with the
-/// scene's solver settings (its cfm; with Coulomb friction iterated to the fixed point of the
-/// bounds, as the step itself would). ComputationError, naming `what`, when the Coulomb bounds
-/// reach no fixed point by `cbps lcp`'s verdict: then no boxed problem is the step's.
-StepProblem solved_step_problem(Simulation& sim,
-                                const Scene& scene,
-                                const System& sys,
-                                const std::string& what);
+/// The problem of step `at_step` of `scene` (a new Simulation stepped there, progress as
+/// step_to's under `command` unless `quiet`), solved by the exact path with the scene's solver
+/// settings (its cfm; with Coulomb friction iterated to the fixed point of the bounds, as the
+/// step itself would). ComputationError, naming `what`, when the Coulomb bounds reach no fixed
+/// point by `cbps lcp`'s verdict: then no boxed problem is the step's.
+StepProblem solved_step_problem(const Scene& scene,
+                                long at_step,
+                                const std::string& command,
+                                const std::string& what,
+                                bool quiet);
 
 /// labels.json of a `cbps matrices` folder (docs/outputs.md): the scene and step, each row's and
 /// column's label, the system's form (the push), its cfm, under a substepping scheme which
