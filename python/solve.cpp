@@ -1,8 +1,8 @@
 // cbps.solve for Python: the boxed problem of 6.2 (find lambda in [cmin, cmax] with
 // w = A lambda − b ≥ 0 at cmin, ≤ 0 at cmax, = 0 between) on any (A, b, cmin, cmax) from Python,
 // by every method `cbps converge` knows, named by the --solver grammar (parse_solver_spec:
-// the paper's method by its name, "psor:1.3", "apgd:restart=off", ...), and Lemke's method as
-// `cbps lcp --solver lemke`.
+// the paper's method by its name, "psor:1.3", "apgd:restart=off", "lemke", ...), each through the
+// one solve() of the library as `cbps lcp --solver SPEC` solves it.
 // The solve runs without the GIL; the history of the iterative methods is the natural-map
 // residual after every sweep and the sweeps' time, recorded outside the solver's clock as
 // `cbps converge` records it.
@@ -16,7 +16,6 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/stored_problem.hpp"
 #include "cbps/scene/scene.hpp"
-#include "cbps/solvers/exact/lemke.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/threads.hpp"
@@ -30,9 +29,6 @@ namespace cbps::python {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-/// The largest problem handed to the dense Lemke solver (its tableau is n × 2n), as `cbps lcp`.
-constexpr long kMaxLemkeRows = 3000;
 
 /// The default of solve(history_limit=): a million entries, 20 MB (an int and two doubles each).
 constexpr long long kHistoryLimit = 1000000;
@@ -249,41 +245,6 @@ void add_verdict(py::dict& s, const BoxedProblem& problem, const VecX& lambda, d
   s["solved"] = is_solved(u, lambda);
 }
 
-py::tuple solve_lemke_py(const Inputs& in, bool record) {
-  const StoredProblem& p = in.p;
-  if (p.rows() > kMaxLemkeRows)
-    throw InputError("method 'lemke': the problem has " + std::to_string(p.rows()) +
-                     " rows; the dense Lemke solver takes at most " +
-                     std::to_string(kMaxLemkeRows));
-  const bool standard = (p.cmin.array() == 0.0).all() && (p.cmax.array() == kInf).all();
-  LcpResult r;
-  double wall = 0.0;
-  double guess_residual = 0.0;
-  {
-    const py::gil_scoped_release release;
-    guess_residual = natural_map_residual(p.problem(), in.lambda);
-    const auto start = Clock::now();
-    const MatX M = MatX(p.A);  // Siconos' w = M z + q with M = A, q = −b (stored_problem.hpp)
-    const VecX q = -p.b;
-    r = standard ? solve_lemke(M, q) : solve_boxed_lemke(M, q, p.cmin, p.cmax);
-    wall = std::chrono::duration<double>(Clock::now() - start).count();
-  }
-  py::dict s;
-  s["method"] = "lemke";
-  s["iterations"] = r.pivots;
-  s["pivots"] = r.pivots;
-  s["residual"] = r.residual;
-  s["termination"] = to_string(r.status);
-  s["message"] = r.message;
-  s["wall_time_s"] = wall;
-  add_verdict(s, p.problem(), r.z, 0.0);
-  History h;
-  h.add(0, guess_residual, 0.0);
-  h.add(r.pivots, r.residual, wall);
-  s["history"] = record ? py::object(h.dict()) : py::none();
-  return py::make_tuple(to_numpy(r.z), s);
-}
-
 /// solve()'s numbers, read and checked.
 struct SolveNumbers {
   int iterations = 0;
@@ -353,17 +314,8 @@ py::tuple solve_py(const py::object& A,
       iterations_in, seed_in, history_limit_in, tolerance_in, delta_tolerance_in, cfm_in);
   const double cfm = n.cfm;
   // The spec first: a bad method is reported before the data are read.
-  const bool lemke = method == "lemke";
-  const SolverSpec spec = lemke ? SolverSpec{} : parse_solver_spec(method, "method");
+  const SolverSpec spec = parse_solver_spec(method, "method");
   const Inputs in = read_inputs(A, b, cmin, cmax, lam0, J, Minv, blocks, kinds, cones);
-  if (lemke) {
-    if (!in.cones.empty())
-      throw InputError(
-          "method 'lemke': solves the boxed problem of 6.2, not cones; use nsgs or "
-          "direct");
-    if (cfm != 0.0) throw InputError("method 'lemke': cfm is not supported; add it to A");
-    return solve_lemke_py(in, history);
-  }
   require_method_inputs(spec, in);
 
   SolverOptions options = options_of(spec, n, split_islands);
@@ -437,7 +389,7 @@ void bind_methods(py::module_& m) {
         for (const MethodEntry* e : method_entries()) names.emplace_back(e->name);
         return names;
       },
-      "the names of every method solve() and Scene.solver take (besides 'lemke' for solve)");
+      "the names of every method solve() and Scene.solver take");
   m.def(
       "parse_solver_spec",
       [](const std::string& text) {
@@ -575,7 +527,7 @@ void bind_solve(py::module_& m) {
       "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
       "--solver spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', "
       "'direct', 'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', "
-      "'rbgs', 'shock', ...; or 'lemke', dense) from lam0 (default 0), with the defaults of "
+      "'rbgs', 'shock', 'lemke' (dense), ...) from lam0 (default 0), with the defaults of "
       "`cbps lcp` (iterations 10000, tolerance 1e-10 N). A: scipy.sparse or dense; b, cmin, "
       "cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for matrix-free and "
       "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
