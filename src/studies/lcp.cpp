@@ -5,6 +5,7 @@
 #include "cbps/base/error.hpp"
 #include "cbps/base/numbers.hpp"
 #include "cbps/io/json_numbers.hpp"
+#include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/peers/peers.hpp"
 #include "cbps/solvers/solver.hpp"
 
@@ -35,7 +36,7 @@ void explain_space(const SolverSpec& spec,
                      " rows, fewer than 500 or no bounded row: the active-set path on A "
                      "itself (" +
                      (p.has_jacobian() ? "J and Minv present" : p.without_jacobian) + ")";
-  } else if (s.route == "active-set") {
+  } else if (s.route == kActiveSetRoute) {
     r.space_reason = "none: the active-set path factors blocks of A itself";
   } else {
     r.space_reason = "none: " + method + " factors no Newton system";

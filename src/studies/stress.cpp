@@ -291,7 +291,7 @@ class DzhanibekovProbe : public StressProbe {
 const std::vector<std::string> kDistanceSolvers = {std::string(to_string(kPaperMethod)),
                                                    std::string(to_string(kExactMethod))};
 const std::vector<std::string> kContactSolvers = {std::string(to_string(kPaperMethod)),
-                                                  std::string(to_string(Method::BlockPgs)),
+                                                  std::string(to_string(kBlockMethod)),
                                                   std::string(to_string(kExactMethod))};
 
 std::function<std::unique_ptr<StressProbe>(const Scene&)> rest_of_last(double drift,

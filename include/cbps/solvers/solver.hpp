@@ -86,6 +86,9 @@ inline constexpr Method kPaperMethod = Method::Pgs;
 /// The paper's sweep on friction cones (nsgs, docs/cones.md) in its role: a cone scene's default,
 /// the sweep a teaching page shows on cones, the exact path's sweeps on cones.
 inline constexpr Method kConeSweepMethod = Method::Nsgs;
+/// Contact manifolds solved as blocks (compared/pgs_block.hpp) in its role: the stress study's
+/// sweep beside the paper's and the exact path on the contact scenes.
+inline constexpr Method kBlockMethod = Method::BlockPgs;
 /// The pivoting method (exact/lemke.hpp) in its role: the exact answer of a dense problem that
 /// is neither symmetric nor on cones (a Siconos LCP or relay file), `cbps lcp`'s default there.
 inline constexpr Method kPivotingMethod = Method::Lemke;
@@ -270,7 +273,7 @@ struct SolverSummary {
   long factor_nnz = 0;    ///< direct: nonzeros of its Cholesky factor
   long updates = 0;       ///< direct: rows added to or removed from a factor by updates
   std::string space;      ///< direct: "body" (M + Jᵀ D⁻¹ J) or "row" (A + D) or "" (none)
-  /// direct: how it reached its answer (kRoutes in direct.hpp): "guess" (the guess already
+  /// direct: how it reached its answer (direct.hpp's steps name them): "guess" (the guess already
   /// solved it), "warm" (the crossover from the guess's partition), "interior" (the interior
   /// point, then the crossover), "active-set" (few rows; also the active-set method's own),
   /// "linear" (no bounded row); "" for the other methods

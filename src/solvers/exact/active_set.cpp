@@ -467,6 +467,7 @@ SolverSummary solve_active_set(const BoxedProblem& problem,
     return solve_active_set(with_matrix(problem, A), lambda, options);
   }
   SolverSummary s;
+  s.route = kActiveSetRoute;
   if (!check_input(problem, "active set", s)) return s;
   // A row with no entry in A (j_c = 0): CHOLMOD cannot analyse its empty block, and its lambda
   // follows from b and its bounds alone.
@@ -474,7 +475,7 @@ SolverSummary solve_active_set(const BoxedProblem& problem,
       solve_around_null_rows(problem, lambda, [&](const BoxedProblem& rest, VecX& lambda_R) {
         return solve_active_set_coupled(rest, lambda_R, options);
       });
-  solved.route = "active-set";  // the route direct takes on small problems (direct.hpp)
+  solved.route = kActiveSetRoute;
   return solved;
 }
 

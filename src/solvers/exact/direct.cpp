@@ -262,7 +262,6 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
     s = solve_active_set(problem, lambda, options);
     s.message = "direct (few rows, active set): " + s.message;
     if (warm_tried) s.message += kWarmUnfinished;
-    s.route = "active-set";
     s.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return s;
   }

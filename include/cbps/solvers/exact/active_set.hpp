@@ -9,6 +9,10 @@
 
 namespace cbps {
 
+/// The route (SolverSummary::route) of every answer of this path: as the active-set method and
+/// as the direct path's route on few rows (direct.hpp).
+inline constexpr const char* kActiveSetRoute = "active-set";
+
 /// The active-set path for the boxed problem of 6.2 (cmin ≤ lambda ≤ cmax, w = A lambda − b,
 /// complementarity), A symmetric positive semidefinite, sparse. It solves the equivalent bound-
 /// constrained QP min ½ λᵀAλ − bᵀλ over the box. Per island (options.direct.split_islands):
