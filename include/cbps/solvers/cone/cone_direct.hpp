@@ -72,10 +72,11 @@ namespace cbps {
 ///      (sweeps_then_newton in cone_direct.cpp): the sweeps converge linearly where Newton's
 ///      steps stall on a rank-deficient W (Siconos' Capsules), and Newton's steps finish from
 ///      their answer.
-///   5. Coulomb's law where stages 1 to 4 stop short: the fixed point on De Saxcé's term
-///      averaged, s ← (1 − a) s + a mu ‖u_t(s)‖ with a = 0.7 (Krasnosel'skii 1955, Mann 1953),
-///      each round the CCP of b_n − s by stages 1 and 2, to a twentieth of the best Coulomb
-///      residual so far; the CCP's w is unique, so the rounds are a map of s alone,
+///   5. Coulomb's law on a symmetric A where stages 1 to 4 stop short: the fixed point on De
+///      Saxcé's term averaged, s ← (1 − a) s + a mu ‖u_t(s)‖ with a = 0.7 (Krasnosel'skii
+///      1955, Mann 1953), each round the CCP of b_n − s by stages 1 and 2, to a hundredth of the
+///      rounds' best Coulomb residual; the CCP's w is unique (a convex QP's: A symmetric), so the
+///      rounds are a map of s alone,
 ///      whose fixed points solve Coulomb's law (Acary, Cadoux, Lemaréchal & Malick 2011). Where
 ///      the plain rounds of stage 3 cycle (the larger piles settling under the paper's box) the
 ///      averaged ones converge, linearly and slowly (averaged_fixed_point in cone_direct.cpp:
