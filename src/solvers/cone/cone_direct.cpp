@@ -955,6 +955,9 @@ void sweeps_then_newton(const BoxedProblem& problem,
 /// rounds cycle (the contacts of a settling pile trading sticking, sliding and opening at 1e-9
 /// m/s), the averaged ones converge, slowly: the base-10 pile (400 contacts) to a unit-free
 /// residual of 3.9e-11 in about 440 rounds. x becomes the round of least Coulomb residual.
+/// Only where A is symmetric: on a W that is not, the CCP is no QP and its w need not be unique
+/// (on Siconos' RockPile_tob1 the rounds ran 167 times in 54 s without going below the best
+/// point of stages 1 to 4).
 void averaged_fixed_point(const Setup& S,
                           double proximal,
                           const std::function<double(const VecX&)>& target_of,
@@ -1236,10 +1239,6 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     x = run_stages(S, proximal, target_of, counts, relaxed);
     if (residual(S, S.law, S.b, quick) < residual(S, S.law, S.b, x)) x = quick;
     if (!met(x)) sweeps_then_newton(problem, S, options, target_of, x, counts);
-    // Stage 5 where A is symmetric: there each round's relaxation is a convex QP whose
-    // w = A lambda - b is unique, so the rounds are a map of s alone. On a W that is not
-    // (Siconos' RockPile_tob1) that argument fails, and its rounds ran 167 times in 54 s without
-    // going below the best point of stages 1 to 4.
     if (!met(x) && S.law.law == FrictionLaw::CoulombCone && S.A_sym.size() == 0)
       averaged_fixed_point(S, proximal, target_of, x, counts);
   }
