@@ -103,14 +103,15 @@ Explained explain_step(const Scene& scene, long at_step) {
 TeachingStep teaching_step(const Scene& scene, long at_step, bool method_chosen) {
   Simulation sim(scene);
   step_to(sim, at_step, "explain");
-  const System shown = sim.build_system();
+  System shown = sim.build_system();
   std::vector<std::string> bodies;
   for (int body : shown.body_of_block)
     bodies.push_back(scene.bodies[static_cast<std::size_t>(body)].name);
   std::optional<Method> method;
   if (!method_chosen && shown.cones() != nullptr && is_iterative(scene.solver.method))
     method = kExactMethod;
-  return teaching_step(sim, column_labels(scene, shown), bodies, method);
+  std::vector<std::string> columns = column_labels(scene, shown);
+  return teaching_step(sim, std::move(shown), std::move(columns), std::move(bodies), method);
 }
 
 std::string scheme_note(const SchemeSettings& scheme) {

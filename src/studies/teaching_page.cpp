@@ -147,6 +147,7 @@ TeachingSystem teaching_system(const Simulation& sim,
 }
 
 TeachingStep teaching_step(const Simulation& sim,
+                           System built,
                            std::vector<std::string> columns,
                            std::vector<std::string> bodies,
                            std::optional<Method> method) {
@@ -157,7 +158,7 @@ TeachingStep teaching_step(const Simulation& sim,
   page.method = std::string(to_string(method.value_or(sim.scene().solver.method)));
   page.cfm = sim.scene().solver.cfm;
   page.solver_tolerance = sim.scene().solver.tolerance;
-  page.sys = sim.build_system();
+  page.sys = std::move(built);
   page.columns = std::move(columns);
   page.bodies = std::move(bodies);
   const System& sys = page.sys;

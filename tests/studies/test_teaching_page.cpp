@@ -22,14 +22,14 @@ TeachingStep step_of(const std::string& name,
                      int steps) {
   Simulation sim(make_builtin_scene(name, values));
   for (int s = 0; s < steps; ++s) sim.step();
-  const System sys = sim.build_system();
+  System sys = sim.build_system();
   std::vector<std::string> columns, bodies;
   for (int body : sys.body_of_block) {
     const std::string& b = sim.scene().bodies[static_cast<std::size_t>(body)].name;
     bodies.push_back(b);
     for (const char* c : {"vx", "vy", "vz", "wx", "wy", "wz"}) columns.push_back(b + "." + c);
   }
-  return teaching_step(sim, columns, bodies);
+  return teaching_step(sim, std::move(sys), columns, bodies);
 }
 
 /// The text of the table with this id (its <table …> to </table>), empty if none.

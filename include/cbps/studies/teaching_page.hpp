@@ -90,10 +90,12 @@ struct TeachingStep {
   std::string command;
 };
 
-/// Solves the current system of `sim` as its step would (same guess, method and settings) and
-/// records everything the page shows. `columns` and `bodies` label J's columns (6n and n).
-/// `method`: solve the shown systems by it instead (teaching_system).
+/// Solves `built`, the current system of `sim` (Simulation::build_system, built once by the caller,
+/// who labels it), as its step would (same guess, method and settings) and records everything
+/// the page shows. `columns` and `bodies` label J's columns (6n and n). `method`: solve the shown
+/// systems by it instead (teaching_system).
 TeachingStep teaching_step(const Simulation& sim,
+                           System built,
                            std::vector<std::string> columns,
                            std::vector<std::string> bodies,
                            std::optional<Method> method = std::nullopt);
