@@ -314,3 +314,18 @@ def test_check_judges_a_cone_problem_with_a_non_symmetric_w():
     lam[0] += 1e-3
     pushed = cbps.check(p.A, p.b, p.cmin, p.cmax, lam, cones=p.cones, exact=False)
     assert not pushed["solved"] and pushed["exact"] is None
+
+
+def test_lemke_through_the_library_takes_cfm_and_refuses_cones():
+    """'lemke' runs through the library's one solve(): with cfm it solves (A + eps E) lambda = b
+    (UPPER + 0.1 I, both rows free: by hand lambda_2 = 1/2.1, lambda_1 = (1 - lambda_2)/2.1), on
+    a non-symmetric A; and a problem in friction cones is refused by name, as for every boxed
+    method."""
+    lam, s = cbps.solve(UPPER, [1, 1], [0, 0], [np.inf, np.inf], "lemke", cfm=0.1)
+    l2 = 1 / 2.1
+    assert np.allclose(lam, [(1 - l2) / 2.1, l2], rtol=0, atol=1e-13), s["message"]
+    assert s["method"] == "lemke"
+    cones = {"law": "coulomb", "normal_row": [0], "mu": [0.5]}
+    with pytest.raises(cbps.InputError, match="lemke.*friction cones"):
+        cbps.solve(np.eye(3) * 2, [1, 1, 1], [0, -np.inf, -np.inf], [np.inf] * 3, "lemke",
+                   cones=cones)
