@@ -121,8 +121,8 @@ constexpr int kAlartCurnierStall = 5;
 constexpr double kNewtonProgress = 1e-3;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
-/// Stage 5, the averaged fixed point (averaged_fixed_point): its weight a, its rounds at most,
-/// the factorizations it may spend of its own, and the rounds in a row that do not halve the
+/// Stage 5, the averaged fixed point (averaged_fixed_point): its first weight a, its rounds at
+/// most, the factorizations it may spend of its own, and the rounds in a row that do not halve the
 /// best Coulomb residual after which it stops. On the base-10 pile settling under the paper's
 /// box the plain rounds (a = 1) wander between 7e-5 and 4e-4 N; averaged, with each round's CCP
 /// solved from scratch, a = 1/4, 1/2 and 0.7 reached unit-free residuals of 3.4e-8 (round
@@ -137,6 +137,27 @@ constexpr int kAveragedFactorizations = 40000;
 /// 6,250 at 4,800 (the base-20 pile's: about 4 minutes in row space).
 constexpr double kAveragedWork = 3e7;
 constexpr int kAveragedStall = 150;
+/// Where the rounds cycle, kCycleRounds in a row with a Coulomb residual above kCycleRatio times
+/// the rounds' least, the weight halves (down to kSmallestWeight) and the rounds go on from that
+/// least one. On the base-7 pile settling under the paper's box (196 contacts) a = 0.7 reached a
+/// scaled residual of 8.4e-7 by round 55, then cycled (3 to 9 times that) until the stall rule
+/// ended it at round 199 (unit-free 8.1e-10); halved to 0.35 at round 77, the rounds reached
+/// 7.8e-11 by round 229 and met the target (Python, every CCP solved to 1e-10: a = 0.4 cycles with
+/// period 2, a = 0.2 converges, to a unit-free 9.6e-12 in 386 rounds). The halved weight does not
+/// help where the rounds' least point repels them (a pyramid of base 5, mu = 0.8, at step 5: from
+/// it the rounds drift away at every weight down to 0.0875); there the stall rule ends them as
+/// before.
+constexpr double kCycleRatio = 3.0;
+constexpr int kCycleRounds = 15;
+constexpr double kSmallestWeight = 0.08;
+/// Each time the rounds' least residual falls below kNewtonAgain times where Newton's steps on
+/// Alart–Curnier's function last started (the best point of stages 1 to 4 at first), those steps
+/// run again from the round, with kAveragedNewton factorizations: from the rounds' points they
+/// lower the residual 3 to 20 times where they stalled from stages 1 to 4's best (base-7 pile:
+/// 1.9e-8 to 1.1e-9, then 1.9e-9 to 7.5e-11 scaled, which ends the stage at round 186 instead of
+/// 229; base 4: 1.3e-10 to 2.8e-11).
+constexpr double kNewtonAgain = 0.1;
+constexpr int kAveragedNewton = 20;
 /// Armijo's sufficient decrease and the smallest step tried.
 constexpr double kArmijo = 1e-4;
 constexpr double kSmallestStep = 1e-10;
@@ -343,6 +364,7 @@ struct Counts {
   int body_factorizations = 0;      ///< interior factorizations in body space
   int sweeps = 0;                   ///< NSGS sweeps (sweeps_then_newton)
   int averaged = 0;                 ///< rounds of the averaged fixed point (Coulomb, stage 5)
+  int halved = 0;                   ///< times its weight halved
   int budget = kMaxFactorizations;  ///< factorizations the stages may spend
   /// SolverOptions::deadline: the stages stop at it as at their budget.
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
@@ -944,7 +966,7 @@ void sweeps_then_newton(const BoxedProblem& problem,
 
 /// Stage 5, under Coulomb's law where every stage above stops short: the fixed point on De
 /// Saxcé's term averaged (Krasnosel'skii, Uspekhi Mat. Nauk 10, 1955; Mann, Proc. AMS 4, 1953),
-///   s ← (1 − a) s + a mu ‖u_t(s)‖,  a = kAveragedWeight,
+///   s ← (1 − a) s + a mu ‖u_t(s)‖,  a = kAveragedWeight, halved where the rounds cycle,
 /// with u(s) the w of the CCP of b_n − s (the convex relaxation with De Saxcé's term held fixed,
 /// Cadoux's fixed point: Acary, Cadoux, Lemaréchal & Malick, ZAMM 91, 2011). That CCP is a convex
 /// QP's optimality condition, so its w is unique even where A is singular and its λ is not, and
@@ -954,7 +976,9 @@ void sweeps_then_newton(const BoxedProblem& problem,
 /// where it stops short, took the base-10 pile's rounds 231 s instead of 97 s). Where the plain
 /// rounds cycle (the contacts of a settling pile trading sticking, sliding and opening at 1e-9
 /// m/s), the averaged ones converge, slowly: the base-10 pile (400 contacts) to a unit-free
-/// residual of 3.9e-11 in about 440 rounds. x becomes the round of least Coulomb residual.
+/// residual of 3.9e-11 in about 440 rounds. Newton's steps on Alart–Curnier's function start
+/// again from the rounds as they get closer (kNewtonAgain). x becomes the point of least Coulomb
+/// residual.
 /// Only where A is symmetric: on a W that is not, the CCP is no QP and its w need not be unique
 /// (on Siconos' RockPile_tob1 the rounds ran 167 times in 54 s without going below the best
 /// point of stages 1 to 4).
@@ -978,6 +1002,10 @@ void averaged_fixed_point(const Setup& S,
   double own = std::numeric_limits<double>::infinity();
   double mark = own;  // own when the stall count last started
   int stalled = 0;
+  double a = kAveragedWeight;
+  double tried = best_r;          // own when Newton's steps last started from the rounds
+  int above = 0;                  // rounds in a row of residual above kCycleRatio times own
+  VecX own_b_s = b_s, own_y = y;  // the round of residual own, where a smaller weight restarts
   const std::function<double(const VecX&)> inner = [&](const VecX& v) {
     return std::max(target_of(v), kAveragedInner * own);
   };
@@ -988,12 +1016,37 @@ void averaged_fixed_point(const Setup& S,
       best_r = r;
       x = y;
     }
-    own = std::min(own, r);
+    if (r < own) {
+      own = r;
+      own_b_s = b_s;
+      own_y = y;
+    }
+    if (own < kNewtonAgain * tried) {  // Newton's steps on Alart–Curnier's function from it
+      tried = own;
+      VecX z = y;
+      const int budget = counts.budget;
+      counts.budget = std::min(budget, counts.factorizations + kAveragedNewton);
+      const double rz = alart_curnier_steps(S, target_of(z), z, counts);
+      counts.budget = budget;
+      if (rz < best_r) {
+        best_r = rz;
+        x = z;
+      }
+    }
     stalled = own < 0.5 * mark ? 0 : stalled + 1;
     if (stalled == 0) mark = own;
-    if (best_r <= target_of(x) || stalled >= kAveragedStall || counts.spent()) break;
+    if (best_r <= target_of(x) || counts.spent()) break;
+    above = r > kCycleRatio * own ? above + 1 : 0;
+    if (stalled >= kAveragedStall) break;
+    if (above >= kCycleRounds && a * 0.5 >= kSmallestWeight) {  // a cycle: half the weight,
+      a *= 0.5;                                                 // from the rounds' best
+      ++counts.halved;
+      b_s = own_b_s;
+      y = own_y;
+      above = 0;
+    }
     // s ← (1 − a) s + a mu ‖u_t(s)‖, as b_n − s: the right side averaged the same way.
-    b_s = (1.0 - kAveragedWeight) * b_s + kAveragedWeight * desaxce_right_side(S, S.b, y);
+    b_s = (1.0 - a) * b_s + a * desaxce_right_side(S, S.b, y);
     y = interior(S, b_s, proximal, inner, counts);
     proximal_newton(S, S.ccp, b_s, inner(y), kMaxOuter, y, counts);
   }
@@ -1133,7 +1186,11 @@ std::string cone_direct_message(const Setup& S,
     msg << " (" << counts.desaxce << " with De Saxce's term refreshed), " << counts.alart_curnier
         << " Alart-Curnier steps, " << counts.rounds << " fixed-point rounds";
   if (counts.sweeps > 0) msg << ", " << counts.sweeps << " NSGS sweeps";
-  if (counts.averaged > 0) msg << ", " << counts.averaged << " averaged fixed-point rounds";
+  if (counts.averaged > 0) {
+    msg << ", " << counts.averaged << " averaged fixed-point rounds";
+    if (counts.halved > 0)
+      msg << " (weight " << kAveragedWeight << " halved " << counts.halved << "x)";
+  }
   msg << ", ";
   msg << counts.outer << " proximal steps, " << counts.factorizations << " factorizations";
   if (counts.body_factorizations > 0) {
