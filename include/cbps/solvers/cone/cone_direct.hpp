@@ -54,7 +54,12 @@ namespace cbps {
 ///      into b and refreshed at every iterate (b_n − mu ‖w_t‖ at the current λ, the iterate kept
 ///      by Coulomb's residual): a pile settling under the paper's box, whose answer has contacts
 ///      opening, sticking and sliding at 1e-9 m/s, finishes there (base-3 pyramid: 46
-///      iterations, where the rest of this stage stalls at 1.8e-9 N). Where it does not finish,
+///      iterations, where the rest of this stage stalls at 1.8e-9 N). Where it does not finish
+///      (A symmetric), stage 1 once more with the term also differentiated in its Newton
+///      matrix, mu (w_tᵀ/‖w_t‖_ε) A_t in each normal row, ‖w_t‖ smoothed by ε = 0.1 √gap
+///      (not symmetric: SparseLU), stopped where its steps jam at the cones' boundary; the
+///      better of the two goes on (the base-7 pile: 72 iterations, 0.26 s, where stage 5 took
+///      17 s). Where neither finishes,
 ///      semismooth Newton steps on Alart and Curnier's function of the contacts (Alart &
 ///      Curnier, Comput. Methods Appl. Mech. Engrg. 92, 1991: the same solutions, with u_t
 ///      entering linearly, so no kink where a contact sticks or slides slowly; the NSN-AC of
@@ -73,16 +78,17 @@ namespace cbps {
 ///      steps stall on a rank-deficient W (Siconos' Capsules), and Newton's steps finish from
 ///      their answer.
 ///   5. Coulomb's law on a symmetric A where stages 1 to 4 stop short: the fixed point on De
-///      Saxcé's term averaged, s ← (1 − a) s + a mu ‖u_t(s)‖ with a = 0.7 (Krasnosel'skii
-///      1955, Mann 1953), each round the CCP of b_n − s by stages 1 and 2, to a hundredth of the
-///      rounds' best Coulomb residual; the CCP's w is unique (a convex QP's: A symmetric), so the
-///      rounds are a map of s alone,
-///      whose fixed points solve Coulomb's law (Acary, Cadoux, Lemaréchal & Malick 2011). Where
-///      the plain rounds of stage 3 cycle (the larger piles settling under the paper's box) the
-///      averaged ones converge, linearly and slowly (averaged_fixed_point in cone_direct.cpp:
-///      at most 2,000 rounds and 40,000 factorizations of its own, no more than 3e7 / rows,
-///      ended by 150 rounds in a row that do not halve the best residual). Where none of this
-///      finishes (Siconos' RockPile, docs/cones.md), it says so.
+///      Saxcé's term averaged, s ← (1 − a) s + a mu ‖u_t(s)‖ with a = 0.7, halved where the
+///      rounds cycle (Krasnosel'skii 1955, Mann 1953), Newton's steps on Alart–Curnier's
+///      function again from the rounds each time they close in tenfold, each round the CCP of b_n −
+///      s by stages 1 and 2, to a hundredth of the rounds' best Coulomb residual; the CCP's w is
+///      unique (a convex QP's: A symmetric), so the rounds are a map of s alone, whose fixed points
+///      solve Coulomb's law (Acary, Cadoux, Lemaréchal & Malick 2011). Where the plain rounds of
+///      stage 3 cycle (the larger piles settling under the paper's box) the averaged ones converge,
+///      linearly and slowly (averaged_fixed_point in cone_direct.cpp: at most 2,000 rounds and
+///      40,000 factorizations of its own, no more than 3e7 / rows, ended by 150 rounds in a row
+///      that do not halve the best residual). Where none of this finishes (Siconos' RockPile,
+///      docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
