@@ -59,6 +59,9 @@ from cbps_problem import cone_natural_maps, scale_of  # scripts/cbps_problem.py
 
 FORMAT = "cbps-cones/3"
 BASES = [3, 5, 10, 20]
+# The piles settling under the paper's box: the same bases and base 7, 196 contacts (the averaged
+# fixed point of issue 51 left it at a unit-free 8.1e-10 before its differentiated interior point).
+BOX_BASES = [3, 5, 7, 10, 20]
 LAWS = ["ccp", "coulomb"]
 MU = "0.5"
 BOX_STEP = 3
@@ -198,7 +201,8 @@ def main():
                "date": datetime.date.today().isoformat(), "machine": platform.node(),
                "nproc": os.cpu_count(), "quick": args.quick, "siconos_timeout_s": timeout,
                "problems": [measure(cbps, work, base, timeout, "cone") for base in bases],
-               "box_states": [measure(cbps, work, base, timeout, "box") for base in bases]}
+               "box_states": [measure(cbps, work, base, timeout, "box")
+                              for base in (BOX_BASES[:1] if args.quick else BOX_BASES)]}
     peers.write_results(args.out, results, start, log)
 
 

@@ -491,8 +491,8 @@ VecX desaxce_right_side(const Setup& S, const VecX& b, const VecX& x) {
 enum class DeSaxce { Off, Refreshed, Differentiated };
 
 /// The Newton matrix of the interior point with De Saxcé's term differentiated, at x (scaled):
-/// the CCP's A' + Eᵀ W⁻² E + ρ I (InteriorSystem's, fixed rows replaced by the identity) plus
-/// the derivative of its residual's term mu ‖w_t‖_ε in each contact's normal row,
+/// the CCP's row_space_matrix (A' + Eᵀ W⁻² E + ρ I, interior_system.hpp) plus the derivative of
+/// its residual's term mu ‖w_t‖_ε in each contact's normal row,
 ///   ∂/∂x mu ‖w_t‖_ε = mu (w_tᵀ / ‖w_t‖_ε) A'_t,   ‖w_t‖_ε = (‖w_t‖² + ε²)^½,  w = A'x − b,
 /// smoothed by ε = kSmoothing √gap, which goes to 0 with the duality gap (the smoothing of
 /// Chen & Mangasarian, Comput. Optim. Appl. 5, 1996, for ‖·‖ where a contact's w_t passes 0;
@@ -504,25 +504,8 @@ SpMat differentiated_matrix(const Setup& S,
                             const std::vector<Mat3>& Winv,
                             double rho,
                             double gap) {
-  const Eigen::Index c = S.c;
   const auto kept = [&](Eigen::Index k) { return S.fixed[std::size_t(k)] == 0; };
   std::vector<Triplet> t;
-  t.reserve(std::size_t(2 * S.A.nonZeros() + 9 * Eigen::Index(S.constraints.size()) + c));
-  for (int j = 0; j < S.A.outerSize(); ++j)
-    for (SpMat::InnerIterator a(S.A, j); a; ++a)
-      if (kept(j) && kept(a.row())) t.emplace_back(int(a.row()), j, a.value());
-  for (Eigen::Index k = 0; k < c; ++k) t.emplace_back(int(k), int(k), kept(k) ? rho : 1.0);
-  for (std::size_t j = 0; j < S.constraints.size(); ++j) {
-    const Constraint& k = S.constraints[j];
-    if (!k.cone) {
-      t.emplace_back(k.row, k.row, Winv[j](0, 0) * Winv[j](0, 0));
-      continue;
-    }
-    const Vec3 scale(k.a, 1.0, 1.0);
-    const Mat3 block = scale.asDiagonal() * (Winv[j] * Winv[j]) * scale.asDiagonal();
-    for (int r = 0; r < 3; ++r)
-      for (int q = 0; q < 3; ++q) t.emplace_back(k.row + r, k.row + q, block(r, q));
-  }
   const VecX w = S.A * x - b;
   const double eps = kSmoothing * std::sqrt(std::max(gap, 0.0));
   for (long i = 0; i < S.law.contacts(); ++i) {
@@ -535,9 +518,9 @@ SpMat differentiated_matrix(const Setup& S,
         if (kept(a.row())) t.emplace_back(n, int(a.row()), f * a.value());
     }
   }
-  SpMat H(c, c);
-  H.setFromTriplets(t.begin(), t.end());
-  return H;
+  SpMat G(S.c, S.c);
+  G.setFromTriplets(t.begin(), t.end());
+  return row_space_matrix(S.A, S.fixed, S.constraints, Winv, rho) + G;
 }
 
 /// The interior point's Newton matrix, factored and solved: InteriorSystem's (symmetric,

@@ -66,21 +66,23 @@ bool InteriorSystem::factor_matrix(const SpMat& H) {
   return ok;
 }
 
-/// A' + Eᵀ W⁻² E + ρ I, fixed rows replaced by the identity. Its pattern (A's, the diagonal,
-/// each contact's 3×3 block) is the same at every iteration.
-bool InteriorSystem::factor_rows(const std::vector<Mat3>& Winv, double rho) {
-  const Eigen::Index c = A_.rows();
+SpMat row_space_matrix(const SpMat& A_scaled,
+                       const std::vector<char>& fixed,
+                       const std::vector<ConeConstraint>& constraints,
+                       const std::vector<Mat3>& Winv,
+                       double rho) {
+  const Eigen::Index c = A_scaled.rows();
   std::vector<Triplet> t;
-  t.reserve(std::size_t(A_.nonZeros() + 9 * Eigen::Index(constraints_.size()) + c));
-  for (int j = 0; j < A_.outerSize(); ++j) {
-    if (fixed_[std::size_t(j)]) continue;
-    for (SpMat::InnerIterator a(A_, j); a; ++a)
-      if (!fixed_[std::size_t(a.row())]) t.emplace_back(int(a.row()), j, a.value());
+  t.reserve(std::size_t(A_scaled.nonZeros() + 9 * Eigen::Index(constraints.size()) + c));
+  for (int j = 0; j < A_scaled.outerSize(); ++j) {
+    if (fixed[std::size_t(j)]) continue;
+    for (SpMat::InnerIterator a(A_scaled, j); a; ++a)
+      if (!fixed[std::size_t(a.row())]) t.emplace_back(int(a.row()), j, a.value());
   }
   for (Eigen::Index k = 0; k < c; ++k)
-    t.emplace_back(int(k), int(k), fixed_[std::size_t(k)] ? 1.0 : rho);
-  for (std::size_t j = 0; j < constraints_.size(); ++j) {
-    const ConeConstraint& k = constraints_[j];
+    t.emplace_back(int(k), int(k), fixed[std::size_t(k)] ? 1.0 : rho);
+  for (std::size_t j = 0; j < constraints.size(); ++j) {
+    const ConeConstraint& k = constraints[j];
     if (!k.cone) {
       t.emplace_back(k.row, k.row, Winv[j](0, 0) * Winv[j](0, 0));
       continue;
@@ -92,7 +94,11 @@ bool InteriorSystem::factor_rows(const std::vector<Mat3>& Winv, double rho) {
   }
   SpMat H(c, c);
   H.setFromTriplets(t.begin(), t.end());
-  return factor_matrix(H);
+  return H;
+}
+
+bool InteriorSystem::factor_rows(const std::vector<Mat3>& Winv, double rho) {
+  return factor_matrix(row_space_matrix(A_, fixed_, constraints_, Winv, rho));
 }
 
 /// Ω = D⁻¹ (D = md B + cfm I, 0 on fixed rows), then M + Jᵀ Ω J. Ω's pattern (the diagonal and

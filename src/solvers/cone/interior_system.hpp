@@ -39,6 +39,15 @@ struct BodyFactors {
 /// The problem's BodyFactors where body_masses() finds M, nullopt otherwise (row space).
 std::optional<BodyFactors> body_factors(const BoxedProblem& problem);
 
+/// A' + Σ_k E_kᵀ W_k⁻² E_k + ρ I (InteriorSystem's B below), the fixed rows replaced by the
+/// identity: the row-space Newton matrix. Its pattern (A's, the diagonal, each contact's 3×3
+/// block) is the same for every W.
+SpMat row_space_matrix(const SpMat& A_scaled,
+                       const std::vector<char>& fixed,
+                       const std::vector<ConeConstraint>& constraints,
+                       const std::vector<Mat3>& Winv,
+                       double rho);
+
 /// The interior point's Newton matrix on the problem scaled to max A_kk = 1 (A' = A / md):
 ///   A' + B,   B = Σ_k E_kᵀ W_k⁻² E_k + ρ I,
 /// E_k a constraint's map from x to its s (a bound's a on its row, a cone's diag(mu, 1, 1) on
