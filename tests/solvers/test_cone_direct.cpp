@@ -403,6 +403,9 @@ TEST_CASE("direct's averaged fixed point stays off a W that is not symmetric",
   INFO(s.message);
   CHECK(s.termination != Termination::Direct);
   CHECK(s.message.find("averaged fixed-point rounds") == std::string::npos);
+  // nor the interior point with De Saxcé's term differentiated (its matrix takes A's rows for
+  // its columns)
+  CHECK(s.message.find(" 0 with it differentiated") != std::string::npos);
   CHECK(s.message.find("not verified") != std::string::npos);
 }
 

@@ -147,7 +147,8 @@ constexpr double kAveragedWork = 3e7;
 constexpr int kAveragedStall = 150;
 /// Where the rounds cycle, kCycleRounds in a row with a Coulomb residual above kCycleRatio times
 /// the rounds' least, the weight halves (down to kSmallestWeight) and the rounds go on from that
-/// least one. On the base-7 pile settling under the paper's box (196 contacts) a = 0.7 reached a
+/// least one. Measured before stage 3's differentiated interior point, which now finishes that
+/// pile first: on the base-7 pile settling under the paper's box (196 contacts) a = 0.7 reached a
 /// scaled residual of 8.4e-7 by round 55, then cycled (3 to 9 times that) until the stall rule
 /// ended it at round 199 (unit-free 8.1e-10); halved to 0.35 at round 77, the rounds reached
 /// 7.8e-11 by round 229 and met the target (Python, every CCP solved to 1e-10: a = 0.4 cycles with
@@ -161,7 +162,8 @@ constexpr double kSmallestWeight = 0.08;
 /// Each time the rounds' least residual falls below kNewtonAgain times where Newton's steps on
 /// Alart–Curnier's function last started (the best point of stages 1 to 4 at first), those steps
 /// run again from the round, with kAveragedNewton factorizations: from the rounds' points they
-/// lower the residual 3 to 20 times where they stalled from stages 1 to 4's best (base-7 pile:
+/// lower the residual 3 to 20 times where they stalled from stages 1 to 4's best (base-7 pile,
+/// before stage 3's differentiated interior point:
 /// 1.9e-8 to 1.1e-9, then 1.9e-9 to 7.5e-11 scaled, which ends the stage at round 186 instead of
 /// 229; base 4: 1.3e-10 to 2.8e-11).
 constexpr double kNewtonAgain = 0.1;
@@ -663,8 +665,10 @@ VecX interior(const Setup& S,
     const double alpha =
         std::min(1.0, tau * std::min(step_to_boundary(S, s, ds), step_to_boundary(S, z, dz)));
     if (!(alpha > 0.0)) break;
-    jammed = alpha < kJammedStep ? jammed + 1 : 0;
-    if (term == DeSaxce::Differentiated && jammed >= kJammedIterations) break;
+    if (term == DeSaxce::Differentiated) {  // stopped where its steps jam
+      jammed = alpha < kJammedStep ? jammed + 1 : 0;
+      if (jammed >= kJammedIterations) break;
+    }
     x += alpha * dx;
     s += alpha * ds;
     z += alpha * dz;
