@@ -36,10 +36,39 @@ struct CliResult {
   std::string err;  ///< stderr
 };
 
-/// An empty folder under the temporary directory, unique to this process.
+/// The scratch folders this process made; removed when it exits (ctest runs every test case in a
+/// process of its own), kept where CBPS_KEEP_TEST_FILES is set, to look at after a failure.
+class ScratchFolders {
+ public:
+  ScratchFolders() = default;
+  ScratchFolders(const ScratchFolders&) = delete;
+  ScratchFolders& operator=(const ScratchFolders&) = delete;
+  ~ScratchFolders() {
+    if (std::getenv("CBPS_KEEP_TEST_FILES") != nullptr) return;
+    for (const std::filesystem::path& p : made_) {
+      std::error_code ec;  // a folder already gone is not an error here
+      std::filesystem::remove_all(p, ec);
+    }
+  }
+  void add(const std::filesystem::path& p) {
+    if (std::find(made_.begin(), made_.end(), p) == made_.end()) made_.push_back(p);
+  }
+
+ private:
+  std::vector<std::filesystem::path> made_;
+};
+
+inline ScratchFolders& scratch_folders() {
+  static ScratchFolders folders;
+  return folders;
+}
+
+/// An empty folder under the temporary directory, unique to this process and removed when it
+/// exits.
 inline std::filesystem::path scratch_dir(const std::string& name) {
   const std::filesystem::path p = std::filesystem::temp_directory_path() /
                                   ("cbps_test_" + name + "_" + std::to_string(::getpid()));
+  scratch_folders().add(p);
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p;

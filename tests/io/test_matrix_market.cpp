@@ -20,8 +20,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path mm_scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("cbps_test_mm_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const fs::path dir = cbps::test::scratch_dir("mm");
   return dir / name;
 }
 

@@ -20,7 +20,8 @@ namespace {
 
 /// Writes text to a fresh temporary file and returns its path.
 std::string temp_file(const std::string& name, const std::string& text) {
-  const fs::path path = fs::temp_directory_path() / ("cbps_test_lcp_" + name);
+  static const fs::path dir = test::scratch_dir("lcp_text");
+  const fs::path path = dir / name;
   std::ofstream(path) << text;
   return path.string();
 }
