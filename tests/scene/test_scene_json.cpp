@@ -13,6 +13,7 @@
 #include "cbps/scene/scene_json.hpp"
 #include "cbps/solvers/methods.hpp"
 #include "cbps/studies/solver_spec.hpp"
+#include "fixture.hpp"
 
 using namespace cbps;
 
@@ -429,7 +430,7 @@ TEST_CASE("dt may be a fraction p/q", "[scene_json]") {
 TEST_CASE("a scene file's name defaults to its file stem, a missing file is an InputError",
           "[scene_json]") {
   const std::filesystem::path path =
-      std::filesystem::temp_directory_path() / "cbps-test-unnamed-scene.json";
+      cbps::test::scratch_dir("unnamed_scene") / "cbps-test-unnamed-scene.json";
   {
     std::ofstream out(path);
     out << R"({"bodies": []})";
