@@ -68,13 +68,37 @@ bool block_inverse(const SpMat& M, SpMat& inverse, std::string& failure) {
   return true;
 }
 
+SpMat symmetric_from_triangle(const SpMat& M, std::string& note) {
+  long upper = 0, lower = 0;  // stored entries off the diagonal, nonzero
+  for (Eigen::Index j = 0; j < M.outerSize(); ++j)
+    for (SpMat::InnerIterator it(M, j); it; ++it)
+      if (it.value() != 0.0) {
+        if (it.row() < it.col()) ++upper;
+        if (it.row() > it.col()) ++lower;
+      }
+  note.clear();
+  if ((upper == 0) == (lower == 0)) return M;  // both triangles (or a diagonal M): as stored
+  note = "M stored as its " + std::string(upper > 0 ? "upper" : "lower") + " triangle (" +
+         std::to_string(upper + lower) +
+         " entries off the diagonal, none in the other): read as the symmetric M it is half of";
+  SpMat diagonal(M.rows(), M.cols());
+  diagonal.reserve(Eigen::VectorXi::Constant(M.cols(), 1));
+  for (Eigen::Index j = 0; j < M.outerSize(); ++j)
+    for (SpMat::InnerIterator it(M, j); it; ++it)
+      if (it.row() == it.col()) diagonal.insert(it.row(), it.col()) = it.value();
+  SpMat full = M + SpMat(M.transpose()) - diagonal;
+  full.makeCompressed();
+  return full;
+}
+
 StoredProblem eliminate_velocities(const GlobalProblem& g,
                                    const std::function<void(const std::string& why)>& fail_M) {
   const auto fail = [&](const std::string& why) {
     fail_M(why);
     throw InputError("M: " + why);  // fail_M throws; this is never reached
   };
-  const SpMat& M = g.M;
+  std::string triangle;
+  const SpMat M = symmetric_from_triangle(g.M, triangle);
   const long n = M.rows(), m = g.H.cols(), e = g.G.cols();
   const SpMat asymmetry = M - SpMat(M.transpose());
   if (asymmetry.nonZeros() > 0 &&
@@ -106,6 +130,7 @@ StoredProblem eliminate_velocities(const GlobalProblem& g,
     Minv_f = ldlt.solve(g.f);
   }
   StoredProblem p;
+  if (!triangle.empty()) p.notes.push_back(triangle);
   p.A = 0.5 * (A + SpMat(A.transpose()));  // symmetric to the bit, as J M⁻¹ Jᵀ is
   const VecX q = J * Minv_f;
   p.b.resize(m + e);

@@ -22,6 +22,12 @@ inline constexpr long kInverseBlock = 12;
 /// with `failure` saying which block where one is not positive definite.
 bool block_inverse(const SpMat& M, SpMat& inverse, std::string& failure);
 
+/// M itself where it stores both triangles (or only its diagonal); where it stores one strict
+/// triangle and nothing in the other (LMGC90's dumps, e.g. Siconos' LMGC_GFC3D_CubeH8: its upper
+/// triangle) the symmetric matrix that triangle is half of (FCLIB's M is symmetric, fclib.h),
+/// with `note` saying so (empty otherwise).
+SpMat symmetric_from_triangle(const SpMat& M, std::string& note);
+
 /// A global problem as read, before v is eliminated. H is n × m (3 columns per contact), G
 /// n × e (may have no columns).
 struct GlobalProblem {
@@ -31,7 +37,8 @@ struct GlobalProblem {
 };
 
 /// The problem with v eliminated: J = [Hᵀ; Gᵀ] (r's rows, then l's), A = J M⁻¹ Jᵀ (6.2.9),
-/// b = −[Hᵀ M⁻¹ f + w; Gᵀ M⁻¹ f + b_G], the contacts' rows in cones (law Coulomb), l's rows
+/// b = −[Hᵀ M⁻¹ f + w; Gᵀ M⁻¹ f + b_G] (M as symmetric_from_triangle reads it, its note in the
+/// problem's `notes`), the contacts' rows in cones (law Coulomb), l's rows
 /// free. With a block-diagonal M (rigid bodies) J and M⁻¹ are kept, as a `cbps matrices`
 /// folder's; else A comes from a sparse LDLᵀ of M. `fail_M` is called (and must throw) with
 /// what is wrong with M: not symmetric, not positive definite, or so near singular that A or b

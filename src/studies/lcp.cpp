@@ -109,6 +109,7 @@ LcpOutcome solve_stored(const SolverSpec& spec,
   SolverOptions options = solver_options(spec, iterations, tolerance);
   options.cfm = p.cfm;
   options.time_limit = time_limit;
+  options.tolerance_unit_free = !p.folder;  // a Siconos or FCLIB file: its simulator's units
   VecX lambda = VecX::Zero(p.rows());
   const SolverSummary s = solve(p.problem(), lambda, options);
   LcpOutcome r;
@@ -179,6 +180,7 @@ nlohmann::json lcp_result_json(const std::string& problem,
   j["problem"] = problem;
   j["rows"] = p.rows;
   j["cfm"] = p.cfm;
+  j["read_notes"] = p.stored != nullptr ? nlohmann::json(p.stored->notes) : nlohmann::json::array();
   j["solver"] = solver;
   j["status"] = v.status;
   j["iterations"] = r.iterations;
@@ -247,6 +249,8 @@ std::string lcp_text(const std::string& problem,
                      const LcpVerdict& v,
                      double wall) {
   std::string t = problem + ": " + std::to_string(p.rows) + " rows (" + p.kind + ")\n";
+  if (p.stored != nullptr)
+    for (const std::string& note : p.stored->notes) t += "read: " + note + "\n";
   if (p.cfm > 0.0)
     t += "cfm " + number_text(p.cfm) + " kg^-1 (cfm.txt): solving the boxed problem of A + eps E\n";
   t += solver + ": " + v.status + ", " + std::to_string(r.iterations) + " " +

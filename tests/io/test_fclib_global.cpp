@@ -178,13 +178,70 @@ TEST_CASE("an FCLIB global problem with a coupled M and equality rows: A and b b
   }
 }
 
+TEST_CASE("an FCLIB global problem whose M is stored as one triangle reads as the symmetric M",
+          "[fclib]") {
+  // LMGC90 writes a finite-element M as its upper triangle (Siconos' LMGC_GFC3D_CubeH8). The
+  // tridiagonal chain of the test above, stored as each triangle, reads as the full M; the
+  // problem's notes and `cbps lcp` say so. An M with entries in both triangles that differ is
+  // still refused.
+  const int n = 16;
+  MatX M = MatX::Zero(n, n);
+  for (int k = 0; k < n; ++k) {
+    M(k, k) = 4.0;
+    if (k + 1 < n) M(k, k + 1) = M(k + 1, k) = -1.0;
+  }
+  MatX H = MatX::Zero(n, 6);
+  for (int k = 0; k < 6; ++k) H(k + 2 * (k / 3), k) = 1.0;
+  const VecX f = VecX::LinSpaced(n, -9.81, 1.0), w = VecX::Zero(6);
+  const VecX mu = (VecX(2) << 0.5, 0.3).finished();
+  const fs::path dir = test::scratch_dir("fclib_global_triangle");
+  const MatX Minv = M.inverse();
+  const MatX A = H.transpose() * Minv * H;
+  const VecX b = -(H.transpose() * Minv * f + w);
+  for (const bool upper : {true, false}) {
+    const MatX half =
+        upper ? MatX(M.triangularView<Eigen::Upper>()) : MatX(M.triangularView<Eigen::Lower>());
+    const std::string file = (dir / (upper ? "upper.hdf5" : "lower.hdf5")).string();
+    write_global(file, half, H, MatX(n, 0), f, w, VecX(0), mu);
+    const StoredProblem p = read_problem(file);
+    INFO((upper ? "upper" : "lower"));
+    CHECK(relative(MatX(p.A), A) < 1e-12);
+    CHECK(relative(p.b, b) < 1e-12);
+    REQUIRE(p.notes.size() == 1);
+    CHECK(p.notes[0].find(upper ? "upper triangle" : "lower triangle") != std::string::npos);
+    const test::CliResult run = test::run_cli("lcp " + file + " --solver direct --json");
+    INFO(run.err);
+    REQUIRE(run.code == 0);
+    const auto j = nlohmann::json::parse(run.out);
+    CHECK(j["status"] == "solved");
+    CHECK(j["read_notes"].size() == 1);
+  }
+  // Both triangles, M and Mᵀ different: refused as before, naming the dataset.
+  MatX skew = M;
+  skew(0, 1) = -2.0;
+  const std::string file = (dir / "skew.hdf5").string();
+  write_global(file, skew, H, MatX(n, 0), f, w, VecX(0), mu);
+  try {
+    read_problem(file);
+    FAIL("an M with M_01 != M_10 was read");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("/fclib_global/M: not symmetric") != std::string::npos);
+  }
+  // Stored in full, nothing is noted.
+  const std::string full = (dir / "full.hdf5").string();
+  write_global(full, M, H, MatX(n, 0), f, w, VecX(0), mu);
+  CHECK(read_problem(full).notes.empty());
+}
+
 TEST_CASE("a malformed FCLIB global problem is an InputError naming the dataset", "[fclib]") {
   const fs::path dir = test::scratch_dir("fclib_global_bad");
   const MatX H = MatX::Identity(3, 3);
   const VecX f = VecX::Zero(3), w = VecX::Zero(3), mu = VecX::Constant(1, 0.5);
-  // M not symmetric.
+  // M not symmetric: entries in both triangles that differ (one triangle alone reads as the
+  // symmetric M it is half of: the test above).
   MatX M = 2.0 * MatX::Identity(3, 3);
   M(0, 1) = 1.0;
+  M(1, 0) = 0.5;
   const std::string asymmetric = (dir / "asymmetric.hdf5").string();
   write_global(asymmetric, M, H, MatX(3, 0), f, w, VecX(0), mu);
   CHECK_THROWS_WITH(read_problem(asymmetric),

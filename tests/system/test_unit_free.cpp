@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "cbps/io/stored_problem.hpp"
+#include "cbps/solvers/solver.hpp"
 #include "cbps/system/boxed_problem.hpp"
 #include "cbps/system/cone_problem.hpp"
 #include "cbps/system/unit_free.hpp"
@@ -195,4 +196,48 @@ TEST_CASE("the unit-free residual from rows held apart, as ranks hold them, is t
   const UnitFreeTarget serial = unit_free_target(whole);
   CHECK(target.rho_b == serial.rho_b);
   CHECK(target.rho_max == serial.rho_max);
+}
+
+TEST_CASE("the sweeps stop where the residual is within the tolerance both ways, in any units",
+          "[unit-free]") {
+  // With tolerance_unit_free (`cbps lcp` on a Siconos or FCLIB file) the sweeps read the
+  // tolerance as the direct path does: within τ N and within a unit-free τ. In units of force
+  // 1e12 times cbps's and of velocity 1e-12 times (A as it is, b and λ 1e-12 times) the natural
+  // map is 1e-12 times smaller and τ = 1e-10 is reached far from the answer: the unit-free
+  // residual where they stop must be within τ in every unit (and without the flag, in those
+  // units, it is not: they stop far from the answer, as nsgs did on LMGC90's dumps). Siconos'
+  // relay problem under PGS and a rover's contacts (W not symmetric) under nsgs and both cone
+  // laws.
+  const StoredProblem relay =
+      read_problem((test::kSiconosDir / "relay" / "relay_4x4.dat").string());
+  StoredProblem rover = read_problem((test::kFc3dDir / "Rover4396.dat").string());
+  const double tolerance = 1e-10;
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
+    rover.cones.law = law;
+    for (const StoredProblem* p : {&relay, static_cast<const StoredProblem*>(&rover)}) {
+      const FrictionContacts* cones = p->cones.empty() ? nullptr : &p->cones;
+      for (const double force : {1.0, 1e12}) {
+        const Scaled s = in_units(*p, VecX::Zero(p->rows()), force, 1.0 / force);
+        BoxedProblem q{s.A, s.b, s.cmin, s.cmax};
+        q.cones = cones;
+        for (const bool both : {true, false}) {
+          SolverOptions o;
+          o.method = cones != nullptr ? Method::Nsgs : Method::Pgs;
+          o.max_iterations = 100000;
+          o.tolerance = tolerance;
+          o.tolerance_unit_free = both;
+          VecX lambda;
+          const SolverSummary summary = solve(q, lambda, o);
+          const double unit_free = unit_free_residual(q, lambda).relative;
+          INFO("rows " << p->rows() << ", law " << cone_law_name(law) << ", force unit " << force
+                       << (both ? ", both ways: " : ", in N alone: ") << summary.iterations
+                       << " sweeps, " << summary.residual << " N, unit-free " << unit_free);
+          CHECK(summary.termination == Termination::ResidualTolerance);
+          CHECK(summary.residual <= tolerance);
+          if (both) CHECK(unit_free <= tolerance);
+          if (!both && force == 1e12) CHECK(unit_free > 1e-3);
+        }
+      }
+    }
+  }
 }

@@ -48,6 +48,10 @@ struct StoredProblem {
   /// empty for the paper's boxed problem.
   FrictionContacts cones;
   bool fclib = false;  ///< read from an FCLIB file (io/fclib_file.hpp)
+  /// What the reader did to the file's data beyond reading it, one sentence each (a global
+  /// problem's M stored as one triangle, read as the symmetric M it is half of); `cbps lcp`
+  /// prints them (`read_notes` in its JSON).
+  std::vector<std::string> notes;
   long rows() const { return static_cast<long>(b.size()); }
   /// J and Minv are here (A = J Minv Jᵀ, 6.2.9): body space for the direct path.
   bool has_jacobian() const { return J.rows() == rows() && J.rows() > 0; }

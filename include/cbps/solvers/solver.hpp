@@ -229,6 +229,13 @@ struct SolverOptions : SolveSettings {
   /// point) at their next iteration, with their best lambda; a peer's child process is killed at
   /// it (lambda stays the guess: a peer reports no point before its end).
   double time_limit = 0.0;
+  /// The sweeping methods read `tolerance` both ways, as the direct path always does: they stop
+  /// where the residual is within it in N and the unit-free residual (unit_free.hpp) within it
+  /// too. `cbps lcp` sets it for problems read from Siconos and FCLIB files, whose units are their
+  /// simulator's (forces near 1e-10 N are within 1e-10 N at λ = 0); false for cbps's scenes and
+  /// folders, in SI units, where a step's forces of 1e-13 N are done at 1e-10 N whatever their
+  /// unit-free residual.
+  bool tolerance_unit_free = false;
   /// time_limit as a point in time: set by solve() on entry, kept by the solves it makes
   /// inside (a Coulomb fixed point's rounds, an island's solve) so that one limit bounds them all.
   /// The default, time_point::max(): none.

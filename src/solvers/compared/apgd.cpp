@@ -88,8 +88,13 @@ SolverSummary solve_apgd(const BoxedProblem& problem,
   };
 
   // iterate_sweeps asks for the residual only of the iterate the last step made (or the start).
-  SolverSummary s =
-      detail::iterate_sweeps(c, lambda, options, step, [&](const VecX&) { return residual; });
+  SolverSummary s = detail::iterate_sweeps(
+      c,
+      lambda,
+      options,
+      step,
+      [&](const VecX&) { return residual; },
+      [&](const VecX& l) { return unit_free_residual(problem, l).relative; });
   s.restarts = restarts;
   const bool returned_best = std::isfinite(best_residual) && !(s.residual <= best_residual);
   if (returned_best) {

@@ -1036,6 +1036,7 @@ void sweeps_then_newton(const BoxedProblem& problem,
                         Counts& counts) {
   const double alpha = S.bn / S.md;  // λ = alpha x
   SolverOptions sweeps = options;
+  sweeps.tolerance_unit_free = false;  // told the target in N, which reads τ both ways already
   sweeps.method = kConeSweepMethod;
   sweeps.max_iterations = kSweepsPerRound;
   sweeps.after_sweep = nullptr;
@@ -1183,6 +1184,7 @@ void quick_start(const BoxedProblem& problem,
   // The relaxation's interior point is cheap and exact; Coulomb's stages are the costly ones.
   if (S.law.law != FrictionLaw::CoulombCone) return;
   SolverOptions sweeps = options;
+  sweeps.tolerance_unit_free = false;  // told the target in N, which reads τ both ways already
   sweeps.method = kConeSweepMethod;
   sweeps.after_sweep = nullptr;
   VecX swept = lambda;

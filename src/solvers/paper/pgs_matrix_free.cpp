@@ -72,7 +72,8 @@ SolverSummary solve_matrix_free(const BoxedProblem& problem,
         const std::vector<int>& rows = order.next();  // empty: the natural order
         return pgs.sweep(problem.b, problem.cmin, problem.cmax, l, u, options.relaxation, rows);
       },
-      [&](const VecX& l) { return pgs.residual(problem.b, problem.cmin, problem.cmax, l, u); });
+      [&](const VecX& l) { return pgs.residual(problem.b, problem.cmin, problem.cmax, l, u); },
+      [&](const VecX& l) { return unit_free_residual(problem, l, options.cfm).relative; });
   if (options.describe) s.message.insert(0, "matrix-free: ");
   return s;
 }
