@@ -71,6 +71,17 @@ void write_global(const std::string& file,
   REQUIRE(fclib_write_global(&global, file.c_str()) == 1);
 }
 
+/// An elastic chain's n × n mass matrix: tridiagonal, 4 on the diagonal, −1 beside it (one
+/// block larger than a rigid body's).
+MatX chain_mass(int n) {
+  MatX M = MatX::Zero(n, n);
+  for (int k = 0; k < n; ++k) {
+    M(k, k) = 4.0;
+    if (k + 1 < n) M(k, k + 1) = M(k + 1, k) = -1.0;
+  }
+  return M;
+}
+
 double relative(const MatX& got, const MatX& expected) {
   return (got - expected).cwiseAbs().maxCoeff() / std::max(1.0, expected.cwiseAbs().maxCoeff());
 }
@@ -122,11 +133,7 @@ TEST_CASE("an FCLIB global problem with a coupled M and equality rows: A and b b
   // Sixteen unknowns coupled by a tridiagonal M (an elastic chain: one block larger than a
   // rigid body's), two contacts (H: 6 columns) and one equality (G).
   const int n = 16;
-  MatX M = MatX::Zero(n, n);
-  for (int k = 0; k < n; ++k) {
-    M(k, k) = 4.0;
-    if (k + 1 < n) M(k, k + 1) = M(k + 1, k) = -1.0;
-  }
+  const MatX M = chain_mass(n);
   MatX H = MatX::Zero(n, 6), G = MatX::Zero(n, 1);
   H(0, 0) = 1.0;  // contact 0: normal along unknown 0, tangents 1 and 2
   H(1, 1) = 1.0;
@@ -185,11 +192,7 @@ TEST_CASE("an FCLIB global problem whose M is stored as one triangle reads as th
   // problem's notes and `cbps lcp` say so. An M with entries in both triangles that differ is
   // still refused.
   const int n = 16;
-  MatX M = MatX::Zero(n, n);
-  for (int k = 0; k < n; ++k) {
-    M(k, k) = 4.0;
-    if (k + 1 < n) M(k, k + 1) = M(k + 1, k) = -1.0;
-  }
+  const MatX M = chain_mass(n);
   MatX H = MatX::Zero(n, 6);
   for (int k = 0; k < 6; ++k) H(k + 2 * (k / 3), k) = 1.0;
   const VecX f = VecX::LinSpaced(n, -9.81, 1.0), w = VecX::Zero(6);
