@@ -210,13 +210,14 @@ void register_lcp(CLI::App& app, Action& run) {
          o->tolerance,
          "every method but lemke and tao:TYPE: stop at this natural-map residual, N (default " +
              number_text(o->tolerance) +
-             "; the direct path also reads it as a unit-free residual, docs/cones.md; below their "
+             "; the direct path, and every method on a Siconos or FCLIB file, also read it as a "
+             "unit-free residual, docs/cones.md; below their "
              "rounding floor the exact paths stop there once their steps no longer reduce the "
              "residual; lemke pivots to the end). tao:TYPE: TAO's absolute tolerance gatol on "
              "its own measure (a 2-norm of the gradient without the rows TAO holds at a bound; "
              "for bqpip its mean infeasibility), not the natural-map residual. Whatever the "
-             "method says, the result is judged solved when its unit-free residual is <= 1e-9 "
-             "(under mpirun: the natural-map residual <= 1e-9 max(1, |b|inf, max |A_ij|))")
+             "method says, the result is judged solved when its unit-free residual is <= 1e-9, "
+             "under mpirun too (the ranks form it from their rows)")
       ->check(non_negative());
   cmd->add_option("--time-limit",
                   o->time_limit,
