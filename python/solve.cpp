@@ -308,7 +308,8 @@ py::tuple solve_py(const py::object& A,
                    const py::object& kinds,
                    const py::object& cones,
                    bool history,
-                   const py::object& history_limit_in) {
+                   const py::object& history_limit_in,
+                   bool unit_free) {
   // The numbers first, then the spec, then the data.
   const SolveNumbers n = read_numbers(
       iterations_in, seed_in, history_limit_in, tolerance_in, delta_tolerance_in, cfm_in);
@@ -319,6 +320,7 @@ py::tuple solve_py(const py::object& A,
   require_method_inputs(spec, in);
 
   SolverOptions options = options_of(spec, n, split_islands);
+  options.tolerance_unit_free = unit_free;
   // The per-sweep history (iterative methods on the whole problem: with split_islands each
   // island sweeps apart, so there is no whole iterate to measure).
   const bool per_sweep =
@@ -524,25 +526,27 @@ void bind_solve(py::module_& m) {
       py::arg("cones") = py::none(),
       py::arg("history") = true,
       py::arg("history_limit") = kHistoryLimit,
-      "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a "
-      "--solver spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', "
-      "'direct', 'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', "
-      "'rbgs', 'shock', 'lemke' (dense), ...) from lam0 (default 0), with the defaults of "
-      "`cbps lcp` (iterations 10000, tolerance 1e-10 N). A: scipy.sparse or dense; b, cmin, "
-      "cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for matrix-free and "
-      "shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds ('distance', "
-      "'contact', 'friction') for contacts_first; cones (a dict {'law': 'coulomb' or 'ccp', "
-      "'normal_row': [...], 'mu': [...]}, as System.cones and Problem.cones give it) puts "
-      "those contacts' rows in Coulomb's cone, which nsgs and direct solve (also "
-      "siconos:fc3d-* under Coulomb's law, apgd, admm and pgs-nesterov under ccp; docs/cones.md). "
-      "Returns (lam, summary): summary is a dict "
-      "of iterations, residual (N), termination, message, wall_time_s, ... and history "
-      "{iteration, residual, time_s} after every sweep (sweep 0: the guess), at most "
-      "history_limit entries (default 1000000: beyond it every 2nd, 4th, ... sweep, evenly "
+      py::arg("unit_free") = false,
+      "Solves the boxed problem (6.2) w = A lam - b, cmin <= lam <= cmax, by `method` (a --solver "
+      "spec: 'pgs', 'psor:1.3', 'jacobi:0.7', 'sgs', 'block-pgs', 'matrix-free', 'direct', "
+      "'active-set', 'pgs-nesterov', 'apgd:restart=off', 'nncg', 'pgs-sm', 'admm', 'rbgs', "
+      "'shock', 'lemke' (dense), ...) from lam0 (default 0), with the defaults of `cbps lcp` "
+      "(iterations 10000, tolerance 1e-10 N; unit_free=True: the iterative methods stop only where"
+      " the unit-free residual is within the tolerance too, as `cbps lcp` stops on a Siconos or "
+      "FCLIB file: pass `not problem.folder` for a read_problem's problem). A: scipy.sparse or "
+      "dense; b, cmin, cmax: vectors (bounds may be +-inf). J and Minv (A = J Minv J^T) for "
+      "matrix-free and shock; blocks (contact manifold per row, -1 alone) for block-pgs; kinds "
+      "('distance', 'contact', 'friction') for contacts_first; cones (a dict {'law': 'coulomb' or "
+      "'ccp', 'normal_row': [...], 'mu': [...]}, as System.cones and Problem.cones give it) puts "
+      "those contacts' rows in Coulomb's cone, which nsgs and direct solve (also siconos:fc3d-* "
+      "under Coulomb's law, apgd, admm and pgs-nesterov under ccp; docs/cones.md). Returns (lam, "
+      "summary): summary is a dict of iterations, residual (N), termination, message, wall_time_s,"
+      " ... and history {iteration, residual, time_s} after every sweep (sweep 0: the guess), at "
+      "most history_limit entries (default 1000000: beyond it every 2nd, 4th, ... sweep, evenly "
       "over the whole solve, and the last); history=False: None. Numbers out of range raise "
       "InputError (iterations and history_limit whole, up to 2**31 - 1; seed whole >= 0; "
-      "tolerance, delta_tolerance, cfm finite >= 0). Releases the GIL while solving; Ctrl-C "
-      "stops the iterative methods within 0.1 s (KeyboardInterrupt).");
+      "tolerance, delta_tolerance, cfm finite >= 0). Releases the GIL while solving; Ctrl-C stops "
+      "the iterative methods within 0.1 s (KeyboardInterrupt).");
   bind_methods(m);
   bind_threads(m);
 }

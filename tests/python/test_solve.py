@@ -329,3 +329,26 @@ def test_lemke_through_the_library_takes_cfm_and_refuses_cones():
     with pytest.raises(cbps.InputError, match="lemke.*friction cones"):
         cbps.solve(np.eye(3) * 2, [1, 1, 1], [0, -np.inf, -np.inf], [np.inf] * 3, "lemke",
                    cones=cones)
+
+
+@pytest.mark.parametrize("unit_free", [True, False])
+def test_unit_free_stops_the_sweeps_where_the_verdict_holds(unit_free):
+    """unit_free=True reads the tolerance as `cbps lcp` does on a Siconos or FCLIB file: within
+    tau N and within a unit-free tau. Siconos' relay problem in units of force 1e12 times cbps's
+    and of velocity 1e-12 times (A as it is; b, cmin, cmax and lambda 1e-12 times): the natural map
+    is 1e-12 times smaller, so tau = 1e-10 N is met far from the answer. With the flag PGS stops
+    within tau unit-free (the residual of cbps_problem.py, written apart from cbps); without it it
+    stops where the unit-free residual is still above 1e-3."""
+    p = cbps.read_siconos(str(ROOT / "tests" / "data" / "siconos" / "relay" / "relay_4x4.dat"))
+    s = 1e-12
+    b, cmin, cmax = p.b * s, p.cmin * s, p.cmax * s
+    lam, summary = cbps.solve(p.A, b, cmin, cmax, "pgs", iterations=100000, tolerance=1e-10,
+                              unit_free=unit_free)
+    assert summary["termination"] == "residual tolerance reached"
+    relative = unit_free_residual(p.A, b, cmin, cmax, lam)
+    if unit_free:
+        assert relative <= 1e-10
+        assert summary["solved"]
+    else:
+        assert relative > 1e-3
+        assert not summary["solved"]
