@@ -1330,8 +1330,10 @@ std::string cone_direct_message(const Setup& S,
   if (!reached && S.law.law == FrictionLaw::CoulombCone)
     msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
            "point with De Saxce's term refreshed, the fixed point on s = mu |u_t| and the "
-           "semismooth Newton steps on Coulomb's own map each stopped short of it, and on a "
-           "singular A it may have no solution (docs/cones.md)";
+           "semismooth Newton steps on Coulomb's own map each stopped short of it; a solution "
+           "exists wherever some velocity opens every contact at once, which "
+           "scripts/strict_feasibility.py PROBLEM shows for a symmetric A (Acary, Cadoux, "
+           "Lemarechal & Malick 2011), and may not otherwise (docs/cones.md)";
   return msg.str();
 }
 
