@@ -8,7 +8,7 @@ import scipy.sparse as sp
 
 import cbps
 from cbps_problem import SOLVED, unit_free_residual
-from conftest import ROOT, cli, cli_json, natural_map_residual
+from conftest import ROOT, cli, cli_json, cone_natural_maps, natural_map_residual
 
 
 @pytest.fixture(scope="module")
@@ -352,3 +352,27 @@ def test_unit_free_stops_the_sweeps_where_the_verdict_holds(unit_free):
     else:
         assert relative > 1e-3
         assert not summary["solved"]
+
+
+@pytest.mark.parametrize("law", ["coulomb", "ccp"])
+@pytest.mark.parametrize("unit_free", [True, False])
+def test_unit_free_stops_nsgs_on_cones_with_a_non_symmetric_w(law, unit_free):
+    """The same on friction cones: Siconos' Rover4396 (W not symmetric) under nsgs, forces 1e12
+    times smaller. Judged apart from cbps, in the file's own units: each contact's natural map
+    (cbps_problem.cone_natural_maps) at 1e12 lambda. With the flag it is within 1e-9 of the
+    forces' size; without it nsgs stops at lambda = 0, where the map is the size of the forces."""
+    p = cbps.read_problem(str(ROOT / "tests" / "data" / "siconos-fc3d" / "Rover4396.dat"))
+    assert abs(p.A - p.A.T).max() > 1e-7  # the stored W is not symmetric
+    cones = dict(p.cones)
+    cones["law"] = law
+    s = 1e-12
+    lam, summary = cbps.solve(p.A, p.b * s, p.cmin * s, p.cmax * s, "nsgs", iterations=100000,
+                              tolerance=1e-10, cones=cones, unit_free=unit_free)
+    assert summary["termination"] == "residual tolerance reached"
+    forces = lam / s
+    maps = cone_natural_maps(forces, p.A @ forces - p.b, cones["normal_row"], cones["mu"], law)
+    size = float(np.max(np.abs(forces), initial=1.0))
+    if unit_free:
+        assert maps.max() <= 1e-9 * size
+    else:
+        assert maps.max() > 1e-2
