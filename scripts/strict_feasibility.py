@@ -23,13 +23,15 @@ the contacts (the margin, in the problem's units of velocity) must be positive, 
 rounding of u. Where it is, a solution exists (exit 0): a solver that stops short of one has
 failed, not the problem. Where the program finds no positive t, nothing is shown (exit 1): the
 problem may still be strictly feasible outside the polyhedron, or have a solution without being
-strictly feasible. Bad input (not a contact problem, A not symmetric, where the theorem does not
-apply) exits 2 with the reason.
+strictly feasible. Bad input (not a contact problem; A not symmetric or, up to 5,000 rows where
+its eigenvalues are computed, not positive semi-definite: the theorem does not apply) exits 2
+with the reason.
 
 --witness FILE.mtx writes z (Matrix Market, one column) where it is shown; --json prints the
 result as one JSON object: problem, rows, contacts, strictly_feasible (true, or false where
 nothing is shown), margin (the checked least u_n - mu ||u_t||, null where nothing is shown),
-lp_t (the program's optimum), witness (the file written, or null).
+lp_t (the program's optimum), witness (the file written, or null), psd_checked (A's
+eigenvalues computed: at most 5,000 rows).
 """
 import argparse
 import json
@@ -43,6 +45,9 @@ import scipy.optimize
 import scipy.sparse as sp
 
 SIGNS = ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0))
+# A is checked positive semi-definite (dense eigenvalues) up to this many rows; above, it is
+# taken to be, as a rigid-body simulation makes it ("psd_checked": false in the JSON).
+PSD_CHECK_ROWS = 5000
 
 
 class BadInput(Exception):
@@ -83,6 +88,11 @@ def certificate(A, b, normal_rows, mu):
     if asym > 1e-12 * max(1.0, abs(A).max()):
         raise BadInput(f"A is not symmetric (entries differ by up to {asym:.3g}): the existence "
                        "theorem needs A = H M^-1 H^T, a symmetric A")
+    if rows <= PSD_CHECK_ROWS:  # the theorem's A = H M^-1 H^T is positive semi-definite
+        least = float(np.linalg.eigvalsh(A.toarray())[0]) if rows else 0.0
+        if least < -1e-9 * max(1.0, abs(A).max()):
+            raise BadInput(f"A is not positive semi-definite (least eigenvalue {least:.3g}): "
+                           "the existence theorem needs A = H M^-1 H^T")
     # Each contact's four rows of -(a . (A z - b)) + t <= 0, a = e_n - mu (s1 e_t1 + s2 e_t2).
     i, j, v = [], [], []
     for c, (k, m) in enumerate(zip(normal_rows, mu)):
@@ -147,7 +157,8 @@ def main(argv=None):
         written = args.witness
     result = {"problem": args.problem, "rows": int(p.A.shape[0]),
               "contacts": len(p.cones["normal_row"]), "strictly_feasible": margin is not None,
-              "margin": margin, "lp_t": t if math.isfinite(t) else None, "witness": written}
+              "margin": margin, "lp_t": t if math.isfinite(t) else None, "witness": written,
+              "psd_checked": int(p.A.shape[0]) <= PSD_CHECK_ROWS}
     if args.json:
         print(json.dumps(result))
     elif margin is not None:

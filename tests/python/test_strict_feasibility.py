@@ -87,3 +87,13 @@ def test_a_siconos_file_and_its_witness(tmp_path, cbps_module):
     assert again.returncode == 2 and "exists" in again.stderr
     rover = run(DATA / "Rover4396.dat", "--json")
     assert rover.returncode == 2 and "not symmetric" in rover.stderr
+
+
+def test_an_indefinite_a_is_refused():
+    # Symmetric but indefinite (eigenvalues 3 and -1 in the normal rows): no H M^-1 H^T, and
+    # u = A z - b could be made anything in those rows; the theorem does not apply.
+    A = np.zeros((6, 6))
+    A[0, 0] = A[3, 3] = 1.0
+    A[0, 3] = A[3, 0] = 2.0
+    with pytest.raises(sf.BadInput, match="not positive semi-definite"):
+        sf.certificate(A, np.zeros(6), [0, 3], [0.5, 0.5])
