@@ -242,8 +242,10 @@ ProfileMeasurement profile_exact(const ProfileProblem& p,
   SolverOptions options = study_options(spec, 1, p.stored.cfm);
   options.time_limit = o.time_limit;
   // Told the finest tolerance, as `cbps lcp` tells it its default: the direct path reads it in N
-  // and as a unit-free residual (system/unit_free.hpp), what the profile measures.
+  // and as a unit-free residual (system/unit_free.hpp), what the profile measures, and on a
+  // Siconos or FCLIB file, in its simulator's units, as a unit-free residual alone.
   options.tolerance = kProfileTolerances[kProfileTolerancesCount - 1];
+  options.tolerance_unit_free = !p.stored.folder;
   const auto start = Clock::now();
   const SolverSummary summary = solve(p.problem(), lambda, options);
   m.time_s = seconds_since(start);

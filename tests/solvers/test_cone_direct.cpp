@@ -326,6 +326,36 @@ TEST_CASE("direct's averaged fixed point halves its weight where its rounds cycl
   CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
 }
 
+TEST_CASE("direct reads the tolerance of a problem in its simulator's units as a unit-free residual",
+          "[cone-direct][unit-free]") {
+  // The pile of base 6 settling under the paper's box with mu = 0.3, at step 3 (144 contacts),
+  // as `cbps lcp` reads it from an FCLIB file (tolerance_unit_free), in four units of force:
+  // λ → λ / s, A → s A. Read in N as well, the tolerance of 1e-10 lay below the answer's
+  // residual in the file's units (3.2e-10 N at a unit-free 6.9e-13): the stages ran on to the
+  // averaged fixed point for 20 s and called the answer not verified, where in units 100 times
+  // smaller (forces above 1000 ulps' reach) it was verified in 0.5 s. Read as a unit-free residual
+  // alone, every unit stops at the same verdict without the averaged fixed point. Judged by the
+  // unit-free residual (unit_free.hpp, tested apart in tests/system/test_unit_free.cpp).
+  const System sys = system_of("pyramid", {{"base", "6"}, {"mu", "0.3"}}, 3);
+  const FrictionContacts cones = contacts_in_cones(sys, FrictionLaw::CoulombCone);
+  const BoxedProblem original = sys.problem();
+  for (const double force : {1e-3, 1.0, 10.0, 1e3}) {
+    const SpMat A = original.A * force;
+    const VecX cmin = original.cmin / force, cmax = original.cmax / force;
+    BoxedProblem problem{A, original.b, cmin, cmax};
+    problem.cones = &cones;
+    SolverOptions o = direct_options(1e-10);
+    o.tolerance_unit_free = true;
+    VecX lambda;
+    const SolverSummary s = solve(problem, lambda, o);
+    INFO("unit of force " << force << " N: " << s.message);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(s.message.find("averaged fixed-point rounds") == std::string::npos);
+    CHECK(s.message.find("as a unit-free residual (the problem's units") != std::string::npos);
+    CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
+  }
+}
+
 TEST_CASE("direct on cones factors in body space where J and Minv are known, as row space solves",
           "[cone-direct]") {
   // The same problem with and without J and Minv: in body space (M + Jᵀ Ω J, Woodbury) and in

@@ -1297,7 +1297,8 @@ std::string cone_direct_message(const Setup& S,
                                 bool reached,
                                 double residual,
                                 double target,
-                                double floor) {
+                                double floor,
+                                bool unit_free_only) {
   std::ostringstream msg;
   msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
       << cone_law_name(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
@@ -1322,9 +1323,12 @@ std::string cone_direct_message(const Setup& S,
     msg << ")";
   }
   msg << "; residual " << residual << " N (target " << target
-      << " N, from the tolerance in N and as a unit-free residual, or the rounding floor " << floor
-      << " N; or, where that is below 1000 ulps of the forces, a unit-free residual at most the "
-      << "tolerance)";
+      << (unit_free_only
+              ? " N, from the tolerance as a unit-free residual (the problem's units are its "
+                "simulator's), or the rounding floor "
+              : " N, from the tolerance in N and as a unit-free residual, or the rounding floor ")
+      << floor << " N; or a unit-free residual at most the tolerance"
+      << (unit_free_only ? ")" : ", where that is below 1000 ulps of the forces)");
   if (!reached && counts.factorizations >= counts.budget)
     msg << "; stopped at its budget of " << counts.budget << " factorizations";
   if (!reached && S.law.law == FrictionLaw::CoulombCone)
@@ -1362,18 +1366,22 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     return finish(Termination::NonFinite, "non-finite A or b");
   }
   // The residual (N) to reach at λ: the tolerance read in N and as a unit-free residual
-  // (UnitFreeTarget::both), or the rounding floor where that is higher.
+  // (UnitFreeTarget::both), on a problem in its simulator's units as a unit-free residual alone
+  // (UnitFreeTarget::read), or the rounding floor where that is higher.
   const UnitFreeTarget aim = unit_free_target(problem);
+  const bool unit_free_only = options.tolerance_unit_free;
   const auto target_newtons = [&](const VecX& l) {
-    return std::max(aim.both(options.tolerance, l), residual_floor(problem, l));
+    return std::max(aim.read(options.tolerance, l, unit_free_only), residual_floor(problem, l));
   };
-  // Met: the target above; or, where the tolerance in N is below kUlpsOfForces ulps of the
-  // force scale (out of reach: forces of 1e8 N leave 1e-9 N of round-off, Siconos'
-  // Confeti-ex13), the unit-free residual at most the tolerance.
+  // Met: the target above; or the unit-free residual at most the tolerance, on a problem in its
+  // simulator's units (the target above is a bound that implies it, not its equal), and where
+  // the tolerance in N is below kUlpsOfForces ulps of the force scale (out of reach: forces of
+  // 1e8 N leave 1e-9 N of round-off, Siconos' Confeti-ex13).
   const auto meets = [&](const VecX& l, double r) {
     if (r <= target_newtons(l)) return true;
     const UnitFreeResidual u = unit_free_residual(problem, l);
-    return options.tolerance < kUlpsOfForces * std::numeric_limits<double>::epsilon() * u.scale &&
+    return (unit_free_only ||
+            options.tolerance < kUlpsOfForces * std::numeric_limits<double>::epsilon() * u.scale) &&
            u.relative <= options.tolerance;
   };
   // A guess that already meets the tolerance is kept as it is.
@@ -1435,8 +1443,8 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   summary.space = counts.space;
   const double floor = residual_floor(problem, lambda);
   const bool reached = meets(lambda, summary.residual);
-  const std::string message =
-      cone_direct_message(S, counts, reached, summary.residual, target_newtons(lambda), floor);
+  const std::string message = cone_direct_message(
+      S, counts, reached, summary.residual, target_newtons(lambda), floor, unit_free_only);
   return finish(reached ? Termination::Direct : Termination::NotConverged, message);
 }
 

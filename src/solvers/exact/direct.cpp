@@ -325,14 +325,16 @@ namespace {
 
 /// "direct": on friction cones their second-order-cone form (cone/cone_direct.hpp); on the boxed
 /// problem the exact path (exact/direct.hpp) aiming at the tolerance read both as N and as a
-/// unit-free residual (UnitFreeTarget::both, at λ = 0: the force scale b alone calls for), the
-/// rounding floor still stopping it.
+/// unit-free residual, on a problem in its simulator's units as a unit-free residual alone
+/// (UnitFreeTarget::read, at λ = 0: the force scale b alone calls for), the rounding floor still
+/// stopping it.
 SolverSummary direct_method(const BoxedProblem& problem,
                             VecX& lambda,
                             const SolverOptions& options) {
   if (problem.cones != nullptr) return solve_cone_direct(problem, lambda, options);
   SolverOptions aimed = options;
-  aimed.tolerance = unit_free_target(problem).both(options.tolerance, VecX());
+  aimed.tolerance =
+      unit_free_target(problem).read(options.tolerance, VecX(), options.tolerance_unit_free);
   return solve_direct(problem, lambda, aimed);
 }
 

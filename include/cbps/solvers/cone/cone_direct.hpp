@@ -98,10 +98,11 @@ namespace cbps {
 /// (SolverOptions::time_limit).
 /// Returns Termination::Direct only when the law's residual of lambda is at most the tolerance
 /// read in N and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the
-/// rounding floor, or, where the tolerance is below 1000 ulps of the force scale, when the
-/// unit-free residual is at most the tolerance: never an answer it has not verified; otherwise
-/// NotConverged with the best lambda found and the message says how far it got (NonFinite for
-/// non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
+/// rounding floor, or, where the tolerance is below 1000 ulps of the force scale or
+/// options.tolerance_unit_free is set (a problem in its simulator's units, UnitFreeTarget::read),
+/// when the unit-free residual is at most the tolerance: never an answer it has not verified;
+/// otherwise NotConverged with the best lambda found and the message says how far it got (NonFinite
+/// for non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
 /// factorizations (CHOLMOD and SparseLU together), space "row".
 SolverSummary solve_cone_direct(const BoxedProblem& problem,
                                 VecX& lambda,
