@@ -326,8 +326,9 @@ TEST_CASE("direct's averaged fixed point halves its weight where its rounds cycl
   CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
 }
 
-TEST_CASE("direct reads the tolerance of a problem in its simulator's units as a unit-free residual",
-          "[cone-direct][unit-free]") {
+TEST_CASE(
+    "direct reads the tolerance of a problem in its simulator's units as a unit-free residual",
+    "[cone-direct][unit-free]") {
   // The pile of base 6 settling under the paper's box with mu = 0.3, at step 3 (144 contacts),
   // as `cbps lcp` reads it from an FCLIB file (tolerance_unit_free), in four units of force:
   // λ → λ / s, A → s A. Read in N as well, the tolerance of 1e-10 lay below the answer's
@@ -351,8 +352,46 @@ TEST_CASE("direct reads the tolerance of a problem in its simulator's units as a
     INFO("unit of force " << force << " N: " << s.message);
     CHECK(s.termination == Termination::Direct);
     CHECK(s.message.find("averaged fixed-point rounds") == std::string::npos);
-    CHECK(s.message.find("as a unit-free residual (the problem's units") != std::string::npos);
+    CHECK(s.message.find("read as a unit-free residual alone") != std::string::npos);
     CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
+  }
+}
+
+TEST_CASE("direct takes the same path in any unit of force on a problem in its simulator's units",
+          "[cone-direct][unit-free]") {
+  // Siconos' Capsules-i125-1213 (W not symmetric), as `cbps lcp` reads it, in units
+  // of force 1024 times smaller and larger than its own: λ → λ / s, A → s A. Scaling by a power
+  // of two is exact in floating point, so a path that reads only unit-free quantities is the same
+  // path, step for step. Before the stages read the scaled problem's own natural map (they read
+  // the unit-step one in the file's units, and stopped the sweeps at a target in those units), the
+  // file in units 1000 times smaller was not verified; in its own units it is. Each answer judged
+  // by the unit-free residual
+  // (unit_free.hpp, tested apart) and against the answer in the file's units.
+  const StoredProblem p = read_problem((test::kFc3dDir / "Capsules-i125-1213.hdf5").string());
+  VecX reference;
+  std::string reference_counts;
+  for (const double force : {1.0, 1.0 / 1024.0, 1024.0}) {
+    const SpMat A = p.A * force;
+    const VecX cmin = p.cmin / force, cmax = p.cmax / force;
+    BoxedProblem problem{A, p.b, cmin, cmax};
+    problem.cones = &p.cones;
+    SolverOptions o = direct_options(1e-10);
+    o.tolerance_unit_free = true;
+    VecX lambda;
+    const SolverSummary s = solve(problem, lambda, o);
+    INFO("unit of force " << force << ": " << s.message);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
+    // The counts of each stage, up to the residual (which is in the problem's units).
+    const std::string counts = s.message.substr(0, s.message.find("; residual"));
+    if (force == 1.0) {
+      reference = lambda;
+      reference_counts = counts;
+      continue;
+    }
+    CHECK(counts == reference_counts);
+    CHECK((lambda * force - reference).lpNorm<Eigen::Infinity>() <=
+          1e-12 * reference.lpNorm<Eigen::Infinity>());
   }
 }
 

@@ -174,6 +174,18 @@ constexpr double kSmallestStep = 1e-10;
 
 using Constraint = ConeConstraint;
 
+/// The scaling of the stages: md = max_k A_kk (kg⁻¹), bn = ‖b‖∞ (m/s²), each 1 where it is 0.
+struct Scale {
+  double md = 1.0;
+  double bn = 1.0;
+};
+Scale stage_scale(const BoxedProblem& p) {
+  double md = 0.0;
+  for (Eigen::Index k = 0; k < p.rows(); ++k) md = std::max(md, p.A.coeff(k, k));
+  const double bn = p.rows() > 0 ? p.b.lpNorm<Eigen::Infinity>() : 0.0;
+  return {md > 0.0 ? md : 1.0, bn > 0.0 ? bn : 1.0};
+}
+
 /// The scaled problem and what every stage reads: A' = A / md, b' = b / bn, λ = (bn / md) x.
 struct Setup {
   Eigen::Index c = 0;
@@ -184,6 +196,9 @@ struct Setup {
   /// of the relaxation's interior point, a QP's, whose answer starts the stages that solve the
   /// law on A' itself (proximal Newton, Alart–Curnier's steps); every residual is A''s.
   SpMat A_sym;
+  /// A'ᵀ where the problem carries A's rows apart (A not symmetric, BoxedProblem::A_rows): the
+  /// rows the sweeps on the scaled problem read (sweep); empty otherwise.
+  SpMat A_rows;
   /// The matrix of the interior point's QP: A', or its symmetric part.
   const SpMat& qp() const { return A_sym.size() > 0 ? A_sym : A; }
   VecX b, cmin, cmax;
@@ -198,6 +213,10 @@ struct Setup {
   VecX rho_row;                     ///< the box rows' Newton scaling 1/A'_kk
   std::vector<double> rho;          ///< each contact's 1/λmax(A'_αα)
   std::optional<BodyFactors> body;  ///< what body space reads, where the problem has it
+  /// A problem in its simulator's units (SolverOptions::tolerance_unit_free): every residual
+  /// the stages read is the scaled problem's own natural map (`residual`), which no change of
+  /// the units of force or velocity moves.
+  bool unit_free = false;
 
   /// A residual in N expressed in the units of x (the scaled λ): times md / bn.
   double in_x_units(double newtons) const { return newtons * md / bn; }
@@ -208,11 +227,9 @@ Setup make_setup(const BoxedProblem& p) {
   S.body = body_factors(p);
   S.c = p.rows();
   const Eigen::Index c = S.c;
-  double md = 0.0;
-  for (Eigen::Index k = 0; k < c; ++k) md = std::max(md, p.A.coeff(k, k));
-  S.md = md > 0.0 ? md : 1.0;
-  const double bn = c > 0 ? p.b.lpNorm<Eigen::Infinity>() : 0.0;
-  S.bn = bn > 0.0 ? bn : 1.0;
+  const Scale scale = stage_scale(p);
+  S.md = scale.md;
+  S.bn = scale.bn;
   const double x_scale = S.md / S.bn;  // x = λ · md / bn
   std::vector<Triplet> t;
   t.reserve(std::size_t(p.A.nonZeros() + c));
@@ -222,6 +239,7 @@ Setup make_setup(const BoxedProblem& p) {
   for (Eigen::Index k = 0; k < c; ++k) t.emplace_back(int(k), int(k), 0.0);  // the diagonal
   S.A.resize(c, c);
   S.A.setFromTriplets(t.begin(), t.end());
+  if (p.A_rows != nullptr) S.A_rows = SpMat(S.A.transpose());
   if (!p.symmetric && max_asymmetry(p.A) > symmetry_tolerance(p.A)) {
     S.A_sym = 0.5 * (S.A + SpMat(S.A.transpose()));
     S.body.reset();  // body space factors J Minv Jᵀ, which is symmetric: not this A
@@ -281,8 +299,11 @@ Setup make_setup(const BoxedProblem& p) {
 
 /// The law's natural-map residual (cone_problem.hpp) of the problem with right side b at x, all
 /// scaled, in units of x: the problem's own residual (N) at λ = (bn / md) x times md / bn. (The
-/// natural map of the scaled problem itself would weigh w by md against λ.)
+/// natural map of the scaled problem itself would weigh w by md against λ.) On a problem in its
+/// simulator's units (S.unit_free), where a newton means nothing, the scaled problem's natural
+/// map itself: its step is 1/md in λ's units, and it reads the same in any units.
 double residual(const Setup& S, const FrictionContacts& cones, const VecX& b, const VecX& x) {
+  if (S.unit_free) return natural_map_residual(VecX(S.A * x - b), x, S.cmin, S.cmax, cones);
   const double alpha = S.bn / S.md;
   const VecX w = S.bn * (S.A * x - b);
   return natural_map_residual(w, alpha * x, alpha * S.cmin, alpha * S.cmax, cones) / alpha;
@@ -1020,6 +1041,34 @@ void coulomb_fixed_point(const Setup& S,
   x = best;
 }
 
+/// NSGS sweeps (nsgs.hpp) from `lambda` (N), told `target_x` (x's units). On a problem in its
+/// simulator's units (options.tolerance_unit_free) they sweep the scaled problem A' x = b' and
+/// stop where x's natural map is within the target: where they stop then does not change with
+/// the units of force or velocity, as their steps (1/λmax(W_αα) a contact) do not. Elsewhere
+/// they sweep the problem itself and stop at the target in N, as on cbps's own problems they
+/// always have. Returns the sweeps run.
+int sweep(const BoxedProblem& problem,
+          const Setup& S,
+          const SolverOptions& sweeps,
+          double target_x,
+          VecX& lambda) {
+  const double alpha = S.bn / S.md;  // λ = alpha x
+  SolverOptions o = sweeps;
+  o.tolerance_unit_free = false;  // told the target, which reads τ as the direct path does
+  if (!sweeps.tolerance_unit_free) {
+    o.tolerance = target_x * alpha;  // N
+    return solve_nsgs(problem, lambda, o).iterations;
+  }
+  BoxedProblem scaled{S.A, S.b, S.cmin, S.cmax};
+  scaled.cones = &S.law;
+  scaled.A_rows = S.A_rows.size() > 0 ? &S.A_rows : nullptr;
+  o.tolerance = target_x;
+  VecX x = lambda / alpha;
+  const int sweeps_run = solve_nsgs(scaled, x, o).iterations;
+  lambda = alpha * x;
+  return sweeps_run;
+}
+
 /// The last stage, where the others stall: rounds of NSGS sweeps (nsgs.hpp; Jean & Moreau 1992)
 /// on the unscaled problem from the best point so far (then from zero), each followed by Newton's
 /// steps on Alart–Curnier's function (Coulomb) or proximal Newton on the relaxation from the
@@ -1036,7 +1085,6 @@ void sweeps_then_newton(const BoxedProblem& problem,
                         Counts& counts) {
   const double alpha = S.bn / S.md;  // λ = alpha x
   SolverOptions sweeps = options;
-  sweeps.tolerance_unit_free = false;  // told the target in N, which reads τ both ways already
   sweeps.method = kConeSweepMethod;
   sweeps.max_iterations = kSweepsPerRound;
   sweeps.after_sweep = nullptr;
@@ -1053,8 +1101,7 @@ void sweeps_then_newton(const BoxedProblem& problem,
     for (int round = 0; round < kSweepRounds && strikes < kSweepStrikes && best_r > target_of(x) &&
                         !counts.spent();
          ++round) {
-      sweeps.tolerance = target_of(x) * alpha;  // N
-      counts.sweeps += solve_nsgs(problem, lambda, sweeps).iterations;
+      counts.sweeps += sweep(problem, S, sweeps, target_of(x), lambda);
       VecX y = lambda / alpha;
       if (S.law.law == FrictionLaw::CoulombCone)
         alart_curnier_steps(S, target_of(y), y, counts);
@@ -1184,7 +1231,6 @@ void quick_start(const BoxedProblem& problem,
   // The relaxation's interior point is cheap and exact; Coulomb's stages are the costly ones.
   if (S.law.law != FrictionLaw::CoulombCone) return;
   SolverOptions sweeps = options;
-  sweeps.tolerance_unit_free = false;  // told the target in N, which reads τ both ways already
   sweeps.method = kConeSweepMethod;
   sweeps.after_sweep = nullptr;
   VecX swept = lambda;
@@ -1193,8 +1239,7 @@ void quick_start(const BoxedProblem& problem,
   for (const QuickRound& round : kQuickRounds) {
     if (S.c > round.rows) continue;
     sweeps.max_iterations = round.sweeps;
-    sweeps.tolerance = target_of(swept / alpha) * alpha;  // N
-    counts.sweeps += solve_nsgs(problem, swept, sweeps).iterations;
+    counts.sweeps += sweep(problem, S, sweeps, target_of(swept / alpha), swept);
     VecX y = swept / alpha;
     double r = residual(S, S.law, S.b, y);
     if (!met(y)) {
@@ -1298,7 +1343,8 @@ std::string cone_direct_message(const Setup& S,
                                 double residual,
                                 double target,
                                 double floor,
-                                bool unit_free_only) {
+                                double tolerance,
+                                double unit_free) {
   std::ostringstream msg;
   msg << (reached ? "direct on cones" : "not verified: direct on cones stopped") << " ("
       << cone_law_name(S.law.law) << ", " << S.law.contacts() << " contacts): " << counts.interior
@@ -1322,13 +1368,16 @@ std::string cone_direct_message(const Setup& S,
           << kBodyAccuracy;
     msg << ")";
   }
-  msg << "; residual " << residual << " N (target " << target
-      << (unit_free_only
-              ? " N, from the tolerance as a unit-free residual (the problem's units are its "
-                "simulator's), or the rounding floor "
-              : " N, from the tolerance in N and as a unit-free residual, or the rounding floor ")
-      << floor << " N; or a unit-free residual at most the tolerance"
-      << (unit_free_only ? ")" : ", where that is below 1000 ulps of the forces)");
+  if (S.unit_free)
+    msg << "; residual " << residual << " in the problem's units, unit-free " << unit_free
+        << " (target " << tolerance
+        << ", the tolerance read as a unit-free residual alone: the problem's units are its "
+           "simulator's; or the rounding floor)";
+  else
+    msg << "; residual " << residual << " N (target " << target
+        << " N, from the tolerance in N and as a unit-free residual, or the rounding floor "
+        << floor << " N; or, where that is below 1000 ulps of the forces, a unit-free residual "
+        << "at most the tolerance)";
   if (!reached && counts.factorizations >= counts.budget)
     msg << "; stopped at its budget of " << counts.budget << " factorizations";
   if (!reached && S.law.law == FrictionLaw::CoulombCone)
@@ -1366,22 +1415,35 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     return finish(Termination::NonFinite, "non-finite A or b");
   }
   // The residual (N) to reach at λ: the tolerance read in N and as a unit-free residual
-  // (UnitFreeTarget::both), on a problem in its simulator's units as a unit-free residual alone
-  // (UnitFreeTarget::read), or the rounding floor where that is higher.
+  // (UnitFreeTarget::both), or the rounding floor where that is higher.
   const UnitFreeTarget aim = unit_free_target(problem);
   const bool unit_free_only = options.tolerance_unit_free;
   const auto target_newtons = [&](const VecX& l) {
-    return std::max(aim.read(options.tolerance, l, unit_free_only), residual_floor(problem, l));
+    return std::max(aim.both(options.tolerance, l), residual_floor(problem, l));
   };
-  // Met: the target above; or the unit-free residual at most the tolerance, on a problem in its
-  // simulator's units (the target above is a bound that implies it, not its equal), and where
-  // the tolerance in N is below kUlpsOfForces ulps of the force scale (out of reach: forces of
-  // 1e8 N leave 1e-9 N of round-off, Siconos' Confeti-ex13).
+  const Scale scale = stage_scale(problem);
+  // On a problem in its simulator's units: the natural map of the scaled problem (x = λ md / bn,
+  // A' = A / md, b' = b / bn; its step is 1/md in λ's units), what the stages read there, and its
+  // rounding floor, (|A'| |x| + |b'|) · 64 u = residual_floor / bn.
+  const auto scaled_residual = [&](const VecX& l) {
+    const VecX w = problem.A * l - problem.b;
+    return natural_map_residual(VecX(w / scale.md), l, problem.cmin, problem.cmax, *problem.cones) *
+           scale.md / scale.bn;
+  };
+  const auto scaled_floor = [&](const VecX& l) { return residual_floor(problem, l) / scale.bn; };
+  // Met: on a problem in its simulator's units, the unit-free residual at most the tolerance (the
+  // tolerance read as a unit-free residual alone, UnitFreeTarget::read) or the scaled problem's
+  // residual at most its rounding floor; on cbps's own problems the target above, or, where the
+  // tolerance in N is below kUlpsOfForces ulps of the force scale (out of reach: forces of 1e8 N
+  // leave 1e-9 N of round-off, Siconos' Confeti-ex13), the unit-free residual at most the
+  // tolerance.
   const auto meets = [&](const VecX& l, double r) {
+    if (unit_free_only)
+      return unit_free_residual(problem, l).relative <= options.tolerance ||
+             scaled_residual(l) <= scaled_floor(l);
     if (r <= target_newtons(l)) return true;
     const UnitFreeResidual u = unit_free_residual(problem, l);
-    return (unit_free_only ||
-            options.tolerance < kUlpsOfForces * std::numeric_limits<double>::epsilon() * u.scale) &&
+    return options.tolerance < kUlpsOfForces * std::numeric_limits<double>::epsilon() * u.scale &&
            u.relative <= options.tolerance;
   };
   // A guess that already meets the tolerance is kept as it is.
@@ -1393,13 +1455,27 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     return finish(Termination::Direct, msg.str());
   }
 
-  const Setup S = make_setup(problem);
+  Setup setup = make_setup(problem);
+  setup.unit_free = unit_free_only;
+  const Setup& S = setup;
   Counts counts;
   counts.deadline = options.deadline;
   const double proximal = options.direct.proximal;
-  // The residual to reach at x, in units of x.
+  // The residual to reach at x, in units of x. On a problem in its simulator's units, the
+  // unit-free target taken in x's units, where every step ρ'_k = 1/A'_kk is at least 1 (A' = A /
+  // md): a residual of x's unit-step natural map within τ S' / ρ'_max, with S' = max(‖x‖∞, max_k
+  // ρ'_k |b'_k|), has a unit-free residual within τ (‖F_ρ‖ ≤ max(1, ρ) ‖F_1‖, unit_free.hpp).
+  // Both sides are unchanged by a change of the unit of force or of velocity, so the stages take
+  // the same path in any units; the bound in N (aim.newtons) is not, since max(1, ρ_max) is not,
+  // and in units that made ρ_max > 1 the stages ran to a tighter target and took another path
+  // (Siconos' Capsules-i101-404 in units of force 1/100 of its own: not verified at 2.9e-8,
+  // where in its own units it is verified in 0.2 s).
+  const double rho_x_max = S.md * aim.rho_max;  // ρ'_max = md ρ_max ≥ 1
   const std::function<double(const VecX&)> target_of = [&](const VecX& v) {
-    return S.in_x_units(target_newtons(v * (S.bn / S.md)));
+    const VecX l = v * (S.bn / S.md);
+    if (!unit_free_only) return S.in_x_units(target_newtons(l));
+    const double scale_x = S.in_x_units(std::max(l.lpNorm<Eigen::Infinity>(), aim.rho_b));
+    return std::max(options.tolerance * scale_x / rho_x_max, scaled_floor(l));
   };
   const auto unscaled = [&](const VecX& v) {
     VecX l = v * (S.bn / S.md);
@@ -1443,8 +1519,14 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   summary.space = counts.space;
   const double floor = residual_floor(problem, lambda);
   const bool reached = meets(lambda, summary.residual);
-  const std::string message = cone_direct_message(
-      S, counts, reached, summary.residual, target_newtons(lambda), floor, unit_free_only);
+  const std::string message = cone_direct_message(S,
+                                                  counts,
+                                                  reached,
+                                                  summary.residual,
+                                                  target_newtons(lambda),
+                                                  floor,
+                                                  options.tolerance,
+                                                  unit_free_residual(problem, lambda).relative);
   return finish(reached ? Termination::Direct : Termination::NotConverged, message);
 }
 
