@@ -90,12 +90,11 @@ VecX unit_free_steps(const BoxedProblem& problem, double cfm = 0.0);
 /// The direct path reads its tolerance τ both ways on cbps's own problems, in SI units
 /// (exact/direct.cpp, cone/cone_direct.cpp): it stops at min(τ, newtons(τ, λ)), where the
 /// natural map is at most τ N and the unit-free residual at most τ (down to its rounding floor),
-/// so that on problems of small forces its answer passes the verdict as well. On a problem in its
-/// simulator's units (a Siconos or FCLIB file: SolverOptions::tolerance_unit_free) a newton is
-/// no unit of that problem, and τ is read as a unit-free residual alone (`read`), so that a change
-/// of the unit of force changes neither where it stops nor what it says (Siconos'
-/// spheres-in-a-box: forces near 1e-8 N; the base-6 pile settling, forces near 59 N: 0.5 s
-/// where τ N held it for 20 s).
+/// so that on problems of small forces its answer passes the verdict as well (Siconos'
+/// spheres-in-a-box: forces near 1e-8 N). On a problem in its simulator's units (a Siconos or
+/// FCLIB file: SolverOptions::tolerance_unit_free) a newton is no unit of that problem, and τ is
+/// read as a unit-free residual alone (`read` on the boxed problem; on cones, cone_direct.cpp's
+/// Aim), so that a change of the unit of force changes neither where it stops nor what it says.
 struct UnitFreeTarget {
   double rho_b = 0.0;    ///< max_k ρ_k |b_k|, N
   double rho_max = 1.0;  ///< max_k ρ_k, kg

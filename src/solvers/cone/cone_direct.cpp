@@ -1335,6 +1335,80 @@ VecX run_stages(const Setup& S,
   return x;
 }
 
+/// The tolerance τ as solve_cone_direct reads it (docs/cones.md, "The verdict"). On cbps's own
+/// problems, in SI units: both ways, the natural map (unit step, N) within
+/// min(τ, newtons(τ, λ)) (UnitFreeTarget::both), or the rounding floor where that is higher. On a
+/// problem in its simulator's units (SolverOptions::tolerance_unit_free: a Siconos or FCLIB file),
+/// where a newton means nothing, through unit-free quantities alone: met where the unit-free
+/// residual is within τ, and the stages aim in x's units, where they read the scaled problem's
+/// own natural map (`residual`, Setup::unit_free), so that a change of the unit of force or of
+/// velocity changes neither their path nor the verdict.
+class Aim {
+ public:
+  Aim(const BoxedProblem& problem, const SolverOptions& options)
+      : problem_(problem),
+        tolerance_(options.tolerance),
+        unit_free_only_(options.tolerance_unit_free),
+        target_(unit_free_target(problem)),
+        scale_(stage_scale(problem)) {}
+
+  bool unit_free_only() const { return unit_free_only_; }
+
+  /// The residual (N) to reach at λ on cbps's own problems (what the message shows there).
+  double newtons(const VecX& l) const {
+    return std::max(target_.both(tolerance_, l), residual_floor(problem_, l));
+  }
+
+  /// Met, at λ of natural-map residual r (N): on a problem in its simulator's units the
+  /// unit-free residual within τ, or the scaled problem's residual within its rounding floor;
+  /// otherwise r within newtons(λ), or, where τ N is below kUlpsOfForces ulps of the force scale
+  /// (out of reach: forces of 1e8 N leave 1e-9 N of round-off, Siconos' Confeti-ex13), the
+  /// unit-free residual within τ.
+  bool meets(const VecX& l, double r) const {
+    if (unit_free_only_)
+      return unit_free_residual(problem_, l).relative <= tolerance_ ||
+             scaled_residual(l) <= scaled_floor(l);
+    if (r <= newtons(l)) return true;
+    const UnitFreeResidual u = unit_free_residual(problem_, l);
+    return tolerance_ < kUlpsOfForces * std::numeric_limits<double>::epsilon() * u.scale &&
+           u.relative <= tolerance_;
+  }
+
+  /// The residual the stages reach for at λ, in x's units (x = λ md / bn). On cbps's own problems
+  /// newtons(λ) in x's units. On a problem in its simulator's units the unit-free target there:
+  /// every step ρ'_k = 1/A'_kk is at least 1 (A' = A / md), so a residual of the scaled problem's
+  /// unit-step natural map within τ S' / ρ'_max, S' = max(‖x‖∞, max_k ρ'_k |b'_k|), has a
+  /// unit-free residual within τ (‖F_ρ‖ ≤ max(1, ρ) ‖F_1‖, unit_free.hpp); neither side moves
+  /// with the units. (The bound in N, newtons(τ, λ), does: its max(1, ρ_max) does, and in units
+  /// where it made ρ_max > 1 the stages ran to another target on another path: Siconos'
+  /// Capsules-i125-1213 in units of force 1000 times smaller than its own was not verified.)
+  double in_x(const VecX& l) const {
+    const double x_per_newton = scale_.md / scale_.bn;
+    if (!unit_free_only_) return newtons(l) * x_per_newton;
+    const double scale_x = std::max(l.lpNorm<Eigen::Infinity>(), target_.rho_b) * x_per_newton;
+    const double rho_x_max = scale_.md * target_.rho_max;  // ρ'_max = md ρ_max ≥ 1
+    return std::max(tolerance_ * scale_x / rho_x_max, scaled_floor(l));
+  }
+
+ private:
+  /// The scaled problem's natural map at λ (A' = A / md, b' = b / bn; in λ's units its step is
+  /// 1/md), in x's units.
+  double scaled_residual(const VecX& l) const {
+    const VecX w = problem_.A * l - problem_.b;
+    return natural_map_residual(
+               VecX(w / scale_.md), l, problem_.cmin, problem_.cmax, *problem_.cones) *
+           scale_.md / scale_.bn;
+  }
+  /// Its rounding floor, 64 u (|A'| |x| + |b'|) = residual_floor / bn.
+  double scaled_floor(const VecX& l) const { return residual_floor(problem_, l) / scale_.bn; }
+
+  const BoxedProblem& problem_;
+  double tolerance_;
+  bool unit_free_only_;
+  UnitFreeTarget target_;
+  Scale scale_;
+};
+
 /// The summary's message: what each stage did, the residual against its target, and why it
 /// stopped short where it did.
 std::string cone_direct_message(const Setup& S,
@@ -1414,41 +1488,10 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     summary.residual = std::numeric_limits<double>::quiet_NaN();
     return finish(Termination::NonFinite, "non-finite A or b");
   }
-  // The residual (N) to reach at λ: the tolerance read in N and as a unit-free residual
-  // (UnitFreeTarget::both), or the rounding floor where that is higher.
-  const UnitFreeTarget aim = unit_free_target(problem);
-  const bool unit_free_only = options.tolerance_unit_free;
-  const auto target_newtons = [&](const VecX& l) {
-    return std::max(aim.both(options.tolerance, l), residual_floor(problem, l));
-  };
-  const Scale scale = stage_scale(problem);
-  // On a problem in its simulator's units: the natural map of the scaled problem (x = λ md / bn,
-  // A' = A / md, b' = b / bn; its step is 1/md in λ's units), what the stages read there, and its
-  // rounding floor, (|A'| |x| + |b'|) · 64 u = residual_floor / bn.
-  const auto scaled_residual = [&](const VecX& l) {
-    const VecX w = problem.A * l - problem.b;
-    return natural_map_residual(VecX(w / scale.md), l, problem.cmin, problem.cmax, *problem.cones) *
-           scale.md / scale.bn;
-  };
-  const auto scaled_floor = [&](const VecX& l) { return residual_floor(problem, l) / scale.bn; };
-  // Met: on a problem in its simulator's units, the unit-free residual at most the tolerance (the
-  // tolerance read as a unit-free residual alone, UnitFreeTarget::read) or the scaled problem's
-  // residual at most its rounding floor; on cbps's own problems the target above, or, where the
-  // tolerance in N is below kUlpsOfForces ulps of the force scale (out of reach: forces of 1e8 N
-  // leave 1e-9 N of round-off, Siconos' Confeti-ex13), the unit-free residual at most the
-  // tolerance.
-  const auto meets = [&](const VecX& l, double r) {
-    if (unit_free_only)
-      return unit_free_residual(problem, l).relative <= options.tolerance ||
-             scaled_residual(l) <= scaled_floor(l);
-    if (r <= target_newtons(l)) return true;
-    const UnitFreeResidual u = unit_free_residual(problem, l);
-    return options.tolerance < kUlpsOfForces * std::numeric_limits<double>::epsilon() * u.scale &&
-           u.relative <= options.tolerance;
-  };
+  const Aim aim(problem, options);
   // A guess that already meets the tolerance is kept as it is.
   const double guess_r = natural_map_residual(problem, lambda);
-  if (meets(lambda, guess_r)) {
+  if (aim.meets(lambda, guess_r)) {
     summary.residual = guess_r;
     std::ostringstream msg;
     msg << "the guess already meets the tolerance (residual " << guess_r << " N)";
@@ -1456,26 +1499,14 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   }
 
   Setup setup = make_setup(problem);
-  setup.unit_free = unit_free_only;
+  setup.unit_free = aim.unit_free_only();
   const Setup& S = setup;
   Counts counts;
   counts.deadline = options.deadline;
   const double proximal = options.direct.proximal;
-  // The residual to reach at x, in units of x. On a problem in its simulator's units, the
-  // unit-free target taken in x's units, where every step ρ'_k = 1/A'_kk is at least 1 (A' = A /
-  // md): a residual of x's unit-step natural map within τ S' / ρ'_max, with S' = max(‖x‖∞, max_k
-  // ρ'_k |b'_k|), has a unit-free residual within τ (‖F_ρ‖ ≤ max(1, ρ) ‖F_1‖, unit_free.hpp).
-  // Both sides are unchanged by a change of the unit of force or of velocity, so the stages take
-  // the same path in any units; the bound in N (aim.newtons) is not, since max(1, ρ_max) is not,
-  // and in units that made ρ_max > 1 the stages ran to a tighter target and took another path
-  // (Siconos' Capsules-i101-404 in units of force 1/100 of its own: not verified at 2.9e-8,
-  // where in its own units it is verified in 0.2 s).
-  const double rho_x_max = S.md * aim.rho_max;  // ρ'_max = md ρ_max ≥ 1
+  // The residual to reach at x, in units of x.
   const std::function<double(const VecX&)> target_of = [&](const VecX& v) {
-    const VecX l = v * (S.bn / S.md);
-    if (!unit_free_only) return S.in_x_units(target_newtons(l));
-    const double scale_x = S.in_x_units(std::max(l.lpNorm<Eigen::Infinity>(), aim.rho_b));
-    return std::max(options.tolerance * scale_x / rho_x_max, scaled_floor(l));
+    return aim.in_x(v * (S.bn / S.md));
   };
   const auto unscaled = [&](const VecX& v) {
     VecX l = v * (S.bn / S.md);
@@ -1485,7 +1516,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   };
   const auto met = [&](const VecX& v) {
     const VecX l = unscaled(v);
-    return meets(l, natural_map_residual(problem, l));
+    return aim.meets(l, natural_map_residual(problem, l));
   };
   // A cold solve of a large problem takes the relaxation's interior point first (stage 1; at
   // rest it is the answer under either law), a small or warm one the cheap start (stage 0).
@@ -1518,12 +1549,12 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
   summary.factor_nnz = counts.factor_nnz;
   summary.space = counts.space;
   const double floor = residual_floor(problem, lambda);
-  const bool reached = meets(lambda, summary.residual);
+  const bool reached = aim.meets(lambda, summary.residual);
   const std::string message = cone_direct_message(S,
                                                   counts,
                                                   reached,
                                                   summary.residual,
-                                                  target_newtons(lambda),
+                                                  aim.newtons(lambda),
                                                   floor,
                                                   options.tolerance,
                                                   unit_free_residual(problem, lambda).relative);

@@ -99,7 +99,8 @@ namespace cbps {
 /// Returns Termination::Direct only when the law's residual of lambda is at most the tolerance
 /// read in N and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the
 /// rounding floor, or, where the tolerance is below 1000 ulps of the force scale or
-/// options.tolerance_unit_free is set (a problem in its simulator's units, UnitFreeTarget::read),
+/// options.tolerance_unit_free is set (a problem in its simulator's units, read through unit-free
+/// quantities alone: the stages' path does not change with the units either),
 /// when the unit-free residual is at most the tolerance: never an answer it has not verified;
 /// otherwise NotConverged with the best lambda found and the message says how far it got (NonFinite
 /// for non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
