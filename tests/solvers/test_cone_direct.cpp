@@ -49,6 +49,27 @@ void check_one_contact(const Vec3& b3, FrictionLaw law, const Vec3& expected) {
   CHECK((lambda - expected).lpNorm<Eigen::Infinity>() <= 1e-10);
 }
 
+/// A problem with cones in units of force `force` times its own (λ → λ / force, A → force A),
+/// solved by `direct` told 1e-10 as `cbps lcp` tells it on a Siconos or FCLIB file
+/// (tolerance_unit_free): its summary, lambda in those units and its unit-free residual.
+struct FileSolve {
+  SolverSummary summary;
+  VecX lambda;
+  double unit_free = 0.0;
+};
+FileSolve direct_in_units(const BoxedProblem& p, const FrictionContacts& cones, double force) {
+  const SpMat A = p.A * force;
+  const VecX cmin = p.cmin / force, cmax = p.cmax / force;
+  BoxedProblem problem{A, p.b, cmin, cmax};
+  problem.cones = &cones;
+  SolverOptions o = direct_options(1e-10);
+  o.tolerance_unit_free = true;
+  FileSolve r;
+  r.summary = solve(problem, r.lambda, o);
+  r.unit_free = unit_free_residual(problem, r.lambda).relative;
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("direct on cones finds one contact's answers worked out by hand", "[cone-direct]") {
@@ -339,21 +360,13 @@ TEST_CASE(
   // unit-free residual (unit_free.hpp, tested apart in tests/system/test_unit_free.cpp).
   const System sys = system_of("pyramid", {{"base", "6"}, {"mu", "0.3"}}, 3);
   const FrictionContacts cones = contacts_in_cones(sys, FrictionLaw::CoulombCone);
-  const BoxedProblem original = sys.problem();
   for (const double force : {1e-3, 1.0, 10.0, 1e3}) {
-    const SpMat A = original.A * force;
-    const VecX cmin = original.cmin / force, cmax = original.cmax / force;
-    BoxedProblem problem{A, original.b, cmin, cmax};
-    problem.cones = &cones;
-    SolverOptions o = direct_options(1e-10);
-    o.tolerance_unit_free = true;
-    VecX lambda;
-    const SolverSummary s = solve(problem, lambda, o);
-    INFO("unit of force " << force << " N: " << s.message);
-    CHECK(s.termination == Termination::Direct);
-    CHECK(s.message.find("averaged fixed-point rounds") == std::string::npos);
-    CHECK(s.message.find("read as a unit-free residual alone") != std::string::npos);
-    CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
+    const FileSolve r = direct_in_units(sys.problem(), cones, force);
+    INFO("unit of force " << force << " N: " << r.summary.message);
+    CHECK(r.summary.termination == Termination::Direct);
+    CHECK(r.summary.message.find("averaged fixed-point rounds") == std::string::npos);
+    CHECK(r.summary.message.find("read as a unit-free residual alone") != std::string::npos);
+    CHECK(r.unit_free <= 1e-10);
   }
 }
 
@@ -365,32 +378,25 @@ TEST_CASE("direct takes the same path in any unit of force on a problem in its s
   // path, step for step. Before the stages read the scaled problem's own natural map (they read
   // the unit-step one in the file's units, and stopped the sweeps at a target in those units), the
   // file in units 1000 times smaller was not verified; in its own units it is. Each answer judged
-  // by the unit-free residual
-  // (unit_free.hpp, tested apart) and against the answer in the file's units.
+  // by the unit-free residual (unit_free.hpp, tested apart) and against the answer in the file's
+  // units.
   const StoredProblem p = read_problem((test::kFc3dDir / "Capsules-i125-1213.hdf5").string());
   VecX reference;
   std::string reference_counts;
   for (const double force : {1.0, 1.0 / 1024.0, 1024.0}) {
-    const SpMat A = p.A * force;
-    const VecX cmin = p.cmin / force, cmax = p.cmax / force;
-    BoxedProblem problem{A, p.b, cmin, cmax};
-    problem.cones = &p.cones;
-    SolverOptions o = direct_options(1e-10);
-    o.tolerance_unit_free = true;
-    VecX lambda;
-    const SolverSummary s = solve(problem, lambda, o);
-    INFO("unit of force " << force << ": " << s.message);
-    CHECK(s.termination == Termination::Direct);
-    CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
+    const FileSolve r = direct_in_units(p.problem(), p.cones, force);
+    INFO("unit of force " << force << ": " << r.summary.message);
+    CHECK(r.summary.termination == Termination::Direct);
+    CHECK(r.unit_free <= 1e-10);
     // The counts of each stage, up to the residual (which is in the problem's units).
-    const std::string counts = s.message.substr(0, s.message.find("; residual"));
+    const std::string counts = r.summary.message.substr(0, r.summary.message.find("; residual"));
     if (force == 1.0) {
-      reference = lambda;
+      reference = r.lambda;
       reference_counts = counts;
       continue;
     }
     CHECK(counts == reference_counts);
-    CHECK((lambda * force - reference).lpNorm<Eigen::Infinity>() <=
+    CHECK((r.lambda * force - reference).lpNorm<Eigen::Infinity>() <=
           1e-12 * reference.lpNorm<Eigen::Infinity>());
   }
 }
