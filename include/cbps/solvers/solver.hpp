@@ -235,8 +235,9 @@ struct SolverOptions : SolveSettings {
   /// simulator's (forces near 1e-10 N are within 1e-10 N at λ = 0); false for cbps's scenes and
   /// folders, in SI units, where a step's forces of 1e-13 N are done at 1e-10 N whatever their
   /// unit-free residual. The direct path, which reads `tolerance` both ways on those, reads it as
-  /// a unit-free residual alone where this is set (UnitFreeTarget::read): there a newton is not
-  /// the problem's unit of force.
+  /// a unit-free residual alone where this is set (UnitFreeTarget::read; on cones, through
+  /// unit-free quantities alone: cone_direct.cpp's Aim): there a newton is not the problem's unit
+  /// of force.
   bool tolerance_unit_free = false;
   /// time_limit as a point in time: set by solve() on entry, kept by the solves it makes
   /// inside (a Coulomb fixed point's rounds, an island's solve) so that one limit bounds them all.
