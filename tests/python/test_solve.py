@@ -376,3 +376,25 @@ def test_unit_free_stops_nsgs_on_cones_with_a_non_symmetric_w(law, unit_free):
         assert maps.max() <= 1e-9 * size
     else:
         assert maps.max() > 1e-2
+
+
+def test_unit_free_direct_takes_the_same_path_in_any_unit_of_force():
+    """direct with unit_free=True (as `cbps lcp` on a file) on friction cones with a non-symmetric
+    W: Siconos' Capsules-i125-1213 in units of force 1024 times smaller and larger than its own
+    (lambda -> lambda / s, A -> s A, exact in floating point). The answers, brought back to the
+    file's units, agree to 1e-12 of the forces, and each keeps Coulomb's law there by the natural
+    maps of cbps_problem, written apart: within 1e-9 of the forces' size."""
+    p = cbps.read_problem(str(ROOT / "tests" / "data" / "siconos-fc3d" / "Capsules-i125-1213.hdf5"))
+    assert abs(p.A - p.A.T).max() > 1e-7  # the simulator's W is not symmetric
+    answers = []
+    for s in (1.0 / 1024.0, 1024.0):
+        lam, summary = cbps.solve(p.A * s, p.b, p.cmin / s, p.cmax / s, "direct", cones=p.cones,
+                                  history=False, unit_free=True)
+        assert summary["termination"] == "direct solve"
+        answers.append(np.asarray(lam) * s)
+    size = float(np.max(np.abs(answers[0]), initial=1.0))
+    assert np.max(np.abs(answers[0] - answers[1])) <= 1e-12 * size
+    for forces in answers:
+        maps = cone_natural_maps(forces, p.A @ forces - p.b, p.cones["normal_row"], p.cones["mu"],
+                                 p.cones["law"])
+        assert maps.max() <= 1e-9 * size
