@@ -91,3 +91,28 @@ def cone_natural_maps(lam, w, normal_rows, mu, law):
             p = np.array([n, m * n * x[1] / t, m * n * x[2] / t])
         norms.append(np.linalg.norm(r - p))
     return np.array(norms)
+
+
+def cone_unit_free_residual(A, b, lam, normal_rows, mu, law):
+    """The unit-free residual of include/cbps/system/unit_free.hpp for a problem whose rows are all
+    contacts (normal, t1, t2 from each of normal_rows), written here from its definition: each
+    contact's natural map with its own step rho_a = 1 / max of its rows' A_kk, ‖r_a − P_K(r_a −
+    rho_a û_a)‖₂ (û the law's velocity, which scales with u, so the map is cone_natural_maps of
+    rho_a w), its largest over the force scale max(‖lam‖∞, max_k rho_k |b_k|). Returns the
+    relative residual (0 when both are 0, inf when only the scale is). A dense or sparse."""
+    lam = np.asarray(lam, dtype=float)
+    if lam.size == 0:
+        return 0.0
+    diagonal = np.asarray(A.diagonal(), dtype=float)
+    top = float(np.max(diagonal))
+    rho = np.empty_like(diagonal)
+    for k in normal_rows:
+        d = float(np.max(diagonal[k:k + 3]))
+        rho[k:k + 3] = 1.0 / d if d > 0.0 else (1.0 / top if top > 0.0 else 1.0)
+    w = np.asarray(A @ lam - b, dtype=float)
+    norms = cone_natural_maps(lam, rho * w, normal_rows, mu, law)
+    residual = float(np.max(norms, initial=0.0))
+    scale = max(float(np.max(np.abs(lam))), float(np.max(rho * np.abs(b))))
+    if residual == 0.0:
+        return 0.0
+    return residual / scale if scale > 0.0 else math.inf

@@ -1,13 +1,15 @@
 """cbps.solve on (A, b, cmin, cmax) given from Python: the same lambda as the command line on
 the same stored problem (`cbps matrices`' lambda.mtx, `cbps lcp --json`), every method of the
 --solver grammar reachable by its spec text, and the per-sweep history."""
+import os
+
 import numpy as np
 import pytest
 import scipy.io
 import scipy.sparse as sp
 
 import cbps
-from cbps_problem import SOLVED, unit_free_residual
+from cbps_problem import SOLVED, cone_unit_free_residual, unit_free_residual
 from conftest import ROOT, cli, cli_json, cone_natural_maps, natural_map_residual
 
 
@@ -272,6 +274,27 @@ def test_summary_carries_cbps_verdict(chain_folder):
     # is not.
     assert not cbps.solve(A, b, cmin, cmax, "pgs", iterations=3)[1]["solved"]
     assert cbps.solve(A, b, cmin, cmax, "direct")[1]["solved"]
+
+
+def test_summary_carries_cbps_verdict_on_cones():
+    """The same on friction cones, for a problem of Siconos' own (OneObject-i1028-138: W not
+    symmetric, mu per contact) under both laws: cbps's unit-free residual agrees with the one
+    written from its definition in numpy (scripts/cbps_problem.py, cone_unit_free_residual: each
+    contact's natural map with step 1 / max A_kk of its rows, over max(|lambda|, rho_k |b_k|)), on
+    answers far from the law (5 sweeps) and on exact ones."""
+    p = cbps.read_problem(os.path.join(ROOT, "validation/data/siconos-fc3d",
+                                       "OneObject-i1028-138.hdf5.dat"))
+    rows = p.cones["normal_row"]
+    for law in ("coulomb", "ccp"):
+        cones = dict(p.cones, law=law)
+        for method, iterations in (("nsgs", 5), ("direct", 1000)):
+            lam, s = cbps.solve(p.A, p.b, p.cmin, p.cmax, method, cones=cones,
+                                iterations=iterations, unit_free=True)
+            mine = cone_unit_free_residual(p.A, p.b, lam, rows, p.cones["mu"], law)
+            assert s["unit_free"]["relative"] == pytest.approx(mine, rel=1e-6, abs=1e-15), (
+                law, method)
+            assert s["solved"] == (mine <= SOLVED), (law, method, mine)
+            assert (mine > 1e-4) if method == "nsgs" else (mine <= 1e-10), (law, method, mine)
 
 
 def test_check_gives_the_closed_form_residual_of_a_perturbed_answer():
