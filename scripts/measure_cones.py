@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Measures the exact path on friction cones against nsgs and Siconos' fc3d solvers on the cone
 pyramids of issue 31, and writes what docs/cones.md's bench tables show as JSON (format
-cbps-cones/3).
+cbps-cones/4).
 
     /usr/bin/python3 scripts/measure_cones.py CBPS OUT.json [--work DIR] [--quick]
                      [--siconos-timeout S]
@@ -12,9 +12,10 @@ The problems: `cbps matrices pyramid --param base=B --param friction=cone --para
 the exact path, then its step's problem written as a folder and an FCLIB file). On each file and
 for each law (`--cone ccp`, `--cone coulomb`):
 
-- "direct": `cbps lcp F --cone LAW --solver direct --json` (its status, residual in N, the
-  relative residual residual / scale with scale = max(1, ‖b‖∞, max |A_ij|), FCLIB's MERIT_1 and
-  the wall time of the solve);
+- "direct": `cbps lcp F --cone LAW --solver direct --json` (its status, the unit-free residual
+  of cbps's verdict (docs/cones.md, "The verdict"; the issue's targets are read in it), the
+  residual in N, the old relative residual residual / scale with scale = max(1, ‖b‖∞,
+  max |A_ij|), FCLIB's MERIT_1 and the wall time of the solve);
 - "direct_body": the same on the folder, `cbps lcp W/pyramidB --cone LAW --solver direct
   --json`, which has J and Minv, so that the interior point's Newton systems are solved in body
   space (M + Jᵀ Ω J, docs/cones.md; the local file has only W and works in row space on W + B);
@@ -25,10 +26,11 @@ Under Coulomb's law (FCLIB's, Siconos') also Siconos 4.4's fc3d solvers as cbps'
 (`cbps lcp F --solver siconos:fc3d-NAME --iterations 100000 --tolerance 1e-14 --json`, each with
 a time limit, --siconos-timeout, default 300 s; a run past it is killed with its Siconos child
 and recorded as "timeout"): NSGS and PROX, both asked for 1e-14 in Siconos' own error. Their answers are
-judged here as cbps judges its own: the natural map r − P_K(r − û) of Coulomb's law per contact
-(docs/cones.md), its largest norm (N, cbps's residual), over the same scale, and MERIT_1.
-The same numbers computed here for cbps's direct answer check this script against cbps
-("residual_here").
+judged here as cbps judges its own: the unit-free residual (each contact's natural map with its
+own step, over the problem's force scale; computed here from its definition), the natural map
+r − P_K(r − û) of Coulomb's law per contact (docs/cones.md), its largest norm (N), over the same
+scale, and MERIT_1. The same numbers computed here for cbps's direct answer check this script
+against cbps ("residual_here", "unit_free_here").
 
 The states of issue 31's own measurements ("box_states"): `cbps matrices pyramid --param base=B
 --param mu=0.5 --step 3 --out W/pyramidB-box --fclib W/pyramidB-box.hdf5 --cone coulomb` for B =
@@ -55,9 +57,9 @@ import numpy as np
 import scipy.io
 
 import measure_peers as peers  # run(), BINARY, git_commit(): the same job control
-from cbps_problem import cone_natural_maps, scale_of  # scripts/cbps_problem.py
+from cbps_problem import cone_natural_maps, cone_unit_free_residual, scale_of
 
-FORMAT = "cbps-cones/3"
+FORMAT = "cbps-cones/4"
 BASES = [3, 5, 10, 20]
 # The piles settling under the paper's box: the same bases and base 7, 196 contacts (the averaged
 # fixed point of issue 51 left it at a unit-free 8.1e-10 before its differentiated interior point).
@@ -76,11 +78,15 @@ def log(text):
 
 
 def coulomb_measures(A, b, mu, r):
-    """cbps's residual of r under Coulomb's law (max over contacts of ‖r − P_K(r − û)‖₂, N, with
-    û = u + mu ‖u_t‖ e_n and u = A r − b), over scale, and FCLIB's MERIT_1."""
-    norms = cone_natural_maps(r, A @ r - b, range(0, len(b), 3), mu, "coulomb")
+    """r judged under Coulomb's law: the unit-free residual of cbps's verdict (computed here from
+    its definition, scripts/cbps_problem.py), the unit-step natural map's largest norm over the
+    contacts (‖r − P_K(r − û)‖₂, N, with û = u + mu ‖u_t‖ e_n and u = A r − b), that over the old
+    scale, and FCLIB's MERIT_1."""
+    contacts = range(0, len(b), 3)
+    norms = cone_natural_maps(r, A @ r - b, contacts, mu, "coulomb")
     worst = float(np.max(norms, initial=0.0))
-    return {"residual": worst, "residual_relative": worst / scale_of(A, b),
+    return {"unit_free": cone_unit_free_residual(A, b, r, contacts, mu, "coulomb"),
+            "residual": worst, "residual_relative": worst / scale_of(A, b),
             "fclib_merit": float(np.linalg.norm(norms) / (1.0 + np.sqrt(np.linalg.norm(b))))}
 
 
@@ -96,7 +102,8 @@ def lcp(cbps, work, source, law, solver):
         entry.update(status="error" if code is not None else "timeout", message=err.strip())
         return entry, None
     j = json.loads(out)
-    entry.update(status=j["status"], residual=j["residual"], scale=j["scale"],
+    entry.update(status=j["status"], unit_free=(j.get("unit_free") or {}).get("relative"),
+                 residual=j["residual"], scale=j["scale"],
                  residual_relative=peers.relative(j["residual"], j["scale"]),
                  fclib_merit=j["cone"]["fclib_merit"], wall_time_s=j["wall_time_s"],
                  iterations=j["iterations"], space=j["space"], message=j["message"])
@@ -170,7 +177,8 @@ def measure(cbps, work, base, siconos_timeout, state):
     for law in (LAWS if state == "cone" else ["coulomb"]):
         direct, lam = lcp(cbps, work, hdf5, law, "direct")
         if law == "coulomb" and lam is not None:
-            direct["residual_here"] = coulomb_measures(A, b, mu, lam)["residual"]
+            here = coulomb_measures(A, b, mu, lam)
+            direct["residual_here"], direct["unit_free_here"] = here["residual"], here["unit_free"]
         direct_body, _ = lcp(cbps, work, body, law, "direct")
         nsgs, _ = lcp(cbps, work, hdf5, law, "nsgs")
         entry["laws"][law] = {"direct": direct, "direct_body": direct_body, "nsgs_1000": nsgs}
