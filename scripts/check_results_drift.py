@@ -114,28 +114,7 @@ def ROUNDOFF(floor=1e-13):
 
 # Known drifts not yet regenerated: "sample/entry" -> the value measured when it was found, why
 # it is not regenerated, and the command that would. Printed as PENDING on every run.
-_DIRECT_READS_UNIT_FREE = (
-    "direct reads --tolerance on a Siconos or FCLIB file as a unit-free residual alone since "
-    "f7397fe and stops there (unit-free at most 1e-10, where it went on to 1e-10 in the file's "
-    "units too); the study reruns every Siconos solver to its limit, about an hour")
-_SICONOS_STUDY = "/usr/bin/python3 scripts/measure_siconos_study.py && scripts/doc_tables.py"
-PENDING = {
-    "bench-cones/pyramid3 coulomb direct: residual": {
-        "measured": 2.714475651e-11,
-        "why": _DIRECT_READS_UNIT_FREE.replace("the study reruns every Siconos solver to its limit, "
-                                               "about an hour", "")
-        + "the bench judges direct by its own relative residual, over max(1, |b|, max |A_ij|), "
-        "which the unit-free stop leaves above 1e-10 on the settling piles (2.4e-10 to 7.8e-10 at "
-        "1a294df, each solved): its targets must move to the unit-free residual before it is "
-        "regenerated",
-        "command": "scripts/measure_cones.py build/release/cbps "
-                   "bench/results/cones-amd-epyc-2cpu.json --siconos-timeout 120 && "
-                   "scripts/doc_tables.py"},
-    "siconos-study/NESpheres_30_1.dat direct: unit-free residual": {
-        "measured": 2.361005508e-11, "why": _DIRECT_READS_UNIT_FREE, "command": _SICONOS_STUDY},
-    "siconos-study/Confeti-ex13-Fc3D-SBM.dat direct: unit-free residual": {
-        "measured": 3.069616968e-12, "why": _DIRECT_READS_UNIT_FREE, "command": _SICONOS_STUDY},
-}
+PENDING = {}
 
 
 # ---------------------------------------------------------------------------------------------
