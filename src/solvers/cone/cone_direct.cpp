@@ -214,9 +214,12 @@ struct Setup {
   std::vector<double> rho;          ///< each contact's 1/λmax(A'_αα)
   std::optional<BodyFactors> body;  ///< what body space reads, where the problem has it
   /// A problem in its simulator's units (SolverOptions::tolerance_unit_free): every residual
-  /// the stages read is the scaled problem's own natural map (`residual`), which no change of
-  /// the units of force or velocity moves.
+  /// the stages read is the unit-free residual's own natural map in x's units (`residual`),
+  /// which no change of the units of force or velocity moves.
   bool unit_free = false;
+  /// Each row's step of the unit-free residual in x's units, ρ'_k = md ρ_k (unit_free_steps: a
+  /// contact's rows 1 / max A'_kk of them, a box row 1 / A'_kk), each at least 1.
+  VecX rho_unit_free;
 
   /// A residual in N expressed in the units of x (the scaled λ): times md / bn.
   double in_x_units(double newtons) const { return newtons * md / bn; }
@@ -245,6 +248,7 @@ Setup make_setup(const BoxedProblem& p) {
     S.body.reset();  // body space factors J Minv Jᵀ, which is symmetric: not this A
   }
   S.b = p.b / S.bn;
+  S.rho_unit_free = unit_free_steps(p) * S.md;
   S.cmin = p.cmin * x_scale;
   S.cmax = p.cmax * x_scale;
   S.law = *p.cones;
@@ -300,10 +304,17 @@ Setup make_setup(const BoxedProblem& p) {
 /// The law's natural-map residual (cone_problem.hpp) of the problem with right side b at x, all
 /// scaled, in units of x: the problem's own residual (N) at λ = (bn / md) x times md / bn. (The
 /// natural map of the scaled problem itself would weigh w by md against λ.) On a problem in its
-/// simulator's units (S.unit_free), where a newton means nothing, the scaled problem's natural
-/// map itself: its step is 1/md in λ's units, and it reads the same in any units.
+/// simulator's units (S.unit_free), where a newton means nothing, the natural map of the
+/// unit-free residual (unit_free.hpp) in x's units: each row's step ρ'_k = md ρ_k, so that it is
+/// the unit-free residual's numerator times md / bn and reads the same in any units. (The
+/// scaled problem's unit-step map, which 1a294df read here, is smaller by up to md = max A_kk in
+/// the file's units than the map in those units, which the stages' proximal weights and stops
+/// were measured on: Siconos' OneObject-i100000-499, md 138, lost its short path in stage 0, 173
+/// factorizations where 22 do.)
 double residual(const Setup& S, const FrictionContacts& cones, const VecX& b, const VecX& x) {
-  if (S.unit_free) return natural_map_residual(VecX(S.A * x - b), x, S.cmin, S.cmax, cones);
+  if (S.unit_free)
+    return natural_map_residual(
+        VecX(S.rho_unit_free.cwiseProduct(S.A * x - b)), x, S.cmin, S.cmax, cones);
   const double alpha = S.bn / S.md;
   const VecX w = S.bn * (S.A * x - b);
   return natural_map_residual(w, alpha * x, alpha * S.cmin, alpha * S.cmax, cones) / alpha;
@@ -1375,19 +1386,19 @@ class Aim {
   }
 
   /// The residual the stages reach for at λ, in x's units (x = λ md / bn). On cbps's own problems
-  /// newtons(λ) in x's units. On a problem in its simulator's units the unit-free target there:
-  /// every step ρ'_k = 1/A'_kk is at least 1 (A' = A / md), so a residual of the scaled problem's
-  /// unit-step natural map within τ S' / ρ'_max, S' = max(‖x‖∞, max_k ρ'_k |b'_k|), has a
-  /// unit-free residual within τ (‖F_ρ‖ ≤ max(1, ρ) ‖F_1‖, unit_free.hpp); neither side moves
-  /// with the units. (The bound in N, newtons(τ, λ), does: its max(1, ρ_max) does, and in units
-  /// where it made ρ_max > 1 the stages ran to another target on another path: Siconos'
-  /// Capsules-i125-1213 in units of force 1000 times smaller than its own was not verified.)
+  /// newtons(λ) in x's units. On a problem in its simulator's units the unit-free target itself:
+  /// the stages' residual there is the unit-free residual's numerator in x's units (`residual`),
+  /// so τ S' with S' = max(‖x‖∞, max_k ρ'_k |b'_k|) = S md / bn, or its rounding floor (the
+  /// scaled floor times the largest step ρ'_max); neither moves with the units. (The bound in N,
+  /// newtons(τ, λ), does: its max(1, ρ_max) does, and in units where it made ρ_max > 1 the
+  /// stages ran to another target on another path: Siconos' Capsules-i125-1213 in units of
+  /// force 1000 times smaller than its own was not verified.)
   double in_x(const VecX& l) const {
     const double x_per_newton = scale_.md / scale_.bn;
     if (!unit_free_only_) return newtons(l) * x_per_newton;
     const double scale_x = std::max(l.lpNorm<Eigen::Infinity>(), target_.rho_b) * x_per_newton;
     const double rho_x_max = scale_.md * target_.rho_max;  // ρ'_max = md ρ_max ≥ 1
-    return std::max(tolerance_ * scale_x / rho_x_max, scaled_floor(l));
+    return std::max(tolerance_ * scale_x, rho_x_max * scaled_floor(l));
   }
 
  private:
