@@ -504,6 +504,17 @@ TEST_CASE(
     const VecX w = p.A * lambda - p.b;
     CHECK(natural_map_residual(w, lambda, p.cmin, p.cmax, p.cones) <=
           1e-10 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
+    // The same file as `cbps lcp` reads it (the tolerance a unit-free residual): the short round
+    // too. Its proximal subproblems end where Newton's steps crawl (kQuickPatience); before,
+    // the first took the round's whole budget (25 steps, 6e-2 to 3.6e-3) and the long round of
+    // 200 sweeps finished it, 51 factorizations.
+    const FileSolve f = direct_in_units(p.problem(), p.cones, 1.0);
+    INFO(f.summary.message);
+    CHECK(f.summary.termination == Termination::Direct);
+    CHECK(f.summary.iterations == 0);
+    CHECK(f.summary.message.find(" 20 NSGS sweeps") != std::string::npos);
+    CHECK(f.summary.factorizations <= 29);
+    CHECK(f.unit_free <= 1e-10);
   }
   // A pyramid of 768 rows at rest (50 steps in the relaxation's cone) under Coulomb's law, from
   // zero: the relaxation's interior point is the answer (no contact slides), and stage 0's
