@@ -443,9 +443,8 @@ TEST_CASE("direct solves Siconos' problems whose W is not symmetric, under both 
   // Issue 51, item 1: W from the simulators themselves (a rover's wheels, an object on a
   // floor, a pile of capsules: max |W − Wᵀ| 2.7e-6, 6.7e-3, 1.6e-2), which direct refused. The
   // verdict is the law's natural map of the returned lambda on the true W, computed here. The
-  // capsules need every stage: the relaxation on W's symmetric part, Newton's steps on
-  // Alart–Curnier's function, then NSGS sweeps from the best point and from zero, Newton's steps
-  // after each round.
+  // capsules need the relaxation on W's symmetric part, the interior point with De Saxcé's term
+  // refreshed, Newton's steps on Alart–Curnier's function and proximal points around them.
   for (const char* name :
        {"Rover4396.dat", "OneObject-i1028-138.hdf5.dat", "Capsules-i125-1213.hdf5"}) {
     StoredProblem p = read_problem((test::kFc3dDir / name).string());
@@ -461,6 +460,29 @@ TEST_CASE("direct solves Siconos' problems whose W is not symmetric, under both 
             1e-10 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
     }
   }
+}
+
+TEST_CASE(
+    "direct on a W that is not symmetric hands Newton's steps to proximal points, not to the "
+    "fixed point on s",
+    "[cone-direct][siconos-fc3d]") {
+  // Guards the route on a file read as `cbps lcp` reads it (the tolerance a unit-free residual).
+  // Siconos' Capsules-i125-1213 (286 contacts, W not symmetric): from the refreshed interior
+  // point, Newton's steps on Alart–Curnier's function and proximal points around them finish
+  // it. Before, the fixed point on s ran (its rounds ended farther than they started) and 6,000
+  // NSGS sweeps finished it, 322 factorizations.
+  StoredProblem p = read_problem((test::kFc3dDir / "Capsules-i125-1213.hdf5").string());
+  REQUIRE(max_asymmetry(p.A) > symmetry_tolerance(p.A));
+  const FileSolve f = direct_in_units(p.problem(), p.cones, 1.0);
+  INFO(f.summary.message);
+  CHECK(f.summary.termination == Termination::Direct);
+  CHECK(f.summary.message.find(" 0 fixed-point rounds") != std::string::npos);
+  CHECK(f.summary.message.find(" 180 NSGS sweeps") != std::string::npos);  // stage 0's alone
+  CHECK(f.summary.factorizations <= 200);
+  CHECK(f.unit_free <= 1e-10);
+  const VecX w = p.A * f.lambda - p.b;
+  CHECK(natural_map_residual(w, f.lambda, p.cmin, p.cmax, p.cones) <=
+        1e-10 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
 }
 
 TEST_CASE("direct's averaged fixed point stays off a W that is not symmetric",
