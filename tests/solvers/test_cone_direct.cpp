@@ -469,8 +469,8 @@ TEST_CASE(
   // Guards the route on a file read as `cbps lcp` reads it (the tolerance a unit-free residual).
   // Siconos' Capsules-i125-1213 (286 contacts, W not symmetric): from the refreshed interior
   // point, Newton's steps on Alart–Curnier's function and proximal points around them finish
-  // it. Before, the fixed point on s ran (its rounds ended farther than they started) and 6,000
-  // NSGS sweeps finished it, 322 factorizations.
+  // it. Before, the fixed point on s ran (from the relaxation's answer its rounds ended far from
+  // the law) and 6,000 NSGS sweeps finished it, 322 factorizations.
   StoredProblem p = read_problem((test::kFc3dDir / "Capsules-i125-1213.hdf5").string());
   REQUIRE(max_asymmetry(p.A) > symmetry_tolerance(p.A));
   const FileSolve f = direct_in_units(p.problem(), p.cones, 1.0);

@@ -59,8 +59,8 @@ constexpr double kInnerFraction = 1e-3;
 /// Stage 0's proximal points (quick_start) also end a subproblem after kQuickPatience Newton
 /// steps in a row that lower ‖F‖₂ by less than kQuickInnerRate, and move the proximal centre
 /// there: far from the answer the subproblem's steps crawl (Siconos' OneObject-i1028-138, 69
-/// rows, after 20 sweeps: 25 steps from 6e-2 to 3.6e-3 and the budget spent, where ending it after
-/// 10 lets the next centres finish in 19 factorizations, 1.4 ms, against 51 and 3.7 ms).
+/// rows, after 20 sweeps: 25 steps from 6e-2 to 3.6e-3 and the budget spent; ended so after 3
+/// steps, the next centres finish in 19 factorizations in all, 1.4 ms, against 51 and 3.7 ms).
 constexpr int kQuickPatience = 2;
 constexpr double kQuickInnerRate = 0.9;
 /// Outer proximal steps at most per stage, and the count in a row without progress at
@@ -995,8 +995,8 @@ void proximal_newton(const Setup& S,
 /// where the solutions are not isolated, as on a singular A), factored by CHOLMOD. Ends
 /// at `target` (the law's own residual, De Saxcé's natural map), after kMaxAlartCurnier steps or
 /// kAlartCurnierStall in a row that do not lower it by the fraction `progress`, or where neither
-/// step descends. x becomes the point of
-/// least residual, which it returns. From the relaxation's answer this finishes Siconos' test
+/// step descends. x becomes the point of least residual, which it returns. From the
+/// relaxation's answer this finishes Siconos' test
 /// problems whose W is not symmetric (Rover, OneObject, Capsules) and those where the relaxation
 /// leaves contacts sliding (NESpheres_30_1, Confeti).
 double alart_curnier_steps(
