@@ -213,8 +213,11 @@ struct Setup {
   /// A'ᵀ where the problem carries A's rows apart (A not symmetric, BoxedProblem::A_rows): the
   /// rows the sweeps on the scaled problem read (sweep); empty otherwise.
   SpMat A_rows;
+  /// Whether A is symmetric (A_sym empty): only then is the relaxation with De Saxcé's term held
+  /// fixed a QP, whose w the fixed points on s (stages 3 and 5) are maps of.
+  bool symmetric() const { return A_sym.size() == 0; }
   /// The matrix of the interior point's QP: A', or its symmetric part.
-  const SpMat& qp() const { return A_sym.size() > 0 ? A_sym : A; }
+  const SpMat& qp() const { return symmetric() ? A : A_sym; }
   VecX b, cmin, cmax;
   std::vector<char> fixed;  ///< rows held at fixed_value (cmin = cmax, a mu = 0 contact's t1, t2)
   VecX fixed_value;
@@ -1319,8 +1322,8 @@ VecX run_stages(const Setup& S,
     refreshed_r = residual(S, S.law, S.b, refreshed);
     counts.desaxce = counts.interior - before;
     finished = refreshed_r <= target_of(refreshed);
-    if (!finished && S.A_sym.size() == 0) {  // the term differentiated too (A symmetric: its
-                                             // rows are its columns); the better one stands
+    if (!finished && S.symmetric()) {  // the term differentiated too (A symmetric: its
+                                       // rows are its columns); the better one stands
       const int held = counts.interior;
       VecX other = interior(S, S.b, proximal, target_of, counts, DeSaxce::Differentiated);
       counts.differentiated = counts.interior - held;
@@ -1337,7 +1340,7 @@ VecX run_stages(const Setup& S,
     // Coulomb's law met by the relaxation's or the refreshed interior point: nothing more to do
   } else if (S.law.law == FrictionLaw::Relaxation) {
     proximal_newton(S, S.ccp, S.b, target_of(x), kMaxOuter, x, counts);
-  } else if (S.A_sym.size() != 0) {
+  } else if (!S.symmetric()) {
     // W not symmetric: the relaxation of De Saxcé's term held fixed is no QP, so the fixed point
     // on s below is no map of s (averaged_fixed_point); on Siconos' Capsules its rounds ended
     // far from the law (0.2 to 5e-3 scaled, 70 to 80 ms, where Newton's steps had reached 3e-6
@@ -1345,10 +1348,11 @@ VecX run_stages(const Setup& S,
     // 1), did not come near the refreshed one's (40 to 60 ms). Newton's steps from the better
     // interior point, then proximal points around them from their best point (Capsules-i125-1213,
     // 858 rows: 0.10 s instead of 0.46 s).
-    VecX y = refreshed_r < residual(S, S.law, S.b, x) ? refreshed : x;
+    const double x_r = residual(S, S.law, S.b, x);
+    VecX y = refreshed_r < x_r ? refreshed : x;
     if (alart_curnier_steps(S, target_of(y), y, counts, kHandOverProgress) > target_of(y))
       proximal_newton(S, S.law, S.b, target_of(y), kMaxOuter, y, counts, true);
-    if (residual(S, S.law, S.b, y) < residual(S, S.law, S.b, x)) x = y;
+    if (residual(S, S.law, S.b, y) < x_r) x = y;
   } else {  // Alart–Curnier's steps, and where they do not finish the fixed point on s
     const double x_r = residual(S, S.law, S.b, x);
     const bool from_refreshed = refreshed_r < x_r;
@@ -1502,10 +1506,10 @@ std::string cone_direct_message(const Setup& S,
   if (!reached && S.law.law == FrictionLaw::CoulombCone)
     msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
            "point with De Saxce's term refreshed, "
-        << (S.A_sym.size() != 0 ? "the semismooth Newton steps on Coulomb's own map, the "
-                                  "proximal points around them and NSGS sweeps"
-                                : "the fixed point on s = mu |u_t| and the semismooth Newton "
-                                  "steps on Coulomb's own map")
+        << (!S.symmetric() ? "the semismooth Newton steps on Coulomb's own map, the "
+                             "proximal points around them and NSGS sweeps"
+                           : "the fixed point on s = mu |u_t| and the semismooth Newton "
+                             "steps on Coulomb's own map")
         << " each stopped short of it; a solution "
            "exists wherever some velocity opens every contact at once, which "
            "scripts/strict_feasibility.py PROBLEM shows for a symmetric A (Acary, Cadoux, "
@@ -1583,7 +1587,7 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     x = run_stages(S, proximal, target_of, counts, relaxed);
     if (residual(S, S.law, S.b, quick) < residual(S, S.law, S.b, x)) x = quick;
     if (!met(x)) sweeps_then_newton(problem, S, options, target_of, x, counts);
-    if (!met(x) && S.law.law == FrictionLaw::CoulombCone && S.A_sym.size() == 0)
+    if (!met(x) && S.law.law == FrictionLaw::CoulombCone && S.symmetric())
       averaged_fixed_point(S, proximal, target_of, x, counts);
   }
   VecX answer = unscaled(x);
