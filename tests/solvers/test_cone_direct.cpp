@@ -485,18 +485,46 @@ TEST_CASE(
         1e-10 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
 }
 
+TEST_CASE(
+    "direct on a W that is not symmetric finishes with proximal points in PROX's schedule where "
+    "every other stage stops short",
+    "[cone-direct][siconos-fc3d]") {
+  // Siconos' Capsules-i101-404 (225 contacts, W not symmetric and singular) with every mu halved,
+  // a problem no simulation wrote: stages 0 to 4 stop near 5e-8 (unit-free; before, direct said
+  // "not verified" there), where Siconos' PROX solves it (4e-15 in 0.7 s). Stage 5 on such a W,
+  // proximal points whose every answer is the next centre (proximal_points), finishes it. The
+  // verdict is checked apart from the solver's own: Coulomb's natural map of the answer.
+  StoredProblem p = read_problem((std::filesystem::path(CBPS_SOURCE_DIR) /
+                                  "validation/data/siconos-fc3d/Capsules-i101-404.dat")
+                                     .string());
+  REQUIRE(max_asymmetry(p.A) > symmetry_tolerance(p.A));
+  FrictionContacts halved = p.cones;
+  halved.mu *= 0.5;
+  const FileSolve f = direct_in_units(p.problem(), halved, 1.0);
+  INFO(f.summary.message);
+  CHECK(f.summary.termination == Termination::Direct);
+  CHECK(f.summary.message.find("stage 5's, in PROX's schedule") != std::string::npos);
+  CHECK(f.unit_free <= 1e-10);
+  const VecX w = p.A * f.lambda - p.b;
+  CHECK(natural_map_residual(w, f.lambda, p.cmin, p.cmax, halved) <=
+        1e-10 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
+}
+
 TEST_CASE("direct's averaged fixed point stays off a W that is not symmetric",
           "[cone-direct][siconos-fc3d]") {
   // Stage 5's rounds are a map of s only where each relaxation is a QP (A symmetric). Siconos'
   // RockPile_tob1 (463 contacts, W not symmetric), which no solver measured brings to 1e-8, is
   // where stages 1 to 4 stop short: its answer must say so, with no averaged round (they ran 167
-  // rounds in 54 s there, no better).
+  // rounds in 54 s there, no better). Stage 5 there is proximal_points, which spends its own
+  // budget (5,000 factorizations, 15 s) without finishing: the time limit stops it sooner.
   StoredProblem p = read_problem(
       (std::filesystem::path(CBPS_SOURCE_DIR) / "validation/data/siconos-fc3d/RockPile_tob1.dat")
           .string());
   REQUIRE(max_asymmetry(p.A) > symmetry_tolerance(p.A));
   VecX lambda;
-  const SolverSummary s = solve(p.problem(), lambda, direct_options(1e-10));
+  SolverOptions o = direct_options(1e-10);
+  o.time_limit = 3.0;
+  const SolverSummary s = solve(p.problem(), lambda, o);
   INFO(s.message);
   CHECK(s.termination != Termination::Direct);
   CHECK(s.message.find("averaged fixed-point rounds") == std::string::npos);

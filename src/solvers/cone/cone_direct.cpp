@@ -56,13 +56,14 @@ constexpr double kLargestWeight = 1e-4;
 /// fraction of the outer residual.
 constexpr int kMaxNewton = 30;
 constexpr double kInnerFraction = 1e-3;
-/// Stage 0's proximal points (quick_start) also end a subproblem after kQuickPatience Newton
-/// steps in a row that lower ‖F‖₂ by less than kQuickInnerRate, and move the proximal centre
-/// there: far from the answer the subproblem's steps crawl (Siconos' OneObject-i1028-138, 69
-/// rows, after 20 sweeps: 25 steps from 6e-2 to 3.6e-3 and the budget spent; ended so after 3
-/// steps, the next centres finish in 19 factorizations in all, 1.4 ms, against 51 and 3.7 ms).
-constexpr int kQuickPatience = 2;
-constexpr double kQuickInnerRate = 0.9;
+/// Stage 0's proximal points (quick_start) and stage 5's (proximal_points) also end a subproblem
+/// after kSubproblemPatience Newton steps in a row that lower ‖F‖₂ by less than kSubproblemRate,
+/// and move the proximal centre there: far from the answer the subproblem's steps crawl (Siconos'
+/// OneObject-i1028-138, 69 rows, after 20 sweeps: 25 steps from 6e-2 to 3.6e-3 and the budget
+/// spent; ended so after 3 steps, the next centres finish in 19 factorizations in all, 1.4 ms,
+/// against 51 and 3.7 ms).
+constexpr int kSubproblemPatience = 2;
+constexpr double kSubproblemRate = 0.9;
 /// Outer proximal steps at most per stage, and the count in a row without progress at
 /// kLargestWeight that ends it.
 constexpr int kMaxOuter = 60;
@@ -141,6 +142,26 @@ constexpr double kNewtonProgress = 1e-3;
 /// 193 factorizations, from 1.7e-6 to 1.4e-8, then NSGS sweeps finished it, 0.21 s; handed over,
 /// 0.053 s).
 constexpr double kHandOverProgress = 0.1;
+/// Stage 5 on a W that is not symmetric (proximal_points), Siconos' PROX schedule: the first
+/// proximal weight ε = kProximalSigma · r (scaled, r the centre's residual; PROX's σ = 5); after a
+/// subproblem solved to kSubproblemFraction of its centre's residual, ε = max(σ r, ε /
+/// kWeightDecrease), after one not solved (kMaxNewton steps, kSubproblemPatience slow ones, or no
+/// step descends) 10 ε. PROX sets
+/// ε = σ r after every solved one; on Siconos' Capsules with every mu halved that small an ε
+/// leaves the next subproblem unsolved, and ε swung between σ r and 100 σ r without progress
+/// (Capsules-i101-404 stopped at 4.7e-8, unit-free); a quarter of the last ε each time, never
+/// below σ r, solves the six of them, and with mu × 1/4, 3/4, 3/2, 2 and 3.
+constexpr double kProximalSigma = 5.0;
+constexpr double kSubproblemFraction = 1e-2;
+constexpr double kWeightDecrease = 4.0;
+/// ... ended after kProximalPatience steps in a row that do not lower the best residual by a
+/// tenth (the Capsules above: up to 369, Capsules-i122-1617 with mu halved, 2,579 factorizations
+/// in all; each step moves the centre, and the residual may hold or rise for hundreds of steps on
+/// the way), or at min(kProximalFactorizations, kAveragedWork / rows) factorizations of its own
+/// (RockPile_tob1, 1,389 rows: 909 steps, 5,268 factorizations in all, 15 s, from 9.7e-6 to
+/// 1.8e-6, unit-free).
+constexpr int kProximalPatience = 1000;
+constexpr int kProximalFactorizations = 5000;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
 /// Stage 5, the averaged fixed point (averaged_fixed_point): its first weight a, its rounds at
@@ -421,10 +442,11 @@ struct Counts {
   /// Where the interior point's Newton systems were solved: "body" while all were, "row" once
   /// any was, "" before the first.
   std::string space;
-  int body_factorizations = 0;      ///< interior factorizations in body space
-  int sweeps = 0;                   ///< NSGS sweeps (sweeps_then_newton)
-  int averaged = 0;                 ///< rounds of the averaged fixed point (Coulomb, stage 5)
-  int halved = 0;                   ///< times its weight halved
+  int body_factorizations = 0;  ///< interior factorizations in body space
+  int sweeps = 0;               ///< NSGS sweeps (sweeps_then_newton)
+  int averaged = 0;             ///< rounds of the averaged fixed point (Coulomb, stage 5)
+  int halved = 0;               ///< times its weight halved
+  int proximal_points = 0;      ///< steps of proximal_points (Coulomb, stage 5, W not symmetric)
   int budget = kMaxFactorizations;  ///< factorizations the stages may spend
   /// SolverOptions::deadline: the stages stop at it as at their budget.
   std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max();
@@ -921,7 +943,7 @@ VecX natural_map_newton(const Setup& S,
 /// ends at `target` (scaled), after kMaxOuter steps or kOuterStall without progress, or at a
 /// factorization that fails. With `alart_curnier` (Coulomb's law only) each subproblem's Newton
 /// steps are on Alart–Curnier's function instead of the natural map; a subproblem also ends
-/// after `patience` Newton steps in a row that lower ‖F‖₂ by less than kQuickInnerRate. x
+/// after `patience` Newton steps in a row that lower ‖F‖₂ by less than kSubproblemRate. x
 /// becomes the best point found.
 void proximal_newton(const Setup& S,
                      const FrictionContacts& cones,
@@ -950,7 +972,7 @@ void proximal_newton(const Setup& S,
       const VecX F = natural_map_newton(S, cones, A_eps, b_eps, x, &jacobian, alart_curnier);
       const double f = F.norm();
       if (!(f > kInnerFraction * best_r) || counts.spent()) break;
-      slow = f > kQuickInnerRate * last_f ? slow + 1 : 0;
+      slow = f > kSubproblemRate * last_f ? slow + 1 : 0;
       last_f = f;
       if (slow >= patience) break;
       ++counts.factorizations;
@@ -988,32 +1010,32 @@ void proximal_newton(const Setup& S,
   x = best;
 }
 
-/// Coulomb's first try, from the relaxation's answer x: semismooth Newton steps on
-/// alart_curnier_map over all contacts (the box's natural map for the other rows), G d = −F with
-/// G its generalized Jacobian, which is not symmetric (nor is A where a file's W is not),
-/// factored by Eigen's SparseLU (one analysis), an Armijo search on ‖F‖² (the NSN-AC of Siconos;
-/// Alart & Curnier 1991, Christensen, Klarbring, Pang & Strömberg, Int. J. Numer. Meth. Engng 42,
-/// 1998). Where G is singular or its step does not descend, a Levenberg–Marquardt step
-/// (GᵀG + ν I) d = −Gᵀ F with ν = ‖F‖ (Fan & Yuan, Computing 74, 2005: fast near a solution even
-/// where the solutions are not isolated, as on a singular A), factored by CHOLMOD. Ends
-/// at `target` (the law's own residual, De Saxcé's natural map), after kMaxAlartCurnier steps or
-/// kAlartCurnierStall in a row that do not lower it by the fraction `progress`, or where neither
-/// step descends. x becomes the point of least residual, which it returns. From the
-/// relaxation's answer this finishes Siconos' test
-/// problems whose W is not symmetric (Rover, OneObject, Capsules) and those where the relaxation
-/// leaves contacts sliding (NESpheres_30_1, Confeti).
-double alart_curnier_steps(
-    const Setup& S, double target, VecX& x, Counts& counts, double progress = kNewtonProgress) {
-  VecX best = x;
-  double best_r = residual(S, S.law, S.b, x);
-  NewtonMatrix G(S.c);
+/// One semismooth Newton step on Alart–Curnier's function F of Coulomb's law with matrix A and
+/// right side b (alart_curnier_map over all contacts, the box's natural map for the other rows),
+/// from x, where F = F(x) and G holds its generalized Jacobian: G d = −F, G not symmetric (nor is
+/// A where a file's W is not), factored by Eigen's SparseLU (one analysis), taken where it is
+/// whole and lowers ‖F‖² by Armijo's fraction (the NSN-AC of Siconos; Alart & Curnier 1991,
+/// Christensen, Klarbring, Pang & Strömberg, Int. J. Numer. Meth. Engng 42, 1998). Where G is
+/// singular or that step does not descend, a Levenberg–Marquardt step (GᵀG + ν I) d = −Gᵀ F with
+/// ν = ‖F‖ (Fan & Yuan, Computing 74, 2005: fast near a solution even where the solutions are not
+/// isolated, as on a singular A), factored by CHOLMOD, with an Armijo search. A damped Newton
+/// step on a singular G stalls far from the answer (Capsules: 6e-7 N after 60 steps) where
+/// Levenberg–Marquardt's goes on (to 4e-16 N). False where neither step descends.
+bool alart_curnier_step(const Setup& S,
+                        const SpMat& A,
+                        const VecX& b,
+                        const VecX& F,
+                        NewtonMatrix& G,
+                        VecX& x,
+                        Counts& counts) {
+  const double f = F.squaredNorm();
   // x + t d for the first t = 1, 1/2, ... down to `smallest` with ‖F‖² decreasing by Armijo's
   // fraction.
-  const auto descend = [&](const VecX& d, double f, double smallest) {
+  const auto descend = [&](const VecX& d, double smallest) {
     if (!d.allFinite()) return false;
     for (double t = 1.0; t >= smallest; t *= 0.5) {
       const VecX trial = x + t * d;
-      if (natural_map_newton(S, S.law, S.A, S.b, trial, nullptr, true).squaredNorm() <=
+      if (natural_map_newton(S, S.law, A, b, trial, nullptr, true).squaredNorm() <=
           (1.0 - kArmijo * t) * f) {
         x = trial;
         return true;
@@ -1021,24 +1043,34 @@ double alart_curnier_steps(
     }
     return false;
   };
+  ++counts.factorizations;
+  if (G.factor() && descend(G.solve(-F), 1.0)) return true;
+  if (counts.spent()) return false;
+  ++counts.factorizations;
+  VecX d;
+  return G.levenberg_marquardt(F, std::sqrt(f), d) && descend(d, kSmallestStep);
+}
+
+/// Coulomb's first try, from the relaxation's answer x: alart_curnier_step's steps on the
+/// problem. Ends at `target` (the law's own residual, De Saxcé's natural map), after
+/// kMaxAlartCurnier steps or kAlartCurnierStall in a row that do not lower it by the fraction
+/// `progress`, or where no step descends. x becomes the point of least residual, which it
+/// returns. From the relaxation's answer this finishes Siconos' test problems whose W is not
+/// symmetric (Rover, OneObject, Capsules) and those where the relaxation leaves contacts sliding
+/// (NESpheres_30_1, Confeti).
+double alart_curnier_steps(
+    const Setup& S, double target, VecX& x, Counts& counts, double progress = kNewtonProgress) {
+  VecX best = x;
+  double best_r = residual(S, S.law, S.b, x);
+  NewtonMatrix G(S.c);
   int stall = 0;
   for (int it = 0;
        it < kMaxAlartCurnier && best_r > target && stall < kAlartCurnierStall && !counts.spent();
        ++it) {
     const VecX F = natural_map_newton(S, S.law, S.A, S.b, x, &G, true);
-    const double f = F.squaredNorm();
-    if (!(f > 0.0)) break;  // Alart–Curnier's function is zero: the law holds
+    if (!(F.squaredNorm() > 0.0)) break;  // Alart–Curnier's function is zero: the law holds
     ++counts.alart_curnier;
-    ++counts.factorizations;
-    // Newton's step where it is whole: a damped one on a singular G stalls far from the answer
-    // (Capsules: 6e-7 N after 60 steps) where Levenberg–Marquardt's goes on (to 4e-16 N).
-    bool moved = G.factor() && descend(G.solve(-F), f, 1.0);
-    if (!moved && !counts.spent()) {  // Levenberg–Marquardt
-      ++counts.factorizations;
-      VecX d;
-      if (G.levenberg_marquardt(F, std::sqrt(f), d)) moved = descend(d, f, kSmallestStep);
-    }
-    if (!moved) break;
+    if (!alart_curnier_step(S, S.A, S.b, F, G, x, counts)) break;
     const double r = residual(S, S.law, S.b, x);
     stall = r < (1.0 - progress) * best_r ? 0 : stall + 1;
     if (r < best_r) {
@@ -1152,6 +1184,66 @@ void sweeps_then_newton(const BoxedProblem& problem,
     }
     if (best_r <= target_of(x) || counts.spent()) break;
   }
+}
+
+/// Stage 5 on a W that is not symmetric, where every stage above stops short: proximal points
+/// (Rockafellar, SIAM J. Control Optim. 14, 1976) in the schedule of Siconos' PROX
+/// (fc3d_proximal.c; Acary, Brémond & Huber 2018): from the best point x, each step solves
+/// Coulomb's law with A + ε I and b + ε x_k around the centre x_k by alart_curnier_step's steps
+/// (at x_k the subproblem's F is the law's own) to kSubproblemFraction of the centre's residual,
+/// and its answer is the next centre whether or not the residual fell: the steps converge in
+/// the distance to the answers, not in the residual (on Siconos' Capsules-i103-990 with mu halved
+/// and ε held at 5e-5, a trial, the centres moved 1.6e-4 a step, scaled, for 130 steps while the
+/// residual held near 2e-8, then it fell to 2e-13 in two). The weight ε follows kProximalSigma,
+/// kWeightDecrease. No QP is assumed, so it stands where the fixed point on s (stage 5 on a
+/// symmetric A) is no map of s. x becomes the point of least residual.
+void proximal_points(const Setup& S,
+                     const std::function<double(const VecX&)>& target_of,
+                     VecX& x,
+                     Counts& counts) {
+  counts.budget = counts.factorizations +
+                  static_cast<int>(std::min<double>(
+                      kProximalFactorizations,
+                      kAveragedWork / static_cast<double>(std::max<Eigen::Index>(S.c, 1))));
+  NewtonMatrix G(S.c);
+  double r = residual(S, S.law, S.b, x);
+  VecX best = x;
+  double best_r = r;
+  double mark = r;  // best_r when the patience count last started
+  double eps = kProximalSigma * r;
+  for (int stalled = 0;
+       best_r > target_of(best) && stalled < kProximalPatience && !counts.spent();) {
+    ++counts.outer;
+    ++counts.proximal_points;
+    SpMat A_eps = S.A;
+    for (Eigen::Index k = 0; k < S.c; ++k) A_eps.coeffRef(k, k) += eps;
+    const VecX b_eps = S.b + eps * x;
+    bool solved = false;
+    double last_f = std::numeric_limits<double>::infinity();
+    for (int it = 0, slow = 0; it < kMaxNewton && !counts.spent(); ++it) {
+      const VecX F = natural_map_newton(S, S.law, A_eps, b_eps, x, &G, true);
+      const double f = F.norm();
+      solved = !(f > kSubproblemFraction * r);
+      slow = f > kSubproblemRate * last_f ? slow + 1 : 0;
+      last_f = f;
+      if (solved || slow >= kSubproblemPatience ||
+          !alart_curnier_step(S, A_eps, b_eps, F, G, x, counts))
+        break;
+    }
+    r = residual(S, S.law, S.b, x);
+    if (r < best_r) {
+      best_r = r;
+      best = x;
+    }
+    if (best_r < 0.9 * mark) {
+      mark = best_r;
+      stalled = 0;
+    } else {
+      ++stalled;
+    }
+    eps = solved ? std::max(kProximalSigma * r, eps / kWeightDecrease) : 10.0 * eps;
+  }
+  x = best;
 }
 
 /// Stage 5, under Coulomb's law where every stage above stops short: the fixed point on De
@@ -1284,7 +1376,8 @@ void quick_start(const BoxedProblem& problem,
       if (r > target_of(y) && S.c <= kQuickProximalRows) {
         VecX z = y;  // the least residual so far
         counts.budget = counts.factorizations + kQuickProximal;
-        proximal_newton(S, S.law, S.b, target_of(z), kMaxOuter, z, counts, true, kQuickPatience);
+        proximal_newton(
+            S, S.law, S.b, target_of(z), kMaxOuter, z, counts, true, kSubproblemPatience);
         const double rz = residual(S, S.law, S.b, z);
         if (rz < r) {
           r = rz;
@@ -1483,7 +1576,10 @@ std::string cone_direct_message(const Setup& S,
       msg << " (weight " << kAveragedWeight << " halved " << counts.halved << "x)";
   }
   msg << ", ";
-  msg << counts.outer << " proximal steps, " << counts.factorizations << " factorizations";
+  msg << counts.outer << " proximal steps";
+  if (counts.proximal_points > 0)
+    msg << " (" << counts.proximal_points << " of them stage 5's, in PROX's schedule)";
+  msg << ", " << counts.factorizations << " factorizations";
   if (counts.body_factorizations > 0) {
     msg << " (" << counts.body_factorizations << " interior ones in body space, M + Jt Omega J";
     if (counts.space == "row")
@@ -1587,8 +1683,9 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     x = run_stages(S, proximal, target_of, counts, relaxed);
     if (residual(S, S.law, S.b, quick) < residual(S, S.law, S.b, x)) x = quick;
     if (!met(x)) sweeps_then_newton(problem, S, options, target_of, x, counts);
-    if (!met(x) && S.law.law == FrictionLaw::CoulombCone && S.symmetric())
-      averaged_fixed_point(S, proximal, target_of, x, counts);
+    if (!met(x) && S.law.law == FrictionLaw::CoulombCone)
+      S.symmetric() ? averaged_fixed_point(S, proximal, target_of, x, counts)
+                    : proximal_points(S, target_of, x, counts);
   }
   VecX answer = unscaled(x);
   const double r = natural_map_residual(problem, answer);

@@ -90,24 +90,32 @@ namespace cbps {
 ///      stage 3 cycle (the larger piles settling under the paper's box) the averaged ones converge,
 ///      linearly and slowly (averaged_fixed_point in cone_direct.cpp: at most 2,000 rounds and
 ///      40,000 factorizations of its own, no more than 3e7 / rows, ended by 150 rounds in a row
-///      that do not halve the best residual). Where none of this finishes (Siconos' RockPile,
+///      that do not halve the best residual). On an A that is not symmetric, where that argument
+///      fails, proximal points in the schedule of Siconos' PROX instead (proximal_points in
+///      cone_direct.cpp; Rockafellar 1976): from the best point, each step Coulomb's law with
+///      A + ε I and b + ε x_k around the centre x_k, solved by stage 3's steps on Alart–Curnier's
+///      function to a hundredth of the centre's residual, its answer the next centre whether or
+///      not the residual fell; ε = 5 r at first, a quarter of the last (never below 5 r) after a
+///      solved subproblem, 10 times it after one not solved; at most 5,000 factorizations of its
+///      own, no more than 3e7 / rows, ended by 1,000 steps in a row that do not lower the best
+///      residual by a tenth (Siconos' Capsules with every mu halved, where stages 1 to 4 stop
+///      near 1e-8: 0.4 to 2.5 s). Where none of this finishes (Siconos' RockPile,
 ///      docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
 /// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more, stage 5 its own
-/// min(40,000, 3e7 / rows): every stage stops there (the relaxation needs far fewer), and at
-/// the deadline
-/// (SolverOptions::time_limit).
-/// Returns Termination::Direct only when the law's residual of lambda is at most the tolerance
-/// read in N and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the
-/// rounding floor, or, where the tolerance is below 1000 ulps of the force scale or
-/// options.tolerance_unit_free is set (a problem in its simulator's units, read through unit-free
-/// quantities alone: the stages' path does not change with the units either),
-/// when the unit-free residual is at most the tolerance: never an answer it has not verified;
-/// otherwise NotConverged with the best lambda found and the message says how far it got (NonFinite
-/// for non-finite A or b). The summary: iterations (interior), crossover (proximal steps),
-/// factorizations (CHOLMOD and SparseLU together), space "row".
+/// min(40,000, 3e7 / rows) (A symmetric) or min(5,000, 3e7 / rows): every stage stops there (the
+/// relaxation needs far fewer), and at the deadline (SolverOptions::time_limit). Returns
+/// Termination::Direct only when the law's residual of lambda is at most the tolerance read in N
+/// and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the rounding floor,
+/// or, where the tolerance is below 1000 ulps of the force scale or options.tolerance_unit_free is
+/// set (a problem in its simulator's units, read through unit-free quantities alone: the stages'
+/// path does not change with the units either), when the unit-free residual is at most the
+/// tolerance: never an answer it has not verified; otherwise NotConverged with the best lambda
+/// found and the message says how far it got (NonFinite for non-finite A or b). The summary:
+/// iterations (interior), crossover (proximal steps), factorizations (CHOLMOD and SparseLU
+/// together), space "row".
 SolverSummary solve_cone_direct(const BoxedProblem& problem,
                                 VecX& lambda,
                                 const SolverOptions& options);
