@@ -686,6 +686,34 @@ def sample_siconos_study(ctx):
                                                      m["unit_free"]["relative"]))
 
 
+MU_VARIANT = ("Capsules-i101-404.dat", 0.5)  # one run of mu-variants.json that needs stage 5
+MU_VARIANTS = """
+import json, os, sys
+import cbps, measure_mu_variants as v
+name, factor = sys.argv[1], float(sys.argv[2])
+p = cbps.read_problem(os.path.join(v.ROOT, v.DATA, name))
+print(json.dumps(v.run(cbps, p, factor, "direct")))
+"""
+
+
+def sample_mu_variants(ctx):
+    """scripts/measure_mu_variants.py (docs/siconos-study.md, "Problems no simulation wrote"):
+    `direct` on one Capsules file with mu halved, through the script's own run (the whole probe,
+    with Siconos' PROX, takes minutes and is not rerun)."""
+    env = {"PYTHONPATH": os.pathsep.join([ctx.build.python_dir(),
+                                          os.path.join(ROOT, "scripts")])}
+    name, factor = MU_VARIANT
+    m = json.loads(ctx.run([PYTHON, "-c", MU_VARIANTS, name, str(factor)], env=env).stdout)
+    relative = "validation/results/siconos-fc3d/mu-variants.json"
+    c = next(r for r in committed(relative)["runs"] if r["problem"] == name
+             and r["mu_factor"] == factor and r["method"] == "direct")
+    where = f"{name} mu x {factor:g} direct: "
+    for field in ("termination", "factorizations", "stage5_steps"):
+        ctx.compare(relative, where + field, c[field], m[field], EXACT)
+    ctx.compare(relative, where + "unit_free", c["unit_free"], m["unit_free"],
+                auto(c["unit_free"], m["unit_free"]))
+
+
 def sample_peers(ctx):
     """scripts/measure_peers.py (target peers), the exact-path problem it runs first: the
     10-box stack at step 30 through `cbps lcp` with every peer, by the script's own functions
@@ -955,6 +983,8 @@ SAMPLES = [
     ("peers", "validation/results/peers/peers.json", "target peers", needs_peers, sample_peers),
     ("siconos-study", "validation/results/siconos-fc3d/profile.json",
      "scripts/measure_siconos_study.py", None, sample_siconos_study),
+    ("siconos-mu-variants", "validation/results/siconos-fc3d/mu-variants.json",
+     "scripts/measure_mu_variants.py", needs_python, sample_mu_variants),
     ("distributed-tao", "validation/results/distributed/tao.json", "scripts/measure_tao.py",
      needs_petsc, sample_tao),
     ("distributed-tao-studies", "validation/results/distributed/tao-studies.json",

@@ -202,3 +202,57 @@ def _targets(src):
                      f"after {dur(dr['time_s'])}; the closest answer, {_label(best[1])}'s, "
                      f"{_rel(best[0])}")
     return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------------------------------
+# Problems no simulation wrote (scripts/measure_mu_variants.py).
+
+VARIANTS = "validation/results/siconos-fc3d/mu-variants.json"
+VARIANTS_FORMAT = "cbps-mu-variants/1"
+
+
+def _variants(src):
+    j = src.json(VARIANTS, VARIANTS_FORMAT)
+    runs = need(j, "runs", where=VARIANTS)
+    direct = {(r["problem"], r["mu_factor"]): r for r in runs if r["method"] == "direct"}
+    prox = {r["problem"]: r for r in runs if r["method"] != "direct"}
+    problems = list(dict.fromkeys(r["problem"] for r in runs))
+    factors = need(j, "factors", where=VARIANTS)
+    for p in problems:
+        for f in factors:
+            if (p, f) not in direct:
+                raise SourceError(f"{VARIANTS}: no direct run of {p} with mu x {f:g}")
+    return j, direct, prox, problems, factors
+
+
+def _verdict(r):
+    """✓ time where the unit-free residual met the tolerance, else ✗ and the residual."""
+    uf = read_number(r["unit_free"])
+    if uf is not None and uf <= TOL_VARIANTS:
+        return f"✓ {dur(r['time_s'])}"
+    return f"✗ {_rel(uf)}"
+
+
+TOL_VARIANTS = 1e-10
+
+
+@generator("siconos-mu-variants", VARIANTS)
+def _mu_variants(src):
+    _, direct, prox, problems, factors = _variants(src)
+    header = ["problem"] + [f"mu × {f:g}" for f in factors] + ["Siconos PROX, mu × 0.5"]
+    rows = []
+    for p in problems:
+        row = [_name(p)] + [_verdict(direct[(p, f)]) for f in factors]
+        row.append(_verdict(prox[p]) if p in prox else "–")
+        rows.append(row)
+    return table(header, rows, "l" + "r" * (len(factors) + 1))
+
+
+@generator("siconos-mu-variants-summary", VARIANTS)
+def _mu_variants_summary(src):
+    j, direct, _, _, _ = _variants(src)
+    solved = [r for r in direct.values() if read_number(r["unit_free"]) <= TOL_VARIANTS]
+    stage5 = [r for r in direct.values() if r.get("stage5_steps")]
+    return (f"`direct` meets a unit-free 1e-10 on {len(solved)} of the {len(direct)}, "
+            f"{len(stage5)} of them through stage 5's proximal points (cbps {j['cbps_commit']}, "
+            f"{j['date']})")
