@@ -142,24 +142,27 @@ constexpr double kNewtonProgress = 1e-3;
 /// 193 factorizations, from 1.7e-6 to 1.4e-8, then NSGS sweeps finished it, 0.21 s; handed over,
 /// 0.053 s).
 constexpr double kHandOverProgress = 0.1;
-/// Stage 5 on a W that is not symmetric (proximal_points), Siconos' PROX schedule: the first
-/// proximal weight ε = kProximalSigma · r (scaled, r the centre's residual; PROX's σ = 5); after a
+/// Stage 5 on a W that is not symmetric (proximal_points), after Siconos' PROX schedule: the
+/// first proximal weight ε = kProximalSigma · r (scaled, r the centre's residual); after a
 /// subproblem solved to kSubproblemFraction of its centre's residual, ε = max(σ r, ε /
 /// kWeightDecrease), after one not solved (kMaxNewton steps, kSubproblemPatience slow ones, or no
-/// step descends) 10 ε. PROX sets
-/// ε = σ r after every solved one; on Siconos' Capsules with every mu halved that small an ε
-/// leaves the next subproblem unsolved, and ε swung between σ r and 100 σ r without progress
-/// (Capsules-i101-404 stopped at 4.7e-8, unit-free); a quarter of the last ε each time, never
-/// below σ r, solves the six of them, and with mu × 1/4, 3/4, 3/2, 2 and 3.
-constexpr double kProximalSigma = 5.0;
+/// step descends) 10 ε. PROX sets ε = σ r after every solved one; on Siconos' Capsules with every
+/// mu halved that leaves the next subproblem unsolved, and ε swung between σ r and 100 σ r
+/// without progress (Capsules-i101-404 stopped at 4.7e-8, unit-free); a quarter of the last ε
+/// each time, never below σ r, solves the six of them, and with mu × 1/4, 3/4, 3/2, 2 and 3, for
+/// any σ from 5e-4 to 5. PROX's σ = 5 is in W's own units, 5 / max W_kk in ours: 0.7 on the
+/// Capsules (W_kk up to 7), 0.04 on OneObject (138). σ = 5 here left OneObject-i1028-138 with mu ×
+/// 10 at 1.8e-6 (its first step raised the residual, and ε, tied to it, crawled at 1e-2 for 1,000
+/// steps, where Siconos' PROX takes 36 steps from zero); 0.5 and below solve it.
+constexpr double kProximalSigma = 0.05;
 constexpr double kSubproblemFraction = 1e-2;
 constexpr double kWeightDecrease = 4.0;
 /// ... ended after kProximalPatience steps in a row that do not lower the best residual by a
-/// tenth (the Capsules above: up to 369, Capsules-i122-1617 with mu halved, 2,579 factorizations
+/// tenth (the Capsules above: up to 378, Capsules-i122-1617 with mu halved, 2,453 factorizations
 /// in all; each step moves the centre, and the residual may hold or rise for hundreds of steps on
 /// the way), or at min(kProximalFactorizations, kAveragedWork / rows) factorizations of its own
-/// (RockPile_tob1, 1,389 rows: 909 steps, 5,268 factorizations in all, 15 s, from 9.7e-6 to
-/// 1.8e-6, unit-free).
+/// (RockPile_tob1, 1,389 rows: 913 steps, 5,268 factorizations in all, 15 s, from 9.7e-6 to
+/// 3.3e-6, unit-free).
 constexpr int kProximalPatience = 1000;
 constexpr int kProximalFactorizations = 5000;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.

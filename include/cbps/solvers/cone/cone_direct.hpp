@@ -95,12 +95,12 @@ namespace cbps {
 ///      cone_direct.cpp; Rockafellar 1976): from the best point, each step Coulomb's law with
 ///      A + ε I and b + ε x_k around the centre x_k, solved by stage 3's steps on Alart–Curnier's
 ///      function to a hundredth of the centre's residual, its answer the next centre whether or
-///      not the residual fell; ε = 5 r at first, a quarter of the last (never below 5 r) after a
-///      solved subproblem, 10 times it after one not solved; at most 5,000 factorizations of its
-///      own, no more than 3e7 / rows, ended by 1,000 steps in a row that do not lower the best
-///      residual by a tenth (Siconos' Capsules with every mu halved, where stages 1 to 4 stop
-///      near 1e-8: 0.4 to 2.5 s). Where none of this finishes (Siconos' RockPile,
-///      docs/cones.md), it says so.
+///      not the residual fell; ε = 0.05 r at first, a quarter of the last (never below 0.05 r)
+///      after a solved subproblem, 10 times it after one not solved; at most 5,000
+///      factorizations of its own, no more than 3e7 / rows, ended by 1,000 steps in a row that do
+///      not lower the best residual by a tenth (Siconos' Capsules with every mu halved, where
+///      stages 1 to 4 stop near 1e-8: 0.5 to 2.3 s). Where none of this finishes (Siconos'
+///      RockPile, docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
