@@ -99,7 +99,7 @@ namespace cbps {
 ///      after a solved subproblem, 10 times it after one not solved; at most 5,000
 ///      factorizations of its own, no more than 3e7 / rows, ended by 1,000 steps in a row that do
 ///      not lower the best residual by a tenth (Siconos' Capsules with every mu halved, where
-///      stages 1 to 4 stop near 1e-8: 0.5 to 2.3 s). Where none of this finishes (Siconos'
+///      stages 1 to 4 stop near 1e-8: 0.4 to 2.4 s). Where none of this finishes (Siconos'
 ///      RockPile, docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
