@@ -1189,6 +1189,13 @@ void sweeps_then_newton(const BoxedProblem& problem,
   }
 }
 
+/// Stage 5's own factorizations: at most `cap`, and at most kAveragedWork / rows (a
+/// factorization's cost grows with the rows).
+int stage5_budget(const Setup& S, int cap) {
+  return static_cast<int>(
+      std::min<double>(cap, kAveragedWork / static_cast<double>(std::max<Eigen::Index>(S.c, 1))));
+}
+
 /// Stage 5 on a W that is not symmetric, where every stage above stops short: proximal points
 /// (Rockafellar, SIAM J. Control Optim. 14, 1976) in the schedule of Siconos' PROX
 /// (fc3d_proximal.c; Acary, Brémond & Huber 2018): from the best point x, each step solves
@@ -1204,10 +1211,7 @@ void proximal_points(const Setup& S,
                      const std::function<double(const VecX&)>& target_of,
                      VecX& x,
                      Counts& counts) {
-  counts.budget = counts.factorizations +
-                  static_cast<int>(std::min<double>(
-                      kProximalFactorizations,
-                      kAveragedWork / static_cast<double>(std::max<Eigen::Index>(S.c, 1))));
+  counts.budget = counts.factorizations + stage5_budget(S, kProximalFactorizations);
   NewtonMatrix G(S.c);
   double r = residual(S, S.law, S.b, x);
   VecX best = x;
@@ -1273,10 +1277,7 @@ void averaged_fixed_point(const Setup& S,
                           VecX& x,
                           Counts& counts) {
   double best_r = residual(S, S.law, S.b, x);
-  counts.budget = counts.factorizations +
-                  static_cast<int>(std::min<double>(
-                      kAveragedFactorizations,
-                      kAveragedWork / static_cast<double>(std::max<Eigen::Index>(S.c, 1))));
+  counts.budget = counts.factorizations + stage5_budget(S, kAveragedFactorizations);
   // Round 0 from s = 0: the relaxation, to the target. The rounds start far from the stages'
   // best point, so their progress is measured against their own best residual (own), and each
   // round's CCP is solved to a fraction of it, not to the final target: the rounds' error is
