@@ -93,9 +93,11 @@ TEST_CASE("where lambda = 0 already meets a tolerance, every solver that reached
 
 TEST_CASE("a short measurement is taken again and keeps its least times, a long one is taken once",
           "[profile]") {
-  // Runs of 3, 2, 4, 1 and 5 ms (the sweeps alike): the best of the kRepeats runs is 1 ms, and
-  // the tolerance reached at a different sweep in one run (a run that differs) keeps its own time.
-  const double times[] = {0.003, 0.002, 0.004, 0.001, 0.005};
+  // Runs of 3, 2, 4, 1, 5 and 6 ms (the sweeps alike): after five runs, 15 ms in all, below
+  // kRepeatSpan, a sixth; then 21 ms, and no more. The best of the runs is 1 ms, and the
+  // tolerance reached at a different sweep in one run (a run that differs) keeps its own time.
+  static_assert(kRepeats == 5 && kRepeatSpan > 0.015 && kRepeatSpan <= 0.021);
+  const double times[] = {0.003, 0.002, 0.004, 0.001, 0.005, 0.006};
   int calls = 0;
   const ProfileMeasurement m = best_of_runs([&] {
     ProfileMeasurement r;
@@ -106,13 +108,23 @@ TEST_CASE("a short measurement is taken again and keeps its least times, a long 
     ++calls;
     return r;
   });
-  CHECK(calls == kRepeats);
+  CHECK(calls == 6);
   CHECK(m.status == "solved");
   CHECK(m.time_s == 0.001);
   CHECK(m.reached[0].time_s == 0.0005);
   CHECK(m.reached[1].iterations == 20);
   CHECK(m.reached[1].time_s == 0.002);
   CHECK(m.reached[2].iterations == -1);
+  // Runs of 0.1 ms: kMostRepeats of them, 2 ms in all, short of kRepeatSpan.
+  calls = 0;
+  const ProfileMeasurement quick = best_of_runs([&] {
+    ProfileMeasurement r;
+    r.time_s = calls == 7 ? 5e-5 : 1e-4;
+    ++calls;
+    return r;
+  });
+  CHECK(calls == kMostRepeats);
+  CHECK(quick.time_s == 5e-5);
   // A measurement of kRepeatBelow or more: once.
   calls = 0;
   const ProfileMeasurement once = best_of_runs([&] {
