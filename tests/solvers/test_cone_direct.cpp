@@ -510,6 +510,39 @@ TEST_CASE(
         1e-10 * std::max(1.0, p.b.lpNorm<Eigen::Infinity>()));
 }
 
+TEST_CASE(
+    "direct follows its averaged fixed point with proximal points where A is symmetric and the "
+    "rounds stop short",
+    "[cone-direct]") {
+  // The card house of `cbps scenes card-house` stepped 30 times under its own law (Coulomb's
+  // box), that step posed on Coulomb's cone (`cbps matrices card-house --step 30 --fclib F
+  // --cone coulomb`: 60 contacts, A singular, rank 90 of 180), each contact's mu spread over
+  // [0.3, 0.8] by the golden ratio.
+  // Every stage up to the averaged fixed point stops short (a unit-free 7.7e-7 was direct's
+  // answer, "not verified"), where Siconos' PROX solves it; proximal points from the rounds' best
+  // point finish it. The verdict is checked apart from the solver: the unit-free residual
+  // (unit_free.hpp) and Coulomb's natural map of the answer.
+  const System sys = system_of("card-house", {}, 30);
+  FrictionContacts cones = contacts_in_cones(sys, FrictionLaw::CoulombCone);
+  REQUIRE(cones.mu.size() == 60);
+  for (Eigen::Index k = 0; k < cones.mu.size(); ++k)
+    cones.mu(k) = 0.3 + 0.5 * std::fmod(0.6180339887498949 * double(k) + 0.5, 1.0);
+  BoxedProblem problem = sys.problem();
+  problem.cones = &cones;
+  VecX lambda;
+  SolverOptions o = direct_options(1e-10);
+  o.tolerance_unit_free = true;
+  const SolverSummary s = solve(problem, lambda, o);
+  INFO(s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.message.find("averaged fixed-point rounds") != std::string::npos);
+  CHECK(s.message.find("stage 5's, in PROX's schedule") != std::string::npos);
+  CHECK(unit_free_residual(problem, lambda).relative <= 1e-10);
+  const VecX w = sys.A * lambda - sys.b;
+  CHECK(natural_map_residual(w, lambda, problem.cmin, problem.cmax, cones) <=
+        1e-8 * std::max(1.0, lambda.lpNorm<Eigen::Infinity>()));
+}
+
 TEST_CASE("direct's averaged fixed point stays off a W that is not symmetric",
           "[cone-direct][siconos-fc3d]") {
   // Stage 5's rounds are a map of s only where each relaxation is a QP (A symmetric). Siconos'
