@@ -172,10 +172,9 @@ constexpr int kProximalFactorizations = 5000;
 /// follows it from its best point, at most kFallbackWork / rows factorizations of its own (5,000
 /// up to 600 rows, 2,500 at 1,200, 625 at 4,800). Its steps move the centre where the averaged
 /// rounds hover (the card house of `cbps scenes card-house` at step 30, written by `cbps
-/// matrices card-house --param friction=cone --step 30 --fclib F --cone coulomb`, 60 contacts,
-/// mu per contact drawn in [0.3, 0.8] with numpy's default_rng(1): the rounds ended at a
-/// unit-free 3.7e-7, the proximal steps after them at 1.9e-11, 423 steps, where Siconos' PROX
-/// from zero takes 5 s).
+/// matrices card-house --step 30 --fclib F --cone coulomb`, 60 contacts, mu per contact drawn in
+/// [0.3, 0.8] with numpy's default_rng(1): the rounds ended at a unit-free 3.7e-7, the proximal
+/// steps after them at 1.8e-11, 127 steps, 0.6 s, where Siconos' PROX from zero takes 5 s).
 constexpr double kFallbackWork = 3e6;
 /// Rounds of the fixed point on s = mu ‖u_t‖ (Coulomb) at most.
 constexpr int kMaxFixedPoint = 20;
@@ -1630,8 +1629,8 @@ std::string cone_direct_message(const Setup& S,
            "point with De Saxce's term refreshed, "
         << (!S.symmetric() ? "the semismooth Newton steps on Coulomb's own map, the "
                              "proximal points around them and NSGS sweeps"
-                           : "the fixed point on s = mu |u_t| and the semismooth Newton "
-                             "steps on Coulomb's own map")
+                           : "the fixed point on s = mu |u_t|, the semismooth Newton "
+                             "steps on Coulomb's own map and the proximal points after them")
         << " each stopped short of it; a solution "
            "exists wherever some velocity opens every contact at once, which "
            "scripts/strict_feasibility.py PROBLEM shows for a symmetric A (Acary, Cadoux, "
