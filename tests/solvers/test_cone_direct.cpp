@@ -85,6 +85,53 @@ TEST_CASE("direct on cones finds one contact's answers worked out by hand", "[co
   check_one_contact(Vec3(1.0, 2.0, 0.0), FrictionLaw::Relaxation, Vec3(1.6, 0.8, 0.0));
 }
 
+TEST_CASE("direct on cones judges each contact by its own rounding floor, guess or answer",
+          "[cone-direct][tolerance]") {
+  // Two contacts of compliances 1e6 and 1e-8 kg⁻¹ pressed shut with forces of 1/3 N and 1 N
+  // (b_n = A_nn λ_n, no tangential push: both stick with λ_t = 0). A guess with the second
+  // normal force 1.5 N leaves w_n = 5e-9 m/s there, below the first contact's rounding floor
+  // (4.7e-9 m/s, the largest row's, which every contact was judged by) and far above its own: it
+  // was returned as solved, unit-free residual 0.33. Both readings of the tolerance: N (cbps's
+  // own problems) and unit-free (a file's units). Where the stages' target is read in N (unit
+  // step), the relaxation's interior point stops with w_n of the second contact under the first
+  // one's floor (its force 0.67 N): the measure cannot see it there, and the answer must say
+  // "not verified"; everywhere else direct solves it.
+  const SpMat A = (VecX(6) << 1e6, 1e6, 1e6, 1e-8, 1e-8, 1e-8)
+                      .finished()
+                      .asDiagonal()
+                      .toDenseMatrix()
+                      .sparseView();
+  const VecX b = (VecX(6) << 1e6 / 3.0, 0.0, 0.0, 1e-8, 0.0, 0.0).finished();
+  const VecX cmin = (VecX(6) << 0.0, -kInf, -kInf, 0.0, -kInf, -kInf).finished();
+  const VecX cmax = VecX::Constant(6, kInf);
+  FrictionContacts cones;
+  cones.normal = {0, 3};
+  cones.mu = VecX::Constant(2, 0.5);
+  for (const FrictionLaw law : {FrictionLaw::CoulombCone, FrictionLaw::Relaxation}) {
+    cones.law = law;
+    BoxedProblem problem{A, b, cmin, cmax};
+    problem.cones = &cones;
+    for (const bool unit_free : {false, true}) {
+      for (const bool warm : {true, false}) {
+        SolverOptions o = direct_options(1e-10);
+        o.tolerance_unit_free = unit_free;
+        VecX lambda = VecX::Zero(6);
+        if (warm) lambda << 1.0 / 3.0, 0.0, 0.0, 1.5, 0.0, 0.0;
+        const SolverSummary s = solve(problem, lambda, o);
+        const double relative = unit_free_residual(problem, lambda).relative;
+        INFO(cone_law_name(law) << (unit_free ? ", unit-free" : ", N")
+                                << (warm ? ", warm: " : ", cold: ") << s.message);
+        CHECK(s.message.find("the guess already meets") == std::string::npos);
+        CHECK((s.termination != Termination::Direct || relative <= 1e-10));
+        if (law == FrictionLaw::Relaxation && !unit_free) continue;
+        CHECK(s.termination == Termination::Direct);
+        CHECK(lambda(3) == Approx(1.0).epsilon(1e-12));
+        CHECK(relative <= 1e-12);
+      }
+    }
+  }
+}
+
 TEST_CASE("nsgs and direct on a sliding box: Coulomb's friction is mu times the normal force",
           "[cone-direct][nsgs]") {
   // The slide scene: a box moving at 2 m/s along x on a plane, four contacts all sliding the same

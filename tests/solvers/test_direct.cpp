@@ -247,6 +247,34 @@ TEST_CASE("non-finite data ends the direct solve with NonFinite", "[direct]") {
   CHECK(solve_direct(BoxedProblem{A, b, lo, hi}, lambda).termination == Termination::NonFinite);
 }
 
+TEST_CASE("a guess is taken at the rounding floor of its own rows, not of the largest row's",
+          "[direct][tolerance]") {
+  // Two rows of compliances 1e6 and 1e-8 kg⁻¹ (a milligram and a hundred-tonne body), each
+  // pushed to λ_k = b_k / A_kk (1/3 N and 1 N). The guess has row 1 half a newton off: its w_1
+  // is 5e-9 m/s, under the rounding floor of the first row (64 u · 1e6 · 1/3 · 2, 4.7e-9 m/s,
+  // which the shared floor gave every row) and 1e14 times that of its own (64 u · 2e-8). Taken
+  // as it was, direct returned λ_1 = 1.5 N and called it solved.
+  const SpMat A = (VecX(2) << 1e6, 1e-8).finished().asDiagonal().toDenseMatrix().sparseView();
+  const VecX b = (VecX(2) << 1e6 / 3.0, 1e-8).finished();
+  const VecX lo = VecX::Zero(2), hi = VecX::Constant(2, kInf);
+  const BoxedProblem problem{A, b, lo, hi};
+  VecX lambda = (VecX(2) << 1.0 / 3.0, 1.5).finished();
+  SolverOptions o;
+  o.tolerance = 1e-10;
+  const SolverSummary s = solve_direct(problem, lambda, o);
+  INFO(s.message);
+  CHECK(s.termination == Termination::Direct);
+  CHECK(s.route != "guess");
+  CHECK(lambda(0) == Approx(1.0 / 3.0).epsilon(1e-14));
+  CHECK(lambda(1) == Approx(1.0).epsilon(1e-12));
+  // The guess of the right answer is still taken as it is.
+  VecX exact = (VecX(2) << 1.0 / 3.0, 1.0).finished();
+  CHECK(within_rounding(problem, exact, VecX::Ones(2), 0.0));
+  const SolverSummary again = solve_direct(problem, exact, o);
+  CHECK(again.route == "guess");
+  CHECK(exact(1) == 1.0);
+}
+
 TEST_CASE("every symmetric Siconos relay problem: direct and boxed Lemke agree on w",
           "[direct][siconos]") {
   const fs::path dir = fs::path(CBPS_DATA_DIR) / "siconos" / "relay";

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cbps/base/friction_law.hpp"
 #include "cbps/solvers/cone/cone_direct.hpp"
 #include "cbps/solvers/exact/active_set.hpp"
 #include "cbps/solvers/exact/interior_point.hpp"
@@ -165,6 +166,50 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
   return residual_floor(max_abs_row_sum(problem), problem.b, lambda);
 }
 
+VecX rounding_floors(const BoxedProblem& problem, const VecX& lambda) {
+  const VecX l = lambda.cwiseAbs();
+  VecX size;  // |A| |λ|, row by row
+  if (problem.A_formed()) {
+    size = problem.A.cwiseAbs() * l;
+  } else {
+    const SpMatRow J = problem.J->cwiseAbs();
+    size = J * (problem.Minv->cwiseAbs() * (J.transpose() * l)) + std::abs(problem.cfm) * l;
+  }
+  VecX floors(size.size());
+  for (Eigen::Index k = 0; k < size.size(); ++k)
+    floors(k) = residual_floor_of(size(k), std::abs(problem.b(k)), 1.0);
+  return floors;
+}
+
+bool within_rounding(const BoxedProblem& problem,
+                     const VecX& lambda,
+                     const VecX& steps,
+                     double tolerance) {
+  const Eigen::Index c = problem.rows();
+  if (c == 0) return true;
+  const VecX w = steps.cwiseProduct(times_A(problem, lambda) - problem.b);
+  const VecX floors = steps.cwiseProduct(rounding_floors(problem, lambda));
+  const auto within = [&](double term, double floor) {
+    return term <= std::max(tolerance, floor);  // false for a NaN term
+  };
+  std::vector<char> in_cone(std::size_t(c), 0);
+  if (problem.cones != nullptr) in_cone = problem.cones->rows_in_cones(c);
+  for (Eigen::Index k = 0; k < c; ++k)
+    if (!in_cone[std::size_t(k)] &&
+        !within(natural_map_row(lambda(k), w(k), problem.cmin(k), problem.cmax(k)), floors(k)))
+      return false;
+  if (problem.cones == nullptr) return true;
+  const FrictionContacts& cones = *problem.cones;
+  for (long i = 0; i < cones.contacts(); ++i) {
+    const int n = cones.normal[std::size_t(i)];
+    // û is positively homogeneous in u: the map with step ρ is the unit-step map of ρ w.
+    const Vec3 map =
+        cone_natural_map(lambda.segment<3>(n), w.segment<3>(n), cones.mu(i), cones.law);
+    if (!within(map.norm(), floors.segment<3>(n).maxCoeff())) return false;
+  }
+  return true;
+}
+
 namespace {
 
 /// A warm start (the last step's answer, carried by contact persistence): the crossover from its
@@ -245,14 +290,17 @@ SolverSummary solve_direct_coupled(const BoxedProblem& problem,
   const double row_sum = warm_tried ? max_abs_row_sum(problem) : 0.0;
   if (warm_tried) {
     s.residual = natural_map_residual(problem, guess);
-    if (s.residual <= std::max(options.tolerance, residual_floor(row_sum, problem.b, guess))) {
+    if (within_rounding(problem, guess, VecX::Ones(n), options.tolerance)) {
       lambda = guess;
       s.islands = 1;
       s.route = "guess";
       return finish("direct: the guess already solves it", true);
     }
   }
-  if (warm_tried && warm_finish(problem, guess, options, row_sum, s)) {
+  // The crossover stops at the shared rounding floor: its answer is kept where each row is
+  // within its own, else the cold path below solves from scratch.
+  if (warm_tried && warm_finish(problem, guess, options, row_sum, s) &&
+      within_rounding(problem, guess, VecX::Ones(n), options.tolerance)) {
     lambda = guess;
     s.route = "warm";
     return finish(s.message, true);

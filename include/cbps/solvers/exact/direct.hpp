@@ -84,6 +84,22 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda);
 bool may_stop(double r, double r_before, double tolerance, double floor);
 /// The same with row_sum = max_abs_row_sum(A) given, for solvers that ask it often.
 double residual_floor(double row_sum, const VecX& b, const VecX& lambda);
+/// Each row's own rounding floor, the rounding of its w_k = (A λ − b)_k alone (b's units):
+/// 64 u ((|A| |λ|)_k + |b_k|), with |A| = |J| |Minv| |J|ᵀ + |cfm| where A was left out. No row's
+/// exceeds residual_floor, which bounds the largest row's rounding; a row of small entries has a
+/// floor of its own size (two contacts of compliances 1e6 and 1e-8 kg⁻¹, forces near 1 N: the
+/// shared floor, 5e-9 m/s, passed a λ 50% off on the second, whose w moves 1e-8 m/s per N).
+VecX rounding_floors(const BoxedProblem& problem, const VecX& lambda);
+/// Whether λ's natural map with each row's step ρ_k (kg; `steps`, c entries: 1 for the map in N,
+/// unit_free_steps for the unit-free one; 6.2's map row by row, each contact's cone law on its
+/// three rows with its normal row's step, w = A λ − b as the problem forms it) is, row by row
+/// and contact by contact, at most max(tolerance, ρ_k f_k) N, f_k that row's rounding_floors (a
+/// contact's: the largest of its three). The verdict "at the rounding floor" of the exact paths:
+/// each row judged by its own rounding, never by the largest row's. False where a term is NaN.
+bool within_rounding(const BoxedProblem& problem,
+                     const VecX& lambda,
+                     const VecX& steps,
+                     double tolerance);
 
 /// Direct solve of A lambda = b with all rows unbounded, by CHOLMOD's sparse Cholesky
 /// (supernodal or simplicial, with the fill-reducing ordering CHOLMOD chooses).
