@@ -166,18 +166,39 @@ double residual_floor(const BoxedProblem& problem, const VecX& lambda) {
   return residual_floor(max_abs_row_sum(problem), problem.b, lambda);
 }
 
-VecX rounding_floors(const BoxedProblem& problem, const VecX& lambda) {
-  const VecX l = lambda.cwiseAbs();
+namespace {
+
+/// w = A λ − b (as the problem forms it) and each row's rounding_floors, in one pass over A's
+/// entries where A is formed (no copy of |A|: the warm steps check every guess by them).
+void w_and_floors(const BoxedProblem& problem, const VecX& lambda, VecX& w, VecX& floors) {
+  const Eigen::Index c = problem.rows();
   VecX size;  // |A| |λ|, row by row
   if (problem.A_formed()) {
-    size = problem.A.cwiseAbs() * l;
+    w = -problem.b;
+    size = VecX::Zero(c);
+    for (Eigen::Index j = 0; j < problem.A.outerSize(); ++j) {
+      const double l = lambda(j);
+      for (SpMat::InnerIterator it(problem.A, j); it; ++it) {
+        w(it.row()) += it.value() * l;
+        size(it.row()) += std::abs(it.value() * l);
+      }
+    }
   } else {
+    w = times_A(problem, lambda) - problem.b;
     const SpMatRow J = problem.J->cwiseAbs();
+    const VecX l = lambda.cwiseAbs();
     size = J * (problem.Minv->cwiseAbs() * (J.transpose() * l)) + std::abs(problem.cfm) * l;
   }
-  VecX floors(size.size());
-  for (Eigen::Index k = 0; k < size.size(); ++k)
+  floors.resize(c);
+  for (Eigen::Index k = 0; k < c; ++k)
     floors(k) = residual_floor_of(size(k), std::abs(problem.b(k)), 1.0);
+}
+
+}  // namespace
+
+VecX rounding_floors(const BoxedProblem& problem, const VecX& lambda) {
+  VecX w, floors;
+  w_and_floors(problem, lambda, w, floors);
   return floors;
 }
 
@@ -187,8 +208,10 @@ bool within_rounding(const BoxedProblem& problem,
                      double tolerance) {
   const Eigen::Index c = problem.rows();
   if (c == 0) return true;
-  const VecX w = steps.cwiseProduct(times_A(problem, lambda) - problem.b);
-  const VecX floors = steps.cwiseProduct(rounding_floors(problem, lambda));
+  VecX w, floors;
+  w_and_floors(problem, lambda, w, floors);
+  w.array() *= steps.array();
+  floors.array() *= steps.array();
   const auto within = [&](double term, double floor) {
     return term <= std::max(tolerance, floor);  // false for a NaN term
   };
