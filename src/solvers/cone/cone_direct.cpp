@@ -1616,10 +1616,15 @@ std::string cone_direct_message(const Setup& S,
         << ", the tolerance read as a unit-free residual alone: the problem's units are its "
            "simulator's; or the rounding floor)";
   else
-    msg << "; residual " << residual << " N (target " << target
-        << " N, from the tolerance in N and as a unit-free residual, or the rounding floor "
+    msg << "; residual " << residual << " N, unit-free " << unit_free << " (target " << target
+        << " N, from the tolerance in N and as a unit-free residual, or each row's own rounding "
+           "floor, the largest row's "
         << floor << " N; or, where that is below 1000 ulps of the forces, a unit-free residual "
         << "at most the tolerance)";
+  if (!S.unit_free && !reached && residual <= target)
+    msg << "; under that target but not verified: some row is above its own rounding floor "
+           "(a row of far smaller compliance than the largest row's: docs/cones.md, \"The "
+           "verdict\")";
   if (!reached && counts.factorizations >= counts.budget)
     msg << "; stopped at its budget of " << counts.budget << " factorizations";
   if (!reached && S.law.law == FrictionLaw::CoulombCone)
