@@ -670,3 +670,35 @@ TEST_CASE(
           1e-10 * std::max(1.0, sys.b.lpNorm<Eigen::Infinity>()));
   }
 }
+
+TEST_CASE("direct changes a contact's status where the stages stall on a singular W",
+          "[cone-direct][status]") {
+  // The card house with friction on cones after 5 steps (60 contacts, mu 0.7, A of rank 90 of
+  // 180), as `cbps lcp` reads the FCLIB file of `cbps matrices card-house --param friction=cone
+  // --step 5 --fclib F --cone coulomb` (tolerance_unit_free, no J or Minv). Stages 0 to 5 stop
+  // at a unit-free 1.3e-10, where Siconos 4.4's PROX reaches 2e-16: contacts slide at 1e-9 m/s,
+  // and one that slips at 4e-8 m/s at the stages' best point is open in the answer. The search
+  // over statuses (stage 6) must find an answer and verify it. Judged by the unit-free residual
+  // (unit_free.hpp, tested apart) and by Coulomb's law checked contact by contact here.
+  const System sys = system_of("card-house", {{"friction", "cone"}}, 5);
+  const FrictionContacts cones = contacts_in_cones(sys, FrictionLaw::CoulombCone);
+  REQUIRE(cones.contacts() == 60);
+  const BoxedProblem problem = sys.problem();
+  const FileSolve r = direct_in_units(problem, cones, 1.0);
+  INFO(r.summary.message);
+  CHECK(r.summary.termination == Termination::Direct);
+  CHECK(r.summary.message.find("statuses fixed") != std::string::npos);
+  CHECK(r.unit_free <= 1e-10);
+  const VecX w = problem.A * r.lambda - problem.b;
+  const double force = r.lambda.lpNorm<Eigen::Infinity>();
+  for (long i = 0; i < cones.contacts(); ++i) {
+    const int n = cones.normal[std::size_t(i)];
+    const double mu = cones.mu(i);
+    const Vec3 f = r.lambda.segment<3>(n), u = w.segment<3>(n);
+    const double un_hat = u(0) + mu * u.tail<2>().norm();  // De Saxcé's û_n
+    INFO("contact " << i << ": r " << f.transpose() << ", u " << u.transpose());
+    CHECK(f.tail<2>().norm() <= mu * f(0) + 1e-12 * force);             // r in the cone
+    CHECK(un_hat >= -1e-12);                                            // û in its dual
+    CHECK(std::abs(f.dot(Vec3(un_hat, u(1), u(2)))) <= 1e-12 * force);  // r ⟂ û
+  }
+}

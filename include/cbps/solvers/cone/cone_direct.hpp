@@ -99,13 +99,21 @@ namespace cbps {
 ///      after a solved subproblem, 10 times it after one not solved; at most 5,000
 ///      factorizations of its own, no more than 3e7 / rows, ended by 1,000 steps in a row that do
 ///      not lower the best residual by a tenth (Siconos' Capsules with every mu halved, where
-///      stages 1 to 4 stop near 1e-8: 0.4 to 2.4 s). Where none of this finishes (Siconos'
-///      RockPile, docs/cones.md), it says so.
+///      stages 1 to 4 stop near 1e-8: 0.4 to 2.4 s).
+///   6. Coulomb's law where stages 1 to 5 stop short: a search over the contacts' statuses
+///      (status_search in cone_direct.cpp): each contact's status fixed (open, sticking,
+///      sliding), the law becomes smooth equations, solved by Levenberg–Marquardt's
+///      least-squares steps from the best point; the natural map's statuses there first, then
+///      one contact's status changed for each of the 8 whose equations are furthest from zero
+///      (an active-set step: Stellato et al., "OSQP", Math. Prog. Comp. 12, 2020). Every answer
+///      is judged by the law's residual. Where none of this finishes (Siconos' RockPile,
+///      docs/cones.md), it says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
 /// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more, stage 5 its own
-/// min(40,000, 3e7 / rows) (A symmetric) or min(5,000, 3e7 / rows): every stage stops there (the
+/// min(40,000, 3e7 / rows) (A symmetric) or min(5,000, 3e7 / rows), stage 6 min(400, 3e5 /
+/// rows): every stage stops there (the
 /// relaxation needs far fewer), and at the deadline (SolverOptions::time_limit). Returns
 /// Termination::Direct only when the law's residual of lambda is at most the tolerance read in N
 /// and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the rounding floor,
