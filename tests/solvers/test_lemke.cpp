@@ -13,6 +13,8 @@
 #include "cbps/base/error.hpp"
 #include "cbps/io/siconos.hpp"
 #include "cbps/solvers/exact/lemke.hpp"
+#include "cbps/solvers/solver.hpp"
+#include "cbps/system/boxed_problem.hpp"
 #include "fixture.hpp"
 
 using namespace cbps;
@@ -290,5 +292,25 @@ TEST_CASE("every Siconos relay problem is solved by boxed Lemke", "[lcp][siconos
     // with M + Mᵀ ⪰ 0 Lemke's method on the transformed LCP must find one.
     const bool finite_box = p.lb.allFinite() && p.ub.allFinite();
     if (finite_box && is_positive_semidefinite(p.M)) CHECK(r.solved());
+  }
+}
+
+TEST_CASE("lemke pivots each row in its own units: compliances 1e12 apart", "[lcp][tolerance]") {
+  // A = diag(1e4, 1e-8) kg⁻¹ with b = A (1/3, 1) N: each row pushed to λ_k = b_k / A_kk. Pivoting
+  // on A as it is, Lemke returned λ_2 = 0 after 2 pivots and called it solved by its own check
+  // (relative to max |A_ij| = 1e4), a unit-free residual of 1; on D A D (D = 1 / sqrt A_kk) it
+  // is exact. The boxed form too (cmax = 10 N on both rows: the same answer, inside the box).
+  const SpMat A = (VecX(2) << 1e4, 1e-8).finished().asDiagonal().toDenseMatrix().sparseView();
+  const VecX b = (VecX(2) << 1e4 / 3.0, 1e-8).finished();
+  for (const double top : {kInf, 10.0}) {
+    const BoxedProblem problem{A, b, VecX::Zero(2), VecX::Constant(2, top)};
+    VecX lambda;
+    SolverOptions o;
+    o.method = Method::Lemke;
+    const SolverSummary s = solve(problem, lambda, o);
+    INFO("cmax " << top << ": " << s.message);
+    CHECK(s.termination == Termination::Direct);
+    CHECK(lambda(0) == Approx(1.0 / 3.0).epsilon(1e-14));
+    CHECK(lambda(1) == Approx(1.0).epsilon(1e-14));
   }
 }

@@ -908,6 +908,41 @@ class NewtonMatrix {
   Eigen::PartialPivLU<MatX> dense_lu_;
 };
 
+/// A contact's 3×3 blocks of Dm and Cm at rows and columns k to k + 2, as triplets.
+void put_blocks(Eigen::Index k,
+                const Mat3& Dm,
+                const Mat3& Cm,
+                std::vector<Triplet>& dt,
+                std::vector<Triplet>& ct) {
+  for (int r = 0; r < 3; ++r)
+    for (int q = 0; q < 3; ++q) {
+      dt.emplace_back(int(k) + r, int(k) + q, Dm(r, q));
+      ct.emplace_back(int(k) + r, int(k) + q, Cm(r, q));
+    }
+}
+
+/// A box row's natural map v_k − clamp(v_k − w_k / A'_kk, cmin_k, cmax_k) (fixed rows at their
+/// value), and with `jacobian` its generalized Jacobian's entries into dt and ct: D = 1 at a
+/// bound, else C = 1 / A'_kk.
+double box_row_map(const Setup& S,
+                   Eigen::Index k,
+                   double v,
+                   double w,
+                   bool jacobian,
+                   std::vector<Triplet>& dt,
+                   std::vector<Triplet>& ct) {
+  const std::size_t K = std::size_t(k);
+  const double lo = S.fixed[K] ? S.fixed_value(k) : S.cmin(k);
+  const double hi = S.fixed[K] ? S.fixed_value(k) : S.cmax(k);
+  const double y = v - S.rho_row(k) * w;
+  const bool inside = lo < y && y < hi;
+  if (jacobian) {
+    dt.emplace_back(int(k), int(k), inside ? 0.0 : 1.0);
+    ct.emplace_back(int(k), int(k), inside ? S.rho_row(k) : 0.0);
+  }
+  return v - clamp(y, lo, hi);
+}
+
 /// The law's natural map for stage 2's Newton steps, F(v) = v − P_K(v − ρ_α û(w)) per contact
 /// and v − clamp(v − w / A'_kk, cmin, cmax) for the other rows, w = A_eps v − b_eps; with
 /// `jacobian`, its generalized Jacobian I − D + C A_eps (D = ∂P at v − ρ_α û, C = ρ_α D ∂û/∂w;
@@ -936,12 +971,7 @@ VecX natural_map_newton(const Setup& S,
       Mat3 Dm, Cm;
       F.segment<3>(k) = alart_curnier_map(
           v.segment<3>(k), w.segment<3>(k), cones.mu(contact), S.rho[std::size_t(contact)], Dm, Cm);
-      if (jacobian != nullptr)
-        for (int r = 0; r < 3; ++r)
-          for (int q = 0; q < 3; ++q) {
-            dt.emplace_back(int(k) + r, int(k) + q, Dm(r, q));
-            ct.emplace_back(int(k) + r, int(k) + q, Cm(r, q));
-          }
+      if (jacobian != nullptr) put_blocks(k, Dm, Cm, dt, ct);
       continue;
     }
     if (contact >= 0) {
@@ -956,24 +986,12 @@ VecX natural_map_newton(const Setup& S,
         const Mat3 D = cone_projection_jacobian(mu, y);
         const Mat3 I_D = Mat3::Identity() - D;
         const Mat3 C = rho * D * law_velocity_jacobian(u, mu, cones.law);
-        for (int r = 0; r < 3; ++r)
-          for (int q = 0; q < 3; ++q) {
-            dt.emplace_back(int(k) + r, int(k) + q, I_D(r, q));
-            ct.emplace_back(int(k) + r, int(k) + q, C(r, q));
-          }
+        put_blocks(k, I_D, C, dt, ct);
       }
       continue;
     }
     if (S.in_cone[K]) continue;  // a tangent, done with its normal
-    const double lo = S.fixed[K] ? S.fixed_value(k) : S.cmin(k);
-    const double hi = S.fixed[K] ? S.fixed_value(k) : S.cmax(k);
-    const double y = v(k) - S.rho_row(k) * w(k);
-    const bool inside = lo < y && y < hi;
-    F(k) = v(k) - clamp(y, lo, hi);
-    if (jacobian != nullptr) {
-      dt.emplace_back(int(k), int(k), inside ? 0.0 : 1.0);
-      ct.emplace_back(int(k), int(k), inside ? S.rho_row(k) : 0.0);
-    }
+    F(k) = box_row_map(S, k, v(k), w(k), jacobian != nullptr, dt, ct);
   }
   if (jacobian != nullptr) jacobian->assemble(dt, ct, A_eps);
   return F;
@@ -1475,24 +1493,11 @@ VecX status_equations(const Setup& S,
           break;
       }
       F.segment<3>(k) = f;
-      if (G != nullptr)
-        for (int i = 0; i < 3; ++i)
-          for (int q = 0; q < 3; ++q) {
-            dt.emplace_back(int(k) + i, int(k) + q, Dm(i, q));
-            ct.emplace_back(int(k) + i, int(k) + q, Cm(i, q));
-          }
+      if (G != nullptr) put_blocks(k, Dm, Cm, dt, ct);
       continue;
     }
     if (S.in_cone[K]) continue;  // a tangent, done with its normal
-    const double lo = S.fixed[K] ? S.fixed_value(k) : S.cmin(k);
-    const double hi = S.fixed[K] ? S.fixed_value(k) : S.cmax(k);
-    const double y = v(k) - S.rho_row(k) * w(k);
-    const bool inside = lo < y && y < hi;
-    F(k) = v(k) - clamp(y, lo, hi);
-    if (G != nullptr) {
-      dt.emplace_back(int(k), int(k), inside ? 0.0 : 1.0);
-      ct.emplace_back(int(k), int(k), inside ? S.rho_row(k) : 0.0);
-    }
+    F(k) = box_row_map(S, k, v(k), w(k), G != nullptr, dt, ct);
   }
   if (G != nullptr) G->assemble(dt, ct, S.A);
   return F;

@@ -371,8 +371,9 @@ std::string to_string(LcpResult::Status s) {
 
 namespace {
 
-/// "lemke": the dense pivoting method of lemke.hpp on M = A, q = −b (the standard LCP when
-/// cmin = 0 and cmax = +inf, else the boxed one), verified on the problem itself: Direct when
+/// "lemke": the dense pivoting method of lemke.hpp on M = D A D, q = −D b with A's diagonal
+/// scaled to ±1 (the standard LCP when cmin = 0 and cmax = +inf, else the boxed one), verified
+/// on the problem itself: Direct when
 /// cbps's verdict holds (is_solved, system/unit_free.hpp). A ray termination whose
 /// last point passes that check is a solution, and is reported as one, with the ray named.
 SolverSummary lemke_method(const BoxedProblem& problem,
@@ -384,13 +385,28 @@ SolverSummary lemke_method(const BoxedProblem& problem,
     throw InputError("lemke: the problem has " + std::to_string(c) +
                      " rows; the dense Lemke solver takes at most " +
                      std::to_string(kMaxDenseLemkeRows) + " (use pgs or direct)");
-  const MatX M = MatX(problem.A);
-  const VecX q = -problem.b;
+  // Lemke's pivot and tie tolerances (1e-11 of max(1, a column's largest entry)) and its check
+  // (relative to max(1, ‖q‖∞, max |A_ij|)) are in the units of the largest row: on A = diag(1e4,
+  // 1e-8) kg⁻¹ with b = (1e4 / 3, 1e-8) it returned λ_2 = 0 after 2 pivots and called that
+  // solved, a unit-free residual of 1. It pivots on D A D with D = diag(1 / sqrt|A_kk|) (1 where
+  // A_kk = 0), whose diagonal is ±1 or 0: the same LCP with each row in its own units (z = D z',
+  // w' = D w, bounds D⁻¹ cmin and D⁻¹ cmax; D > 0 keeps every sign, so the solutions, the
+  // copositivity of M and the ray terminations are the same); λ = D z' is verified on A itself.
+  VecX d = VecX::Ones(c);
+  for (long k = 0; k < c; ++k) {
+    const double a = std::abs(problem.A.coeff(k, k));
+    if (a > 0.0 && std::isfinite(1.0 / std::sqrt(a))) d(k) = 1.0 / std::sqrt(a);
+  }
+  const MatX M = d.asDiagonal() * MatX(problem.A) * d.asDiagonal();
+  const VecX q = -d.cwiseProduct(problem.b);
   const bool standard = (problem.cmin.array() == 0.0).all() && (problem.cmax.array() == kInf).all();
-  const LcpResult r = standard
-                          ? solve_lemke(M, q, options.deadline)
-                          : solve_boxed_lemke(M, q, problem.cmin, problem.cmax, options.deadline);
-  lambda = r.z.size() == c ? r.z : VecX::Zero(c);
+  const LcpResult r = standard ? solve_lemke(M, q, options.deadline)
+                               : solve_boxed_lemke(M,
+                                                   q,
+                                                   VecX(problem.cmin.cwiseQuotient(d)),
+                                                   VecX(problem.cmax.cwiseQuotient(d)),
+                                                   options.deadline);
+  lambda = r.z.size() == c ? VecX(d.cwiseProduct(r.z)) : VecX::Zero(c);
   SolverSummary s;
   s.iterations = r.pivots;
   s.pivots = r.pivots;
@@ -411,6 +427,12 @@ SolverSummary lemke_method(const BoxedProblem& problem,
       s.message = msg.str();
     }
   } else {
+    if (r.solved()) {  // verified on D A D in its own measure, not on A
+      std::ostringstream msg;
+      msg << "not verified: " << r.message << " on the scaled tableau, but on A its unit-free "
+          << "residual is " << unit_free.relative << " > " << kSolvedTolerance;
+      s.message = msg.str();
+    }
     s.termination = !lambda.allFinite()                         ? Termination::NonFinite
                     : r.status == LcpResult::Status::NoSolution ? Termination::NoSolution
                                                                 : Termination::NotConverged;
