@@ -1588,6 +1588,24 @@ void status_search(const Setup& S,
   x = best;
 }
 
+/// Stages 5 and 6 in their order, under Coulomb's law where stages 1 to 4 stop short: on a W
+/// that is not symmetric the proximal points, on one that is the averaged fixed point and the
+/// proximal points after it; then the search over statuses.
+void last_stages(const Setup& S,
+                 double proximal,
+                 const std::function<double(const VecX&)>& target_of,
+                 const std::function<bool(const VecX&)>& met,
+                 VecX& x,
+                 Counts& counts) {
+  if (!S.symmetric()) {
+    proximal_points(S, target_of, x, counts);
+  } else {
+    averaged_fixed_point(S, proximal, target_of, x, counts);
+    if (!met(x)) proximal_points(S, target_of, x, counts, kFallbackWork);
+  }
+  if (!met(x)) status_search(S, target_of, x, counts);
+}
+
 /// Stage 0 (kQuickRounds), under Coulomb's law: rounds of NSGS sweeps (nsgs.hpp) on the
 /// unscaled problem from `lambda`, each followed by Newton's steps on Alart–Curnier's function
 /// from the sweeps' answer (on small problems, proximal points around them where they stop
@@ -1933,15 +1951,8 @@ SolverSummary solve_cone_direct(const BoxedProblem& problem,
     x = run_stages(S, proximal, target_of, counts, relaxed);
     if (residual(S, S.law, S.b, quick) < residual(S, S.law, S.b, x)) x = quick;
     if (!met(x)) sweeps_then_newton(problem, S, options, target_of, x, counts);
-    if (!met(x) && S.law.law == FrictionLaw::CoulombCone) {
-      if (!S.symmetric()) {
-        proximal_points(S, target_of, x, counts);
-      } else {
-        averaged_fixed_point(S, proximal, target_of, x, counts);
-        if (!met(x)) proximal_points(S, target_of, x, counts, kFallbackWork);
-      }
-      if (!met(x)) status_search(S, target_of, x, counts);
-    }
+    if (!met(x) && S.law.law == FrictionLaw::CoulombCone)
+      last_stages(S, proximal, target_of, met, x, counts);
   }
   VecX answer = unscaled(x);
   const double r = natural_map_residual(problem, answer);
