@@ -106,14 +106,19 @@ namespace cbps {
 ///      least-squares steps from the best point; the natural map's statuses there first, then
 ///      one contact's status changed for each of the 8 whose equations are furthest from zero
 ///      (an active-set step: Stellato et al., "OSQP", Math. Prog. Comp. 12, 2020). Every answer
-///      is judged by the law's residual. Where none of this finishes (Siconos' RockPile,
-///      docs/cones.md), it says so.
+///      is judged by the law's residual.
+///   7. Coulomb's law on an A that is not symmetric, where stages 1 to 6 stop short: the law on
+///      A's symmetric part first, by the stages of a symmetric A, then on A itself from that
+///      answer (Alart–Curnier's steps, proximal points, the status search; symmetric_part_first
+///      in cone_direct.cpp): where A's asymmetry is round-off, the symmetric part's answer is
+///      within it of A's. Where none of this finishes (Siconos' RockPile, docs/cones.md), it
+///      says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
 /// the arithmetic (NewtonMatrix in cone_direct.cpp).
 /// Stages 1 to 3 spend at most 300 factorizations, stage 4 at most 100 more, stage 5 its own
 /// min(40,000, 3e7 / rows) (A symmetric) or min(5,000, 3e7 / rows), stage 6 min(400, 3e5 /
-/// rows): every stage stops there (the
+/// rows), stage 7 the same again for each of its two parts: every stage stops there (the
 /// relaxation needs far fewer), and at the deadline (SolverOptions::time_limit). Returns
 /// Termination::Direct only when the law's residual of lambda is at most the tolerance read in N
 /// and as a unit-free residual (UnitFreeTarget::both, system/unit_free.hpp) or the rounding floor,
