@@ -111,7 +111,8 @@ namespace cbps {
 ///      A's symmetric part first, by the stages of a symmetric A, then on A itself from that
 ///      answer (Alart–Curnier's steps, proximal points, the status search; symmetric_part_first
 ///      in cone_direct.cpp): where A's asymmetry is round-off, the symmetric part's answer is
-///      within it of A's. Where none of this finishes (Siconos' RockPile, docs/cones.md), it
+///      within it of A's. Only where the skew part's w at the best point is at most that
+///      point's residual. Where none of this finishes (Siconos' RockPile, docs/cones.md), it
 ///      says so.
 /// Newton's matrices (stages 2 to 4) are factored sparse, or dense (LU with partial pivoting)
 /// on problems of at most kDenseRows rows, where the sparse analysis and products cost more than
