@@ -1945,10 +1945,11 @@ std::string cone_direct_message(const Setup& S,
     msg << "; Coulomb's law is not the optimality condition of a convex problem: the interior "
            "point with De Saxce's term refreshed, "
         << (!S.symmetric() ? "the semismooth Newton steps on Coulomb's own map, the "
-                             "proximal points around them, NSGS sweeps and the same from "
-                             "the answer on W's symmetric part"
+                             "proximal points around them and NSGS sweeps"
                            : "the fixed point on s = mu |u_t|, the semismooth Newton "
                              "steps on Coulomb's own map and the proximal points after them")
+        << (counts.symmetric_part >= 0 ? ", and the same from the answer on W's symmetric part,"
+                                       : "")
         << " each stopped short of it; a solution "
            "exists wherever some velocity opens every contact at once, which "
            "scripts/strict_feasibility.py PROBLEM shows for a symmetric A (Acary, Cadoux, "
